@@ -1,0 +1,47 @@
+"""Errors raised for states a linkage cannot take."""
+
+from __future__ import annotations
+
+import math
+
+
+def _angle(theta: float) -> str:
+    return f"theta = {theta:.6g} rad ({math.degrees(theta):.4g} deg)"
+
+
+class AssemblyError(ValueError):
+    """The linkage cannot be assembled at the requested crank angle.
+
+    Raised for scalar inputs only; array inputs get NaN in the affected states and
+    ``valid = False`` on the solution instead.
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets, AssemblyError
+    >>> mech = presets.get("four_bar", l_AB=0.3)   # crank too long to turn fully
+    >>> try:
+    ...     mech.solve(3.1)
+    ... except AssemblyError as err:
+    ...     print(str(err).split(":")[0])
+    four_bar cannot be assembled at theta = 3.1 rad (177.6 deg)
+    """
+
+    def __init__(self, mechanism: str, theta: float, condition: str):
+        self.mechanism = mechanism
+        self.theta = theta
+        self.condition = condition
+        super().__init__(f"{mechanism} cannot be assembled at {_angle(theta)}: {condition}")
+
+
+class SingularPositionError(ValueError):
+    """The equations are exactly singular (a toggle or dead-centre position).
+
+    The position exists but the reactions or the balancing effort are unbounded there.
+    Raised for scalar inputs; array inputs get ``inf``/NaN in those states and a
+    condition estimate of ``inf``.
+    """
+
+    def __init__(self, mechanism: str, theta: float, detail: str):
+        self.mechanism = mechanism
+        self.theta = theta
+        super().__init__(f"{mechanism} is singular at {_angle(theta)}: {detail}")

@@ -1,0 +1,285 @@
+"""Joint reactions and balancing effort from the equations of every moving link.
+
+Every moving link obeys three equations (forces x, y and moment about its centre of
+mass) under the known wrench of :mod:`~linkage_fmu.loads` and the unknown reactions
+of its joints. The unknowns are, per revolute pair, the force ``(Fx, Fy)`` of body
+``a`` on body ``b``; per prismatic pair, the normal force ``N`` along the pair's
+normal and the couple ``M`` of ``a`` on ``b``; and the balancing effort (a moment on a
+link, or a force on a slider). Three solutions of the same equations:
+
+* :func:`closed_form`: group by group from the last Assur group back to the crank, a
+  few closed-form expressions per group and no global matrix (the fast path);
+* :func:`direct`: the full system ``A x = b`` assembled and LU-solved, batched over
+  states (the reference, as the source documents do it);
+* :func:`virtual_effort`: the balancing effort alone, from the power balance on the
+  first-order kinematic coefficients (no reactions at all).
+
+Reactions are returned as a dict joint name -> ``(c0, c1)``: ``(Fx, Fy)`` for a
+revolute pair, ``(N, M)`` for a prismatic pair.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .kinematics import RPP, RRP, RRR, Crank, KinematicState, LinkPoint
+from .numerics import Number
+
+
+def _push(mech, st: KinematicState, W: dict, body: str, point: str, fx, fy) -> None:
+    """Add the force ``(fx, fy)`` acting at ``point`` to ``body``'s wrench (not the frame)."""
+    if body == mech.frame:
+        return
+    w = W[body]
+    (px, py), (sx, sy) = st.p[point], st.p[mech.cg[body]]
+    w[0] = w[0] + fx
+    w[1] = w[1] + fy
+    w[2] = w[2] + (px - sx) * fy - (py - sy) * fx
+
+
+def _moment_about(mech, st: KinematicState, W: dict, body: str, point: str):
+    """Force and moment of ``body``'s wrench, the moment taken about ``point``."""
+    fx, fy, m = W[body]
+    (px, py), (sx, sy) = st.p[point], st.p[mech.cg[body]]
+    return fx, fy, m + (sx - px) * fy - (sy - py) * fx
+
+
+def _crank(g: Crank, mech, st, W, R):
+    fx, fy, m = _moment_about(mech, st, W, g.link, g.pivot)
+    R[g.pivot] = (-fx, -fy)
+    return -m  # the moment the drive must add for equilibrium about the pivot
+
+
+def _rrr(g: RRR, mech, st, W, R):
+    fix, fiy, mi = _moment_about(mech, st, W, g.link1, g.C)
+    fjx, fjy, mj = _moment_about(mech, st, W, g.link2, g.C)
+    (cx, cy), (e1x, e1y), (e2x, e2y) = st.p[g.C], st.p[g.E1], st.p[g.E2]
+    ux, uy, wx, wy = e1x - cx, e1y - cy, e2x - cx, e2y - cy
+    fx, fy = fix + fjx, fiy + fjy
+    # link1 about C: u x R1 = -mi;  link2 about C with R2 = -F - R1: w x R1 = mj - w x F
+    a, c = -mi, mj - (wx * fy - wy * fx)
+    d = ux * wy - uy * wx
+    r1x, r1y = (a * wx - ux * c) / d, (a * wy - uy * c) / d
+    r2x, r2y = -fx - r1x, -fy - r1y
+    R[g.E1], R[g.E2] = (r1x, r1y), (r2x, r2y)
+    R[g.C] = (-r2x - fjx, -r2y - fjy)
+    _push(mech, st, W, mech.owner[g.E1], g.E1, -r1x, -r1y)
+    _push(mech, st, W, mech.owner[g.E2], g.E2, -r2x, -r2y)
+
+
+def _rrp(g: RRP, mech, st, W, R):
+    fix, fiy, mi = _moment_about(mech, st, W, g.link, g.B)
+    fjx, fjy, mj = _moment_about(mech, st, W, g.slider, g.B)
+    (bx, by), (ex, ey) = st.p[g.B], st.p[g.E]
+    nx, ny = -g.t[1], g.t[0]
+    ux, uy = ex - bx, ey - by
+    fx, fy = fix + fjx, fiy + fjy
+    # rod about B: u x (-F - N n) = -mi
+    N = (mi - (ux * fy - uy * fx)) / (ux * ny - uy * nx)
+    r1x, r1y = -fx - N * nx, -fy - N * ny
+    R[g.E] = (r1x, r1y)
+    R[g.B] = (-N * nx - fjx, -N * ny - fjy)
+    R[g.guide_joint] = (N, -mj)
+    _push(mech, st, W, mech.owner[g.E], g.E, -r1x, -r1y)
+
+
+def _rpp(g: RPP, mech, st, W, R):
+    fix, fiy, mi = _moment_about(mech, st, W, g.block, g.E)
+    fjx, fjy, mj = _moment_about(mech, st, W, g.yoke, g.ref)
+    (ex, ey), (rx, ry) = st.p[g.E], st.p[g.ref]
+    n1x, n1y = -g.t1[1], g.t1[0]
+    n2x, n2y = -g.t2[1], g.t2[0]
+    d = n1x * n2y - n1y * n2x
+    N1 = -(fjx * n2y - fjy * n2x) / d
+    N2 = (fjx * n1y - fjy * n1x) / d
+    M2 = -mi - N1 * ((ex - rx) * n1y - (ey - ry) * n1x) - mj
+    r1x, r1y = N1 * n1x - fix, N1 * n1y - fiy
+    R[g.E] = (r1x, r1y)
+    R[g.slot_joint] = (N1, mi)
+    R[g.guide_joint] = (N2, M2)
+    _push(mech, st, W, mech.owner[g.E], g.E, -r1x, -r1y)
+
+
+_GROUP_STATICS = {Crank: _crank, RRR: _rrr, RRP: _rrp, RPP: _rpp}
+
+
+def add_effort(mech, st: KinematicState, W: dict, effort: Number) -> None:
+    """Add the balancing ``effort`` to the wrench of the body it acts on."""
+    e = mech.effort
+    if e.direction is None:
+        W[e.body][2] = W[e.body][2] + effort
+    else:
+        _push(mech, st, W, e.body, e.point, effort * e.direction[0], effort * e.direction[1])
+
+
+def closed_form(mech, st: KinematicState, W: dict):
+    """Reactions and balancing effort, group by group from the last back to the crank.
+
+    With the effort on the crank, the crank's moment equation gives it last. With the
+    effort elsewhere (another link, or a slider), it comes first from
+    :func:`virtual_effort` and then acts as a known load; the crank's moment equation is
+    then satisfied identically. ``W`` is consumed (reactions are added into it).
+
+    Returns
+    -------
+    (dict, float or ndarray)
+        Reactions by joint name, and the balancing effort.
+
+    Examples
+    --------
+    >>> import math
+    >>> from linkage_fmu import presets
+    >>> from linkage_fmu.loads import wrenches
+    >>> mech = presets.get("scotch_yoke")
+    >>> st = mech.kinematics(math.radians(60), order=2)
+    >>> R, Mb = closed_form(mech, st, wrenches(mech, st, 10.0, 0.0, 400.0, static=False))
+    >>> round(Mb, 4), round(R["slot"][0], 4)
+    (15.6699, 313.3975)
+    """
+    effort = None
+    if not mech.effort_on_crank:
+        effort = virtual_effort(mech, st, W)
+        add_effort(mech, st, W, effort)
+    R: dict = {}
+    for g in reversed(mech.groups):
+        solve = _GROUP_STATICS.get(type(g))
+        if solve is not None:
+            crank_moment = solve(g, mech, st, W, R)
+    return R, (crank_moment if effort is None else effort)
+
+
+def virtual_effort(mech, st: KinematicState, W: dict):
+    """Balancing effort from virtual power: ``effort * q' + sum(F . S' + M * phi') = 0``.
+
+    ``q'`` is the effort's own first-order coefficient (``phi'`` of its link, or the
+    slider's velocity coefficient along the force). Needs first-order kinematics only.
+
+    Examples
+    --------
+    >>> import math
+    >>> from linkage_fmu import presets
+    >>> from linkage_fmu.loads import wrenches
+    >>> mech = presets.get("scotch_yoke")
+    >>> st = mech.kinematics(math.radians(60), order=2)
+    >>> round(virtual_effort(mech, st, wrenches(mech, st, 10.0, 0.0, 400.0, False)), 4)
+    15.6699
+    """
+    power = 0.0
+    for body in mech.bodies:
+        fx, fy, m = W[body.name]
+        x1, y1 = st.d1[body.cg]
+        power = power + fx * x1 + fy * y1 + m * st.w1[body.name]
+    return -power / effort_coefficient(mech, st)
+
+
+def effort_coefficient(mech, st: KinematicState):
+    """First-order coefficient of the balancing effort's own motion (``q'``)."""
+    e = mech.effort
+    if e.direction is None:
+        return st.w1[e.body]
+    x1, y1 = st.d1[e.point]
+    return e.direction[0] * x1 + e.direction[1] * y1
+
+
+def equilibrium_system(mech, st: KinematicState, W: dict | None = None, n_states: int = 1):
+    """Assemble the equations of all moving links as ``A x = b``, batched over states.
+
+    Rows: per moving body, forces x, y and the moment about its centre of mass divided
+    by the mechanism's length scale ``L``. Columns: the joint reactions in
+    ``mech.joints`` order (couples of prismatic pairs divided by ``L``), then the
+    balancing effort (divided by ``L`` if it is a moment). This scaling keeps every
+    entry of ``A`` of order one.
+
+    Returns
+    -------
+    A : ndarray, shape (n_states, n, n)
+    b : ndarray, shape (n_states, n), or None when ``W`` is None
+    """
+    L = mech.length_scale
+    rows = {b.name: 3 * i for i, b in enumerate(mech.bodies)}
+    n = 3 * len(mech.bodies)
+    A = np.zeros((n_states, n, n))
+
+    def arm(point, body):
+        (px, py), (sx, sy) = st.p[point], st.p[mech.cg[body]]
+        return (np.asarray(px - sx) / L, np.asarray(py - sy) / L)
+
+    col = 0
+    for j in mech.joints:
+        for body, sign in ((j.b, 1.0), (j.a, -1.0)):
+            if body == mech.frame:
+                continue
+            r = rows[body]
+            ax, ay = arm(j.point, body)
+            if j.normal is None:  # Fx, Fy
+                A[:, r, col] = sign
+                A[:, r + 2, col] = -sign * ay
+                A[:, r + 1, col + 1] = sign
+                A[:, r + 2, col + 1] = sign * ax
+            else:  # N along the normal, couple M/L
+                nx, ny = j.normal
+                A[:, r, col] = sign * nx
+                A[:, r + 1, col] = sign * ny
+                A[:, r + 2, col] = sign * (ax * ny - ay * nx)
+                A[:, r + 2, col + 1] = sign
+        col += 2
+    e = mech.effort
+    r = rows[e.body]
+    if e.direction is None:
+        A[:, r + 2, col] = 1.0
+    else:
+        dx, dy = e.direction
+        ax, ay = arm(e.point, e.body)
+        A[:, r, col], A[:, r + 1, col], A[:, r + 2, col] = dx, dy, ax * dy - ay * dx
+    if W is None:
+        return A, None
+    b = np.empty((n_states, n))
+    for body in mech.bodies:
+        r = rows[body.name]
+        fx, fy, m = W[body.name]
+        b[:, r], b[:, r + 1], b[:, r + 2] = -np.asarray(fx), -np.asarray(fy), -np.asarray(m) / L
+    return A, b
+
+
+def direct(mech, st: KinematicState, W: dict, n_states: int = 1):
+    """Reactions and balancing effort by assembling ``A x = b`` and LU-solving it.
+
+    The reference solution: the same equations as :func:`closed_form`, solved as one
+    linear system per state (``numpy.linalg.solve``, batched over states), as the
+    source documents do (``X = A \\ B``). A singular state gives NaN/inf, not an error.
+
+    Examples
+    --------
+    >>> import math
+    >>> from linkage_fmu import presets
+    >>> from linkage_fmu.loads import wrenches
+    >>> mech = presets.get("scotch_yoke")
+    >>> st = mech.kinematics(math.radians(60), order=2)
+    >>> R, Mb = direct(mech, st, wrenches(mech, st, 10.0, 0.0, 400.0, static=False))
+    >>> round(float(Mb[0]), 4)
+    15.6699
+    """
+    A, b = equilibrium_system(mech, st, W, n_states)
+    x = _solve(A, b)
+    L = mech.length_scale
+    R = {}
+    col = 0
+    for j in mech.joints:
+        R[j.name] = (x[:, col], x[:, col + 1] * (L if j.normal is not None else 1.0))
+        col += 2
+    effort = x[:, col] * (L if mech.effort.direction is None else 1.0)
+    return R, effort
+
+
+def _solve(A: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Batched LU solve; singular states give NaN instead of failing the batch."""
+    try:
+        return np.linalg.solve(A, b[..., None])[..., 0]
+    except np.linalg.LinAlgError:
+        x = np.full(b.shape, np.nan)
+        for i in range(A.shape[0]):
+            try:
+                x[i] = np.linalg.solve(A[i], b[i])
+            except np.linalg.LinAlgError:
+                pass
+        return x

@@ -1,0 +1,451 @@
+"""A mechanism: a crank, ordered Assur groups, link inertia, loads and named outputs.
+
+Data flow is one way: inputs ``(theta, omega, alpha, load)`` -> :class:`KinematicState`
+-> load wrenches -> reactions -> named outputs. :meth:`Mechanism.solve` decides what a
+scene needs and computes only that.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any, Callable, Iterable, Sequence
+
+import numpy as np
+
+from . import kinetostatics
+from .errors import AssemblyError, SingularPositionError
+from .kinematics import FRAME, OWNER, Crank, KinematicState, LinkPoint
+from .loads import wrenches
+from .numerics import ARRAY, SCALAR, finite_array, finite_float
+
+METHODS = ("closed_form", "direct")
+INPUTS = ("theta", "omega", "alpha", "load")
+
+
+@dataclass(frozen=True)
+class Body:
+    """A moving link: mass, moment of inertia about its centre of mass ``S``, and where
+    ``S`` is: at ``dist`` from the link's joint ``ref``, in the direction (link angle -
+    ``beta``).
+
+    Examples
+    --------
+    >>> Body("2", mass=2.0, inertia=0.02, ref="B", dist=0.175).cg
+    'S2'
+    >>> Body("2", mass=-1.0, ref="B")
+    Traceback (most recent call last):
+    ...
+    ValueError: mass of body '2' must be a finite number >= 0, got -1.0
+    """
+
+    name: str
+    mass: float = 0.0
+    inertia: float = 0.0
+    ref: str = ""
+    dist: float = 0.0
+    beta: float = 0.0
+
+    def __post_init__(self):
+        for attr in ("mass", "inertia", "dist"):
+            v = getattr(self, attr)
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0):
+                raise ValueError(
+                    f"{attr} of body {self.name!r} must be a finite number >= 0, got {v!r}")
+        if not self.ref:
+            raise ValueError(f"body {self.name!r} needs the joint 'ref' its centre of mass is measured from")
+
+    @property
+    def cg(self) -> str:
+        """Name of the point at the centre of mass."""
+        return self.ref if self.dist == 0.0 else f"S{self.name}"
+
+
+@dataclass(frozen=True)
+class Effort:
+    """The balancing effort: a moment on link ``body`` (``direction=None``), or a force
+    on ``body`` at ``point`` along the unit vector ``direction``."""
+
+    name: str
+    body: str
+    point: str = ""
+    direction: tuple | None = None
+
+
+@dataclass(frozen=True)
+class Force:
+    """Output: component ``axis`` ('x' or 'y') of the force of body ``by`` on body ``on``."""
+
+    name: str
+    by: str
+    on: str
+    axis: str
+
+    def bind(self, mech: "Mechanism") -> Callable:
+        i = "xy".index(self.axis)
+        for j in mech.joints:
+            if {j.a, j.b} == {self.by, self.on}:
+                sign = 1.0 if (j.a, j.b) == (self.by, self.on) else -1.0
+                if j.normal is None:
+                    return lambda R, E, name=j.name: sign * R[name][i]
+                k = sign * j.normal[i]
+                return lambda R, E, name=j.name: k * R[name][0]
+        raise ValueError(f"output {self.name}: no joint between bodies {self.by!r} and {self.on!r}")
+
+
+@dataclass(frozen=True)
+class Normal:
+    """Output: normal force of the prismatic pair ``joint`` (along its normal)."""
+
+    name: str
+    joint: str
+
+    def bind(self, mech: "Mechanism") -> Callable:
+        return lambda R, E: R[self.joint][0]
+
+
+@dataclass(frozen=True)
+class EffortOutput:
+    """Output: the balancing effort if it is the one named ``name``, else zero."""
+
+    name: str
+
+    def bind(self, mech: "Mechanism") -> Callable:
+        if mech.effort.name == self.name:
+            return lambda R, E: E
+        return lambda R, E: 0.0
+
+
+@dataclass(frozen=True)
+class Derived:
+    """Output: ``fn(R)`` of the reactions by joint name (e.g. bearing forces)."""
+
+    name: str
+    fn: Callable = field(compare=False)
+
+    def bind(self, mech: "Mechanism") -> Callable:
+        return lambda R, E: self.fn(R)
+
+
+class Solution(Mapping):
+    """Outputs of :meth:`Mechanism.solve`: name -> float (scalar inputs) or ndarray.
+
+    Attributes
+    ----------
+    valid : bool or ndarray of bool
+        Which states could be assembled (always True for scalar inputs, which raise
+        :class:`~linkage_fmu.AssemblyError` instead).
+    """
+
+    def __init__(self, values: dict, valid):
+        self._values = values
+        self.valid = valid
+
+    def __getitem__(self, name: str):
+        return self._values[name]
+
+    def __iter__(self):
+        return iter(self._values)
+
+    def __len__(self) -> int:
+        return len(self._values)
+
+    def __repr__(self) -> str:
+        body = ", ".join(f"{k}={v!r}" for k, v in self._values.items())
+        return f"Solution({body})"
+
+
+class Mechanism:
+    """A crank-driven planar linkage composed of a crank and Assur groups.
+
+    Parameters
+    ----------
+    name : str
+        Used in messages.
+    frame : str
+        Name of the frame body in output names (e.g. '4').
+    frame_points : dict
+        Frame joint name -> (x, y).
+    groups : sequence
+        The :class:`~linkage_fmu.kinematics.Crank` first, then groups and link points in
+        an order in which each one's joints are already placed.
+    bodies : sequence of Body
+        One per moving link.
+    effort : Effort
+        Where the balancing effort acts.
+    outputs : sequence
+        Output declarations (:class:`Force`, :class:`Normal`, :class:`EffortOutput`,
+        :class:`Derived`), in output order.
+    unit_load : dict
+        Body name -> ``(fx, fy, m)``: the wrench at its centre of mass per unit ``load``.
+    g : float
+        Gravity along -y.
+    parameters : dict, optional
+        The values it was built from (for information).
+    """
+
+    def __init__(self, name: str, frame: str, frame_points: dict, groups: Sequence,
+                 bodies: Sequence[Body], effort: Effort, outputs: Sequence,
+                 unit_load: dict, g: float, parameters: dict | None = None):
+        self.name, self.frame = name, frame
+        self.g = float(g)
+        self.frame_points = {k: (float(x), float(y)) for k, (x, y) in frame_points.items()}
+        self.bodies = tuple(bodies)
+        self.effort = effort
+        self.unit_load = dict(unit_load)
+        self.parameters = dict(parameters or {})
+        if not groups or not isinstance(groups[0], Crank):
+            raise ValueError(f"{name}: the first group must be the Crank")
+        placed = set(self.frame_points)
+        owner = {p: frame for p in self.frame_points}
+        for grp in groups:
+            missing = [p for p in grp.needs if p not in placed]
+            if missing:
+                raise ValueError(f"{name}: {type(grp).__name__} needs {missing} placed before it")
+            placed.update(grp.places)
+            owner.update(grp.owners)
+        links = [link for grp in groups for link in grp.links]
+        body_names = [b.name for b in self.bodies]
+        if sorted(links) != sorted(body_names):
+            raise ValueError(f"{name}: bodies {body_names} do not match the moving links {links}")
+        cg_points = [LinkPoint(b.name, b.ref, b.cg, b.dist, b.beta)
+                     for b in self.bodies if b.dist != 0.0]
+        self.groups = tuple(groups) + tuple(cg_points)
+        self.cg = {b.name: b.cg for b in self.bodies}
+        self.owner = owner
+        self.joints = tuple(self._resolve(j) for grp in groups for j in grp.joints)
+        self.effort_on_crank = effort.direction is None and effort.body == groups[0].link
+        self.crank = groups[0]
+        self.length_scale = max(
+            v for grp in groups for k in ("length", "L1", "L2", "L") if (v := getattr(grp, k, 0.0))
+        )
+        self.dyads = tuple(grp for grp in groups if getattr(grp, "key", None))
+        self._outputs = tuple((o.name, o.bind(self)) for o in outputs)
+        self._effort_outputs = {o.name for o in outputs if isinstance(o, EffortOutput)}
+        self.output_names = tuple(o.name for o in outputs)
+        self.diagnostic_names = tuple(f"mu_{d.key}" for d in self.dyads) + ("cond",)
+
+    def _resolve(self, j):
+        a = self.frame if j.a == FRAME else j.a
+        if a == OWNER:
+            if j.point not in self.owner:
+                raise ValueError(f"{self.name}: joint {j.name} is shared by two links; "
+                                 "attach to a point that belongs to one link")
+            a = self.owner[j.point]
+        return j._replace(a=a)
+
+    def __repr__(self) -> str:
+        params = ", ".join(f"{k}={v!r}" for k, v in self.parameters.items())
+        return f"<Mechanism {self.name}({params})>"
+
+    # -- kinematics -------------------------------------------------------------
+    def kinematics(self, theta, order: int = 2) -> KinematicState:
+        """Positions (``order=0``), plus first (1) and second (2) derivative coefficients.
+
+        Examples
+        --------
+        >>> from linkage_fmu import presets
+        >>> st = presets.get("four_bar").kinematics(0.0, order=1)
+        >>> [round(v, 6) for v in st.p["C"]]
+        [0.318001, 0.299888]
+        """
+        if np.ndim(theta) == 0:
+            xp = SCALAR
+            theta = finite_float("theta", _item(theta))
+        else:
+            xp = ARRAY
+            theta = finite_array("theta", theta)
+        return self._kinematics(theta, xp, order)
+
+    def _kinematics(self, theta, xp, order: int) -> KinematicState:
+        def fail(condition):
+            raise AssemblyError(self.name, theta, condition)
+
+        st = KinematicState(theta, xp, fail)
+        zero = (0.0, 0.0)
+        for p, xy in self.frame_points.items():
+            st.p[p], st.d1[p], st.d2[p] = xy, zero, zero
+        groups = self.groups
+        for grp in groups:
+            grp.position(st)
+        if order >= 1:
+            for grp in groups:
+                grp.first(st)
+        if order >= 2:
+            for grp in groups:
+                grp.second(st)
+        return st
+
+    # -- solving ----------------------------------------------------------------
+    def solve(self, theta, omega=0.0, alpha=0.0, load=0.0, method: str = "closed_form",
+              outputs: Iterable[str] | None = None) -> Solution:
+        """Joint reactions, balancing effort and diagnostics at one or many states.
+
+        Parameters
+        ----------
+        theta, omega, alpha : float or array_like
+            Crank angle [rad], speed [rad/s] and acceleration [rad/s2].
+        load : float or array_like
+            Magnitude of the preset's external load [N or N.m].
+        method : {'closed_form', 'direct'}
+            Group-by-group closed form (fast) or the assembled linear system (reference).
+        outputs : iterable of str, optional
+            Names wanted (default: all of :attr:`output_names` and
+            :attr:`diagnostic_names`). Asking only for the balancing effort skips the
+            reactions; a static scene skips velocities and accelerations.
+
+        Returns
+        -------
+        Solution
+            Floats for scalar inputs; arrays of the broadcast input shape otherwise.
+
+        Raises
+        ------
+        AssemblyError
+            Scalar ``theta`` at which the linkage cannot be assembled.
+        SingularPositionError
+            Scalar state at which the equations are exactly singular.
+
+        Examples
+        --------
+        >>> import math
+        >>> from linkage_fmu import presets
+        >>> yoke = presets.get("scotch_yoke")
+        >>> sol = yoke.solve(math.radians(60), omega=10.0, load=400.0)
+        >>> round(sol["Mb"], 4), round(sol["F23y"], 4)
+        (15.6699, 313.3975)
+        >>> yoke.solve([0.0, math.pi / 2], omega=10.0, load=400.0)["F23y"].round(4)
+        array([400., 300.])
+        """
+        if method not in METHODS:
+            raise ValueError(f"method must be one of {METHODS}, got {method!r}")
+        wanted = self._wanted(outputs)
+        args = (theta, omega, alpha, load)
+        if all(np.ndim(a) == 0 for a in args):
+            values = [finite_float(n, _item(a)) for n, a in zip(INPUTS, args)]
+            try:
+                return Solution(self._solve(*values, SCALAR, method, wanted), True)
+            except ZeroDivisionError:
+                raise SingularPositionError(self.name, values[0], self._singular_detail(values[0])) from None
+        arrays = [finite_array(n, a) for n, a in zip(INPUTS, args)]
+        try:
+            arrays = np.broadcast_arrays(*arrays)
+        except ValueError:
+            raise ValueError("theta, omega, alpha and load must broadcast to one shape, got "
+                             + ", ".join(str(np.shape(a)) for a in arrays)) from None
+        shape = arrays[0].shape
+        flat = [np.ascontiguousarray(a).reshape(-1) for a in arrays]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            values = self._solve(*flat, ARRAY, method, wanted)
+        valid = values.pop(" valid")
+        out = {k: _full(v, flat[0].size).reshape(shape) for k, v in values.items()}
+        return Solution(out, valid.reshape(shape))
+
+    def table(self, theta, omega=0.0, alpha=0.0, load=0.0, method: str = "closed_form",
+              outputs: Iterable[str] | None = None):
+        """:meth:`solve` over ``theta`` as a pandas DataFrame, one column per output.
+
+        Examples
+        --------
+        >>> from linkage_fmu import presets
+        >>> df = presets.get("scotch_yoke").table([0.0, 1.0], omega=10.0, load=400.0,
+        ...                                       outputs=("Mb",))
+        >>> list(df.columns), df.index.name
+        (['Mb'], 'theta')
+        """
+        import pandas as pd
+
+        theta = np.atleast_1d(np.asarray(theta, dtype=float))
+        sol = self.solve(theta, omega, alpha, load, method, outputs)
+        index = pd.Index(np.broadcast_to(theta, np.shape(next(iter(sol.values())))).ravel(),
+                         name="theta")
+        return pd.DataFrame({k: np.ravel(v) for k, v in sol.items()}, index=index)
+
+    def _wanted(self, outputs) -> tuple:
+        names = self.output_names + self.diagnostic_names
+        if outputs is None:
+            return names
+        wanted = (outputs,) if isinstance(outputs, str) else tuple(outputs)
+        for name in wanted:
+            if name not in names:
+                raise ValueError(f"{self.name} has no output {name!r}; its outputs are: "
+                                 + ", ".join(names))
+        return wanted
+
+    def _solve(self, theta, omega, alpha, load, xp, method, wanted) -> dict:
+        diag = set(self.diagnostic_names)
+        need_effort = any(n in self._effort_outputs for n in wanted)
+        need_reactions = any(n not in diag and n not in self._effort_outputs for n in wanted)
+        static = (omega == 0.0 and alpha == 0.0) if xp.scalar else not (omega.any() or alpha.any())
+        # kinematic order the scene needs
+        order = 0
+        if need_reactions or need_effort:
+            if not static:
+                order = 2
+            elif not need_reactions or (method == "closed_form" and not self.effort_on_crank):
+                order = 1
+        if "cond" in wanted and not self.effort_on_crank:
+            order = max(order, 1)
+        st = self._kinematics(theta, xp, order)
+        R, effort = {}, 0.0
+        if need_reactions or need_effort:
+            W = wrenches(self, st, omega, alpha, load, static)
+            if need_reactions and method == "direct":
+                R, effort = kinetostatics.direct(self, st, W, 1 if xp.scalar else theta.size)
+                if xp.scalar:
+                    R = {k: (float(a[0]), float(b[0])) for k, (a, b) in R.items()}
+                    effort = float(effort[0])
+            elif need_reactions:
+                R, effort = kinetostatics.closed_form(self, st, W)
+            else:
+                effort = kinetostatics.virtual_effort(self, st, W)
+        out = {}
+        for name, fn in self._outputs:
+            if name in wanted:
+                out[name] = fn(R, effort)
+        if diag.intersection(wanted):
+            out.update(self._diagnostics(st, wanted))
+        if xp.scalar:
+            if method == "direct" and not all(map(math.isfinite, out.values())):
+                raise ZeroDivisionError
+            return {n: float(out[n]) for n in wanted}
+        valid = ~st.invalid if st.invalid is not None else np.ones(theta.shape, bool)
+        out = {n: out[n] for n in wanted}
+        out[" valid"] = valid
+        return out
+
+    def _diagnostics(self, st: KinematicState, wanted) -> dict:
+        out = {}
+        cond = 1.0
+        for d in self.dyads:
+            mu, kappa = d.transmission(st)
+            out[f"mu_{d.key}"] = mu
+            cond = cond * kappa
+        if not self.effort_on_crank:
+            # effort on another link/slider: its own motion q' divides the power balance
+            q = st.xp.abs(kinetostatics.effort_coefficient(self, st))
+            scale = 1.0 if self.effort.direction is None else self.crank.length
+            if st.xp.scalar:
+                cond = cond * scale / q if q else math.inf
+            else:
+                cond = cond * scale / q
+        if not st.xp.scalar and st.invalid is not None:
+            cond = np.where(st.invalid, np.nan, cond)
+        out["cond"] = cond
+        return {k: v for k, v in out.items() if k in wanted}
+
+    def _singular_detail(self, theta: float) -> str:
+        st = self._kinematics(theta, SCALAR, 0)
+        parts = [f"mu_{d.key} = {d.transmission(st)[0]:.3g} rad" for d in self.dyads]
+        return ("the equations have no unique solution (transmission angles: "
+                + ", ".join(parts) + "); the balancing effort or reactions are unbounded")
+
+
+def _item(x: Any) -> Any:
+    return x.item() if isinstance(x, np.ndarray) else x
+
+
+def _full(v, n: int) -> np.ndarray:
+    v = np.asarray(v, dtype=float)
+    return v if v.shape == (n,) else np.broadcast_to(v, (n,)).copy()

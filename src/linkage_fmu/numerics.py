@@ -1,0 +1,65 @@
+"""Elementary functions for the two evaluation modes, and input checks.
+
+Every formula in the package is written once and evaluated either on plain floats
+(with :mod:`math`; one state, e.g. an FMU step) or on numpy arrays (many states at
+once). The mode is a namespace of the few non-arithmetic functions the formulas use.
+"""
+
+from __future__ import annotations
+
+import math
+from types import SimpleNamespace
+from typing import Union
+
+import numpy as np
+
+Number = Union[float, np.ndarray]
+
+#: Functions for one state given as Python floats.
+SCALAR = SimpleNamespace(
+    scalar=True, sqrt=math.sqrt, cos=math.cos, sin=math.sin, atan2=math.atan2, abs=abs
+)
+#: Functions for many states given as numpy arrays.
+ARRAY = SimpleNamespace(
+    scalar=False, sqrt=np.sqrt, cos=np.cos, sin=np.sin, atan2=np.arctan2, abs=np.abs
+)
+
+
+def finite_float(name: str, value: object) -> float:
+    """Return ``value`` as a float, or raise naming ``name`` if it is not a finite number.
+
+    Examples
+    --------
+    >>> finite_float("omega", 3)
+    3.0
+    >>> finite_float("omega", float("nan"))
+    Traceback (most recent call last):
+    ...
+    ValueError: omega must be a finite number, got nan
+    """
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.number)):
+        raise TypeError(f"{name} must be a real number, got {type(value).__name__} {value!r}")
+    x = float(value)
+    if not math.isfinite(x):
+        raise ValueError(f"{name} must be a finite number, got {x!r}")
+    return x
+
+
+def finite_array(name: str, value: np.ndarray) -> np.ndarray:
+    """Return ``value`` as a float64 array, or raise naming ``name`` and the first bad entry.
+
+    Examples
+    --------
+    >>> finite_array("theta", np.array([0.0, np.inf]))
+    Traceback (most recent call last):
+    ...
+    ValueError: theta must be finite: entry (1,) is inf
+    """
+    try:
+        arr = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError) as err:
+        raise TypeError(f"{name} must be an array of real numbers: {err}") from None
+    if not np.isfinite(arr).all():
+        where = tuple(int(i) for i in np.argwhere(~np.isfinite(arr))[0])
+        raise ValueError(f"{name} must be finite: entry {where} is {arr[where]!r}")
+    return arr

@@ -1,0 +1,91 @@
+"""Named, validated parameters of a preset."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Mapping
+
+from .numerics import finite_float
+
+#: kind -> (unit, check description, predicate)
+_KINDS = {
+    "length": ("m", "> 0", lambda v: v > 0.0),
+    "distance": ("m", ">= 0", lambda v: v >= 0.0),
+    "coordinate": ("m", "finite", lambda v: True),
+    "angle": ("rad", "finite", lambda v: True),
+    "mass": ("kg", ">= 0", lambda v: v >= 0.0),
+    "inertia": ("kg.m2", ">= 0", lambda v: v >= 0.0),
+    "density": ("kg/m", ">= 0", lambda v: v >= 0.0),
+    "gravity": ("m/s2", ">= 0", lambda v: v >= 0.0),
+}
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One parameter of a preset: name, default, kind and meaning.
+
+    ``kind`` is one of ``length, distance, coordinate, angle, mass, inertia, density,
+    gravity`` (real numbers with a unit and a range), ``branch`` (+1 or -1) or
+    ``choice`` (one of ``choices``).
+
+    Examples
+    --------
+    >>> p = Parameter("l_AB", 0.1, "length", "crank length")
+    >>> p.unit, p.validate(0.2)
+    ('m', 0.2)
+    >>> p.validate(-1)
+    Traceback (most recent call last):
+    ...
+    ValueError: l_AB must be > 0 (crank length), got -1.0
+    """
+
+    name: str
+    default: Any
+    kind: str
+    description: str
+    choices: tuple = ()
+
+    @property
+    def unit(self) -> str:
+        """SI unit of the value ('' for branch and choice parameters)."""
+        return _KINDS[self.kind][0] if self.kind in _KINDS else ""
+
+    def validate(self, value: Any) -> Any:
+        """Return the checked value, or raise a ``TypeError``/``ValueError`` naming it."""
+        if self.kind == "branch":
+            if isinstance(value, bool) or value not in (1, -1):
+                raise ValueError(f"{self.name} must be +1 or -1 ({self.description}), got {value!r}")
+            return int(value)
+        if self.kind == "choice":
+            if value not in self.choices:
+                raise ValueError(
+                    f"{self.name} must be one of {', '.join(map(repr, self.choices))}, got {value!r}"
+                )
+            return value
+        unit, rule, ok = _KINDS[self.kind]
+        x = finite_float(self.name, value)
+        if not ok(x):
+            raise ValueError(f"{self.name} must be {rule} ({self.description}), got {x!r}")
+        return x
+
+
+def resolve(specs: tuple[Parameter, ...], given: Mapping[str, Any], preset: str) -> dict:
+    """Merge ``given`` into the defaults of ``specs``, checking every name and value.
+
+    Examples
+    --------
+    >>> specs = (Parameter("g", 9.81, "gravity", "gravity"),)
+    >>> resolve(specs, {"g": 0}, "demo")
+    {'g': 0.0}
+    >>> resolve(specs, {"G": 0}, "demo")
+    Traceback (most recent call last):
+    ...
+    TypeError: demo has no parameter 'G'; its parameters are: g
+    """
+    known = {p.name: p for p in specs}
+    for name in given:
+        if name not in known:
+            raise TypeError(
+                f"{preset} has no parameter {name!r}; its parameters are: {', '.join(known)}"
+            )
+    return {p.name: p.validate(given.get(p.name, p.default)) for p in specs}
