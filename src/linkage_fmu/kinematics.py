@@ -79,7 +79,7 @@ class KinematicState:
         if self.xp.scalar:
             if value < 0.0:
                 self.on_invalid(condition())
-            return math.sqrt(value)
+            return self.xp.sqrt(value)
         bad = value < 0.0
         if bad.any():
             self.invalid = bad if self.invalid is None else (self.invalid | bad)
@@ -204,11 +204,13 @@ class RRR:
     def _condition(self, d2: Number) -> str:
         d = math.sqrt(float(np.asarray(d2).flat[0]))
         name = f"{self.E1}{self.E2}"
-        if d > self.L1 + self.L2:
-            return (f"the dyad {self.E1}-{self.C}-{self.E2} cannot close: |{name}| = {_fmt(d)} m "
-                    f"> {self.E1}{self.C} + {self.C}{self.E2} = {_fmt(self.L1 + self.L2)} m")
-        return (f"the dyad {self.E1}-{self.C}-{self.E2} cannot close: |{name}| = {_fmt(d)} m "
-                f"< |{self.E1}{self.C} - {self.C}{self.E2}| = {_fmt(abs(self.L1 - self.L2))} m")
+        reach, gap = self.L1 + self.L2, abs(self.L1 - self.L2)
+        head = f"the dyad {self.E1}-{self.C}-{self.E2} cannot close: |{name}| = {_fmt(d)} m"
+        if d > 0.5 * (reach + gap):
+            return (f"{head} > {self.E1}{self.C} + {self.C}{self.E2} = {_fmt(reach)} m "
+                    f"(by {_fmt(d - reach)} m)")
+        return (f"{head} < |{self.E1}{self.C} - {self.C}{self.E2}| = {_fmt(gap)} m "
+                f"(by {_fmt(gap - d)} m)")
 
     def position(self, st: KinematicState) -> None:
         (x1, y1), (x2, y2) = st.p[self.E1], st.p[self.E2]

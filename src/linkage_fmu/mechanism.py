@@ -248,7 +248,7 @@ class Mechanism:
         >>> from linkage_fmu import presets
         >>> st = presets.get("four_bar").kinematics(0.0, order=1)
         >>> [round(v, 6) for v in st.p["C"]]
-        [0.318001, 0.299888]
+        [0.304167, 0.284282]
         """
         if np.ndim(theta) == 0:
             xp = SCALAR

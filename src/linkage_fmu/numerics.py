@@ -61,5 +61,5 @@ def finite_array(name: str, value: np.ndarray) -> np.ndarray:
         raise TypeError(f"{name} must be an array of real numbers: {err}") from None
     if not np.isfinite(arr).all():
         where = tuple(int(i) for i in np.argwhere(~np.isfinite(arr))[0])
-        raise ValueError(f"{name} must be finite: entry {where} is {arr[where]!r}")
+        raise ValueError(f"{name} must be finite: entry {where} is {float(arr[where])!r}")
     return arr

@@ -269,7 +269,7 @@ def get(name: str, **parameters) -> Mechanism:
     >>> from linkage_fmu import presets
     >>> mech = presets.get("slider_crank", e=0.01)
     >>> round(mech.solve(0.5, omega=100.0, load=1000.0)["Mb"], 3)
-    -31.582
+    -14.315
     """
     spec = preset(name)
     return spec.build(resolve(spec.parameters, parameters, name))

@@ -1,0 +1,142 @@
+"""Mechanism.solve: scalar/array forms, the shortcuts for what a scene doesn't need
+(each checked to skip the work and to give the full path's numbers), diagnostics and
+bad input."""
+
+from __future__ import annotations
+
+import math
+from unittest import mock
+
+import numpy as np
+import pytest
+
+from linkage_fmu import AssemblyError, SingularPositionError, kinematics, kinetostatics, presets
+from linkage_fmu.loads import wrenches
+
+TH = np.linspace(0.05, 2 * np.pi, 25)
+
+
+def test_scalar_gives_floats_and_arrays_broadcast(mech):
+    s = mech.solve(0.7, 3.0, 1.0, 2.0)
+    assert all(type(v) is float for v in s.values()) and s.valid is True
+    a = mech.solve(TH[:, None], np.array([1.0, 2.0, 3.0]), 0.5, 2.0)
+    assert a["cond"].shape == (25, 3) and a.valid.shape == (25, 3)
+    assert a[mech.output_names[0]][7, 2] == pytest.approx(
+        mech.solve(TH[7], 3.0, 0.5, 2.0)[mech.output_names[0]], rel=1e-13, abs=1e-12)
+
+
+def _full_path(mech, theta, omega, alpha, load):
+    """Reactions with everything computed: second-order kinematics, all wrench terms."""
+    st = mech.kinematics(theta, order=2)
+    W = wrenches(mech, st, omega, alpha, load, static=False)
+    return kinetostatics.closed_form(mech, st, W)
+
+
+def test_static_scene_skips_derivatives_and_matches_full_path(mech):
+    spies = [mock.patch.object(cls, name, side_effect=AssertionError(f"{cls.__name__}.{name}"))
+             for cls in (kinematics.RRR, kinematics.RRP, kinematics.RPP)
+             for name in ("first", "second")]
+    if mech.effort_on_crank:  # otherwise the effort needs first-order coefficients
+        with spies[0], spies[1], spies[2], spies[3], spies[4], spies[5]:
+            fast = mech.solve(TH, 0.0, 0.0, 30.0, outputs=mech.output_names)
+    else:
+        fast = mech.solve(TH, 0.0, 0.0, 30.0, outputs=mech.output_names)
+    R, effort = _full_path(mech, TH, 0.0, 0.0, 30.0)
+    full = {name: fn(R, effort) for name, fn in mech._outputs}
+    for name in mech.output_names:
+        np.testing.assert_allclose(fast[name], full[name], rtol=1e-13, atol=1e-12, err_msg=name)
+
+
+def test_effort_only_skips_reactions_and_matches_full_path(mech):
+    name = mech.effort.name
+    with mock.patch.object(kinetostatics, "closed_form", side_effect=AssertionError("closed_form")), \
+         mock.patch.object(kinetostatics, "direct", side_effect=AssertionError("direct")):
+        fast = mech.solve(TH, 7.0, -20.0, 30.0, outputs=(name,))
+    full = mech.solve(TH, 7.0, -20.0, 30.0, method="direct")
+    np.testing.assert_allclose(fast[name], full[name], rtol=1e-12, atol=1e-12)
+
+
+def test_massless_and_weightless_bodies_add_no_terms():
+    mech = presets.get("four_bar", m1=0.0, m2=0.0, J_S2=0.0, g=0.0)
+    st = mech.kinematics(TH, order=2)
+    W = wrenches(mech, st, 5.0, 1.0, 0.0, static=False)
+    assert W["1"] == [0.0, 0.0, 0.0] and W["2"] == [0.0, 0.0, 0.0]  # plain floats: nothing computed
+    s = mech.solve(TH, 5.0, 1.0, 0.0)
+    # massless coupler, two-force member: F12 + F32 = 0, so F32 = -F12 = F21
+    np.testing.assert_allclose(s["F32x"], s["F21x"], atol=1e-12)
+    np.testing.assert_allclose(s["F32y"], s["F21y"], atol=1e-12)
+
+
+def test_four_bar_transmission_angle_is_law_of_cosines():
+    mech = presets.get("four_bar")
+    s = mech.solve(TH, outputs=("mu_C",))
+    bd2 = (0.1 * np.cos(TH) - 0.4) ** 2 + (0.1 * np.sin(TH)) ** 2
+    mu = np.arccos((0.35 ** 2 + 0.30 ** 2 - bd2) / (2 * 0.35 * 0.30))
+    np.testing.assert_allclose(s["mu_C"], mu, rtol=1e-12)
+
+
+def test_condition_estimate_grows_towards_a_toggle():
+    """With l_AB + l_AD = l_BC + l_CD - margin, B, C and D are nearly collinear at
+    theta = pi; the estimate grows like 1/sqrt(margin), as 1/sin(mu) does."""
+    conds = []
+    for margin in (1e-2, 1e-4, 1e-6):
+        mech = presets.get("four_bar", l_AB=0.1, l_BC=0.35, l_CD=0.3, l_AD=0.55 - margin)
+        conds.append(mech.solve(math.pi, 10.0)["cond"])
+    assert conds[0] < conds[1] < conds[2]
+    assert conds[2] / conds[0] == pytest.approx(100.0, rel=0.05)
+
+
+def test_toggle_is_reported_not_hidden():
+    """Four-bar with B, C, D collinear at theta = pi (0.125 + 0.5 = 0.375 + 0.25): the
+    reactions blow up and the condition estimate says so (>= 1/eps)."""
+    mech = presets.get("four_bar", l_AB=0.125, l_BC=0.375, l_CD=0.25, l_AD=0.5)
+    sol = mech.solve(np.array([math.pi, 1.0]), 10.0)
+    assert sol["cond"][0] >= 1 / np.finfo(float).eps and sol["cond"][1] < 100
+
+
+def test_exactly_singular_scalar_state_raises_with_angle():
+    """Slider-crank whose rod is exactly perpendicular to the guide at theta = pi/2
+    (offset e = l_OA - l_AB): the dyad's equations have a zero determinant."""
+    mech = presets.get("slider_crank", l_OA=0.25, l_AB=0.5, e=-0.25)
+    for method in ("closed_form", "direct"):
+        with pytest.raises(SingularPositionError, match=r"theta = 1\.5708 rad .*mu_B = 0 rad"):
+            mech.solve(math.pi / 2, 0.0, load=10.0, method=method)
+    assert np.isinf(mech.solve(np.array([math.pi / 2]), outputs=("cond",))["cond"][0])
+
+
+@pytest.mark.parametrize("kwargs, error, pattern", [
+    ({"theta": math.nan}, ValueError, "theta must be a finite number, got nan"),
+    ({"omega": math.inf}, ValueError, "omega must be a finite number, got inf"),
+    ({"load": "1"}, TypeError, "load must be a real number"),
+    ({"alpha": np.array([0.0, np.nan])}, ValueError, r"alpha must be finite: entry \(1,\) is nan"),
+    ({"method": "lu"}, ValueError, "method must be one of"),
+    ({"outputs": ("Mb", "M_b")}, ValueError, "has no output 'M_b'"),
+])
+def test_bad_solve_input_is_named(kwargs, error, pattern):
+    args = {"theta": 0.3, "omega": 1.0, "alpha": 0.0, "load": 0.0, **kwargs}
+    with pytest.raises(error, match=pattern):
+        presets.get("four_bar").solve(**args)
+
+
+@pytest.mark.parametrize("preset, params, error, pattern", [
+    ("four_bar", {"l_AB": -0.1}, ValueError, r"l_AB must be > 0 \(crank length AB\), got -0.1"),
+    ("four_bar", {"m2": -1}, ValueError, "m2 must be >= 0"),
+    ("four_bar", {"l_BC": math.nan}, ValueError, "l_BC must be a finite number"),
+    ("four_bar", {"branch": 0}, ValueError, "branch must be"),
+    ("four_bar", {"lAB": 0.1}, TypeError, "four_bar has no parameter 'lAB'"),
+    ("six_bar", {"driver": "BC"}, ValueError, "driver must be one of 'OA', 'AB', 'O1B', 'KD', 'D'"),
+    ("scotch_yoke", {"g": -9.81}, ValueError, "g must be >= 0"),
+    ("slider_crank", {"J2": "x"}, TypeError, "J2 must be a real number"),
+    ("pendulum", {}, ValueError, "no preset 'pendulum'"),
+])
+def test_bad_parameters_are_named(preset, params, error, pattern):
+    with pytest.raises(error, match=pattern):
+        presets.get(preset, **params)
+
+
+def test_table_is_a_dataframe_with_one_column_per_output():
+    mech = presets.get("slider_crank")
+    df = mech.table(TH, omega=10.0, load=100.0)
+    assert list(df.columns) == list(mech.output_names + mech.diagnostic_names)
+    assert df.index.name == "theta" and len(df) == len(TH)
+    np.testing.assert_allclose(df["Mb"], mech.solve(TH, 10.0, 0.0, 100.0)["Mb"], rtol=0)

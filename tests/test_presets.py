@@ -1,0 +1,52 @@
+"""Presets carry exactly the parameter names, defaults and output names of MECHANISMS.md."""
+
+from __future__ import annotations
+
+import pytest
+
+from linkage_fmu import presets
+
+SPEC = {
+    "scotch_yoke": (
+        {"l_AB": 0.1, "h2": 0.08, "m1": 0.0, "J1": 0.0, "m2": 4.0, "m3": 10.0, "J3": 0.0, "g": 0.0},
+        ("F12x", "F12y", "F23y", "F4", "F4p", "F41x", "F41y", "Mb"),
+        (0.0, 10.0, 0.0, 400.0),
+    ),
+    "four_bar": (
+        {"l_AB": 0.10, "l_BC": 0.35, "l_CD": 0.30, "l_AD": 0.40, "m1": 1.0, "J1": 0.0,
+         "l_AS1": 0.0, "beta1": 0.0, "m2": 2.0, "J_S2": 0.02, "l_BS2": 0.175, "beta2": 0.0,
+         "m3": 1.5, "J_S3": 0.012, "l_DS3": 0.15, "beta3": 0.0, "g": 9.81, "branch": 1},
+        ("F21x", "F21y", "F32x", "F32y", "F43x", "F43y", "F14x", "F14y", "Mb"),
+        (0.0, 10.0, 0.0, 0.0),
+    ),
+    "six_bar": (
+        {"l_OA": 0.15, "l_AB": 0.97, "l_O1B": 0.66, "l_O1K": 0.25, "l_KD": 0.86, "a": 0.50,
+         "b": 0.37, "rho": 10.0, "m4": 20.0, "g": 9.81, "driver": "OA", "branch_B": 1,
+         "branch_D": 1},
+        ("XO", "YO", "XA", "YA", "XB", "YB", "XO1", "YO1", "XK", "YK", "XD", "YD", "N4", "Mb", "Pb"),
+        (0.0, 0.0, 0.0, 0.0),
+    ),
+    "slider_crank": (
+        {"l_OA": 0.05, "l_AB": 0.20, "e": 0.0, "gamma": 0.0, "m1": 0.0, "J1": 0.0, "l_OS1": 0.0,
+         "m2": 0.8, "J2": 0.004, "l_AS2": 0.06, "m3": 0.6, "g": 9.81},
+        ("F21x", "F21y", "F32x", "F32y", "N43", "F14x", "F14y", "Mb"),
+        (0.0, 10.0, 0.0, 0.0),
+    ),
+}
+
+
+@pytest.mark.parametrize("name", list(SPEC))
+def test_names_defaults_and_outputs(name):
+    params, outputs, inputs = SPEC[name]
+    spec = presets.preset(name)
+    assert {p.name: p.default for p in spec.parameters} == params
+    mech = presets.get(name)
+    assert mech.output_names == outputs
+    assert mech.parameters == params
+    i = spec.inputs
+    assert (i.theta, i.omega, i.alpha, i.load) == inputs
+    assert all(p.description for p in spec.parameters)
+
+
+def test_every_preset_is_listed():
+    assert presets.names() == tuple(SPEC)
