@@ -20,23 +20,16 @@ from linkage_fmu import presets
 from linkage_fmu.kinetostatics import closed_form, equilibrium_system
 from linkage_fmu.loads import wrenches
 
-SHARED = Path(__file__).resolve().parents[1].parent / "shared"
-SEED000 = SHARED / "reference" / "seed000_table.csv"
+SEED000 = Path(__file__).parent / "reference" / "seed000_table.csv"
 # seed column -> (our output, sign): MECHANISMS.md: F12x and F41x are minus the printed
 COLUMNS = {"FR23": ("F23y", 1), "FR4p": ("F4p", 1), "FR4": ("F4", 1), "FR12x": ("F12x", -1),
            "FR12y": ("F12y", 1), "FR41x": ("F41x", -1), "FR41y": ("F41y", 1), "Mb": ("Mb", 1)}
 
 
-def _seed000_table() -> pd.DataFrame:
-    if SEED000.exists():
-        return pd.read_csv(SEED000)
-    pytest.skip(f"reference data not found at {SEED000}")
-
-
 @pytest.mark.parametrize("method", ["closed_form", "direct"])
 def test_seed000_table(method):
     """All 36 angles x 8 columns of seed 000's table to 1e-3 (printed to 4 decimals)."""
-    ref = _seed000_table()
+    ref = pd.read_csv(SEED000)
     sol = presets.get("scotch_yoke").solve(ref["theta_rad"].to_numpy(), omega=10.0,
                                            load=400.0, method=method)
     for col, (name, sign) in COLUMNS.items():
