@@ -81,6 +81,11 @@ class Force:
     by: str
     on: str
     axis: str
+    unit = "N"
+
+    @property
+    def description(self) -> str:
+        return f"force of link {self.by} on link {self.on}, {self.axis} component"
 
     def bind(self, mech: "Mechanism") -> Callable:
         i = "xy".index(self.axis)
@@ -100,6 +105,11 @@ class Normal:
 
     name: str
     joint: str
+    unit = "N"
+
+    @property
+    def description(self) -> str:
+        return f"normal force of the prismatic pair '{self.joint}' along its normal"
 
     def bind(self, mech: "Mechanism") -> Callable:
         return lambda R, E: R[self.joint][0]
@@ -110,6 +120,8 @@ class EffortOutput:
     """Output: the balancing effort if it is the one named ``name``, else zero."""
 
     name: str
+    unit: str = "N.m"
+    description: str = "balancing moment on the driver link, counter-clockwise positive"
 
     def bind(self, mech: "Mechanism") -> Callable:
         if mech.effort.name == self.name:
@@ -123,6 +135,8 @@ class Derived:
 
     name: str
     fn: Callable = field(compare=False)
+    unit: str = "N"
+    description: str = ""
 
     def bind(self, mech: "Mechanism") -> Callable:
         return lambda R, E: self.fn(R)
@@ -222,9 +236,16 @@ class Mechanism:
         )
         self.dyads = tuple(grp for grp in groups if getattr(grp, "key", None))
         self._outputs = tuple((o.name, o.bind(self)) for o in outputs)
+        #: output name -> (unit, description), diagnostics included
+        self.output_info = {o.name: (o.unit, o.description) for o in outputs}
         self._effort_outputs = {o.name for o in outputs if isinstance(o, EffortOutput)}
         self.output_names = tuple(o.name for o in outputs)
         self.diagnostic_names = tuple(f"mu_{d.key}" for d in self.dyads) + ("cond",)
+        for d in self.dyads:
+            self.output_info[f"mu_{d.key}"] = (
+                "rad", f"transmission angle of the dyad at {d.key} (0 or pi: toggle)")
+        self.output_info["cond"] = (
+            "1", "estimated condition number of the equilibrium equations (inf: singular)")
 
     def _resolve(self, j):
         a = self.frame if j.a == FRAME else j.a

@@ -71,8 +71,10 @@ def _scotch_yoke(p: dict) -> Mechanism:
     # F4 = upper bearing along +x, F4p = lower bearing along -x (the seed's FR4, FR4')
     outputs = _forces("F12", "1", "2") + [
         Force("F23y", "2", "3", "y"),
-        Derived("F4", lambda R: -0.5 * R["guide"][0] - R["guide"][1] / h2),
-        Derived("F4p", lambda R: 0.5 * R["guide"][0] - R["guide"][1] / h2),
+        Derived("F4", lambda R: -0.5 * R["guide"][0] - R["guide"][1] / h2,
+                description="force of the upper guide bearing on the yoke, along +x"),
+        Derived("F4p", lambda R: 0.5 * R["guide"][0] - R["guide"][1] / h2,
+                description="force of the lower guide bearing on the yoke, along -x"),
     ] + _forces("F41", "4", "1") + [EffortOutput("Mb")]
     return Mechanism("scotch_yoke", "4", {"A": (0.0, 0.0)}, groups, bodies,
                      Effort("Mb", "1"), outputs, {"3": (0.0, -1.0, 0.0)}, p["g"], p)
@@ -167,7 +169,8 @@ def _six_bar(p: dict) -> Mechanism:
     outputs = (_forces("XO", "0", "OA") + _forces("XA", "AB", "OA") + _forces("XB", "O1B", "AB")
                + _forces("XO1", "0", "O1B") + _forces("XK", "KD", "O1B")
                + _forces("XD", "slider", "KD")
-               + [Force("N4", "0", "slider", "x"), EffortOutput("Mb"), EffortOutput("Pb")])
+               + [Force("N4", "0", "slider", "x"), EffortOutput("Mb"),
+                  EffortOutput("Pb", "N", "balancing vertical force on the slider, +y")])
     # seed 001 names the y components Y*, not X*y
     outputs = [_rename(o) for o in outputs]
     return Mechanism("six_bar", "0", {"O": (0.0, 0.0), "O1": (a, b)}, groups, bodies, effort,
