@@ -1,0 +1,98 @@
+"""Run the FourBar FMU from a plain C program (``tests/c_host/host.c``) through the FMI 2.0 C API.
+
+The FMU binary is a pythonfmu wrapper that embeds Python, so the host needs this
+interpreter's libpython preloaded and its site-packages (numpy) on ``PYTHONPATH``.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+import sysconfig
+import xml.etree.ElementTree as ET
+import zipfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from linkage_fmu import presets
+
+pytestmark = pytest.mark.skipif(shutil.which("gcc") is None,
+                                reason="gcc is not on PATH: cannot compile the C host")
+
+ROOT = Path(__file__).parents[1]
+HOST_SOURCE = Path(__file__).parent / "c_host" / "host.c"
+STEPS, OMEGA, LOAD = 72, 10.0, 5.0
+TOLERANCE = 1e-9
+
+
+@pytest.fixture(scope="module")
+def fmu(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """FourBar.fmu freshly built from the working tree (no fmpy check)."""
+    out = tmp_path_factory.mktemp("fmu")
+    build = subprocess.run([sys.executable, "build_fmu.py", "--no-check", "--preset", "four_bar",
+                            "--out", str(out)], cwd=ROOT, capture_output=True, text=True)
+    assert build.returncode == 0, build.stdout + build.stderr
+    return out / "FourBar.fmu"
+
+
+def compile_host(out: Path) -> Path:
+    """Compile host.c against the FMI 2 headers shipped with fmpy; return the executable."""
+    import fmpy
+
+    exe = out / "host"
+    command = ["gcc", "-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", "-o", str(exe),
+               str(HOST_SOURCE), "-I", str(Path(fmpy.__file__).parent / "c-code"), "-ldl"]
+    run = subprocess.run(command, capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    return exe
+
+
+def host_environment() -> dict[str, str]:
+    """Environment for the host: this interpreter's libpython and site-packages."""
+    libdir = sysconfig.get_config_var("LIBDIR")
+    soname = sysconfig.get_config_var("INSTSONAME") or sysconfig.get_config_var("LDLIBRARY")
+    libpython = Path(libdir) / soname
+    assert libpython.is_file(), f"no shared libpython at {libpython}"
+    return {**os.environ, "LD_PRELOAD": str(libpython),
+            "PYTHONPATH": sysconfig.get_paths()["purelib"]}
+
+
+def model_outputs(model_description: Path) -> tuple[str, dict[str, int]]:
+    """Model identifier and ``{output name: valueReference}`` of a modelDescription.xml."""
+    root = ET.parse(model_description).getroot()
+    outputs = {v.get("name"): int(v.get("valueReference"))
+               for v in root.iter("ScalarVariable") if v.get("causality") == "output"}
+    return root.find("CoSimulation").get("modelIdentifier"), outputs
+
+
+def test_c_host_matches_direct_solver(fmu: Path, tmp_path: Path) -> None:
+    """Every output of one revolution (omega = 10 rad/s, load = 5 N.m) computed by the FMU
+    under a C host matches ``presets.get("four_bar").solve(..., method="direct")``, the
+    assembled-LU reference, to 1e-9 relative to each output's largest magnitude."""
+    unzipped = tmp_path / "FourBar"
+    with zipfile.ZipFile(fmu) as archive:
+        archive.extractall(unzipped)
+    model, outputs = model_outputs(unzipped / "modelDescription.xml")
+    host = compile_host(tmp_path)
+
+    command = [str(host), str(unzipped), model, str(STEPS), repr(OMEGA), repr(LOAD),
+               *map(str, outputs.values())]
+    run = subprocess.run(command, cwd=tmp_path, env=host_environment(),
+                         capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, f"host exited with {run.returncode}:\n{run.stderr}"
+
+    table = np.loadtxt(run.stdout.splitlines(), delimiter=",", ndmin=2)
+    assert table.shape == (STEPS, 1 + len(outputs))
+    theta = table[:, 0]
+    np.testing.assert_allclose(theta, 2 * np.pi * np.arange(STEPS) / STEPS, rtol=0, atol=1e-15)
+
+    expected = presets.get("four_bar").solve(theta, omega=OMEGA, alpha=0.0, load=LOAD,
+                                             method="direct")
+    for column, name in enumerate(outputs, start=1):
+        scale = np.max(np.abs(expected[name]))
+        np.testing.assert_allclose(table[:, column], expected[name], rtol=0,
+                                   atol=TOLERANCE * scale, err_msg=name)
