@@ -10,7 +10,7 @@ from unittest import mock
 import numpy as np
 import pytest
 
-from linkage_fmu import AssemblyError, SingularPositionError, kinematics, kinetostatics, presets
+from linkage_fmu import SingularPositionError, kinematics, kinetostatics, presets
 from linkage_fmu.loads import wrenches
 
 TH = np.linspace(0.05, 2 * np.pi, 25)

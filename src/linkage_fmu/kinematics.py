@@ -24,7 +24,7 @@ from typing import Callable, NamedTuple
 
 import numpy as np
 
-from .numerics import ARRAY, SCALAR, Number
+from .numerics import SCALAR, Number
 
 Vec = tuple  # (x, y) of floats or arrays
 

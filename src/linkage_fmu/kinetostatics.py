@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .kinematics import RPP, RRP, RRR, Crank, KinematicState, LinkPoint
+from .kinematics import RPP, RRP, RRR, Crank, KinematicState
 from .numerics import Number
 
 
