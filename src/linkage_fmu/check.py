@@ -93,7 +93,8 @@ def check_fmu(fmu: str | Path, preset: str, steps: int = 360) -> CheckResult:
     from fmpy import simulate_fmu
 
     u = revolution(preset, steps)
-    names = list(presets.get(preset).output_names + presets.get(preset).diagnostic_names)
+    mech = presets.get(preset)
+    names = list(mech.output_names + mech.diagnostic_names)
     h = float(u["time"][1] - u["time"][0])
     t0 = time.perf_counter()
     result = simulate_fmu(str(fmu), start_time=0.0, stop_time=float(u["time"][-1]),

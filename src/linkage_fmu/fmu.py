@@ -106,7 +106,7 @@ class LinkageSlave(Fmi2Slave):
         for i, name in enumerate(INPUTS):
             unit, display, text = _INPUT_INFO.get(
                 name, (start.load_unit, "", start.load_description))
-            self._register(RealWithUnit(
+            self.register_variable(RealWithUnit(
                 name, unit, display, description=text, causality=Fmi2Causality.input,
                 variability=Fmi2Variability.continuous, start=self._u[i],
                 getter=lambda i=i: me._u[i], setter=lambda v, i=i: me._set_input(i, v)))
@@ -117,13 +117,13 @@ class LinkageSlave(Fmi2Slave):
                           getter=lambda n=p.name: me._params[n],
                           setter=lambda v, n=p.name: me._set_param(n, v))
             if p.kind in _REAL_KINDS:
-                self._register(RealWithUnit(p.name, p.unit, **common))
+                self.register_variable(RealWithUnit(p.name, p.unit, **common))
             elif p.kind == "branch":
-                self._register(Integer(p.name, **common))
+                self.register_variable(Integer(p.name, **common))
             else:
                 common["description"] += f" (one of {', '.join(p.choices)})"
-                self._register(String(p.name, **common))
-        self._register(String(
+                self.register_variable(String(p.name, **common))
+        self.register_variable(String(
             "method", description="solver: 'closed_form' (fast) or 'direct' (reference LU)",
             causality=Fmi2Causality.parameter, variability=Fmi2Variability.fixed,
             start="closed_form", getter=lambda: me._method,
@@ -131,14 +131,11 @@ class LinkageSlave(Fmi2Slave):
         self._vr_output = {}
         for name in self._names:
             unit, text = mech.output_info[name]
-            self._register(RealWithUnit(
+            self.register_variable(RealWithUnit(
                 name, unit, "deg" if unit == "rad" else "", description=text,
                 causality=Fmi2Causality.output, variability=Fmi2Variability.continuous,
                 getter=lambda n=name: me._outputs((n,))[0]))
             self._vr_output[len(self.vars) - 1] = name
-
-    def _register(self, var) -> None:
-        self.register_variable(var)
 
     # -- model description (build time) ---------------------------------------------
     def to_xml(self, model_options=dict()):
