@@ -4,7 +4,8 @@ Usage: ``python fmu_host.py JOB.json`` prints a JSON result. The job lists FMU
 instances (path, parameters) and one row of inputs per step; all instances run
 interleaved in this one process with fmpy's order: set inputs at t, doStep(t, h), then
 read every output. This process never imports linkage_fmu itself (unless the job asks
-for ``preimport``), so each FMU runs the package it bundles.
+for ``preimport``), so each FMU runs the package it bundles. It exits normally, so the
+FMUs' exit-time clean-up runs and a crash there fails the calling test.
 """
 
 import json
@@ -60,6 +61,10 @@ def main(job):
     result = {}
     runs = []
     for spec in job["fmus"]:
+        for _ in range(spec.get("churn", 0)):  # instantiate and free first, then keep one
+            fmu = _instance(spec, [])[0]
+            fmu.terminate()
+            fmu.freeInstance()
         logs = []
         entry = {"log": logs, "status": [], "outputs": []}
         result[spec["name"]] = entry
@@ -109,11 +114,5 @@ def main(job):
 
 
 if __name__ == "__main__":
-    import os
-
     with open(sys.argv[1]) as f:
         print(json.dumps(main(json.load(f))), flush=True)
-    # pythonfmu 0.7's wrapper library corrupts the heap in its exit-time destructors
-    # once numpy is loaded (it resets its static interpreter state twice), which can
-    # crash this process after every result above was produced. Skip the exit handlers.
-    os._exit(0)

@@ -79,6 +79,21 @@ def test_all_four_interleaved_in_one_process(dist, tmp_path):
         assert_matches_direct(out[preset], preset, inputs, params)
 
 
+def test_several_instances_of_one_fmu_in_one_process(dist, tmp_path):
+    """Three FourBar instances with different parameters, interleaved step by step, after
+    instantiate/free cycles of the same FMU: each matches the direct solver with its own
+    parameters, and the process exits cleanly (``host`` asserts exit status 0)."""
+    inputs = rows("four_bar", 40)
+    params = [{}, {"l_AB": 0.12, "branch": -1}, {"m3": 9.0, "method": "direct"}]
+    fmus = [{"name": f"i{k}", "path": str(dist / "FourBar.fmu"), "params": p, "churn": 3 * k}
+            for k, p in enumerate(params)]
+    out = host({"fmus": fmus, "inputs": inputs}, tmp_path)
+    for k, p in enumerate(params):
+        assert out[f"i{k}"]["status"] == ["ok"] * len(inputs)
+        p = {n: v for n, v in p.items() if n != "method"}
+        assert_matches_direct(out[f"i{k}"], "four_bar", inputs, p)
+
+
 def test_bad_inputs_are_discarded_and_the_next_valid_step_works(dist, tmp_path):
     """l_AB = 0.3 cannot assemble at theta = pi; NaN omega is rejected; no stale output."""
     steps = [[0.0, 5.0, 0.0, 1.0], [math.pi, 5.0, 0.0, 1.0], [0.5, 5.0, 0.0, 1.0],

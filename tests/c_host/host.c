@@ -25,8 +25,7 @@
  * so the FMU reports some errors only through the logger. */
 static fmi2Status worst_logged = fmi2OK;
 
-/* Print the reason and stop. _Exit skips the exit handlers: with an instance or the
- * interpreter still alive, pythonfmu 0.7's own exit-time cleanup corrupts the heap. */
+/* Print the reason and stop at once, without tearing down an FMU left in an unknown state. */
 static void die(const char *what, const char *detail) {
     fprintf(stderr, "%s: %s\n", what, detail ? detail : "");
     fflush(stdout);
@@ -115,11 +114,6 @@ int main(int argc, char **argv) {
 
     CHECK(Terminate(c));
     FreeInstance(c);
-    /* Shut the embedded interpreter down now. Left to process exit, pythonfmu 0.7 runs
-     * its static shared_ptr destructor and then its library destructor, which resets
-     * that destroyed shared_ptr again and corrupts the heap (abort once numpy is loaded). */
-    void (*finalize)(void) = (void (*)(void))dlsym(lib, "finalizePythonInterpreter");
-    if (finalize) finalize();
     dlclose(lib);
     free(vout);
     free(y);
