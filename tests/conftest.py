@@ -2,12 +2,11 @@
 
 from __future__ import annotations
 
-from types import SimpleNamespace
-
 import mpmath
 import pytest
 
 from linkage_fmu import presets
+from linkage_fmu.precise import MP  # noqa: F401  (re-exported for the tests)
 
 #: (preset, parameters) covering every preset and every six-bar driver
 VARIANTS = [
@@ -25,10 +24,8 @@ VARIANTS = [
 ]
 IDS = [f"{n}-{'-'.join(f'{k}={v}' for k, v in p.items()) or 'defaults'}" for n, p in VARIANTS]
 
-#: mpmath evaluation mode for the scalar formulas (the same equations at 40 digits)
+#: the scalar formulas are evaluated at 40 digits in the tests that use MP
 mpmath.mp.dps = 40
-MP = SimpleNamespace(scalar=True, sqrt=mpmath.sqrt, cos=mpmath.cos, sin=mpmath.sin,
-                     atan2=mpmath.atan2, abs=abs)
 
 
 @pytest.fixture(params=VARIANTS, ids=IDS)

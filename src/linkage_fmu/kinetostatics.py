@@ -181,28 +181,38 @@ def effort_coefficient(mech, st: KinematicState):
     return e.direction[0] * x1 + e.direction[1] * y1
 
 
-def equilibrium_system(mech, st: KinematicState, W: dict | None = None, n_states: int = 1):
-    """Assemble the equations of all moving links as ``A x = b``, batched over states.
+def equilibrium_entries(mech, st: KinematicState, W: dict | None = None):
+    """The equations of all moving links as the nonzero entries of ``A x = b``.
 
     Rows: per moving body, forces x, y and the moment about its centre of mass divided
     by the mechanism's length scale ``L``. Columns: the joint reactions in
     ``mech.joints`` order (couples of prismatic pairs divided by ``L``), then the
     balancing effort (divided by ``L`` if it is a moment). This scaling keeps every
-    entry of ``A`` of order one.
+    entry of ``A`` of order one. Values are whatever ``st`` and ``W`` hold (floats,
+    arrays over states, or mpmath numbers).
 
     Returns
     -------
-    A : ndarray, shape (n_states, n, n)
-    b : ndarray, shape (n_states, n), or None when ``W`` is None
+    n : int
+        Number of equations (and unknowns).
+    a : list of (row, column, value)
+    b : list of (row, value), empty when ``W`` is None
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets
+    >>> mech = presets.get("slider_crank")
+    >>> n, a, b = equilibrium_entries(mech, mech.kinematics(0.3, order=0))
+    >>> n, len(a), b
+    (9, 25, [])
     """
     L = mech.length_scale
     rows = {b.name: 3 * i for i, b in enumerate(mech.bodies)}
-    n = 3 * len(mech.bodies)
-    A = np.zeros((n_states, n, n))
+    a = []
 
     def arm(point, body):
         (px, py), (sx, sy) = st.p[point], st.p[mech.cg[body]]
-        return (np.asarray(px - sx) / L, np.asarray(py - sy) / L)
+        return (px - sx) / L, (py - sy) / L
 
     col = 0
     for j in mech.joints:
@@ -212,33 +222,70 @@ def equilibrium_system(mech, st: KinematicState, W: dict | None = None, n_states
             r = rows[body]
             ax, ay = arm(j.point, body)
             if j.normal is None:  # Fx, Fy
-                A[:, r, col] = sign
-                A[:, r + 2, col] = -sign * ay
-                A[:, r + 1, col + 1] = sign
-                A[:, r + 2, col + 1] = sign * ax
+                a += [(r, col, sign), (r + 2, col, -sign * ay),
+                      (r + 1, col + 1, sign), (r + 2, col + 1, sign * ax)]
             else:  # N along the normal, couple M/L
                 nx, ny = j.normal
-                A[:, r, col] = sign * nx
-                A[:, r + 1, col] = sign * ny
-                A[:, r + 2, col] = sign * (ax * ny - ay * nx)
-                A[:, r + 2, col + 1] = sign
+                a += [(r, col, sign * nx), (r + 1, col, sign * ny),
+                      (r + 2, col, sign * (ax * ny - ay * nx)), (r + 2, col + 1, sign)]
         col += 2
     e = mech.effort
     r = rows[e.body]
     if e.direction is None:
-        A[:, r + 2, col] = 1.0
+        a.append((r + 2, col, 1.0))
     else:
         dx, dy = e.direction
         ax, ay = arm(e.point, e.body)
-        A[:, r, col], A[:, r + 1, col], A[:, r + 2, col] = dx, dy, ax * dy - ay * dx
+        a += [(r, col, dx), (r + 1, col, dy), (r + 2, col, ax * dy - ay * dx)]
+    b = []
+    if W is not None:
+        for body in mech.bodies:
+            r = rows[body.name]
+            fx, fy, m = W[body.name]
+            b += [(r, -fx), (r + 1, -fy), (r + 2, -m / L)]
+    return 3 * len(mech.bodies), a, b
+
+
+def equilibrium_system(mech, st: KinematicState, W: dict | None = None, n_states: int = 1):
+    """Assemble :func:`equilibrium_entries` as numpy arrays, batched over states.
+
+    Returns
+    -------
+    A : ndarray, shape (n_states, n, n)
+    b : ndarray, shape (n_states, n), or None when ``W`` is None
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from linkage_fmu import presets
+    >>> mech = presets.get("four_bar")
+    >>> A, b = equilibrium_system(mech, mech.kinematics(0.3, order=0))
+    >>> A.shape, b is None, bool(np.linalg.cond(A[0]) < 100)
+    ((1, 9, 9), True, True)
+    """
+    n, a, b = equilibrium_entries(mech, st, W)
+    A = np.zeros((n_states, n, n))
+    for r, c, v in a:
+        A[:, r, c] = v
     if W is None:
         return A, None
-    b = np.empty((n_states, n))
-    for body in mech.bodies:
-        r = rows[body.name]
-        fx, fy, m = W[body.name]
-        b[:, r], b[:, r + 1], b[:, r + 2] = -np.asarray(fx), -np.asarray(fy), -np.asarray(m) / L
-    return A, b
+    B = np.empty((n_states, n))
+    for r, v in b:
+        B[:, r] = v
+    return A, B
+
+
+def unknowns(mech, x) -> tuple[dict, object]:
+    """Reactions by joint name and the balancing effort from the solution ``x`` of
+    :func:`equilibrium_system`, undoing its column scaling; ``x[k]`` is unknown ``k``
+    (a number, or an array over states)."""
+    L = mech.length_scale
+    R = {}
+    col = 0
+    for j in mech.joints:
+        R[j.name] = (x[col], x[col + 1] * (L if j.normal is not None else 1.0))
+        col += 2
+    return R, x[col] * (L if mech.effort.direction is None else 1.0)
 
 
 def direct(mech, st: KinematicState, W: dict, n_states: int = 1):
@@ -260,15 +307,7 @@ def direct(mech, st: KinematicState, W: dict, n_states: int = 1):
     15.6699
     """
     A, b = equilibrium_system(mech, st, W, n_states)
-    x = _solve(A, b)
-    L = mech.length_scale
-    R = {}
-    col = 0
-    for j in mech.joints:
-        R[j.name] = (x[:, col], x[:, col + 1] * (L if j.normal is not None else 1.0))
-        col += 2
-    effort = x[:, col] * (L if mech.effort.direction is None else 1.0)
-    return R, effort
+    return unknowns(mech, _solve(A, b).T)
 
 
 def _solve(A: np.ndarray, b: np.ndarray) -> np.ndarray:

@@ -245,7 +245,8 @@ class Mechanism:
             self.output_info[f"mu_{d.key}"] = (
                 "rad", f"transmission angle of the dyad at {d.key} (0 or pi: toggle)")
         self.output_info["cond"] = (
-            "1", "estimated condition number of the equilibrium equations (inf: singular)")
+            "1", "estimated condition number of the outputs: relative rounding error about "
+            "cond x 1e-16 (inf: singular)")
 
     def _resolve(self, j):
         a = self.frame if j.a == FRAME else j.a
@@ -442,7 +443,9 @@ class Mechanism:
         for d in self.dyads:
             mu, kappa = d.transmission(st)
             out[f"mu_{d.key}"] = mu
-            cond = cond * kappa
+            # kappa twice: the dyad's position amplifies rounding by kappa, and its
+            # equilibrium (whose forces grow like kappa) amplifies that angle error again
+            cond = cond * kappa * kappa
         if not self.effort_on_crank:
             # effort on another link/slider: its own motion q' divides the power balance
             q = st.xp.abs(kinetostatics.effort_coefficient(self, st))
