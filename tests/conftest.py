@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import mpmath
 import pytest
 
@@ -36,3 +38,30 @@ def mech(request):
 
 def effort_name(mech) -> str:
     return mech.effort.name
+
+
+def power_residual(mech, sol, theta, omega, alpha, load):
+    """Mb*omega (or Pb*v) + power of loads and weights - dT/dt, and a scale for it: the
+    largest product of magnitudes (|F| |v|, m |a| |v|, ...) among the terms, so that a
+    term that is zero by geometry (e.g. a = v x const) does not set the scale."""
+    st = mech.kinematics(theta, order=2)
+    terms, sizes = [], []
+    e = mech.effort
+    if e.direction is None:
+        terms.append(sol[e.name] * st.w1[e.body] * omega)
+    else:
+        vx, vy = st.velocity(e.point, omega)
+        terms.append(sol[e.name] * (e.direction[0] * vx + e.direction[1] * vy))
+    sizes.append(abs(terms[0]))
+    for b in mech.bodies:
+        vx, vy = st.velocity(b.cg, omega)
+        ax, ay = st.acceleration(b.cg, omega, alpha)
+        w = st.w1[b.name] * omega
+        eps = st.w2[b.name] * omega ** 2 + st.w1[b.name] * alpha
+        ux, uy, um = mech.unit_load.get(b.name, (0.0, 0.0, 0.0))
+        v = math.hypot(vx, vy)
+        terms += [load * (ux * vx + uy * vy + um * w), -b.mass * mech.g * vy,
+                  -(b.mass * (ax * vx + ay * vy) + b.inertia * eps * w)]
+        sizes += [abs(load) * (math.hypot(ux, uy) * v + abs(um * w)), b.mass * mech.g * v,
+                  b.mass * math.hypot(ax, ay) * v + abs(b.inertia * eps * w)]
+    return sum(terms), max(sizes)

@@ -15,7 +15,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st_
 
-from conftest import IDS, MP, VARIANTS
+from conftest import IDS, MP, VARIANTS, power_residual
 from linkage_fmu import presets
 from linkage_fmu.kinetostatics import closed_form, equilibrium_system
 from linkage_fmu.loads import wrenches
@@ -151,27 +151,6 @@ STATES = st_.tuples(
 )
 
 
-def _power_residual(mech, sol, theta, omega, alpha, load):
-    """Mb*omega (or Pb*v) + power of loads and weights - dT/dt, and a scale for it."""
-    st = mech.kinematics(theta, order=2)
-    terms = []
-    e = mech.effort
-    if e.direction is None:
-        terms.append(sol[e.name] * st.w1[e.body] * omega)
-    else:
-        vx, vy = st.velocity(e.point, omega)
-        terms.append(sol[e.name] * (e.direction[0] * vx + e.direction[1] * vy))
-    for b in mech.bodies:
-        vx, vy = st.velocity(b.cg, omega)
-        ax, ay = st.acceleration(b.cg, omega, alpha)
-        w = st.w1[b.name] * omega
-        eps = st.w2[b.name] * omega ** 2 + st.w1[b.name] * alpha
-        ux, uy, um = mech.unit_load.get(b.name, (0.0, 0.0, 0.0))
-        terms += [load * (ux * vx + uy * vy + um * w), -b.mass * mech.g * vy,
-                  -(b.mass * (ax * vx + ay * vy) + b.inertia * eps * w)]
-    return sum(terms), max(abs(t) for t in terms)
-
-
 @pytest.mark.parametrize("variant", VARIANTS, ids=IDS)
 @settings(max_examples=40, deadline=None, derandomize=True)
 @given(state=STATES)
@@ -186,7 +165,7 @@ def test_random_states(variant, state):
     for n in mech.output_names:
         assert abs(a[n] - b[n]) <= 1e-12 * max(1.0, cond / 100) * scale, n
     for sol in (a, b):
-        res, size = _power_residual(mech, sol, theta, omega, alpha, load)
+        res, size = power_residual(mech, sol, theta, omega, alpha, load)
         assert abs(res) <= 1e-12 * max(1.0, cond / 100) * size
     # equilibrium of every link: A x - b with the closed-form reactions in x
     st = mech.kinematics(theta, order=2)
