@@ -101,15 +101,14 @@ def main(job):
     for spec, entry, fmu, *_ in runs:
         fmu.terminate()
         fmu.freeInstance()
-    if job.get("simulate"):  # replay a cross-check input file with simulate_fmu
+    for k, sim in enumerate(job.get("simulate", [])):  # replay cross-check inputs
         from fmpy import simulate_fmu
         from fmpy.util import read_csv
 
-        sim = job["simulate"]
         res = simulate_fmu(sim["fmu"], start_time=0.0, stop_time=sim["stop"],
                            step_size=sim["h"], output_interval=sim["h"],
                            input=read_csv(sim["input"]))
-        result["simulate"] = {n: res[n].tolist() for n in res.dtype.names}
+        result[f"simulate{k}"] = {n: res[n].tolist() for n in res.dtype.names}
     return result
 
 

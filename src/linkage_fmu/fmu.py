@@ -56,20 +56,26 @@ def fingerprint(package_dir: str | Path) -> str:
     return h.hexdigest()
 
 
+@functools.lru_cache(maxsize=1)
+def _loaded_fingerprint() -> str:
+    # Once per process, while the files are there: fmpy deletes the folder an FMU was
+    # extracted to after simulate_fmu, but this package stays imported from it.
+    return fingerprint(Path(__file__).parent)
+
+
 def check_bundle(expected: str) -> None:
     """Refuse to run a ``linkage_fmu`` other than the one this FMU bundles.
 
     The host process may have imported ``linkage_fmu`` before loading the FMU; Python
     then hands the FMU the host's copy instead of the bundled one.
     """
-    here = Path(__file__).parent
-    found = fingerprint(here)
+    found = _loaded_fingerprint()
     if found != expected:
         raise ImportError(
             f"this FMU bundles linkage_fmu with source fingerprint {expected[:12]}, but the "
-            f"process already imported linkage_fmu {__version__} from {here} (fingerprint "
-            f"{found[:12]}); load the FMU in a process that has not imported another "
-            "linkage_fmu, or rebuild it with that version")
+            f"process already imported linkage_fmu {__version__} from "
+            f"{Path(__file__).parent} (fingerprint {found[:12]}); load the FMU in a process "
+            "that has not imported another linkage_fmu, or rebuild it with that version")
 
 
 def hold_namespace(module_name: str) -> None:
