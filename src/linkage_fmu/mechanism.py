@@ -22,6 +22,8 @@ from .numerics import ARRAY, SCALAR, finite_array, finite_float
 
 METHODS = ("closed_form", "direct")
 INPUTS = ("theta", "omega", "alpha", "load")
+#: states per block of an array solve: its temporaries stay in the CPU caches
+CHUNK = 8192
 
 
 @dataclass(frozen=True)
@@ -358,11 +360,18 @@ class Mechanism:
                              + ", ".join(str(np.shape(a)) for a in arrays)) from None
         shape = arrays[0].shape
         flat = [np.ascontiguousarray(a).reshape(-1) for a in arrays]
+        n = flat[0].size
+        out = {name: np.empty(n) for name in wanted}
+        valid = np.empty(n, dtype=bool)
+        # in blocks that stay in cache: the formulas make many temporaries per state
         with np.errstate(divide="ignore", invalid="ignore"):
-            values = self._solve(*flat, ARRAY, method, wanted)
-        valid = values.pop(" valid")
-        out = {k: _full(v, flat[0].size).reshape(shape) for k, v in values.items()}
-        return Solution(out, valid.reshape(shape))
+            for start in range(0, max(n, 1), CHUNK):
+                part = slice(start, start + CHUNK)
+                values = self._solve(*(a[part] for a in flat), ARRAY, method, wanted)
+                valid[part] = values.pop(" valid")
+                for name, v in values.items():
+                    out[name][part] = v
+        return Solution({k: v.reshape(shape) for k, v in out.items()}, valid.reshape(shape))
 
     def table(self, theta, omega=0.0, alpha=0.0, load=0.0, method: str = "closed_form",
               outputs: Iterable[str] | None = None):
@@ -468,8 +477,3 @@ class Mechanism:
 
 def _item(x: Any) -> Any:
     return x.item() if isinstance(x, np.ndarray) else x
-
-
-def _full(v, n: int) -> np.ndarray:
-    v = np.asarray(v, dtype=float)
-    return v if v.shape == (n,) else np.broadcast_to(v, (n,)).copy()
