@@ -30,6 +30,7 @@ from pythonfmu.osutil import get_lib_extension, get_platform
 from . import __version__, presets
 from .mechanism import INPUTS, METHODS
 from .model_description import RealWithUnit, complete
+from .numerics import SCALAR
 
 _INPUT_INFO = {
     "theta": ("rad", "deg", "crank angle from +x, counter-clockwise"),
@@ -159,6 +160,7 @@ class LinkageSlave(Fmi2Slave):
         self._problem = ""  # why the parameters are unusable ('' = fine)
         self._u = [float(getattr(start, n)) for n in INPUTS]
         self._cache: dict = {}
+        self._positions = None  # positions at the current theta, from doStep
         self._names = mech.output_names + mech.diagnostic_names
         self._time = 0.0
 
@@ -215,14 +217,14 @@ class LinkageSlave(Fmi2Slave):
     # -- setters and getters: never raise -------------------------------------------
     def _set_input(self, i: int, value: float) -> None:
         self._u[i] = value
-        self._cache = {}
+        self._cache, self._positions = {}, None
 
     def _set_param(self, name: str, value) -> None:
         if name == "method":
             self._method = value
         else:
             self._params[name] = value
-        self._cache = {}
+        self._cache, self._positions = {}, None
         self._mech, self._problem = None, ""
 
     def set_real(self, vrs, values):
@@ -233,7 +235,7 @@ class LinkageSlave(Fmi2Slave):
                     self.vars[vr].setter(value)
                 else:
                     self._u[i] = value
-            self._cache = {}
+            self._cache, self._positions = {}, None
         except Exception as err:  # pragma: no cover - defensive: never reach the host
             self.log(f"setReal failed: {err!r}", Fmi2Status.error)
 
@@ -279,7 +281,7 @@ class LinkageSlave(Fmi2Slave):
         problem = self._problem or self._input_problem()
         if not problem:
             try:
-                return mech.solve(*self._u, method=self._method, outputs=names)
+                return mech._solve_scalar(self._u, self._method, tuple(names), self._positions)
             except ValueError as err:  # AssemblyError, SingularPositionError
                 problem = str(err)
         self.log(f"outputs {', '.join(names)} are NaN at t = {self._time!r}: {problem}",
@@ -302,9 +304,9 @@ class LinkageSlave(Fmi2Slave):
                          Fmi2Status.discard)
                 return False
             problem = self._input_problem()
-            if not problem:
-                try:
-                    self._mech.kinematics(self._u[0], order=0)  # can it be assembled?
+            if not problem and self._positions is None:
+                try:  # can it be assembled? (the outputs then start from these positions)
+                    self._positions = self._mech._kinematics(self._u[0], SCALAR, 0)
                 except ValueError as err:
                     problem = str(err)
             if problem:
@@ -328,5 +330,5 @@ class LinkageSlave(Fmi2Slave):
         self._params = dict(state["params"])
         self._method = state["method"]
         self._time = state["time"]
-        self._cache, self._mech, self._problem = {}, None, ""
+        self._cache, self._mech, self._problem, self._positions = {}, None, "", None
         self._mechanism()

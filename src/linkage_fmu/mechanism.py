@@ -243,6 +243,7 @@ class Mechanism:
         self._effort_outputs = {o.name for o in outputs if isinstance(o, EffortOutput)}
         self.output_names = tuple(o.name for o in outputs)
         self.diagnostic_names = tuple(f"mu_{d.key}" for d in self.dyads) + ("cond",)
+        self._plans: dict = {}  # wanted outputs -> what they need (see _plan)
         for d in self.dyads:
             self.output_info[f"mu_{d.key}"] = (
                 "rad", f"transmission angle of the dyad at {d.key} (0 or pi: toggle)")
@@ -282,17 +283,22 @@ class Mechanism:
             theta = finite_array("theta", theta)
         return self._kinematics(theta, xp, order)
 
-    def _kinematics(self, theta, xp, order: int) -> KinematicState:
-        def fail(condition):
-            raise AssemblyError(self.name, theta, condition)
-
-        st = KinematicState(theta, xp, fail)
-        zero = (0.0, 0.0)
-        for p, xy in self.frame_points.items():
-            st.p[p], st.d1[p], st.d2[p] = xy, zero, zero
+    def _kinematics(self, theta, xp, order: int,
+                    positions: KinematicState | None = None) -> KinematicState:
+        """Kinematics to ``order``; ``positions``, the order-0 state of the same
+        ``theta`` computed earlier, is extended instead of computed again."""
         groups = self.groups
-        for grp in groups:
-            grp.position(st)
+        st = positions
+        if st is None:
+            def fail(condition):
+                raise AssemblyError(self.name, theta, condition)
+
+            st = KinematicState(theta, xp, fail)
+            zero = (0.0, 0.0)
+            for p, xy in self.frame_points.items():
+                st.p[p], st.d1[p], st.d2[p] = xy, zero, zero
+            for grp in groups:
+                grp.position(st)
         if order >= 1:
             for grp in groups:
                 grp.first(st)
@@ -346,12 +352,9 @@ class Mechanism:
             raise ValueError(f"method must be one of {METHODS}, got {method!r}")
         wanted = self._wanted(outputs)
         args = (theta, omega, alpha, load)
-        if all(np.ndim(a) == 0 for a in args):
+        if all(type(a) is float or np.ndim(a) == 0 for a in args):
             values = [finite_float(n, _item(a)) for n, a in zip(INPUTS, args)]
-            try:
-                return Solution(self._solve(*values, SCALAR, method, wanted), True)
-            except ZeroDivisionError:
-                raise SingularPositionError(self.name, values[0], self._singular_detail(values[0])) from None
+            return Solution(self._solve_scalar(values, method, wanted), True)
         arrays = [finite_array(n, a) for n, a in zip(INPUTS, args)]
         try:
             arrays = np.broadcast_arrays(*arrays)
@@ -397,6 +400,8 @@ class Mechanism:
         names = self.output_names + self.diagnostic_names
         if outputs is None:
             return names
+        if type(outputs) is tuple and outputs in self._plans:  # validated before
+            return outputs
         wanted = (outputs,) if isinstance(outputs, str) else tuple(outputs)
         for name in wanted:
             if name not in names:
@@ -404,10 +409,29 @@ class Mechanism:
                                  + ", ".join(names))
         return wanted
 
-    def _solve(self, theta, omega, alpha, load, xp, method, wanted) -> dict:
-        diag = set(self.diagnostic_names)
-        need_effort = any(n in self._effort_outputs for n in wanted)
-        need_reactions = any(n not in diag and n not in self._effort_outputs for n in wanted)
+    def _plan(self, wanted: tuple) -> tuple:
+        """What ``wanted`` needs: (effort, reactions, diagnostics), worked out once."""
+        plan = self._plans.get(wanted)
+        if plan is None:
+            diag = set(self.diagnostic_names)
+            plan = (any(n in self._effort_outputs for n in wanted),
+                    any(n not in diag and n not in self._effort_outputs for n in wanted),
+                    bool(diag.intersection(wanted)))
+            self._plans[wanted] = plan
+        return plan
+
+    def _solve_scalar(self, values, method: str, wanted: tuple,
+                      positions: KinematicState | None = None) -> dict:
+        """One state of finite floats ``(theta, omega, alpha, load)``; names in
+        ``wanted`` must be outputs of this mechanism (not checked here)."""
+        try:
+            return self._solve(*values, SCALAR, method, wanted, positions)
+        except ZeroDivisionError:
+            raise SingularPositionError(self.name, values[0],
+                                        self._singular_detail(values[0])) from None
+
+    def _solve(self, theta, omega, alpha, load, xp, method, wanted, positions=None) -> dict:
+        need_effort, need_reactions, need_diagnostics = self._plan(wanted)
         static = (omega == 0.0 and alpha == 0.0) if xp.scalar else not (omega.any() or alpha.any())
         # kinematic order the scene needs
         order = 0
@@ -418,7 +442,7 @@ class Mechanism:
                 order = 1
         if "cond" in wanted and not self.effort_on_crank:
             order = max(order, 1)
-        st = self._kinematics(theta, xp, order)
+        st = self._kinematics(theta, xp, order, positions)
         R, effort = {}, 0.0
         if need_reactions or need_effort:
             W = wrenches(self, st, omega, alpha, load, static)
@@ -435,7 +459,7 @@ class Mechanism:
         for name, fn in self._outputs:
             if name in wanted:
                 out[name] = fn(R, effort)
-        if diag.intersection(wanted):
+        if need_diagnostics:
             out.update(self._diagnostics(st, wanted))
         if xp.scalar:
             if method == "direct" and not all(map(math.isfinite, out.values())):

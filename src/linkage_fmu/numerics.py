@@ -37,6 +37,8 @@ def finite_float(name: str, value: object) -> float:
     ...
     ValueError: omega must be a finite number, got nan
     """
+    if type(value) is float and value - value == 0.0:  # the common case, finite
+        return value
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.number)):
         raise TypeError(f"{name} must be a real number, got {type(value).__name__} {value!r}")
     x = float(value)
