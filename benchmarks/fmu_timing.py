@@ -32,8 +32,13 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Callable, Sequence
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    import numpy as np
+    from fmpy.fmi2 import FMU2Slave
 
 #: inputs of every linkage FMU, in the order of the modelDescription
 INPUTS = ("theta", "omega", "alpha", "load")
@@ -47,7 +52,7 @@ BUILD_SCRIPT = Path(__file__).resolve().parents[1] / "build_fmu.py"
 # do, inlined so that the FMU bundles nothing but pythonfmu: without them a second
 # instance or the process exit can crash (pythonfmu 0.7 wrapper defects). The class
 # derives from a name spelled Fmi2Slave: the wrapper looks for it in the script text.
-TRIVIAL_SCRIPT = '''"""Trivial pythonfmu slave with the interface of {model_of!r} (benchmarks/fmu_timing.py)."""
+TRIVIAL_SCRIPT = '''"""Trivial pythonfmu slave with the interface of {model_of!r} (fmu_timing)."""
 import atexit
 import ctypes
 import sys
@@ -117,10 +122,9 @@ def build_trivial(preset: str, out: Path) -> Path:
         The FMU. Inputs ``theta, omega, alpha, load`` (continuous Reals); outputs the
         preset's output and diagnostic names, output ``k`` being ``theta + k``.
     """
-    from pythonfmu.builder import FmuBuilder
-
     from linkage_fmu import presets
     from linkage_fmu.check import MODEL_NAMES
+    from pythonfmu.builder import FmuBuilder
 
     start = presets.preset(preset).inputs
     model = f"Trivial{MODEL_NAMES[preset]}"
@@ -148,21 +152,21 @@ def build_project(presets: Sequence[str], out: Path) -> dict[str, Path]:
     for preset in presets:
         args += ["--preset", preset]
     with tempfile.TemporaryDirectory(prefix="fmu_timing_cwd_") as cwd:
-        run = subprocess.run(args, cwd=cwd, capture_output=True, text=True)
+        run = subprocess.run(args, check=False, cwd=cwd, capture_output=True, text=True)
     if run.returncode != 0:
         raise RuntimeError(f"build_fmu.py failed (exit {run.returncode}): {run.stderr[-2000:]}")
     built = [Path(line.rsplit(": ", 1)[0]) for line in run.stdout.splitlines()]
-    return dict(zip(presets, built))
+    return dict(zip(presets, built, strict=True))
 
 
 # -- timing in a fresh process ------------------------------------------------------
-def run_fresh(job: str, **kwargs) -> dict:
+def run_fresh(job: str, **kwargs: object) -> dict:
     """Run ``job`` (a name in :func:`jobs`) in a new Python process outside the source
     tree and return its JSON result; raise ``RuntimeError`` unless it exits with 0."""
     spec = json.dumps({"job": job, **kwargs})
     with tempfile.TemporaryDirectory(prefix="fmu_timing_cwd_") as cwd:
         run = subprocess.run([sys.executable, str(Path(__file__).resolve()), "--run", spec],
-                             cwd=cwd, capture_output=True, text=True)
+                             check=False, cwd=cwd, capture_output=True, text=True)
     if run.returncode != 0:
         raise RuntimeError(f"{job} on {kwargs.get('fmu')} exited with {run.returncode}: "
                            f"{run.stderr[-2000:]}")
@@ -257,7 +261,8 @@ def open_slave(fmu: str) -> tuple:
     return slave, [vrs[n] for n in INPUTS], outputs
 
 
-def loop_fmpy(slave, vr_in: list, vr_out: list, thetas: list, h: float, t0: float) -> float:
+def loop_fmpy(slave: FMU2Slave, vr_in: list, vr_out: list, thetas: list, h: float,
+              t0: float) -> float:
     """One loop through the fmpy API; return its wall time [s]."""
     set_real, do_step, get_real = slave.setReal, slave.doStep, slave.getReal
     clock = time.perf_counter
@@ -269,7 +274,7 @@ def loop_fmpy(slave, vr_in: list, vr_out: list, thetas: list, h: float, t0: floa
     return clock() - start
 
 
-def loop_split(slave, vr_in: list, vr_out: list, thetas: list, h: float,
+def loop_split(slave: FMU2Slave, vr_in: list, vr_out: list, thetas: list, h: float,
                t0: float) -> tuple[float, float, float, float]:
     """One loop through the fmpy API timing each call; return the seconds spent in
     setReal, doStep and getReal, and the loop's wall time."""
@@ -291,7 +296,8 @@ def loop_split(slave, vr_in: list, vr_out: list, thetas: list, h: float,
     return t_set, t_do, t_get, clock() - start
 
 
-def loop_raw(slave, vr_in: list, vr_out: list, thetas: list, h: float, t0: float) -> float:
+def loop_raw(slave: FMU2Slave, vr_in: list, vr_out: list, thetas: list, h: float,
+             t0: float) -> float:
     """One loop through the raw ctypes function pointers on preallocated arrays; return
     its wall time [s]. Raise ``RuntimeError`` if any call returned a status above
     fmi2Warning."""
@@ -338,7 +344,7 @@ def job_step_loop(fmu: str, steps: int, repeats: int) -> dict:
             "outputs": len(vr_out), "finite_outputs": all(map(math.isfinite, last))}
 
 
-def input_table(steps: int):
+def input_table(steps: int) -> np.ndarray:
     """fmpy input table over one revolution: ``steps + 1`` rows of time and inputs."""
     import numpy as np
 
@@ -350,7 +356,7 @@ def input_table(steps: int):
     return u
 
 
-def simulate_seconds(target: str, u, outputs: list, repeats: int) -> list[float]:
+def simulate_seconds(target: str, u: np.ndarray, outputs: list, repeats: int) -> list[float]:
     """Wall times [s] of ``repeats`` ``fmpy.simulate_fmu`` runs of ``target`` (an FMU file
     or an extracted directory) over the input table ``u``."""
     from fmpy import simulate_fmu

@@ -1,0 +1,413 @@
+"""Run time against error for the four-bar and the slider-crank, in one run.
+
+    pip install -e ".[bench]" && python benchmarks/run.py [--quick]
+
+Writes ``benchmarks/results/``: ``work_precision.csv`` (every method: seconds per
+crank angle and its maximum relative error against the 40-digit mpmath reference),
+``fmu.csv``, ``communication.csv``, ``scale.csv``, ``results.md`` (the tables and the
+targets) and ``work_precision.png`` (log-log, time per angle against error).
+
+Common states: 360 crank angles over a revolution, omega = 10 rad/s, alpha = 0, load
+3 N.m (four-bar, on the rocker) or 50 N (slider-crank, on the piston). Error is the
+normwise relative error per state (:func:`linkage_fmu.precise.relative_error`), its
+maximum over the states. Times are the best of several repeats (this machine is noisy).
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import math
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+import fmu_timing
+import peers
+import seed_way
+from linkage_fmu import presets
+from linkage_fmu.interpolation import AngleTable
+from linkage_fmu.precise import references, relative_error
+
+HERE = Path(__file__).resolve().parent
+RESULTS = HERE / "results"
+PRESETS = {"four_bar": 3.0, "slider_crank": 50.0}  # preset -> load
+OMEGA, ALPHA, N_ANGLES = 10.0, 0.0, 360
+SEED = {"four_bar": seed_way.four_bar, "slider_crank": seed_way.slider_crank}
+TARGETS = {"vectorised / seed per angle": 500.0, "scalar / seed per angle": 10.0,
+           "FMU step / trivial FMU step": 1.2, "max relative error (exact methods)": 1e-12,
+           "peer / our scalar, at equal or better error": 1.0}
+
+
+def best_time(fn, repeats: int = 7) -> float:
+    """Best wall time of ``fn()`` over ``repeats`` calls, in seconds."""
+    best = math.inf
+    for _ in range(repeats):
+        start = time.perf_counter()
+        fn()
+        best = min(best, time.perf_counter() - start)
+    return best
+
+
+def angles(n: int) -> np.ndarray:
+    """``n`` crank angles over one revolution, off the exact multiples of pi/2."""
+    return 2.0 * math.pi * (np.arange(n) + 0.25) / n
+
+
+def row(preset, method, variant, seconds_per_angle, error, note=""):
+    return {"preset": preset, "method": method, "variant": variant,
+            "us_per_angle": seconds_per_angle * 1e6, "max_rel_error": error, "note": note}
+
+
+def ours(preset: str, load: float, ref: dict, static_ref: dict, big: int) -> list[dict]:
+    """Our solvers: scalar and vectorised closed form, direct per angle and batched, the
+    effort alone, the static scene, and the interpolated table at several sizes."""
+    mech = presets.get(preset)
+    theta = angles(N_ANGLES)
+    many = np.random.default_rng(0).uniform(0.0, 2 * math.pi, big)
+    rows = []
+    for method in ("closed_form", "direct"):
+        sols = [mech.solve(float(t), OMEGA, ALPHA, load, method=method) for t in theta]
+        got = {n: np.array([s[n] for s in sols]) for n in mech.output_names}
+        t = best_time(lambda: [mech.solve(float(x), OMEGA, ALPHA, load, method=method)
+                               for x in theta]) / N_ANGLES
+        rows.append(row(preset, f"{method} scalar", "per angle", t, relative_error(got, ref).max()))
+        t = best_time(lambda: mech.solve(many, OMEGA, ALPHA, load, method=method), 3) / big
+        err = relative_error(mech.solve(theta, OMEGA, ALPHA, load, method=method), ref).max()
+        rows.append(row(preset, f"{method} vectorised", f"{big} angles", t, err))
+    effort = mech.effort.name
+    t = best_time(lambda: mech.solve(many, OMEGA, ALPHA, load, outputs=(effort,)), 3) / big
+    # measured against each state's largest output, as for the full solves (the effort
+    # alone crosses zero, where its own size is no scale)
+    got = mech.solve(theta, OMEGA, ALPHA, load, outputs=(effort,))[effort]
+    err = np.max(np.abs(got - ref[effort])
+                 / np.max([np.abs(ref[n]) for n in mech.output_names], axis=0))
+    rows.append(row(preset, f"{effort} only", f"{big} angles", t, err,
+                    "virtual power, no reactions"))
+    t = best_time(lambda: mech.solve(many, 0.0, 0.0, load), 3) / big
+    err = relative_error(mech.solve(theta, 0.0, 0.0, load), static_ref).max()
+    rows.append(row(preset, "static scene", f"{big} angles", t, err, "omega = alpha = 0"))
+    for size in (64, 256, 1024, 4096, 16384):
+        build = best_time(lambda: AngleTable(mech, size), 3)
+        table = AngleTable(mech, size)
+        t = best_time(lambda: table(many, OMEGA, ALPHA, load), 3) / big
+        err = relative_error(table(theta, OMEGA, ALPHA, load), ref).max()
+        rows.append(row(preset, "table", f"{size} grid angles", t, err,
+                        f"built once in {build * 1e3:.1f} ms"))
+    return rows
+
+
+def seeds_way(preset: str, load: float, ref: dict) -> dict:
+    """Per angle: kinematics, the 9x9 matrix with numpy, ``np.linalg.solve``."""
+    mech = presets.get(preset)
+    p, fn, theta = mech.parameters, SEED[preset], angles(N_ANGLES)
+    x = np.array([fn(p, float(t), OMEGA, ALPHA, load) for t in theta])
+    got = dict(zip(mech.output_names, x.T))
+    t = best_time(lambda: [fn(p, float(s), OMEGA, ALPHA, load) for s in theta]) / N_ANGLES
+    return row(preset, "seed way", "9x9 np.linalg.solve per angle", t,
+               relative_error(got, ref).max())
+
+
+def peer_rows(preset: str, load: float, ref: dict) -> list[dict]:
+    """fourbarhinge (four-bar only) on the same states; exudyn at several step sizes,
+    its errors against our direct solver at its own sample angles (float64, ~1e-15)."""
+    mech = presets.get(preset)
+    theta = angles(N_ANGLES)
+    rows = []
+    versions = peers.available()
+    if preset == "four_bar" and versions["fourbarhinge"]:
+        p = peers.FOURBARHINGE_PARAMS
+        got = peers.fourbarhinge_four_bar(p, theta, OMEGA, ALPHA, load)
+        t = best_time(lambda: peers.fourbarhinge_four_bar(p, theta, OMEGA, ALPHA, load),
+                      3) / N_ANGLES
+        rows.append(row(preset, "fourbarhinge", versions["fourbarhinge"], t,
+                        relative_error(got, ref).max()))
+    if versions["exudyn"]:
+        for steps in (90, 360, 1440, 5760):
+            runs = [peers.exudyn_run(preset, steps, OMEGA, load) for _ in range(3)]
+            th, got, _ = runs[0]
+            solve = min(r[2]["solve_s"] for r in runs)
+            setup = min(r[2]["setup_s"] for r in runs)
+            exact = mech.solve(th, OMEGA, ALPHA, load, method="direct")
+            err = relative_error(got, {n: exact[n] for n in mech.output_names}).max()
+            rows.append(row(preset, "exudyn", f"{steps} steps/rev", solve / (steps + 1), err,
+                            f"exudyn {versions['exudyn']}; setup {setup * 1e3:.1f} ms"))
+    return rows
+
+
+def fmu_rows(dist: Path, trivial: dict, steps: int) -> tuple[list[dict], list[dict]]:
+    """Per step through fmpy: our FMUs and a trivial pythonfmu FMU with the same I/O.
+    The FMUs' error is the build check's (against the direct solver, 360 steps)."""
+    from linkage_fmu.check import MODEL_NAMES
+
+    work, fmu = [], []
+    for preset in PRESETS:
+        ours_path = dist / f"{MODEL_NAMES[preset]}.fmu"
+        check = subprocess.run([sys.executable, "-m", "linkage_fmu.check", str(ours_path),
+                                preset], capture_output=True, text=True, cwd=tempfile.gettempdir())
+        error = json.loads(check.stdout.splitlines()[-1])["max_rel_error"]
+        for kind, path in (("linkage_fmu", ours_path), ("trivial pythonfmu", trivial[preset])):
+            loop = fmu_timing.time_step_loop(path, steps)
+            sim = fmu_timing.time_simulate_fmu(path, steps)
+            fmu.append({"preset": preset, "fmu": kind,
+                        "fmpy_us_per_step": loop["fmpy_api"]["us_per_step"],
+                        "raw_ctypes_us_per_step": loop["raw_ctypes"]["us_per_step"],
+                        "set_us": loop["split"]["set"], "doStep_us": loop["split"]["do_step"],
+                        "get_us": loop["split"]["get"],
+                        "simulate_fmu_us_per_step": sim["extracted"]["us_per_step"]})
+            if kind == "linkage_fmu":
+                work.append(row(preset, "FMU, FMU2Slave loop", f"{steps} steps",
+                                loop["fmpy_api"]["us_per_step"] * 1e-6, error,
+                                "error: build check against the direct solver"))
+                work.append(row(preset, "FMU, simulate_fmu", f"{steps} steps",
+                                sim["extracted"]["us_per_step"] * 1e-6, error,
+                                "error: build check against the direct solver"))
+    return work, fmu
+
+
+def communication(dist: Path) -> list[dict]:
+    """A master running the FMU over one revolution at constant speed: the cycle-mean
+    torque and the energy per revolution it computes from the sampled Mb (rectangle
+    rule on fmpy's output rows), against the exact values (periodic trapezoid on 65536
+    angles of the closed form, exact to rounding for a smooth periodic Mb)."""
+    from linkage_fmu.check import MODEL_NAMES
+
+    rows = []
+    for preset, load in PRESETS.items():
+        mech = presets.get(preset)
+        fine = mech.solve(2 * math.pi * np.arange(65536) / 65536, OMEGA, 0.0, load)["Mb"]
+        exact_energy = float(np.mean(fine)) * 2 * math.pi
+        steps = [8, 16, 32, 64, 128, 256, 1024]
+        job = {"fmu": str(dist / f"{MODEL_NAMES[preset]}.fmu"), "steps": steps,
+               "omega": OMEGA, "load": load}
+        run = subprocess.run([sys.executable, __file__, "--master", json.dumps(job)],
+                             capture_output=True, text=True, cwd=tempfile.gettempdir())
+        if run.returncode != 0:
+            raise RuntimeError(run.stderr[-2000:])
+        scale = float(np.max(np.abs(fine))) * 2 * math.pi  # amplitude x one revolution
+        for n, (lagged, paired) in zip(steps, json.loads(run.stdout.splitlines()[-1])):
+            rows.append({"preset": preset, "steps_per_rev": n,
+                         "energy_error_as_sampled": abs(lagged - exact_energy) / scale,
+                         "energy_error_paired": abs(paired - exact_energy) / scale})
+    return rows
+
+
+def master(job: dict) -> list[tuple[float, float]]:
+    """(In a fresh process.) Energy per revolution seen by a master: simulate_fmu with
+    a theta ramp at constant speed, energy = sum of Mb x omega x h over the rows at
+    t_0 ... t_(n-1) as they come (each row holds the outputs for the previous row's
+    inputs), and over t_1 ... t_n, i.e. each output paired with the inputs it answers."""
+    from fmpy import simulate_fmu
+
+    out = []
+    for n in job["steps"]:
+        h = 2 * math.pi / job["omega"] / n
+        t = np.arange(n + 1) * h
+        u = np.zeros(n + 1, dtype=[("time", float), ("theta", float), ("omega", float),
+                                    ("alpha", float), ("load", float)])
+        u["time"], u["theta"], u["omega"], u["load"] = t, job["omega"] * t, job["omega"], job["load"]
+        res = simulate_fmu(job["fmu"], stop_time=t[-1], step_size=h, output_interval=h,
+                           input=u, output=["Mb"])
+        out.append((float(np.sum(res["Mb"][:n]) * job["omega"] * h),
+                    float(np.sum(res["Mb"][1:n + 1]) * job["omega"] * h)))
+    return out
+
+
+def scale(sizes) -> list[dict]:
+    """Time and peak traced memory of the vectorised closed form, each size in a fresh
+    process (four-bar, all outputs)."""
+    code = ("import sys, time, tracemalloc, numpy as np; from linkage_fmu import presets; "
+            "m = presets.get('four_bar'); n = int(sys.argv[1]); th = np.linspace(0, 6.283, n); "
+            "m.solve(th[:2], 10.0, 0.0, 3.0); best = 1e9\n"
+            "for _ in range(3):\n t = time.perf_counter(); m.solve(th, 10.0, 0.0, 3.0); "
+            "best = min(best, time.perf_counter() - t)\n"
+            "tracemalloc.start(); m.solve(th, 10.0, 0.0, 3.0); "
+            "print(best, tracemalloc.get_traced_memory()[1])")
+    rows = []
+    for n in sizes:
+        run = subprocess.run([sys.executable, "-c", code, str(n)], capture_output=True,
+                             text=True, check=True)
+        seconds, peak = run.stdout.split()
+        rows.append({"angles": n, "seconds": float(seconds),
+                     "ns_per_angle": float(seconds) / n * 1e9,
+                     "peak_MB": int(peak) / 1e6, "peak_bytes_per_angle": int(peak) / n})
+    return rows
+
+
+def write_csv(path: Path, rows: list[dict]) -> None:
+    with open(path, "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+
+
+def plot(rows: list[dict], path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, len(PRESETS), figsize=(12, 6.2), sharey=True)
+    floor = 1e-17
+    methods = list(dict.fromkeys(r["method"] for r in rows))
+    colors = plt.get_cmap("tab20").colors
+    style = {m: (colors[2 * k % 20 + (k >= 10)], "osD^v<>ph*"[k % 10])
+             for k, m in enumerate(methods)}
+    for ax, preset in zip(axes, PRESETS):
+        mine = [r for r in rows if r["preset"] == preset]
+        for method in methods:
+            pts = [r for r in mine if r["method"] == method]
+            if not pts:
+                continue
+            color, marker = style[method]
+            ax.loglog([max(r["max_rel_error"], floor) for r in pts],
+                      [r["us_per_angle"] for r in pts], marker=marker, color=color,
+                      ls="-" if len(pts) > 1 else "", label=method)
+        ax.axvline(1e-12, color="grey", ls=":", lw=1)
+        ax.set_title(preset)
+        ax.set_xlabel("max relative error vs mpmath (40 digits)")
+        ax.grid(True, which="major", alpha=0.3)
+    axes[0].set_ylabel("run time per crank angle [us]")
+    handles = {}
+    for ax in axes:
+        for h, label in zip(*ax.get_legend_handles_labels()):
+            handles.setdefault(label, h)
+    fig.legend(handles.values(), handles.keys(), loc="lower center", ncol=5, fontsize=8)
+    fig.tight_layout(rect=(0, 0.12, 1, 1))
+    fig.savefig(path, dpi=110)
+
+
+def md_table(header: list, body: list) -> list[str]:
+    """Lines of a markdown table."""
+    return (["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+            + ["| " + " | ".join(str(c) for c in cells) + " |" for cells in body])
+
+
+def summary(work, fmu, comm, scl, machine: str, seconds: float) -> str:
+    def get(preset, method):
+        return next(r for r in work if r["preset"] == preset and r["method"] == method)
+
+    lines = ["# Benchmark results", "", f"Machine: {machine}. Command: `python benchmarks/run.py`"
+             f" ({seconds:.0f} s). Times are the best of repeats; error is the maximum over "
+             "360 states of the normwise relative error against the 40-digit reference.", "",
+             "## Targets", "", "| preset | measure | measured | target | met |",
+             "|---|---|---|---|---|"]
+    for preset in PRESETS:
+        seed = get(preset, "seed way")["us_per_angle"]
+        vec = get(preset, "closed_form vectorised")["us_per_angle"]
+        sca = get(preset, "closed_form scalar")["us_per_angle"]
+        ours_fmu = next(r for r in fmu if r["preset"] == preset and r["fmu"] == "linkage_fmu")
+        triv = next(r for r in fmu if r["preset"] == preset and r["fmu"] != "linkage_fmu")
+        exact = max(r["max_rel_error"] for r in work if r["preset"] == preset
+                    and r["method"] in ("closed_form scalar", "closed_form vectorised",
+                                        "direct scalar", "direct vectorised"))
+        checks = [("vectorised / seed per angle", seed / vec, ">="),
+                  ("scalar / seed per angle", seed / sca, ">="),
+                  ("FMU step / trivial FMU step",
+                   ours_fmu["fmpy_us_per_step"] / triv["fmpy_us_per_step"], "<="),
+                  ("max relative error (exact methods)", exact, "<=")]
+        for peer in ("fourbarhinge", "exudyn"):
+            runs = [r for r in work if r["preset"] == preset and r["method"] == peer]
+            if runs:  # its most accurate run; our scalar path is at least as accurate
+                best = min(runs, key=lambda r: r["max_rel_error"])
+                assert best["max_rel_error"] >= get(preset, "closed_form scalar")["max_rel_error"]
+                checks.append((f"{peer} ({best['variant']}) / our scalar, per angle",
+                               best["us_per_angle"] / sca, ">="))
+        for name, value, sense in checks:
+            target = TARGETS.get(name, TARGETS["peer / our scalar, at equal or better error"])
+            met = value >= target if sense == ">=" else value <= target
+            lines.append(f"| {preset} | {name} | {value:.3g} | {sense} {target:g} | "
+                         f"{'yes' if met else 'no'} |")
+    lines += ["", "## Run time and error", ""] + md_table(
+        ["preset", "method", "variant", "us per angle", "max rel. error", "note"],
+        [[r["preset"], r["method"], r["variant"], f"{r['us_per_angle']:.3g}",
+          f"{r['max_rel_error']:.2g}", r["note"]] for r in work])
+    lines += ["", "## FMU step (us)", ""] + md_table(
+        ["preset", "FMU", "fmpy loop", "raw ctypes", "set", "doStep", "get", "simulate_fmu"],
+        [[r["preset"], r["fmu"]] + [f"{r[k]:.1f}" for k in (
+            "fmpy_us_per_step", "raw_ctypes_us_per_step", "set_us", "doStep_us", "get_us",
+            "simulate_fmu_us_per_step")] for r in fmu])
+    lines += ["", "## Communication step vs cycle-mean torque and energy (master's view)", "",
+              "Error of the energy per revolution (2 pi x the cycle-mean torque, so the "
+              "same relative error for both), relative to the torque's amplitude x 2 pi. "
+              "*As sampled*: the rows of fmpy's result as they come (each holds the "
+              "outputs for the previous row's inputs). *Paired*: each output with the "
+              "inputs it answers.", ""] + md_table(
+        ["preset", "steps per rev", "as sampled", "paired"],
+        [[r["preset"], r["steps_per_rev"], f"{r['energy_error_as_sampled']:.2g}",
+          f"{r['energy_error_paired']:.2g}"] for r in comm])
+    lines += ["", "## Scale (four-bar, closed form, all outputs)", ""] + md_table(
+        ["angles", "seconds", "ns per angle", "peak MB", "bytes per angle"],
+        [[r["angles"]] + [f"{r[k]:.3g}" for k in (
+            "seconds", "ns_per_angle", "peak_MB", "peak_bytes_per_angle")] for r in scl])
+    return "\n".join(lines) + "\n"
+
+
+def machine() -> str:
+    cpu = "unknown CPU"
+    try:
+        with open("/proc/cpuinfo") as f:
+            cpu = next(line.split(":", 1)[1].strip() for line in f if line.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    import numpy
+
+    return (f"{cpu}, {os.cpu_count()} cores, {platform.system()} {platform.machine()}, "
+            f"Python {platform.python_version()}, numpy {numpy.__version__}")
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true",
+                        help="fewer states and sizes (a smoke run; results not for publishing)")
+    parser.add_argument("--out", type=Path, default=RESULTS)
+    parser.add_argument("--master", help=argparse.SUPPRESS)  # fresh-process helper
+    args = parser.parse_args(argv)
+    if args.master:
+        print(json.dumps(master(json.loads(args.master))))
+        return 0
+    start = time.perf_counter()
+    big = 20_000 if args.quick else 200_000
+    work = []
+    for preset, load in PRESETS.items():
+        mech = presets.get(preset)
+        theta = angles(N_ANGLES)
+        print(f"{preset}: mpmath reference ...", flush=True)
+        ref = references(mech, theta, OMEGA, ALPHA, load)
+        static_ref = references(mech, theta, 0.0, 0.0, load)
+        print(f"{preset}: ours, seed way, peers ...", flush=True)
+        work += ours(preset, load, ref, static_ref, big)
+        work.append(seeds_way(preset, load, ref))
+        work += peer_rows(preset, load, ref)
+    with tempfile.TemporaryDirectory(prefix="linkage_bench_") as tmp:
+        tmp = Path(tmp)
+        print("FMUs ...", flush=True)
+        dist = tmp / "dist"
+        fmu_timing.build_project(list(PRESETS), dist)
+        trivial = {p: fmu_timing.build_trivial(p, tmp / "trivial") for p in PRESETS}
+        fmu_work, fmu = fmu_rows(dist, trivial, 500 if args.quick else 2000)
+        work += fmu_work
+        comm = communication(dist)
+    print("scale ...", flush=True)
+    scl = scale([1, 10, 100, 1000, 10**4, 10**5] + ([] if args.quick else [10**6, 10**7]))
+    args.out.mkdir(parents=True, exist_ok=True)
+    write_csv(args.out / "work_precision.csv", work)
+    write_csv(args.out / "fmu.csv", fmu)
+    write_csv(args.out / "communication.csv", comm)
+    write_csv(args.out / "scale.csv", scl)
+    plot(work, args.out / "work_precision.png")
+    text = summary(work, fmu, comm, scl, machine(), time.perf_counter() - start)
+    (args.out / "results.md").write_text(text)
+    print(text)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
