@@ -57,11 +57,7 @@ from importlib import metadata
 
 import numpy as np
 
-#: Output names of the ``four_bar`` preset, in its order.
-FOUR_BAR_OUTPUTS = ("F21x", "F21y", "F32x", "F32y", "F43x", "F43y", "F14x", "F14y", "Mb")
-
-#: Output names of the ``slider_crank`` preset, in its order.
-SLIDER_CRANK_OUTPUTS = ("F21x", "F21y", "F32x", "F32y", "N43", "F14x", "F14y", "Mb")
+from linkage_fmu import presets
 
 #: Parameters of our ``four_bar`` preset for the fourbarhinge comparison. fourbarhinge can
 #: represent all of them (gravity, centre of mass anywhere on the link, inertia, a moment on
@@ -111,8 +107,6 @@ def available() -> dict[str, str | None]:
 
 def _parameters(preset: str, params: dict | None = None) -> dict:
     """Our preset's full, validated parameter dict (defaults overridden by ``params``)."""
-    from linkage_fmu import presets
-
     return dict(presets.get(preset, **(params or {})).parameters)
 
 
@@ -190,7 +184,8 @@ def fourbarhinge_four_bar(params: dict, theta: np.ndarray, omega: float, alpha: 
         r = res.reactions
         out[k] = (-r["B"][0], -r["B"][1], -r["C"][0], -r["C"][1], r["D"][0], r["D"][1],
                   -r["A"][0], -r["A"][1], res.actuator_value)
-    return {name: out[:, i].reshape(theta.shape) for i, name in enumerate(FOUR_BAR_OUTPUTS)}
+    names = presets.get("four_bar").output_names  # the order of the columns above
+    return {name: out[:, i].reshape(theta.shape) for i, name in enumerate(names)}
 
 
 # -- exudyn ------------------------------------------------------------------------
@@ -437,8 +432,7 @@ def exudyn_run(preset: str, steps_per_rev: int, omega: float = 10.0,
         out["F43x"], out["F43y"] = -F["F34"][:, 1], -F["F34"][:, 2]
     else:
         out["N43"] = -F["-N43"][:, 1]
-    names = FOUR_BAR_OUTPUTS if preset == "four_bar" else SLIDER_CRANK_OUTPUTS
-    out = {k: np.ascontiguousarray(out[k]) for k in names}
+    out = {k: np.ascontiguousarray(out[k]) for k in presets.get(preset).output_names}
     drift = float(np.max(np.abs(theta - omega * crank[:, 0])))
     t3 = time.perf_counter()
     return theta, out, {"setup_s": t1 - t0, "solve_s": t2 - t1, "post_s": t3 - t2,
@@ -459,8 +453,6 @@ def relative_errors(reference: dict, other: dict) -> dict[str, float]:
 
 def _main() -> None:
     import os
-
-    from linkage_fmu import presets
 
     print("peers:", available(), f"on {os.cpu_count()} CPUs")
     if fourbarhinge_version():

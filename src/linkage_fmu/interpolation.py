@@ -76,7 +76,7 @@ class AngleTable:
             grids = [np.tensordot((1.0, w * w, a, f), self.parts, axes=1).T.copy()]
         else:
             grids = [p.T.copy() for p in self.parts]
-        flat = [np.ravel(v) for v in arrays]
+        flat = [v.reshape(-1) for v in arrays]  # views where possible
         out = np.empty((flat[0].size, len(self.names)))
         for start in range(0, flat[0].size, 8192):
             part = slice(start, start + 8192)

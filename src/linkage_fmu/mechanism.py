@@ -362,7 +362,7 @@ class Mechanism:
             raise ValueError("theta, omega, alpha and load must broadcast to one shape, got "
                              + ", ".join(str(np.shape(a)) for a in arrays)) from None
         shape = arrays[0].shape
-        flat = [np.ascontiguousarray(a).reshape(-1) for a in arrays]
+        flat = [a.reshape(-1) for a in arrays]  # views where possible: no scalar copied n times
         n = flat[0].size
         out = {name: np.empty(n) for name in wanted}
         valid = np.empty(n, dtype=bool)
