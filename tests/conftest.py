@@ -3,6 +3,9 @@
 from __future__ import annotations
 
 import math
+import subprocess
+import sys
+from pathlib import Path
 
 import mpmath
 import pytest
@@ -65,3 +68,18 @@ def power_residual(mech, sol, theta, omega, alpha, load):
         sizes += [abs(load) * (math.hypot(ux, uy) * v + abs(um * w)), b.mass * mech.g * v,
                   b.mass * math.hypot(ax, ay) * v + abs(b.inertia * eps * w)]
     return sum(terms), max(sizes)
+
+
+@pytest.fixture(scope="session")
+def dist(tmp_path_factory) -> Path:
+    """The four preset FMUs, built once per test session by ``build_fmu.py`` (no check)."""
+    from linkage_fmu.check import MODEL_NAMES, write_crosscheck
+
+    out = tmp_path_factory.mktemp("dist")
+    root = Path(__file__).resolve().parents[1]
+    build = subprocess.run([sys.executable, str(root / "build_fmu.py"), "--no-check", "--out",
+                            str(out)], cwd=root, capture_output=True, text=True)
+    assert build.returncode == 0, build.stdout + build.stderr
+    for preset in MODEL_NAMES:
+        write_crosscheck(out, preset, steps=90)
+    return out

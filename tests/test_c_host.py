@@ -61,12 +61,13 @@ def host_environment() -> dict[str, str]:
             "PYTHONPATH": sysconfig.get_paths()["purelib"]}
 
 
-def model_outputs(model_description: Path) -> tuple[str, dict[str, int]]:
-    """Model identifier and ``{output name: valueReference}`` of a modelDescription.xml."""
+def model_outputs(model_description: Path) -> tuple[str, str, dict[str, int]]:
+    """Model identifier, GUID and ``{output name: valueReference}`` of a
+    modelDescription.xml."""
     root = ET.parse(model_description).getroot()
     outputs = {v.get("name"): int(v.get("valueReference"))
                for v in root.iter("ScalarVariable") if v.get("causality") == "output"}
-    return root.find("CoSimulation").get("modelIdentifier"), outputs
+    return root.find("CoSimulation").get("modelIdentifier"), root.get("guid"), outputs
 
 
 def test_c_host_matches_direct_solver(fmu: Path, tmp_path: Path) -> None:
@@ -76,10 +77,10 @@ def test_c_host_matches_direct_solver(fmu: Path, tmp_path: Path) -> None:
     unzipped = tmp_path / "FourBar"
     with zipfile.ZipFile(fmu) as archive:
         archive.extractall(unzipped)
-    model, outputs = model_outputs(unzipped / "modelDescription.xml")
+    model, guid, outputs = model_outputs(unzipped / "modelDescription.xml")
     host = compile_host(tmp_path)
 
-    command = [str(host), str(unzipped), model, str(STEPS), repr(OMEGA), repr(LOAD),
+    command = [str(host), str(unzipped), model, guid, str(STEPS), repr(OMEGA), repr(LOAD),
                *map(str, outputs.values())]
     run = subprocess.run(command, cwd=tmp_path, env=host_environment(),
                          capture_output=True, text=True, timeout=120)
@@ -96,3 +97,25 @@ def test_c_host_matches_direct_solver(fmu: Path, tmp_path: Path) -> None:
         scale = np.max(np.abs(expected[name]))
         np.testing.assert_allclose(table[:, column], expected[name], rtol=0,
                                    atol=TOLERANCE * scale, err_msg=name)
+
+
+@pytest.mark.parametrize("env, message", [
+    ({"PYTHONHOME": "/nonexistent/python"}, "cannot start Python"),
+    ({"LD_PRELOAD": ""}, "it needs libpython"),
+])
+def test_a_host_without_a_working_python_gets_an_error_not_an_exit(fmu, tmp_path, env,
+                                                                    message):
+    """A bad PYTHONHOME (Python's own start-up would exit the process) or no libpython in
+    the process: fmi2Instantiate returns NULL and logs why; the host carries on (here it
+    reports the failure and exits with its own status 1)."""
+    unzipped = tmp_path / "FourBar"
+    with zipfile.ZipFile(fmu) as archive:
+        archive.extractall(unzipped)
+    model, guid, outputs = model_outputs(unzipped / "modelDescription.xml")
+    host = compile_host(tmp_path)
+    run = subprocess.run([str(host), str(unzipped), model, guid, "4", "1.0", "0.0",
+                          str(outputs["Mb"])], cwd=tmp_path,
+                         env={**host_environment(), **env}, capture_output=True, text=True,
+                         timeout=120)
+    assert run.returncode == 1, run.stderr
+    assert "fmi2Instantiate failed" in run.stderr and message in run.stderr, run.stderr

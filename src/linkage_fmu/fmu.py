@@ -5,15 +5,25 @@ One generic :class:`LinkageSlave`; each FMU's script subclasses it with ``PRESET
 a direct feedthrough of the latest inputs, computed when a getReal call asks for them,
 only the ones asked for, at most once per change of inputs.
 
-Nothing escapes to the host: a Python exception in a pythonfmu callback becomes
-fmi2Fatal and kills the instance, so every callback catches, logs (naming variable,
-value and reason) and answers with NaN outputs and fmi2Discard from doStep until the
-inputs are valid again.
+The FMU's binary is the guard of :mod:`linkage_fmu.fmi.guard` in front of pythonfmu's
+wrapper: it enforces the FMI state machine and checks every argument, so the slave only
+sees valid calls. The status of a call is the worst status the slave logs during it:
+
+* inputs that cannot be solved (not finite, an angle at which the linkage cannot be
+  assembled, a singular position, arithmetic that overflows): fmi2Warning from doStep or
+  getReal, every output NaN until the inputs change, a log naming the variable, value and
+  reason. The step itself succeeds (the slave has no state to lose), so a master's run
+  goes on and returns every row; Discard, which fmpy answers by ending the run or by
+  retrying the same inputs forever, is never used;
+* an invalid parameter set: fmi2Error from exitInitializationMode, naming each problem;
+  the instance stays in initialisation mode until the parameters are fixed.
+
+Nothing escapes to the host: a Python exception in a pythonfmu callback is fmi2Fatal
+there, so every callback catches, logs with fmi2Error and answers NaN.
 """
 
 from __future__ import annotations
 
-import atexit
 import ctypes
 import functools
 import hashlib
@@ -25,7 +35,6 @@ from pathlib import Path
 from pythonfmu import (DefaultExperiment, Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer,
                        String)
 from pythonfmu.enums import Fmi2Status
-from pythonfmu.osutil import get_lib_extension, get_platform
 
 from . import __version__, presets
 from .mechanism import INPUTS, METHODS
@@ -64,19 +73,28 @@ def _loaded_fingerprint() -> str:
     return fingerprint(Path(__file__).parent)
 
 
-def check_bundle(expected: str) -> None:
+def check_bundle(expected: str, script: str | Path) -> None:
     """Refuse to run a ``linkage_fmu`` other than the one this FMU bundles.
 
     The host process may have imported ``linkage_fmu`` before loading the FMU; Python
-    then hands the FMU the host's copy instead of the bundled one.
+    then hands the FMU the host's copy instead of the bundled one. Or the copy bundled
+    in the FMU (beside the slave ``script``, in ``resources/``) was edited after the
+    build. The message says which.
     """
     found = _loaded_fingerprint()
-    if found != expected:
+    if found == expected:
+        return
+    loaded = Path(__file__).resolve().parent
+    if loaded.parent == Path(script).resolve().parent:
         raise ImportError(
-            f"this FMU bundles linkage_fmu with source fingerprint {expected[:12]}, but the "
-            f"process already imported linkage_fmu {__version__} from "
-            f"{Path(__file__).parent} (fingerprint {found[:12]}); load the FMU in a process "
-            "that has not imported another linkage_fmu, or rebuild it with that version")
+            f"the linkage_fmu bundled in this FMU ({loaded}) was changed after the FMU was "
+            f"built (source fingerprint {found[:12]}, built as {expected[:12]}); rebuild the "
+            "FMU instead of editing its resources")
+    raise ImportError(
+        f"this FMU bundles linkage_fmu with source fingerprint {expected[:12]}, but the "
+        f"process already imported linkage_fmu {__version__} from {loaded} (fingerprint "
+        f"{found[:12]}); load the FMU in a process that has not imported another "
+        "linkage_fmu, or rebuild it with that version")
 
 
 def hold_namespace(module_name: str) -> None:
@@ -103,27 +121,6 @@ def hold_namespace(module_name: str) -> None:
     ctypes.pythonapi.Py_IncRef(ctypes.py_object(vars(sys.modules[module_name])))
 
 
-@functools.lru_cache(maxsize=None)  # once per wrapper library and process
-def _release_wrapper_at_exit(library: str) -> None:
-    """Keep pythonfmu 0.7's wrapper ``library`` loaded and release its interpreter state
-    at interpreter exit, before the C runtime's exit handlers run.
-
-    The wrapper holds its interpreter state in a static ``shared_ptr``. At process exit
-    (or dlclose) the C++ runtime destroys that pointer, and then the library's own
-    finaliser, ``finalizePythonInterpreter``, releases the same pointer a second time:
-    a double free, after which the host aborts at exit (measured: 10 of 20 runs of a
-    Python host). ``finalizePythonInterpreter`` empties the pointer before it releases
-    it, so calling it first makes both later releases no-ops. The ``ctypes`` handle
-    taken here pins the library, so it is still there when ``atexit`` runs.
-
-    Parameters
-    ----------
-    library : str
-        Path of the FMU's binary, already loaded by the host.
-    """
-    atexit.register(ctypes.CDLL(library).finalizePythonInterpreter)
-
-
 class LinkageSlave(Fmi2Slave):
     """Co-simulation slave for the preset named by the subclass attribute ``PRESET``.
 
@@ -136,14 +133,9 @@ class LinkageSlave(Fmi2Slave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        if "logger" in kwargs:  # created by the FMU's wrapper, not by the builder
-            binary = (Path(self.resources).parent / "binaries" / get_platform()
-                      / f"{type(self).__name__}.{get_lib_extension()}")
-            try:
-                _release_wrapper_at_exit(str(binary))
-            except (OSError, AttributeError) as err:
-                self.log(f"the host may crash at exit: cannot pin the FMU binary {binary} "
-                         f"({err})", Fmi2Status.warning)
+        self._logged: list = []  # attributes of queued log messages (see log)
+        self._cause = None  # cause of the latest warning, while it repeats
+        self._repeats = 0
         spec = presets.preset(self.PRESET)
         mech = presets.get(self.PRESET)
         self.author = "linkage_fmu"
@@ -161,6 +153,7 @@ class LinkageSlave(Fmi2Slave):
         self._u = [float(getattr(start, n)) for n in INPUTS]
         self._cache: dict = {}
         self._positions = None  # positions at the current theta, from doStep
+        self._unsolvable = ()  # (cause, message) while the cache holds NaN for a reason
         self._names = mech.output_names + mech.diagnostic_names
         self._time = 0.0
 
@@ -210,24 +203,74 @@ class LinkageSlave(Fmi2Slave):
                 for n in self._names}
         return complete(root, deps)
 
+    # -- logging: statuses for the guard, no leak, repeated warnings counted ---------
     def log(self, msg, status=Fmi2Status.ok, category=None, debug=None):
         # the host's logger takes the message as a printf format string
         super().log(str(msg).replace("%", "%%"), status, category)
+        queued = self.log_queue[-1]
+        self._logged += (queued.msg, queued.category, queued.status)
 
-    # -- setters and getters: never raise -------------------------------------------
+    def _release_logged(self) -> None:
+        """Drop the references pythonfmu 0.7's wrapper leaks per log message.
+
+        When the wrapper passes the queued messages to the logger, it reads each one's
+        ``msg``, ``category`` and ``status`` with ``PyObject_GetAttr`` and never releases
+        what it got (measured: about 211 bytes per message, kept until exit). Once the
+        wrapper has emptied the queue, every object listed in ``_logged`` holds exactly
+        one such reference, which is released here. Called at the start of every
+        callback; nothing is released while a message is still queued.
+        """
+        if self._logged and not self.log_queue:
+            for obj in self._logged:
+                ctypes.pythonapi.Py_DecRef(ctypes.py_object(obj))
+            self._logged.clear()
+
+    def __del__(self):
+        try:
+            self._release_logged()
+        except Exception:  # pragma: no cover - interpreter shutting down
+            pass
+
+    def _warn(self, cause: tuple, message: str) -> None:
+        """Log ``message`` as a warning, or, while the same ``cause`` repeats, only the
+        status (the guard turns it into the call's fmi2Warning; the host sees nothing)."""
+        if cause == self._cause:
+            self._repeats += 1
+            self.log("", Fmi2Status.warning)  # a status the guard does not pass on
+            return
+        self._end_repeats()
+        self._cause = cause
+        self.log(message, Fmi2Status.warning)
+
+    def _end_repeats(self) -> None:
+        if self._repeats:
+            self.log(f"the warning above repeated {self._repeats} more times, the last at "
+                     f"t = {self._time!r}", Fmi2Status.ok, "logAll")
+        self._cause, self._repeats = None, 0
+
+    def _error(self, call: str, err: BaseException) -> None:
+        self.log(f"{call} failed: {err!r}", Fmi2Status.error)
+
+    # -- setters and getters: the guard has checked references, types and states ----
+    def _invalidate(self) -> None:
+        """Forget everything computed from the inputs and parameters."""
+        self._cache, self._positions, self._unsolvable = {}, None, ()
+
     def _set_input(self, i: int, value: float) -> None:
         self._u[i] = value
-        self._cache, self._positions = {}, None
+        self._invalidate()
 
     def _set_param(self, name: str, value) -> None:
         if name == "method":
             self._method = value
         else:
             self._params[name] = value
-        self._cache, self._positions = {}, None
+        self._invalidate()
         self._mech, self._problem = None, ""
 
     def set_real(self, vrs, values):
+        self._release_logged()
+        self._invalidate()  # whatever happens below
         try:
             for vr, value in zip(vrs, values):
                 i = self._vr_input.get(vr)
@@ -235,11 +278,29 @@ class LinkageSlave(Fmi2Slave):
                     self.vars[vr].setter(value)
                 else:
                     self._u[i] = value
-            self._cache, self._positions = {}, None
-        except Exception as err:  # pragma: no cover - defensive: never reach the host
-            self.log(f"setReal failed: {err!r}", Fmi2Status.error)
+        except Exception as err:
+            self._error("setReal", err)
+
+    def _set_other(self, call: str, vrs, values) -> None:
+        self._release_logged()
+        self._invalidate()
+        try:
+            for vr, value in zip(vrs, values):
+                self.vars[vr].setter(value)
+        except Exception as err:
+            self._error(call, err)
+
+    def set_integer(self, vrs, values):
+        self._set_other("setInteger", vrs, values)
+
+    def set_boolean(self, vrs, values):
+        self._set_other("setBoolean", vrs, values)
+
+    def set_string(self, vrs, values):
+        self._set_other("setString", vrs, values)
 
     def get_real(self, vrs):
+        self._release_logged()
         try:
             names = [self._vr_output.get(vr) for vr in vrs]
             if None not in names:
@@ -248,9 +309,26 @@ class LinkageSlave(Fmi2Slave):
             for vr, name in zip(vrs, names):
                 out.append(self._outputs((name,))[0] if name else float(self.vars[vr].getter()))
             return out
-        except Exception as err:  # pragma: no cover - defensive: never reach the host
-            self.log(f"getReal failed: {err!r}", Fmi2Status.error)
+        except Exception as err:
+            self._error("getReal", err)
             return [math.nan] * len(vrs)
+
+    def _get_other(self, call: str, vrs, convert, default) -> list:
+        self._release_logged()
+        try:
+            return [convert(self.vars[vr].getter()) for vr in vrs]
+        except Exception as err:
+            self._error(call, err)
+            return [default] * len(vrs)
+
+    def get_integer(self, vrs):
+        return self._get_other("getInteger", vrs, int, 0)
+
+    def get_boolean(self, vrs):
+        return self._get_other("getBoolean", vrs, bool, False)
+
+    def get_string(self, vrs):
+        return self._get_other("getString", vrs, str, "")
 
     def _mechanism(self):
         """The mechanism for the current parameters, or None (reason in _problem)."""
@@ -263,72 +341,126 @@ class LinkageSlave(Fmi2Slave):
                 self._problem = f"invalid parameter: {err}"
         return self._mech
 
-    def _input_problem(self) -> str:
+    def _input_problem(self) -> tuple:
+        """``(cause, message)`` if the inputs are not all finite, else ``()``."""
         for name, value in zip(INPUTS, self._u):
             if not math.isfinite(value):
-                return f"input {name} = {value!r} is not a finite number"
-        return ""
+                return ("input", name), f"input {name} = {value!r} is not a finite number"
+        return ()
 
     def _outputs(self, names) -> list:
         cache = self._cache
         missing = [n for n in names if n not in cache]
         if missing:
             cache.update(self._solve(missing))
+        elif self._unsolvable:  # NaN from an earlier call: this read warns too
+            self._warn(*self._unsolvable)
         return [cache[n] for n in names]
 
+    def _unsolved(self, cause: tuple, message: str) -> None:
+        """The inputs cannot be solved: every output NaN until they change, and a warning."""
+        self._cache = dict.fromkeys(self._names, math.nan)
+        self._unsolvable = cause, message
+        self._warn(cause, message)
+
     def _solve(self, names) -> dict:
+        """Outputs ``names`` at the current inputs; all of them NaN, with a warning, if
+        the inputs cannot be solved."""
         mech = self._mechanism()
-        problem = self._problem or self._input_problem()
+        if mech is None:  # the guard allows no read after a failed initialisation
+            return dict.fromkeys(names, math.nan)
+        problem = self._input_problem()
         if not problem:
             try:
-                return mech._solve_scalar(self._u, self._method, tuple(names), self._positions)
+                out = mech._solve_scalar(self._u, self._method, tuple(names), self._positions)
             except ValueError as err:  # AssemblyError, SingularPositionError
-                problem = str(err)
-        self.log(f"outputs {', '.join(names)} are NaN at t = {self._time!r}: {problem}",
-                 Fmi2Status.warning)
+                problem = (type(err).__name__,), str(err)
+            else:
+                bad = [n for n, v in out.items() if not math.isfinite(v)]
+                if not bad:
+                    self._end_repeats()
+                    return out
+                problem = ("overflow",), (
+                    f"the arithmetic overflows at theta = {self._u[0]!r}, omega = "
+                    f"{self._u[1]!r}, alpha = {self._u[2]!r}, load = {self._u[3]!r}: "
+                    f"{bad[0]} = {out[bad[0]]!r}")
+        # every output, not only those asked for: none may be read stale or half-valid
+        self._unsolved(problem[0], f"outputs are NaN at t = {self._time!r}: {problem[1]}")
         return dict.fromkeys(names, math.nan)
 
     # -- life cycle -----------------------------------------------------------------
     def setup_experiment(self, start_time, stop_time=None, tolerance=None):
+        self._release_logged()
         self._time = start_time
 
+    def enter_initialization_mode(self):
+        self._release_logged()
+
     def exit_initialization_mode(self):
-        self._problem = ""
-        if self._mechanism() is None:
-            self.log(self._problem + "; every doStep will be discarded", Fmi2Status.error)
+        """Check the parameter set; an invalid one is an fmi2Error (through the guard)."""
+        self._release_logged()
+        try:
+            self._mech, self._problem = None, ""
+            if self._mechanism() is None:
+                self.log(f"exitInitializationMode: {self._problem}", Fmi2Status.error)
+        except Exception as err:
+            self._error("exitInitializationMode", err)
+
+    def terminate(self):
+        self._release_logged()
+        self._end_repeats()
 
     def do_step(self, current_time, step_size):
+        """Check that the inputs can be solved (finite, and the linkage assembles at
+        theta); the outputs are computed when read. Always True: see the module notes."""
+        self._release_logged()
         try:
-            if self._mechanism() is None:
-                self.log(f"doStep at t = {current_time!r} discarded: {self._problem}",
-                         Fmi2Status.discard)
-                return False
+            self._time = current_time + step_size
+            mech = self._mechanism()
+            if mech is None:  # not after a successful exitInitializationMode
+                self.log(f"doStep: {self._problem}", Fmi2Status.error)
+                return True
             problem = self._input_problem()
             if not problem and self._positions is None:
                 try:  # can it be assembled? (the outputs then start from these positions)
-                    self._positions = self._mech._kinematics(self._u[0], SCALAR, 0)
+                    self._positions = mech._kinematics(self._u[0], SCALAR, 0)
                 except ValueError as err:
-                    problem = str(err)
+                    problem = (type(err).__name__,), str(err)
             if problem:
-                self._cache = dict.fromkeys(self._names, math.nan)  # nothing stale
-                self.log(f"doStep at t = {current_time!r} discarded: {problem}",
-                         Fmi2Status.discard)
-                return False
-            self._time = current_time + step_size
+                self._unsolved(problem[0], f"doStep to t = {self._time!r}: outputs are NaN: "
+                                           f"{problem[1]}")
             return True
-        except Exception as err:  # pragma: no cover - defensive: never reach the host
-            self.log(f"doStep failed: {err!r}", Fmi2Status.error)
-            return False
+        except Exception as err:
+            self._error("doStep", err)
+            return True
 
     # -- FMU state: inputs, parameters and time (the cache is rebuilt on demand) -----
     def _get_fmu_state(self):
+        self._release_logged()
         return {"u": list(self._u), "params": dict(self._params), "method": self._method,
                 "time": self._time}
 
     def _set_fmu_state(self, state):
-        self._u = [float(v) for v in state["u"]]
-        self._params = dict(state["params"])
-        self._method = state["method"]
-        self._time = state["time"]
-        self._cache, self._mech, self._problem, self._positions = {}, None, "", None
+        self._release_logged()
+        try:
+            u, params = state["u"], state["params"]
+            if len(u) != len(self._u) or set(params) != set(self._params):
+                raise ValueError("the state does not hold this model's inputs and parameters")
+            self._u = [float(v) for v in u]
+            self._params = dict(params)
+            self._method = str(state["method"])
+            self._time = float(state["time"])
+        except Exception as err:
+            self._error("setFMUstate", err)
+        self._invalidate()
+        self._mech, self._problem = None, ""
         self._mechanism()
+
+    @staticmethod
+    def _fmu_state_from_bytes(state: bytes):
+        # the guard has checked the header and checksum; a state it lets through that
+        # still fails here reaches _set_fmu_state as a dict it rejects with an error
+        try:
+            return Fmi2Slave._fmu_state_from_bytes(state)
+        except Exception:
+            return {}

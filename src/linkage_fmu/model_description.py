@@ -33,7 +33,8 @@ CAPABILITIES = {
     "canSerializeFMUstate": "true",
     "canInterpolateInputs": "false",
     "canBeInstantiatedOnlyOncePerProcess": "false",
-    "needsExecutionTool": "false",
+    # pythonfmu FMUs run in the importing process's Python, which must have numpy
+    "needsExecutionTool": "true",
 }
 
 

@@ -1,7 +1,8 @@
 /* Minimal FMI 2.0 co-simulation host for the linkage FMUs (pythonfmu wrappers).
  *
- * usage: host DIR MODEL N W L VR...
+ * usage: host DIR MODEL GUID N W L VR...
  *   DIR    unzipped FMU folder          MODEL  model identifier (DIR/binaries/linux64/MODEL.so)
+ *   GUID   the guid of DIR/modelDescription.xml
  *   N      steps over one revolution    W, L   crank speed omega [rad/s] and load
  *   VR...  valueReferences of the Real outputs to print
  * Step k sets theta = 2*pi*k/N, omega = W, alpha = 0, load = L (valueReferences 0..3),
@@ -21,8 +22,7 @@
 
 #include "fmi2Functions.h"
 
-/* Worst status the FMU has logged. pythonfmu cannot return fmi2Error from Python code,
- * so the FMU reports some errors only through the logger. */
+/* Worst status the FMU has logged. */
 static fmi2Status worst_logged = fmi2OK;
 
 /* Print the reason and stop at once, without tearing down an FMU left in an unknown state. */
@@ -64,19 +64,19 @@ static double seconds(void) {
 }
 
 int main(int argc, char **argv) {
-    if (argc < 7) die("usage", "host DIR MODEL N W L VR...");
+    if (argc < 8) die("usage", "host DIR MODEL GUID N W L VR...");
     char dir[PATH_MAX], path[PATH_MAX + 64], uri[PATH_MAX + 64];
     if (!realpath(argv[1], dir)) die("no such folder", argv[1]);
-    const char *model = argv[2];
-    const int n = atoi(argv[3]);
-    const double w = atof(argv[4]), load = atof(argv[5]);
-    const size_t nout = (size_t)(argc - 6);
+    const char *model = argv[2], *guid = argv[3];
+    const int n = atoi(argv[4]);
+    const double w = atof(argv[5]), load = atof(argv[6]);
+    const size_t nout = (size_t)(argc - 7);
     if (n < 1 || !(w > 0)) die("N and W must be positive", NULL);
 
     fmi2ValueReference *vout = malloc(nout * sizeof *vout);
     double *y = malloc(nout * sizeof *y);
     if (!vout || !y) die("out of memory", NULL);
-    for (size_t i = 0; i < nout; i++) vout[i] = (fmi2ValueReference)strtoul(argv[6 + i], NULL, 10);
+    for (size_t i = 0; i < nout; i++) vout[i] = (fmi2ValueReference)strtoul(argv[7 + i], NULL, 10);
 
     snprintf(path, sizeof path, "%s/binaries/linux64/%s.so", dir, model);
     void *lib = dlopen(path, RTLD_NOW | RTLD_LOCAL);
@@ -88,8 +88,7 @@ int main(int argc, char **argv) {
     /* The wrapper strips a literal "file://" only: the URI must be file:///abs/path. */
     snprintf(uri, sizeof uri, "file://%s/resources", dir);
     const fmi2CallbackFunctions callbacks = {logger, calloc, free, NULL, NULL};
-    /* pythonfmu does not check the GUID; loggingOn must be true to see any message. */
-    fmi2Component c = Instantiate(model, fmi2CoSimulation, "", uri, &callbacks, fmi2False, fmi2True);
+    fmi2Component c = Instantiate(model, fmi2CoSimulation, guid, uri, &callbacks, fmi2False, fmi2True);
     if (!c) die("fmi2Instantiate failed", uri);
 
     /* Time follows the crank: one revolution at speed W takes 2*pi/W seconds. */

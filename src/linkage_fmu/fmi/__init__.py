@@ -1,0 +1,1 @@
+"""FMI layers of the linkages: the guard in front of pythonfmu's wrapper."""

@@ -1,0 +1,258 @@
+"""Fuzz an FMU through fmpy's raw FMI 2 functions and check every answer.
+
+``generate`` writes a random sequence of FMI calls for one preset's FMU, good and bad,
+and the answer each must get; ``fmu_raw_host.py`` runs them in a fresh process; ``check``
+compares, with the direct solver (computed here, never in the host) as the reference for
+every output read. Used by ``tests/test_fmu_fuzz.py`` (10^4 steps per FMU) and as a
+script for longer runs::
+
+    python tests/fmu_fuzz.py DIST_DIR --steps 100000 [--seed 1]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import subprocess
+import sys
+import tempfile
+from collections import Counter
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from fmpy import read_model_description
+
+from linkage_fmu import presets
+from linkage_fmu.check import MODEL_NAMES
+
+HOST = Path(__file__).with_name("fmu_raw_host.py")
+OK, WARNING, DISCARD, ERROR, FATAL = range(5)
+#: parameter perturbations per preset: a valid one and one that exitInitialization rejects
+PERTURB = {
+    "scotch_yoke": ({"l_AB": (0.05, 0.2), "m3": (1.0, 20.0)}, {"h2": -0.1}),
+    "four_bar": ({"l_AB": (0.08, 0.3), "m2": (0.5, 4.0)}, {"l_BC": 0.0}),
+    "six_bar": ({"l_OA": (0.1, 0.4), "rho": (1.0, 20.0)}, {"m4": -1.0}),
+    "slider_crank": ({"e": (-0.1, 0.1), "m3": (0.1, 3.0)}, {"l_AB": -0.2}),
+}
+BAD_VALUES = (math.nan, math.inf, -math.inf, 1e300, 1e160)
+
+
+@dataclass
+class Plan:
+    """The calls, and what each answer must be: ``checks[i]`` for op ``i``."""
+
+    ops: list = field(default_factory=list)
+    checks: dict = field(default_factory=dict)
+
+
+def _variables(fmu: Path) -> dict:
+    md = read_model_description(str(fmu))
+    return {v.name: (v.valueReference, v.type, v.causality, v.variability)
+            for v in md.modelVariables}
+
+
+def generate(fmu: Path, preset: str, steps: int, seed: int) -> Plan:
+    """Random calls to ``fmu`` totalling ``steps`` doStep calls, in episodes of 500 steps,
+    each a fresh instance with its own parameters."""
+    rng = np.random.default_rng(seed)
+    v = _variables(fmu)
+    outs = [vr for vr, t, c, _ in v.values() if c == "output"]
+    out_names = [n for n, (vr, t, c, _) in v.items() if c == "output"]
+    fixed_real = [vr for vr, t, c, var in v.values() if c == "parameter" and t == "Real"]
+    n_vars = len(v)
+    strings = [vr for vr, t, c, _ in v.values() if t == "String"]
+    valid, invalid = PERTURB[preset]
+    defaults = {p.name: p.default for p in presets.preset(preset).parameters}
+    plan = Plan()
+    ops, checks = plan.ops, plan.checks
+    done = 0
+    episode = 0
+
+    def add(op, check=None):
+        if check is not None:
+            checks[len(ops)] = check
+        ops.append(op)
+
+    while done < steps:
+        name = f"e{episode}"
+        episode += 1
+        params = {k: float(rng.uniform(lo, hi)) for k, (lo, hi) in valid.items()}
+        add([name, "new", "M"], ("status", OK))
+        add([name, "setup", 0.0, None], ("status", OK))
+        add([name, "enter"], ("status", OK))
+        if rng.random() < 0.2:  # an invalid set first: exit must fail, then be fixed
+            for key, value in invalid.items():
+                add([name, "setReal", [v[key][0]], [value]], ("status", OK))
+            add([name, "exit"], ("status", ERROR))
+            add([name, "doStep", 0.0, 0.1], ("status", ERROR))
+        for key, value in params.items():
+            add([name, "setReal", [v[key][0]], [value]], ("status", OK))
+        for key in invalid:  # back to a valid value where the perturbation has none
+            if key not in params:
+                add([name, "setReal", [v[key][0]], [defaults[key]]], ("status", OK))
+        add([name, "exit"], ("status", OK))
+        start = presets.preset(preset).inputs
+        u = [start.theta, start.omega, start.alpha, start.load]  # the inputs' start values
+        saved = {}
+        t = 0.0
+        for _ in range(min(500, steps - done)):
+            r = rng.random()
+            if r < 0.70:  # new inputs, sometimes not solvable, then a step and a read
+                u = [float(rng.uniform(-7, 7)), float(rng.uniform(-30, 30)),
+                     float(rng.uniform(-100, 100)), float(rng.uniform(-50, 50))]
+                if rng.random() < 0.1:
+                    u[int(rng.integers(4))] = float(rng.choice(BAD_VALUES))
+                add([name, "setReal", [0, 1, 2, 3], u], ("status", OK))
+                add([name, "doStep", t, 0.01], ("step", preset, params, list(u)))
+                t += 0.01
+                done += 1
+                add([name, "getReal", outs], ("read", preset, params, list(u), out_names))
+            elif r < 0.74:  # valid inputs mixed with an output or an unknown reference
+                bad_vr = int(rng.choice([outs[0], n_vars + int(rng.integers(1, 100))]))
+                add([name, "setReal", [0, bad_vr], [float(rng.uniform(-7, 7)), 1.0]],
+                    ("status", ERROR))
+                add([name, "doStep", t, 0.01], ("step", preset, params, list(u)))
+                t += 0.01
+                done += 1
+                add([name, "getReal", outs], ("read", preset, params, list(u), out_names))
+            elif r < 0.77:  # a fixed parameter after initialisation
+                add([name, "setReal", [int(rng.choice(fixed_real))], [0.5]], ("status", ERROR))
+            elif r < 0.80:  # wrong types, unknown references, strings that are not UTF-8
+                choice = int(rng.integers(4))
+                if choice == 0:
+                    add([name, "setInteger", [int(rng.integers(0, n_vars + 50))], [2]],
+                        ("status", ERROR))
+                elif choice == 1:
+                    add([name, "setString", [int(rng.choice(strings + [0]))],
+                         [bytes(rng.integers(128, 256, 4).tolist()).hex()]], ("status", ERROR))
+                elif choice == 2:
+                    add([name, "getString", [n_vars + int(rng.integers(0, 9))]], ("status", ERROR))
+                else:
+                    add([name, "getReal", [0, n_vars + int(rng.integers(0, 9))]], ("status", ERROR))
+            elif r < 0.83:  # bad step sizes and times
+                h, t0 = [(0.0, t), (-0.01, t), (math.nan, t), (0.01, math.nan), (math.inf, t)][
+                    int(rng.integers(5))]
+                add([name, "doStep", t0, h], ("status", ERROR))
+            elif r < 0.88:  # save, serialize, restore (checked by the next read)
+                slot = f"s{int(rng.integers(3))}"
+                add([name, "getState", slot], ("status", OK))
+                add([name, "serialize", slot, slot], ("status", OK))
+                saved[slot] = list(u)
+            elif r < 0.91 and saved:
+                slot = str(rng.choice(sorted(saved)))
+                edit = [None, ["flip", int(rng.integers(0, 10_000)), int(rng.integers(1, 256))],
+                        ["cut", int(rng.integers(0, 200))]][int(rng.integers(3))]
+                add([name, "deserialize", slot, "d", edit], ("status", OK if edit is None
+                                                              else ERROR))
+                if edit is None:
+                    add([name, "setState", "d"], ("status", OK))
+                    add([name, "freeState", "d"], ("status", OK))
+                    u = list(saved[slot])
+                    add([name, "getReal", outs], ("read", preset, params, list(u), out_names))
+            else:  # direct feedthrough: inputs read without a step
+                u = [float(rng.uniform(-7, 7)), float(rng.uniform(-30, 30)), 0.0,
+                     float(rng.uniform(-50, 50))]
+                add([name, "setReal", [0, 1, 2, 3], u], ("status", OK))
+                add([name, "getReal", outs], ("read", preset, params, list(u), out_names))
+        add([name, "terminate"], ("status", OK))
+        add([name, "free"], ("status", OK))
+    return plan
+
+
+def _solvable(preset, params, u, names):
+    """Reference outputs at ``u`` (closed form and direct must agree), or None where the
+    inputs cannot be solved; and whether the state is too ill-conditioned to compare."""
+    if not all(map(math.isfinite, u)):
+        return None, False
+    mech = presets.get(preset, **params)
+    try:
+        sol = mech.solve(*u, method="direct")
+    except ValueError:
+        return None, False
+    values = [sol[n] for n in names]
+    if not all(map(math.isfinite, values)):
+        return None, False
+    return values, sol["cond"] > 1e7
+
+
+def _assembles(preset, params, u) -> bool:
+    if not all(map(math.isfinite, u)):
+        return False
+    try:
+        presets.get(preset, **params).kinematics(u[0], order=0)
+    except ValueError:
+        return False
+    return True
+
+
+def check(plan: Plan, results: list) -> Counter:
+    """Compare every answer with its check; return the tally of outcomes, raising
+    ``AssertionError`` on the first wrong one."""
+    tally = Counter()
+    for i, (status, payload) in enumerate(results):
+        assert status != FATAL, (i, plan.ops[i])
+        tally[("status", status)] += 1
+        c = plan.checks.get(i)
+        if c is None:
+            continue
+        if c[0] == "status":
+            assert status == c[1], (i, plan.ops[i], status, c[1])
+        elif c[0] == "step":
+            _, preset, params, u = c
+            expect = OK if _assembles(preset, params, u) else WARNING
+            assert status == expect, (i, plan.ops[i], u, status)
+        elif c[0] == "read":
+            _, preset, params, u, names = c
+            values, fragile = _solvable(preset, params, u, names)
+            got = np.array([math.nan if y is None else y for y in payload])
+            if values is None:
+                assert np.isnan(got).all(), (i, u, payload)
+                assert status == WARNING, (i, u, status)  # NaN always comes with a warning
+                tally["nan read"] += 1
+            elif fragile:
+                tally["ill-conditioned, not compared"] += 1
+            else:
+                assert status == OK, (i, u, status)
+                ref = np.array(values)
+                scale = np.maximum(np.abs(ref), 1e-3 * np.max(np.abs(ref[:-1])))
+                assert np.all(np.abs(got - ref) <= 1e-9 * scale), (
+                    i, u, list(zip(names, got, ref)))
+                tally["read equal to the direct solver"] += 1
+    return tally
+
+
+def run(dist: Path, preset: str, steps: int, seed: int) -> tuple[Counter, dict]:
+    """Generate, run in a fresh host process, check. Returns the tally and host output."""
+    fmu = Path(dist) / f"{MODEL_NAMES[preset]}.fmu"
+    plan = generate(fmu, preset, steps, seed)
+    with tempfile.TemporaryDirectory(prefix="linkage_fmu_fuzz_") as cwd:
+        job = Path(cwd) / "job.json"
+        job.write_text(json.dumps({"fmus": {"M": str(fmu)}, "ops": plan.ops, "keep_log": 20}))
+        proc = subprocess.run([sys.executable, str(HOST), str(job)], cwd=cwd,
+                              capture_output=True, text=True)
+    assert proc.returncode == 0, f"host died ({proc.returncode}): {proc.stderr[-3000:]}"
+    out = json.loads(proc.stdout.splitlines()[-1])
+    return check(plan, out["results"]), out
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("dist", type=Path, help="folder with the built FMUs")
+    parser.add_argument("--steps", type=int, default=100_000, help="doStep calls per FMU")
+    parser.add_argument("--seed", type=int, default=1)
+    args = parser.parse_args(argv)
+    for preset in MODEL_NAMES:
+        tally, out = run(args.dist, preset, args.steps, args.seed)
+        statuses = {s: tally[("status", s)] for s in range(5)}
+        print(f"{MODEL_NAMES[preset]}: {sum(statuses.values())} calls, statuses "
+              f"OK/Warning/Discard/Error/Fatal = {'/'.join(map(str, statuses.values()))}; "
+              f"{tally['read equal to the direct solver']} reads equal to the direct solver, "
+              f"{tally['nan read']} NaN reads, {tally['ill-conditioned, not compared']} "
+              f"ill-conditioned; peak memory {out['peak_kib'] / 1024:.0f} MiB", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

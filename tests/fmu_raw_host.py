@@ -1,0 +1,218 @@
+"""Drives FMUs through fmpy's raw FMI 2 function pointers, in a fresh process.
+
+Usage: ``python fmu_raw_host.py JOB.json`` prints a JSON result. Started by the FMU
+protocol tests and ``benchmarks/fmu_fuzz.py``; never imported by them, and it never
+imports linkage_fmu, so every FMU runs the package it bundles.
+
+No call raises here: each answers its status code, so a test can count them. The job
+holds FMU paths and a list of operations ``[instance, op, *args]``; the result has one
+``[status, payload]`` per operation (``payload`` holds values read, NaN as None), the
+log messages by status, and the peak resident memory.
+"""
+
+import ctypes
+import json
+import math
+import pathlib
+import resource
+import sys
+from ctypes import byref, c_char_p, c_double, c_int, c_size_t, c_uint, c_void_p
+
+from fmpy import calloc, extract, free, read_model_description
+from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
+                       fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
+
+LAST_SUCCESSFUL_TIME, TERMINATED = 2, 3  # fmi2StatusKind
+
+
+class Host:
+    def __init__(self, fmus: dict, keep_log: int):
+        self.units = {}  # fmu key -> (md, unzip dir, library owner FMU2Slave)
+        for key, path in fmus.items():
+            md = read_model_description(path)
+            self.units[key] = (md, extract(path))
+        self.instances = {}  # name -> (FMU2Slave, component)
+        self.states = {}
+        self.blobs = {}
+        self.log = {}
+        self.keep_log = keep_log
+        self.counts = [0] * 6
+        self._callbacks = []
+
+    def _logger(self, component, instance, status, category, message):
+        self.counts[min(status, 5)] += 1
+        lst = self.log.setdefault(str(status), [])
+        if len(lst) < self.keep_log:
+            lst.append(message.decode(errors="replace"))
+
+    def new(self, name, key, guid=None, logging=True, resources=None):
+        md, unzip = self.units[key]
+        fmu = FMU2Slave(guid=md.guid, unzipDirectory=unzip,
+                        modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name)
+        callbacks = fmi2CallbackFunctions()
+        callbacks.logger = fmi2CallbackLoggerTYPE(self._logger)
+        callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+        callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+        self._callbacks.append(callbacks)  # outlives the instance
+        f = fmu._functions["fmi2Instantiate"]
+        location = resources if resources is not None else \
+            pathlib.Path(unzip, "resources").as_uri()
+        component = f(name.encode(), 1, (md.guid if guid is None else guid).encode(),
+                      location.encode(), byref(callbacks), 0, int(logging))
+        if not component:
+            return 3, None
+        self.instances[name] = (fmu, component, md)
+        return 0, None
+
+    def call(self, name, fname, *args):
+        fmu, component, _ = self.instances[name]
+        return fmu._functions[fname](component, *args)
+
+    def vrs(self, refs):
+        return (c_uint * len(refs))(*refs), len(refs)
+
+    def run(self, name, op, *a):
+        if op == "new":
+            return self.new(name, *a)
+        if op == "steps":  # many steps at once: (inputs per step, h, vrs to read)
+            return self.steps(name, *a)
+        fmu, component, md = self.instances[name]
+        fn = fmu._functions
+        if op == "free":
+            fn["fmi2FreeInstance"](component)
+            del self.instances[name]
+            return 0, None
+        if op == "setup":
+            start, stop = a
+            return fn["fmi2SetupExperiment"](component, 0, 0.0, start, int(stop is not None),
+                                              0.0 if stop is None else stop), None
+        simple = {"enter": "fmi2EnterInitializationMode", "exit": "fmi2ExitInitializationMode",
+                  "terminate": "fmi2Terminate", "reset": "fmi2Reset", "cancel": "fmi2CancelStep"}
+        if op in simple:
+            return fn[simple[op]](component), None
+        if op == "doStep":
+            t, h = a
+            return fn["fmi2DoStep"](component, t, h, 1), None
+        if op in ("setReal", "setInteger", "setBoolean", "setString"):
+            refs, values = a
+            vr, n = self.vrs(refs)
+            if op == "setReal":
+                arr = (c_double * n)(*values)
+            elif op == "setString":
+                arr = (c_char_p * n)(*(None if v is None else bytes.fromhex(v) for v in values))
+            else:
+                arr = (c_int * n)(*values)
+            return fn["fmi2" + op[0].upper() + op[1:]](component, vr, n, arr), None
+        if op in ("getReal", "getInteger", "getBoolean", "getString"):
+            (refs,) = a
+            vr, n = self.vrs(refs)
+            ctype = {"getReal": c_double, "getString": c_char_p}.get(op, c_int)
+            arr = (ctype * n)()
+            status = fn["fmi2" + op[0].upper() + op[1:]](component, vr, n, arr)
+            if op == "getReal":
+                values = [None if math.isnan(v) else v for v in arr]
+            elif op == "getString":
+                values = [None if v is None else v.decode(errors="replace") for v in arr]
+            else:
+                values = list(arr)
+            return status, values
+        if op == "getState":
+            (slot,) = a
+            state = self.states.get(slot, c_void_p())
+            status = fn["fmi2GetFMUstate"](component, byref(state))
+            self.states[slot] = state
+            return status, None
+        if op == "setState":
+            (slot,) = a
+            return fn["fmi2SetFMUstate"](component, self.states[slot]), None
+        if op == "freeState":
+            (slot,) = a
+            state = self.states.pop(slot)
+            return fn["fmi2FreeFMUstate"](component, byref(state)), None
+        if op == "serialize":
+            slot, blob = a
+            size = c_size_t()
+            status = fn["fmi2SerializedFMUstateSize"](component, self.states[slot], byref(size))
+            if status > 1:
+                return status, None
+            buf = ctypes.create_string_buffer(size.value)
+            status = fn["fmi2SerializeFMUstate"](component, self.states[slot], buf, size)
+            self.blobs[blob] = buf.raw
+            return status, len(buf.raw)
+        if op == "deserialize":
+            blob, slot, edit = a  # edit: None | ["flip", i, byte] | ["cut", n] | ["hex", str]
+            data = bytearray(self.blobs[blob])
+            if edit and edit[0] == "flip":
+                data[edit[1] % len(data)] ^= edit[2]
+            elif edit and edit[0] == "cut":
+                data = data[:edit[1]]
+            elif edit and edit[0] == "hex":
+                data = bytearray(bytes.fromhex(edit[1]))
+            buf = ctypes.create_string_buffer(bytes(data), len(data))
+            state = c_void_p()
+            status = fn["fmi2DeSerializeFMUstate"](component, buf, len(data), byref(state))
+            if state:
+                self.states[slot] = state
+            return status, None
+        if op == "realStatus":
+            value = c_double()
+            status = fn["fmi2GetRealStatus"](component, a[0], byref(value))
+            return status, value.value
+        if op == "boolStatus":
+            value = c_int()
+            status = fn["fmi2GetBooleanStatus"](component, a[0], byref(value))
+            return status, value.value
+        if op == "nulls":  # NULL arrays and pointers where the standard wants them
+            return 0, [
+                fn["fmi2SetReal"](component, None, 2, None),
+                fn["fmi2GetReal"](component, None, 1, None),
+                fn["fmi2GetFMUstate"](component, None),
+                fn["fmi2SetFMUstate"](component, None),
+                fn["fmi2GetRealStatus"](component, LAST_SUCCESSFUL_TIME, None),
+                fn["fmi2GetBooleanStatus"](component, TERMINATED, None),
+                fn["fmi2DoStep"](None, 0.0, 0.1, 1),
+                fn["fmi2SetString"](component, None, 1, None),
+            ]
+        if op == "rss":  # resident memory now, KiB
+            with open("/proc/self/statm") as f:
+                return 0, int(f.read().split()[1]) * resource.getpagesize() // 1024
+        if op == "debugLogging":
+            on, categories = a
+            arr = (c_char_p * len(categories))(*(c.encode() for c in categories))
+            return fn["fmi2SetDebugLogging"](component, int(on), len(categories), arr), None
+        raise ValueError(f"unknown op {op!r}")
+
+
+    def steps(self, name, rows, h, refs):
+        """Set the 4 inputs, doStep, get ``refs`` per row; count statuses and NaN reads."""
+        fmu, component, _ = self.instances[name]
+        fn = fmu._functions
+        set_real, do_step, get_real = fn["fmi2SetReal"], fn["fmi2DoStep"], fn["fmi2GetReal"]
+        vin, n_in = self.vrs([0, 1, 2, 3])
+        vout, n_out = self.vrs(refs)
+        u, y = (c_double * 4)(), (c_double * n_out)()
+        counts, nan_rows, t = [0] * 6, 0, 0.0
+        for row in rows if isinstance(rows, list) else [rows[0]] * rows[1]:
+            u[:] = row
+            counts[set_real(component, vin, n_in, u)] += 1
+            counts[do_step(component, t, h, 1)] += 1
+            counts[get_real(component, vout, n_out, y)] += 1
+            nan_rows += any(map(math.isnan, y))
+            t += h
+        return 0, {"counts": counts, "nan_rows": nan_rows}
+
+
+def main(job):
+    host = Host(job["fmus"], job.get("keep_log", 50))
+    results = []
+    for entry in job["ops"]:
+        results.append(list(host.run(*entry)))
+    for name in list(host.instances):
+        host.run(name, "free")
+    peak_kib = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    return {"results": results, "log": host.log, "logged": host.counts, "peak_kib": peak_kib}
+
+
+if __name__ == "__main__":
+    with open(sys.argv[1]) as f:
+        print(json.dumps(main(json.load(f))), flush=True)

@@ -1,0 +1,339 @@
+"""The FMUs driven through fmpy's raw FMI 2 functions, from fresh host processes: every
+bad call answers fmi2Error (never Fatal, never a crash) and leaves the instance usable,
+the FMI 2.0 state machine is enforced, no output is stale under OK, serialized states are
+checked, and memory stays flat while steps keep failing.
+
+Each case runs ``fmu_raw_host.py`` in a new process and checks its statuses and values
+against the direct solver computed here.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from fmpy import read_model_description
+
+from linkage_fmu import presets
+from linkage_fmu.check import MODEL_NAMES
+
+HOST = Path(__file__).with_name("fmu_raw_host.py")
+OK, WARNING, DISCARD, ERROR, FATAL = range(5)
+LAST_SUCCESSFUL_TIME, TERMINATED = 2, 3
+PRESET_OF = {model: preset for preset, model in MODEL_NAMES.items()}
+
+
+def raw(dist: Path, ops: list, tmp_path: Path, models=("FourBar",), keep_log=200) -> dict:
+    """Run ``ops`` in a fresh host process (cwd outside the repository)."""
+    job = {"fmus": {m: str(dist / f"{m}.fmu") for m in models}, "ops": ops,
+           "keep_log": keep_log}
+    cwd = tmp_path / "cwd"
+    cwd.mkdir(exist_ok=True)
+    (cwd / "job.json").write_text(json.dumps(job))
+    run = subprocess.run([sys.executable, str(HOST), "job.json"], cwd=cwd, capture_output=True,
+                         text=True, timeout=900)
+    assert run.returncode == 0, f"host died with {run.returncode}: {run.stderr[-3000:]}"
+    out = json.loads(run.stdout.splitlines()[-1])
+    assert out["logged"][FATAL] == 0
+    assert all(r[0] != FATAL for r in out["results"])
+    return out
+
+
+def variables(dist: Path, model: str) -> dict:
+    """name -> (valueReference, type, causality) from the FMU's modelDescription."""
+    md = read_model_description(str(dist / f"{model}.fmu"))
+    return {v.name: (v.valueReference, v.type, v.causality) for v in md.modelVariables}
+
+
+def start(name="a", model="FourBar", params=None, dist=None) -> list:
+    """Ops that instantiate ``name`` and bring it to step mode with ``params``."""
+    ops = [[name, "new", model], [name, "setup", 0.0, None], [name, "enter"]]
+    for key, value in (params or {}).items():
+        vr, kind, _ = variables(dist, model)[key]
+        op = {"Real": "setReal", "Integer": "setInteger"}.get(kind, "setString")
+        ops.append([name, op, [vr], [value if op != "setString" else value.encode().hex()]])
+    return ops + [[name, "exit"]]
+
+
+def reference(preset: str, u, params=None, names=None) -> list:
+    """Direct-solver outputs at inputs ``u`` (NaN where they cannot be solved)."""
+    mech = presets.get(preset, **(params or {}))
+    names = names or list(mech.output_names + mech.diagnostic_names)
+    try:
+        sol = mech.solve(*u, method="direct")
+        values = [sol[n] for n in names]
+    except ValueError:
+        return [math.nan] * len(names)
+    return values if all(map(math.isfinite, values)) else [math.nan] * len(names)
+
+
+def close(got, expected, rel=1e-9) -> bool:
+    got = np.array([math.nan if v is None else v for v in got], dtype=float)
+    expected = np.asarray(expected, dtype=float)
+    if not np.array_equal(np.isnan(got), np.isnan(expected)):
+        return False
+    fine = ~np.isnan(expected)
+    scale = max(np.max(np.abs(expected[fine]), initial=0.0), 1e-300)
+    return bool(np.all(np.abs(got[fine] - expected[fine]) <= rel * scale))
+
+
+def test_a_rejected_set_real_changes_nothing_and_no_output_is_stale(dist, tmp_path):
+    """The fuzzed case: ScotchYoke ``setReal([theta, <output>], [1.2, 5.0])`` used to apply
+    theta, return OK and leave the old outputs cached. Now it is fmi2Error and changes
+    nothing: the outputs read afterwards are those of the inputs still set (theta = 0.3);
+    setting theta = 1.2 alone then gives the outputs at 1.2."""
+    v = variables(dist, "ScotchYoke")
+    outs = [vr for vr, kind, c in v.values() if c == "output"]
+    names = [n for n, (vr, kind, c) in v.items() if c == "output"]
+    f4p = v["F4p"][0]
+    ops = start("y", "ScotchYoke") + [
+        ["y", "setReal", [0, 1, 2, 3], [0.3, 10.0, 0.0, 400.0]], ["y", "doStep", 0.0, 0.01],
+        ["y", "getReal", outs],
+        ["y", "setReal", [0, f4p], [1.2, 5.0]], ["y", "doStep", 0.01, 0.01],
+        ["y", "getReal", outs],
+        ["y", "setReal", [0], [1.2]], ["y", "doStep", 0.02, 0.01], ["y", "getReal", outs],
+    ]
+    r = raw(dist, ops, tmp_path, ("ScotchYoke",))["results"][len(start("y", "ScotchYoke")):]
+    at03 = reference("scotch_yoke", (0.3, 10.0, 0.0, 400.0), names=names)
+    at12 = reference("scotch_yoke", (1.2, 10.0, 0.0, 400.0), names=names)
+    assert [s for s, _ in r] == [OK, OK, OK, ERROR, OK, OK, OK, OK, OK]
+    assert close(r[2][1], at03) and close(r[5][1], at03) and close(r[8][1], at12)
+    assert not close(r[5][1], at12)
+
+
+def test_every_bad_call_is_an_error_and_the_instance_stays_usable(dist, tmp_path):
+    """Unknown and wrong-type references, outputs set, strings that are not UTF-8, NULL
+    pointers, fixed parameters set after initialisation, bad step sizes and times: each
+    is fmi2Error with a log naming the call and the reason, and afterwards a valid step
+    gives the direct solver's outputs."""
+    v = variables(dist, "FourBar")
+    outs = [vr for vr, kind, c in v.values() if c == "output"]
+    names = [n for n, (vr, kind, c) in v.items() if c == "output"]
+    n_vars = len(v)
+    bad = [
+        ["a", "setReal", [0, n_vars + 5], [0.4, 1.0]],          # unknown reference
+        ["a", "setReal", [v["Mb"][0]], [1.0]],                   # an output
+        ["a", "setReal", [v["l_AB"][0]], [0.2]],                 # fixed, after init
+        ["a", "setReal", [v["branch"][0]], [1.0]],               # an Integer
+        ["a", "setInteger", [v["l_AB"][0]], [1]],                # a Real
+        ["a", "setInteger", [n_vars + 1], [1]],                  # unknown
+        ["a", "setString", [v["method"][0]], ["ff00"]],          # fixed (and not UTF-8)
+        ["a", "setString", [v["l_AB"][0]], ["61"]],              # a Real
+        ["a", "getReal", [n_vars + 3]],                          # unknown
+        ["a", "getReal", [v["method"][0]]],                      # a String
+        ["a", "getString", [n_vars]],                            # unknown
+        ["a", "getInteger", [v["l_AB"][0]]],                     # a Real
+        ["a", "doStep", 0.0, 0.0],
+        ["a", "doStep", 0.0, -0.1],
+        ["a", "doStep", 0.0, math.nan],
+        ["a", "doStep", math.nan, 0.1],
+        ["a", "doStep", 0.0, math.inf],
+        ["a", "setup", 0.0, None],                               # not in step mode
+        ["a", "enter"],
+        ["a", "exit"],
+        ["a", "cancel"],
+        ["a", "debugLogging", True, ["noSuchCategory"]],
+    ]
+    ops = start("a", dist=dist)
+    n0 = len(ops)
+    u = [0.7, 8.0, 1.0, 3.0]
+    for op in bad:
+        ops += [op, ["a", "setReal", [0, 1, 2, 3], u], ["a", "doStep", 0.0, 0.01],
+                ["a", "getReal", outs]]
+    ops += [["a", "nulls"], ["a", "getReal", [v["l_AB"][0], v["branch"][0]]]]
+    out = raw(dist, ops, tmp_path)
+    r = out["results"][n0:]
+    expected = reference("four_bar", u, names=names)
+    for k, op in enumerate(bad):
+        status, _ = r[4 * k]
+        assert status == ERROR, (op, status)
+        assert [s for s, _ in r[4 * k + 1: 4 * k + 4]] == [OK, OK, OK], op
+        assert close(r[4 * k + 3][1], expected), op
+    assert r[-2][1] == [ERROR] * 8  # every NULL-pointer call
+    errors = "\n".join(out["log"]["3"])
+    for text in ("is not a variable of FourBar", "is an output: it cannot be set",
+                 "'l_AB' (value reference", "is a fixed parameter", "is a Real, not a Integer",
+                 "communicationStepSize = 0 is not a positive", "currentCommunicationPoint = nan",
+                 "fmi2SetupExperiment is not allowed in state StepComplete",
+                 "unknown log category 'noSuchCategory'"):
+        assert text in errors, text
+
+
+def test_the_state_machine_is_enforced(dist, tmp_path):
+    """doStep before initialisation and after terminate, terminate twice, setReal of a
+    fixed parameter after exitInitializationMode (it does not take effect), and getReal
+    before enterInitializationMode: all fmi2Error. fmi2Terminated is false and
+    fmi2LastSuccessfulTime is the end of the last step."""
+    v = variables(dist, "FourBar")
+    l_ab = v["l_AB"][0]
+    ops = [["a", "new", "FourBar"], ["a", "doStep", 0.0, 0.1], ["a", "getReal", [0]],
+           ["a", "setup", 0.0, 1.0], ["a", "enter"], ["a", "doStep", 0.0, 0.1],
+           ["a", "setReal", [l_ab], [0.11]], ["a", "exit"],
+           ["a", "setReal", [l_ab], [0.2]], ["a", "getReal", [l_ab]],
+           ["a", "doStep", 0.0, 0.25], ["a", "boolStatus", TERMINATED],
+           ["a", "realStatus", LAST_SUCCESSFUL_TIME],
+           ["a", "terminate"], ["a", "terminate"], ["a", "doStep", 0.25, 0.1],
+           ["a", "getReal", [l_ab]], ["a", "reset"], ["a", "doStep", 0.0, 0.1],
+           ["a", "setup", 0.0, None], ["a", "enter"], ["a", "exit"], ["a", "doStep", 0.0, 0.1]]
+    r = raw(dist, ops, tmp_path)["results"]
+    assert [s for s, _ in r] == [OK, ERROR, ERROR, OK, OK, ERROR, OK, OK, ERROR, OK, OK, OK,
+                                 OK, OK, ERROR, ERROR, OK, OK, ERROR, OK, OK, OK, OK]
+    assert r[9][1] == [0.11]  # the fixed parameter kept its initialisation value
+    assert r[11][1] == 0 and r[12][1] == 0.25
+
+
+def test_an_invalid_parameter_set_fails_exit_initialization_until_it_is_fixed(dist, tmp_path):
+    """exitInitializationMode answers fmi2Error naming every invalid parameter; the
+    instance stays in initialisation mode, and once fixed the linkage solves."""
+    v = variables(dist, "FourBar")
+    outs = [vr for vr, kind, c in v.values() if c == "output"]
+    names = [n for n, (vr, kind, c) in v.items() if c == "output"]
+    ops = [["a", "new", "FourBar"], ["a", "setup", 0.0, None], ["a", "enter"],
+           ["a", "setReal", [v["l_AB"][0]], [-0.1]], ["a", "exit"], ["a", "doStep", 0.0, 0.1],
+           ["a", "setReal", [v["l_AB"][0]], [math.nan]], ["a", "exit"],
+           ["a", "setReal", [v["l_AB"][0]], [0.12]], ["a", "exit"],
+           ["a", "setReal", [0, 1, 2, 3], [1.0, 4.0, 0.0, 2.0]], ["a", "doStep", 0.0, 0.1],
+           ["a", "getReal", outs]]
+    out = raw(dist, ops, tmp_path)
+    r = out["results"]
+    assert [s for s, _ in r] == [OK, OK, OK, OK, ERROR, ERROR, OK, ERROR, OK, OK, OK, OK, OK]
+    assert close(r[-1][1], reference("four_bar", (1.0, 4.0, 0.0, 2.0), {"l_AB": 0.12}, names))
+    errors = "\n".join(out["log"]["3"])
+    assert "l_AB must be > 0 (crank length AB), got -0.1" in errors
+    assert "l_AB must be a finite number, got nan" in errors
+
+
+def test_a_foreign_guid_is_refused(dist, tmp_path):
+    out = raw(dist, [["a", "new", "FourBar", "{not-this-fmu}"],
+                     ["b", "new", "FourBar"]], tmp_path)
+    assert [s for s, _ in out["results"]] == [ERROR, OK]
+    assert "GUID {not-this-fmu} does not match" in "\n".join(out["log"]["3"])
+
+
+def test_unsolvable_and_overflowing_inputs_warn_and_read_nan(dist, tmp_path):
+    """Not finite, omega = 1e300, an unassemblable angle (l_AB = 0.3 at theta = pi) and omega =
+    1e160 (finite inputs whose arithmetic overflows): each step or read answers
+    fmi2Warning with every output NaN, never OK with a non-finite output; the next valid
+    step is correct."""
+    v = variables(dist, "FourBar")
+    outs = [vr for vr, kind, c in v.values() if c == "output"]
+    names = [n for n, (vr, kind, c) in v.items() if c == "output"]
+    rows = [[math.pi, 5.0, 0.0, 1.0], [0.2, math.nan, 0.0, 1.0], [0.2, 5.0, -math.inf, 1.0],
+            [0.2, 1e300, 0.0, 1.0], [0.2, 1e160, 0.0, 1.0], [0.2, 5.0, 0.0, 1e308]]
+    good = [0.4, 5.0, 0.0, 1.0]
+    ops = start("a", params={"l_AB": 0.3}, dist=dist)
+    n0 = len(ops)
+    for row in rows:
+        ops += [["a", "setReal", [0, 1, 2, 3], row], ["a", "doStep", 0.0, 0.1],
+                ["a", "getReal", outs], ["a", "setReal", [0, 1, 2, 3], good],
+                ["a", "doStep", 0.1, 0.1], ["a", "getReal", outs]]
+    out = raw(dist, ops, tmp_path)
+    r = out["results"][n0:]
+    expected = reference("four_bar", good, {"l_AB": 0.3}, names)
+    for k, row in enumerate(rows):
+        step, read = r[6 * k + 1][0], r[6 * k + 2]
+        assert WARNING in (step, read[0]) and max(step, read[0]) == WARNING, (row, step, read[0])
+        assert all(y is None for y in read[1]), row
+        assert [s for s, _ in r[6 * k + 3: 6 * k + 6]] == [OK, OK, OK], row
+        assert close(r[6 * k + 5][1], expected), row
+    warnings = "\n".join(out["log"]["1"])
+    assert "cannot be assembled at theta = 3.14159" in warnings
+    assert "the arithmetic overflows at theta = 0.2, omega = 1e+160" in warnings
+
+
+def test_state_round_trips_are_bit_exact_and_bad_states_are_rejected(dist, tmp_path):
+    """get/set and serialize/deserialize give back bit-identical outputs. Random bytes, a
+    truncated state, every single-byte flip of a serialized state, a state of another
+    model (serialized or in memory) are fmi2Error, and the instance keeps working."""
+    v = variables(dist, "FourBar")
+    outs = [vr for vr, kind, c in v.values() if c == "output"]
+    ops = start("a", params={"l_AB": 0.11}, dist=dist) + start("s", "SliderCrank")
+    ops += [["a", "setReal", [0, 1, 2, 3], [0.9, 7.0, 1.0, 2.0]], ["a", "doStep", 0.0, 0.1]]
+    reads = [len(ops)]
+    ops += [["a", "getReal", outs], ["a", "getState", "k"], ["a", "serialize", "k", "blob"],
+            ["s", "getState", "other"], ["s", "serialize", "other", "foreign"],
+            ["a", "setReal", [0, 1, 2, 3], [2.0, 1.0, 0.0, 0.0]], ["a", "doStep", 0.1, 0.1],
+            ["a", "setState", "k"]]
+    reads.append(len(ops))
+    ops += [["a", "getReal", outs], ["a", "setReal", [0, 1, 2, 3], [2.0, 1.0, 0.0, 0.0]],
+            ["a", "deserialize", "blob", "k2", None], ["a", "setState", "k2"]]
+    reads.append(len(ops))
+    ops += [["a", "getReal", outs], ["a", "realStatus", LAST_SUCCESSFUL_TIME]]
+    n_ok = len(ops)
+    bad = [["a", "deserialize", "blob", "x", ["hex", "00" * 7]],
+           ["a", "deserialize", "blob", "x", ["hex", bytes(range(256)).hex()]],
+           ["a", "deserialize", "foreign", "x", None],
+           ["a", "setState", "other"]]
+    bad += [["a", "deserialize", "blob", "x", ["cut", n]] for n in (0, 10, 60, -1)]
+    models = ("FourBar", "SliderCrank")
+    out = raw(dist, ops + bad + [["a", "serialize", "k", "probe"]], tmp_path, models)
+    r = out["results"]
+    size = r[-1][1]
+    flips = [["a", "deserialize", "blob", "x", ["flip", i, 1 << (i % 8)]] for i in range(size)]
+    out2 = raw(dist, ops + flips + [["a", "getReal", outs]], tmp_path, models)
+    assert all(s == OK for s, _ in r[:n_ok]), [s for s, _ in r[:n_ok]]
+    first = r[reads[0]][1]
+    assert r[reads[1]][1] == first and r[reads[2]][1] == first  # bit-exact
+    assert r[n_ok - 1][1] == 0.1
+    assert [s for s, _ in r[n_ok:-1]] == [ERROR] * len(bad)
+    r2 = out2["results"]
+    assert [s for s, _ in r2[n_ok:-1]] == [ERROR] * size  # every byte of the state counts
+    assert r2[-1][0] == OK and r2[-1][1] == first
+    errors = "\n".join(out["log"]["3"] + out2["log"]["3"])
+    assert "checksum mismatch" in errors and "is not of model FourBar" in errors
+
+
+def test_many_instances_interleaved_and_instantiate_free_cycles(dist, tmp_path):
+    """20 interleaved instances of the four FMUs with their own parameters after 100
+    instantiate/free cycles each way: every output matches the direct solver."""
+    models = list(PRESET_OF)
+    ops = []
+    for k in range(100):
+        ops += [[f"c{k}", "new", models[k % 4]], [f"c{k}", "free"]]
+    insts = []
+    for k in range(20):
+        model = models[k % 4]
+        params = {"FourBar": {"l_AB": 0.08 + 0.002 * k}, "SliderCrank": {"e": 0.001 * k},
+                  "ScotchYoke": {"m3": 5.0 + k}, "SixBar": {"rho": 5.0 + k}}[model]
+        insts.append((f"i{k}", model, params))
+        ops += start(f"i{k}", model, params, dist)
+    rng = np.random.default_rng(7)
+    rows = rng.uniform([0, -20, -50, -10], [2 * np.pi, 20, 50, 10], size=(15, 4)).tolist()
+    reads = []
+    for t, u in enumerate(rows):
+        for name, model, params in insts:
+            outs = [vr for vr, kind, c in variables(dist, model).values() if c == "output"]
+            ops += [[name, "setReal", [0, 1, 2, 3], u], [name, "doStep", 0.1 * t, 0.1]]
+            reads.append((len(ops), model, params, u))
+            ops.append([name, "getReal", outs])
+    r = raw(dist, ops, tmp_path, tuple(models))["results"]
+    assert all(s == OK for s, _ in r)
+    for index, model, params, u in reads:
+        names = [n for n, (vr, kind, c) in variables(dist, model).items() if c == "output"]
+        assert close(r[index][1], reference(PRESET_OF[model], u, params, names)), (model, u)
+
+
+def test_memory_is_flat_while_every_step_fails(dist, tmp_path):
+    """200,000 steps that cannot be solved (FourBar with l_AB = 0.3, theta = pi), with
+    logging on, after 20,000 steps to warm up: resident memory grows by less than 2 MB
+    (the wrapper's leak of ~211 bytes per log message would be 38 MB), and every step
+    answers fmi2Warning with NaN outputs."""
+    v = variables(dist, "FourBar")
+    outs = [vr for vr, kind, c in v.values() if c == "output"]
+    row = [math.pi, 5.0, 0.0, 1.0]
+    # alternate with a valid step now and then so new warnings keep being logged
+    ops = start("a", params={"l_AB": 0.3}, dist=dist) + [
+        ["a", "steps", [row, row, [0.3, 5.0, 0.0, 1.0]] * 6667, 1e-3, outs], ["a", "rss"],
+        ["a", "steps", [row, row, [0.3, 5.0, 0.0, 1.0]] * 66667, 1e-3, outs], ["a", "rss"]]
+    out = raw(dist, ops, tmp_path, keep_log=5)
+    (_, warm), (_, before), (_, run), (_, after) = out["results"][-4:]
+    # doStep and getReal both warn at each of the 2 x 66667 unsolvable rows
+    assert run["counts"][WARNING] == 2 * 2 * 66667 and run["counts"][ERROR] == 0
+    assert run["nan_rows"] == 2 * 66667
+    print(f"resident memory {before} KiB -> {after} KiB over 200,001 steps")
+    assert after - before < 2048, (before, after)
