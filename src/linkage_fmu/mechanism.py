@@ -236,6 +236,15 @@ class Mechanism:
         self.length_scale = max(
             v for grp in groups for k in ("length", "L1", "L2", "L") if (v := getattr(grp, k, 0.0))
         )
+        #: factor of ``cond`` for centres of mass far from their joints: the largest
+        #: ``dist / length_scale`` of the bodies, at least 1 (exactly 1 while every centre
+        #: of mass is within ``length_scale`` of its joint ``ref``). The equations take
+        #: moments about the centres of mass, so a joint force on a link whose centre of
+        #: mass lies ``d`` away gets an arm of about ``d``: the closed form cancels terms
+        #: of that size and the direct method's moment rows get entries ``d / L``. Both
+        #: lose about the largest ``d / L`` in relative accuracy, not the product of them
+        #: (measured; tests/test_stability.py)
+        self.offset_scale = max([1.0] + [b.dist / self.length_scale for b in self.bodies])
         self.dyads = tuple(grp for grp in groups if getattr(grp, "key", None))
         self._outputs = tuple((o.name, o.bind(self)) for o in outputs)
         #: output name -> (unit, description), diagnostics included
@@ -248,8 +257,8 @@ class Mechanism:
             self.output_info[f"mu_{d.key}"] = (
                 "rad", f"transmission angle of the dyad at {d.key} (0 or pi: toggle)")
         self.output_info["cond"] = (
-            "1", "estimated condition number of the outputs: relative rounding error about "
-            "cond x 1e-16 (inf: singular)")
+            "1", "estimated condition number of the outputs, including the scale of the "
+            "centre-of-mass offsets: relative rounding error about cond x 1e-16 (inf: singular)")
 
     def _resolve(self, j):
         a = self.frame if j.a == FRAME else j.a
@@ -472,7 +481,7 @@ class Mechanism:
 
     def _diagnostics(self, st: KinematicState, wanted) -> dict:
         out = {}
-        cond = 1.0
+        cond = self.offset_scale  # 1.0 unless a centre of mass lies beyond length_scale
         for d in self.dyads:
             mu, kappa = d.transmission(st)
             out[f"mu_{d.key}"] = mu
