@@ -26,6 +26,10 @@ VARIANTS = [
     ("six_bar", {"driver": "O1B"}),
     ("six_bar", {"driver": "KD"}),
     ("six_bar", {"driver": "D"}),
+    ("slotted_lever", {}),
+    ("slotted_lever", {"l_AB": 0.55, "l_AC": 0.25, "l_CS3": -0.1}),  # Whitworth: turns fully
+    ("crank_shaper", {}),
+    ("crank_shaper", {"branch": -1, "l_AB": 0.2, "h_E": 0.35, "g": 0.0}),
 ]
 IDS = [f"{n}-{'-'.join(f'{k}={v}' for k, v in p.items()) or 'defaults'}" for n, p in VARIANTS]
 
@@ -61,25 +65,40 @@ def power_residual(mech, sol, theta, omega, alpha, load):
         ax, ay = st.acceleration(b.cg, omega, alpha)
         w = st.w1[b.name] * omega
         eps = st.w2[b.name] * omega ** 2 + st.w1[b.name] * alpha
-        ux, uy, um = mech.unit_load.get(b.name, (0.0, 0.0, 0.0))
         v = math.hypot(vx, vy)
-        terms += [load * (ux * vx + uy * vy + um * w), -b.mass * mech.g * vy,
-                  -(b.mass * (ax * vx + ay * vy) + b.inertia * eps * w)]
-        sizes += [abs(load) * (math.hypot(ux, uy) * v + abs(um * w)), b.mass * mech.g * v,
-                  b.mass * math.hypot(ax, ay) * v + abs(b.inertia * eps * w)]
+        terms += [-b.mass * mech.g * vy, -(b.mass * (ax * vx + ay * vy) + b.inertia * eps * w)]
+        sizes += [b.mass * mech.g * v, b.mass * math.hypot(ax, ay) * v + abs(b.inertia * eps * w)]
+    loads = load if isinstance(load, (tuple, list)) else (load,)
+    for spec, value in zip(mech.loads, loads):
+        w = st.w1[spec.body] * omega
+        if spec.kind == "moment":
+            terms.append(value * w)
+            sizes.append(abs(value * w))
+            continue
+        ux, uy = spec.direction
+        if spec.fixed_in == "link":
+            c, s = st.u[spec.body]
+            ux, uy = c * ux - s * uy, s * ux + c * uy
+        vx, vy = st.velocity(spec.at, omega)
+        terms.append(value * (ux * vx + uy * vy))
+        sizes.append(abs(value) * math.hypot(vx, vy))
     return sum(terms), max(sizes)
 
 
 @pytest.fixture(scope="session")
 def dist(tmp_path_factory) -> Path:
-    """The four preset FMUs, built once per test session by ``build_fmu.py`` (no check)."""
-    from linkage_fmu.check import MODEL_NAMES, write_crosscheck
+    """The preset FMUs, built once per test session by ``build_fmu.py`` (no check)."""
+    from linkage_fmu.fmi import write_crosscheck
 
     out = tmp_path_factory.mktemp("dist")
     root = Path(__file__).resolve().parents[1]
     build = subprocess.run([sys.executable, str(root / "build_fmu.py"), "--no-check", "--out",
                             str(out)], cwd=root, capture_output=True, text=True)
     assert build.returncode == 0, build.stdout + build.stderr
-    for preset in MODEL_NAMES:
-        write_crosscheck(out, preset, steps=90)
+    for preset in presets.names():
+        write_crosscheck(out, presets.get(preset), steps=90)
     return out
+
+
+#: preset -> model identifier of its FMU
+MODELS = {name: presets.preset(name).model for name in presets.names()}

@@ -25,7 +25,6 @@ import numpy as np
 from fmpy import read_model_description
 
 from linkage_fmu import presets
-from linkage_fmu.check import MODEL_NAMES
 
 HOST = Path(__file__).with_name("fmu_raw_host.py")
 OK, WARNING, DISCARD, ERROR, FATAL = range(5)
@@ -35,6 +34,8 @@ PERTURB = {
     "four_bar": ({"l_AB": (0.08, 0.3), "m2": (0.5, 4.0)}, {"l_BC": 0.0}),
     "six_bar": ({"l_OA": (0.1, 0.4), "rho": (1.0, 20.0)}, {"m4": -1.0}),
     "slider_crank": ({"e": (-0.1, 0.1), "m3": (0.1, 3.0)}, {"l_AB": -0.2}),
+    "slotted_lever": ({"l_AB": (0.05, 0.6), "m3": (1.0, 10.0)}, {"J_S3": -1.0}),
+    "crank_shaper": ({"l_DE": (0.2, 0.4), "m5": (5.0, 20.0)}, {"l_CD": 0.0}),
 }
 BAD_VALUES = (math.nan, math.inf, -math.inf, 1e300, 1e160)
 
@@ -64,7 +65,7 @@ def generate(fmu: Path, preset: str, steps: int, seed: int) -> Plan:
     n_vars = len(v)
     strings = [vr for vr, t, c, _ in v.values() if t == "String"]
     valid, invalid = PERTURB[preset]
-    defaults = {p.name: p.default for p in presets.preset(preset).parameters}
+    defaults = {p.name: p.default for p in presets.preset(preset).parameter_specs()}
     plan = Plan()
     ops, checks = plan.ops, plan.checks
     done = 0
@@ -93,8 +94,9 @@ def generate(fmu: Path, preset: str, steps: int, seed: int) -> Plan:
             if key not in params:
                 add([name, "setReal", [v[key][0]], [defaults[key]]], ("status", OK))
         add([name, "exit"], ("status", OK))
-        start = presets.preset(preset).inputs
-        u = [start.theta, start.omega, start.alpha, start.load]  # the inputs' start values
+        d = presets.preset(preset)
+        u = [d.inputs["theta"], d.inputs["omega"], d.inputs["alpha"],
+             d.loads[0]["start"]]  # the inputs' start values
         saved = {}
         t = 0.0
         for _ in range(min(500, steps - done)):
@@ -225,7 +227,7 @@ def check(plan: Plan, results: list) -> Counter:
 
 def run(dist: Path, preset: str, steps: int, seed: int) -> tuple[Counter, dict]:
     """Generate, run in a fresh host process, check. Returns the tally and host output."""
-    fmu = Path(dist) / f"{MODEL_NAMES[preset]}.fmu"
+    fmu = Path(dist) / f"{presets.preset(preset).model}.fmu"
     plan = generate(fmu, preset, steps, seed)
     with tempfile.TemporaryDirectory(prefix="linkage_fmu_fuzz_") as cwd:
         job = Path(cwd) / "job.json"
@@ -243,10 +245,10 @@ def main(argv=None) -> int:
     parser.add_argument("--steps", type=int, default=100_000, help="doStep calls per FMU")
     parser.add_argument("--seed", type=int, default=1)
     args = parser.parse_args(argv)
-    for preset in MODEL_NAMES:
+    for preset in presets.names():
         tally, out = run(args.dist, preset, args.steps, args.seed)
         statuses = {s: tally[("status", s)] for s in range(5)}
-        print(f"{MODEL_NAMES[preset]}: {sum(statuses.values())} calls, statuses "
+        print(f"{presets.preset(preset).model}: {sum(statuses.values())} calls, statuses "
               f"OK/Warning/Discard/Error/Fatal = {'/'.join(map(str, statuses.values()))}; "
               f"{tally['read equal to the direct solver']} reads equal to the direct solver, "
               f"{tally['nan read']} NaN reads, {tally['ill-conditioned, not compared']} "

@@ -14,8 +14,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from conftest import MODELS
 from linkage_fmu import presets
-from linkage_fmu.check import MODEL_NAMES, revolution
+from linkage_fmu.fmi.check import revolution
 
 ROOT = Path(__file__).resolve().parents[1]
 HOST = Path(__file__).with_name("fmu_host.py")
@@ -33,7 +34,7 @@ def host(job: dict, tmp_path: Path) -> dict:
 
 
 def rows(preset: str, steps: int = 90) -> list:
-    u = revolution(preset, steps)
+    u = revolution(presets.get(preset), steps)
     return np.column_stack([u[n] for n in ("theta", "omega", "alpha", "load")]).tolist()
 
 
@@ -50,21 +51,21 @@ def assert_matches_direct(entry: dict, preset: str, inputs: list, params=None, t
         assert err <= tol, (preset, name, err)
 
 
-@pytest.mark.parametrize("preset", list(MODEL_NAMES))
+@pytest.mark.parametrize("preset", presets.names())
 def test_each_fmu_alone_in_a_fresh_process(dist, tmp_path, preset):
     inputs = rows(preset)
-    out = host({"fmus": [{"name": "a", "path": str(dist / f"{MODEL_NAMES[preset]}.fmu")}],
+    out = host({"fmus": [{"name": "a", "path": str(dist / f"{MODELS[preset]}.fmu")}],
                 "inputs": inputs}, tmp_path)
     assert out["a"]["status"] == ["ok"] * len(inputs)
     assert_matches_direct(out["a"], preset, inputs)
 
 
-def test_all_four_interleaved_in_one_process(dist, tmp_path):
+def test_all_presets_interleaved_in_one_process(dist, tmp_path):
     inputs = rows("four_bar")  # one input stream; each model's reference at the same inputs
-    fmus = [{"name": p, "path": str(dist / f"{m}.fmu")} for p, m in MODEL_NAMES.items()]
+    fmus = [{"name": p, "path": str(dist / f"{m}.fmu")} for p, m in MODELS.items()]
     fmus[1]["params"] = {"l_AB": 0.12, "m2": 3.0, "branch": -1, "method": "direct"}
     out = host({"fmus": fmus, "inputs": inputs}, tmp_path)
-    for preset in MODEL_NAMES:
+    for preset in MODELS:
         params = {"l_AB": 0.12, "m2": 3.0, "branch": -1} if preset == "four_bar" else None
         assert_matches_direct(out[preset], preset, inputs, params)
 
@@ -126,7 +127,7 @@ def test_simulate_fmu_returns_every_row_through_an_unassemblable_range(dist, tmp
     direct solver's values elsewhere."""
     model = "FourBar"
     write_steps = 90
-    u = revolution("four_bar", write_steps)
+    u = revolution(presets.get("four_bar", l_AB=0.3), write_steps)
     names = ("time", "theta", "omega", "alpha", "load")
     path = tmp_path / "in.csv"
     np.savetxt(path, np.column_stack([u[n] for n in names]), delimiter=",",
@@ -190,12 +191,12 @@ def test_refuses_an_edited_bundled_copy_and_says_so(dist, tmp_path):
     assert "already imported" not in log
 
 
-@pytest.mark.parametrize("preset", list(MODEL_NAMES))
+@pytest.mark.parametrize("preset", presets.names())
 def test_crosscheck_files_replay(dist, tmp_path, preset):
     """fmpy's simulate_fmu on <M>_in.csv reproduces <M>_ref.csv (one-row sampling lag),
     twice in one process: fmpy deletes the first run's extraction folder, from which
     the bundled package stays imported."""
-    model = MODEL_NAMES[preset]
+    model = MODELS[preset]
     opt = dict(line.split(",") for line in (dist / f"{model}_ref.opt").read_text().split())
     sim = {"fmu": str(dist / f"{model}.fmu"), "input": str(dist / f"{model}_in.csv"),
            "stop": float(opt["StopTime"]), "h": float(opt["StepSize"])}
@@ -210,8 +211,8 @@ def test_crosscheck_files_replay(dist, tmp_path, preset):
             assert np.max(np.abs(got - expected)) <= 1e-9 * scale, (run, name)
 
 
-@pytest.mark.parametrize("preset", list(MODEL_NAMES))
+@pytest.mark.parametrize("preset", presets.names())
 def test_fmpy_validate_is_clean(dist, preset):
     from fmpy.validation import validate_fmu
 
-    assert validate_fmu(str(dist / f"{MODEL_NAMES[preset]}.fmu")) == []
+    assert validate_fmu(str(dist / f"{MODELS[preset]}.fmu")) == []

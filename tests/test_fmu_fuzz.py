@@ -10,14 +10,14 @@ from __future__ import annotations
 
 import pytest
 
-from linkage_fmu.check import MODEL_NAMES
+from linkage_fmu import presets
 
 from fmu_fuzz import ERROR, OK, WARNING, run
 
 STEPS = 10_000
 
 
-@pytest.mark.parametrize("preset", list(MODEL_NAMES))
+@pytest.mark.parametrize("preset", presets.names())
 def test_fuzz(dist, preset):
     tally, _ = run(dist, preset, STEPS, seed=sum(map(ord, preset)))
     assert tally["read equal to the direct solver"] > STEPS // 2

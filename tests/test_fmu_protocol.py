@@ -19,13 +19,13 @@ import numpy as np
 import pytest
 from fmpy import read_model_description
 
+from conftest import MODELS
 from linkage_fmu import presets
-from linkage_fmu.check import MODEL_NAMES
 
 HOST = Path(__file__).with_name("fmu_raw_host.py")
 OK, WARNING, DISCARD, ERROR, FATAL = range(5)
 LAST_SUCCESSFUL_TIME, TERMINATED = 2, 3
-PRESET_OF = {model: preset for preset, model in MODEL_NAMES.items()}
+PRESET_OF = {model: preset for preset, model in MODELS.items()}
 
 
 def raw(dist: Path, ops: list, tmp_path: Path, models=("FourBar",), keep_log=200) -> dict:

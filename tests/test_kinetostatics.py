@@ -169,7 +169,7 @@ def test_random_states(variant, state):
         assert abs(res) <= 1e-12 * max(1.0, cond / 100) * size
     # equilibrium of every link: A x - b with the closed-form reactions in x
     st = mech.kinematics(theta, order=2)
-    W = wrenches(mech, st, omega, alpha, load, static=False)
+    W = wrenches(mech, st, omega, alpha, (load,), static=False)
     A, rhs = equilibrium_system(mech, st, W)
     R, effort = closed_form(mech, st, {k: list(v) for k, v in W.items()})
     L = mech.length_scale

@@ -4,13 +4,14 @@ bad input."""
 
 from __future__ import annotations
 
+import contextlib
 import math
 from unittest import mock
 
 import numpy as np
 import pytest
 
-from linkage_fmu import SingularPositionError, kinematics, kinetostatics, presets
+from linkage_fmu import SingularPositionError, groups, kinetostatics, presets
 from linkage_fmu.loads import wrenches
 
 TH = np.linspace(0.05, 2 * np.pi, 25)
@@ -28,21 +29,24 @@ def test_scalar_gives_floats_and_arrays_broadcast(mech):
 def _full_path(mech, theta, omega, alpha, load):
     """Reactions with everything computed: second-order kinematics, all wrench terms."""
     st = mech.kinematics(theta, order=2)
-    W = wrenches(mech, st, omega, alpha, load, static=False)
+    W = wrenches(mech, st, omega, alpha, (load,), static=False)
     return kinetostatics.closed_form(mech, st, W)
 
 
 def test_static_scene_skips_derivatives_and_matches_full_path(mech):
     spies = [mock.patch.object(cls, name, side_effect=AssertionError(f"{cls.__name__}.{name}"))
-             for cls in (kinematics.RRR, kinematics.RRP, kinematics.RPP)
+             for cls in (groups.RRR, groups.RRP, groups.RPP, groups.RPR)
              for name in ("first", "second")]
     if mech.effort_on_crank:  # otherwise the effort needs first-order coefficients
-        with spies[0], spies[1], spies[2], spies[3], spies[4], spies[5]:
+        with contextlib.ExitStack() as stack:
+            for spy in spies:
+                stack.enter_context(spy)
             fast = mech.solve(TH, 0.0, 0.0, 30.0, outputs=mech.output_names)
     else:
         fast = mech.solve(TH, 0.0, 0.0, 30.0, outputs=mech.output_names)
     R, effort = _full_path(mech, TH, 0.0, 0.0, 30.0)
-    full = {name: fn(R, effort) for name, fn in mech._outputs}
+    st = mech.kinematics(TH, order=2)
+    full = {name: fn(R, effort, st) for name, fn in mech._outputs}
     for name in mech.output_names:
         np.testing.assert_allclose(fast[name], full[name], rtol=1e-13, atol=1e-12, err_msg=name)
 
@@ -59,7 +63,7 @@ def test_effort_only_skips_reactions_and_matches_full_path(mech):
 def test_massless_and_weightless_bodies_add_no_terms():
     mech = presets.get("four_bar", m1=0.0, m2=0.0, J_S2=0.0, g=0.0)
     st = mech.kinematics(TH, order=2)
-    W = wrenches(mech, st, 5.0, 1.0, 0.0, static=False)
+    W = wrenches(mech, st, 5.0, 1.0, (0.0,), static=False)
     assert W["1"] == [0.0, 0.0, 0.0] and W["2"] == [0.0, 0.0, 0.0]  # plain floats: nothing computed
     s = mech.solve(TH, 5.0, 1.0, 0.0)
     # massless coupler, two-force member: F12 + F32 = 0, so F32 = -F12 = F21

@@ -225,7 +225,7 @@ def far_centres_of_mass(draw):
     along the guide passes through zero (measured: up to 100 cond eps at such states)."""
     name = draw(st_.sampled_from(sorted(FAR_CG_PRESETS)))
     lengths, bodies = FAR_CG_PRESETS[name]
-    defaults = {q.name: q.default for q in presets.preset(name).parameters}
+    defaults = {q.name: q.default for q in presets.preset(name).parameter_specs()}
     s = 10.0 ** draw(decades)
     p = {k: s * defaults[k] for k in lengths}
     L = max(p.values())

@@ -12,10 +12,36 @@ Examples
 ['F14x', 'F14y', 'F21x']
 """
 
+from pathlib import Path
+
 from . import presets
 from .errors import AssemblyError, SingularPositionError
 from .mechanism import Mechanism, Solution
+from .spec import Description, DescriptionError
 
 __version__ = "0.1.0"
-__all__ = ["presets", "Mechanism", "Solution", "AssemblyError", "SingularPositionError",
-           "__version__"]
+__all__ = ["presets", "load", "Description", "DescriptionError", "Mechanism", "Solution",
+           "AssemblyError", "SingularPositionError", "__version__"]
+
+
+def load(path: str | Path, **parameters) -> Mechanism:
+    """Build the linkage described by the file at ``path`` (or the preset of that name),
+    with ``parameters`` overriding its defaults.
+
+    Raises
+    ------
+    DescriptionError
+        The file has problems; all of them are listed, each with its table and key.
+    TypeError, ValueError
+        An unknown parameter, or an invalid value, named.
+
+    Examples
+    --------
+    >>> import linkage_fmu
+    >>> mech = linkage_fmu.load("four_bar", l_AB=0.12)
+    >>> mech.input_names
+    ('theta', 'omega', 'alpha', 'load')
+    """
+    if str(path) in presets.NAMES:
+        return presets.get(str(path), **parameters)
+    return Description.read(path).build(**parameters)

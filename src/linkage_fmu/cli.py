@@ -1,4 +1,7 @@
-"""Command line: ``linkage-fmu table PRESET`` prints one revolution as a table.
+"""One command line over the library: ``linkage-fmu info|table|build|check``.
+
+Every command takes a description file or a preset name; ``--set NAME=VALUE`` overrides
+a parameter, and each load of the linkage is an option ``--NAME VALUE`` of ``table``.
 
 Examples
 --------
@@ -14,59 +17,205 @@ theta
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 
 import numpy as np
 
-from . import presets
+from . import __version__, presets
+from .spec import Description, DescriptionError
+
+EPILOG = """examples:
+  linkage-fmu info four_bar
+  linkage-fmu table scotch_yoke --omega 10 --load 400
+  linkage-fmu table my_linkage.toml --theta 0:360:15 --deg --F_P 80 --T4 120 --csv
+  linkage-fmu build four_bar --set l_AB=0.12 --out dist
+  linkage-fmu check dist/FourBar.fmu
+"""
+
+
+class UsageError(Exception):
+    """A command-line value that cannot be used; the message says which and why."""
 
 
 def _parameter(text: str) -> tuple:
     name, sep, value = text.partition("=")
-    if not sep:
+    if not sep or not name:
         raise argparse.ArgumentTypeError(f"expected NAME=VALUE, got {text!r}")
     try:
-        return name, float(value) if name not in ("driver",) else value
+        return name, int(value) if value.lstrip("+-").isdigit() else float(value)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"{name}: {value!r} is not a number") from None
+        return name, value  # a choice parameter; the linkage checks it
+
+
+def description(source: str) -> Description:
+    """The description of a preset name or a description file."""
+    if source in presets.NAMES:
+        return presets.preset(source)
+    return Description.read(source)
+
+
+def angles(spec: str | None, n: int, degrees: bool) -> np.ndarray:
+    """Crank angles [rad] from ``--theta``: a value, a comma list, or START:STOP:STEP
+    (STOP included when a step lands on it); without ``--theta``, ``linspace(0, 2 pi, n)``.
+
+    Examples
+    --------
+    >>> angles("0:90:45", 0, degrees=True).round(6).tolist()
+    [0.0, 0.785398, 1.570796]
+    >>> angles("0.1,0.2", 0, degrees=False).tolist()
+    [0.1, 0.2]
+    """
+    if spec is None:
+        if n < 1:
+            raise UsageError(f"--n must be >= 1, got {n}")
+        return np.linspace(0.0, 2.0 * np.pi, n)
+    try:
+        if ":" in spec:
+            start, stop, step = (float(v) for v in spec.split(":"))
+            if not step > 0 or not stop >= start:
+                raise UsageError(f"--theta {spec}: need START <= STOP and STEP > 0")
+            count = math.floor((stop - start) / step * (1 + 1e-12)) + 1
+            values = start + step * np.arange(count)
+        else:
+            values = np.array([float(v) for v in spec.split(",")])
+    except ValueError:
+        raise UsageError(f"--theta {spec!r}: expected a number, a list a,b,c or "
+                         "START:STOP:STEP") from None
+    return np.radians(values) if degrees else values
 
 
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; returns the exit status."""
-    parser = argparse.ArgumentParser(prog="linkage-fmu", description=__doc__.split("\n")[0])
+    parser = argparse.ArgumentParser(
+        prog="linkage-fmu", description="Kinetostatics of crank-driven planar linkages: "
+        "joint reactions and driving torque, as tables and FMUs.", epilog=EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--version", action="version", version=f"linkage-fmu {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
-    table = sub.add_parser("table", help="outputs over one revolution (seed 000's table by default)")
-    table.add_argument("preset", choices=presets.names())
+    linkage_help = "a description file (.toml) or a preset: " + ", ".join(presets.NAMES)
+
+    info = sub.add_parser("info", help="parameters, inputs (and where each load acts), outputs")
+    info.add_argument("linkage", help=linkage_help)
+
+    table = sub.add_parser("table", help="outputs over crank angles", epilog=EPILOG,
+                           formatter_class=argparse.RawDescriptionHelpFormatter)
+    table.add_argument("linkage", help=linkage_help)
     table.add_argument("--set", dest="params", metavar="NAME=VALUE", type=_parameter,
                        action="append", default=[], help="override a parameter (repeatable)")
-    table.add_argument("--n", type=int, default=36, help="angles in linspace(0, 2*pi, n)")
-    for name in ("omega", "alpha", "load"):
+    table.add_argument("--theta", help="angle(s): a value, a list a,b,c or START:STOP:STEP")
+    table.add_argument("--deg", action="store_true", help="--theta and the index in degrees")
+    table.add_argument("--n", type=int, default=36,
+                       help="without --theta: angles linspace(0, 2*pi, N) (default 36)")
+    for name in ("omega", "alpha"):
         table.add_argument(f"--{name}", type=float, default=None,
-                           help=f"{name} (default: the preset's start value)")
+                           help=f"{name} (default: the linkage's start value)")
     table.add_argument("--method", choices=("closed_form", "direct"), default="closed_form")
     table.add_argument("--outputs", nargs="+", default=None)
     table.add_argument("--csv", action="store_true", help="print CSV instead of a table")
-    info = sub.add_parser("info", help="parameters, inputs and outputs of a preset")
-    info.add_argument("preset", choices=presets.names())
-    args = parser.parse_args(argv)
 
-    spec = presets.preset(args.preset)
-    if args.command == "info":
-        print(f"{spec.name}: {spec.title}")
-        for p in spec.parameters:
-            print(f"  {p.name:8s} = {p.default!r:8} {p.unit:6s} {p.description}")
-        mech = presets.get(spec.name)
-        print("outputs:", ", ".join(mech.output_names + mech.diagnostic_names))
-        return 0
+    build = sub.add_parser("build", help="build the linkage's FMU")
+    build.add_argument("linkage", help=linkage_help)
+    build.add_argument("--set", dest="params", metavar="NAME=VALUE", type=_parameter,
+                       action="append", default=[], help="override a parameter (repeatable)")
+    build.add_argument("--out", default="dist", help="output folder (default dist)")
+
+    check = sub.add_parser("check", help="run an FMU with fmpy against the direct solver")
+    check.add_argument("fmu")
+    check.add_argument("--steps", type=int, default=360)
+
+    args, rest = parser.parse_known_args(argv)
     try:
-        mech = presets.get(args.preset, **dict(args.params))
-        inputs = {k: getattr(spec.inputs, k) if getattr(args, k) is None else getattr(args, k)
-                  for k in ("omega", "alpha", "load")}
-        df = mech.table(np.linspace(0.0, 2.0 * np.pi, args.n), method=args.method,
-                        outputs=args.outputs, **inputs)
-    except (TypeError, ValueError) as err:
+        if args.command == "check":
+            return _check(parser, args, rest)
+        d = description(args.linkage)
+        if args.command == "info":
+            if rest:
+                parser.error(f"unrecognized arguments: {' '.join(rest)}")
+            return _info(d)
+        if args.command == "build":
+            if rest:
+                parser.error(f"unrecognized arguments: {' '.join(rest)}")
+            from .fmi import build_fmu
+
+            print(build_fmu(d, args.out, **dict(args.params)))
+            return 0
+        return _table(d, args, rest)
+    except (DescriptionError, UsageError, TypeError, ValueError) as err:
         print(f"linkage-fmu: {err}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # the reader went away (| head): end quietly
+        sys.stderr.close()
+        return 0
+
+
+def _check(parser, args, rest) -> int:
+    import json
+
+    from fmpy.validation import validate_fmu
+
+    from .fmi import check_fmu
+
+    if rest:
+        parser.error(f"unrecognized arguments: {' '.join(rest)}")
+    result = check_fmu(args.fmu, args.steps)
+    problems = validate_fmu(args.fmu)
+    print(json.dumps({**result.__dict__, "validate": problems}))
+    return 0 if result.passed() and not problems else 1
+
+
+def _info(d: Description) -> int:
+    mech = d.build()
+    print(f"{d.name}: {d.title}" + (f" (FMU model {d.model})" if d.model else ""))
+    print("parameters:")
+    for p in d.parameter_specs():
+        print(f"  {p.name:8s} = {p.default!r:8} {p.unit:6s} {p.description}")
+    print("inputs:")
+    print("  theta    [rad]    crank angle from +x, counter-clockwise "
+          f"(start {d.inputs['theta']!r})")
+    print(f"  omega    [rad/s]  crank speed (start {d.inputs['omega']!r})")
+    print(f"  alpha    [rad/s2] crank acceleration (start {d.inputs['alpha']!r})")
+    for load in mech.loads:
+        where = (f"moment on link {load.body}" if load.kind == "moment" else
+                 f"force on link {load.body} at {load.at}, direction "
+                 f"({load.direction[0]:.6g}, {load.direction[1]:.6g}) fixed in the "
+                 f"{load.fixed_in}")
+        print(f"  {load.name:8s} [{load.unit}] {where}: {load.description} "
+              f"(start {load.start!r})")
+    print("outputs:")
+    for name in mech.output_names + mech.diagnostic_names:
+        unit, text = mech.output_info[name]
+        print(f"  {name:8s} [{unit}] {text}")
+    return 0
+
+
+def _table(d: Description, args, rest: list[str]) -> int:
+    mech = d.build(**dict(args.params))
+    loads = argparse.ArgumentParser(prog=f"linkage-fmu table {args.linkage}")
+    for load in mech.loads:
+        loads.add_argument(f"--{load.name}", type=float, default=load.start,
+                           help=f"{load.description} [{load.unit}] (default {load.start!r})")
+    values = vars(loads.parse_args(rest))
+    theta = angles(args.theta, args.n, args.deg)
+    omega = d.inputs["omega"] if args.omega is None else args.omega
+    alpha = d.inputs["alpha"] if args.alpha is None else args.alpha
+    df = mech.table(theta, omega, alpha, method=args.method, outputs=args.outputs,
+                    **{load.name: values[load.name] for load in mech.loads})
+    sol_valid = ~df.isna().any(axis=1).to_numpy()
+    if args.deg:
+        df.index = np.degrees(df.index.to_numpy())
+        df.index.name = "theta_deg"
+    if not sol_valid.all():
+        bad = theta[~sol_valid]
+        shown = ", ".join(f"{np.degrees(t):.6g} deg" for t in bad[:5])
+        more = f" and {bad.size - 5} more" if bad.size > 5 else ""
+        try:
+            mech.solve(float(bad[0]), omega, alpha, outputs=args.outputs)
+            reason = ""
+        except ValueError as err:
+            reason = f": {err}"
+        raise UsageError(f"{mech.name} cannot be solved at {bad.size} of {theta.size} angles "
+                         f"({shown}{more}){reason}")
     print(df.to_csv() if args.csv else df.to_string(float_format=lambda v: f"{v:.6f}"))
     return 0
 

@@ -1,9 +1,9 @@
 """Outputs interpolated from a table over the crank angle: speed traded for accuracy.
 
-At a given crank angle every output is linear in ``omega**2``, ``alpha`` and ``load``
-(inertia is ``m (x'' omega**2 + x' alpha)``, the external load enters once), plus a
-part from gravity. :class:`AngleTable` solves the mechanism once on a uniform grid of
-crank angles for each of the four parts, and then evaluates any state by cubic
+At a given crank angle every output is linear in ``omega**2``, ``alpha`` and each load
+(inertia is ``m (x'' omega**2 + x' alpha)``, a load enters once), plus a part from
+gravity. :class:`AngleTable` solves the mechanism once on a uniform grid of crank
+angles for each of these parts, and then evaluates any state by cubic
 (4-point Lagrange) interpolation in the angle. Its error falls like ``size**-4`` for
 smooth outputs and grows near toggles, where the outputs vary fast; measure it with
 :mod:`linkage_fmu.precise` before trusting a size.
@@ -44,20 +44,23 @@ class AngleTable:
     def __init__(self, mech, size: int = 4096, method: str = "closed_form"):
         if not isinstance(size, int) or size < 4:
             raise ValueError(f"size must be an integer >= 4, got {size!r}")
+        self.mech = mech
         self.names = mech.output_names
         self.size = size
         theta = np.arange(size) * (2.0 * math.pi / size)
+        n_loads = len(mech.loads)
 
-        def part(omega, alpha, load):
-            sol = mech.solve(theta, omega, alpha, load, method=method, outputs=self.names)
+        def part(omega, alpha, which=None):
+            loads = [1.0 if k == which else 0.0 for k in range(n_loads)]
+            sol = mech.solve(theta, omega, alpha, *loads, method=method, outputs=self.names)
             return np.array([sol[n] for n in self.names])
 
-        base = part(0.0, 0.0, 0.0)  # gravity
-        #: (4, outputs, size): gravity, per omega**2, per alpha, per load
-        self.parts = np.stack([base, part(1.0, 0.0, 0.0) - base, part(0.0, 1.0, 0.0) - base,
-                               part(0.0, 0.0, 1.0) - base])
+        base = part(0.0, 0.0)  # gravity
+        #: (3 + loads, outputs, size): gravity, per omega**2, per alpha, per unit of each load
+        self.parts = np.stack([base, part(1.0, 0.0) - base, part(0.0, 1.0) - base]
+                              + [part(0.0, 0.0, k) - base for k in range(n_loads)])
 
-    def __call__(self, theta, omega=0.0, alpha=0.0, load=0.0) -> dict:
+    def __call__(self, theta, omega=0.0, alpha=0.0, *loads, **named_loads) -> dict:
         """Interpolated outputs at the given states (floats or arrays, broadcast).
 
         Returns
@@ -65,15 +68,16 @@ class AngleTable:
         dict
             Output name -> float or ndarray of the broadcast shape.
         """
+        values = (theta, omega, alpha, *self.mech._load_values(loads, named_loads))
         arrays = np.broadcast_arrays(*(finite_array(n, v) for n, v in zip(
-            ("theta", "omega", "alpha", "load"), (theta, omega, alpha, load))))
+            self.mech.input_names, values)))
         shape = arrays[0].shape
         one_scene = all(np.ptp(a) == 0.0 for a in arrays[1:]) if arrays[0].size else True
         if one_scene:
             # one scene for all angles: combine the parts on the grid, interpolate once;
             # rows of (grid angle -> all outputs) make each lookup one contiguous read
-            w, a, f = (float(v.flat[0]) if v.size else 0.0 for v in arrays[1:])
-            grids = [np.tensordot((1.0, w * w, a, f), self.parts, axes=1).T.copy()]
+            w, a, *f = (float(v.flat[0]) if v.size else 0.0 for v in arrays[1:])
+            grids = [np.tensordot((1.0, w * w, a, *f), self.parts, axes=1).T.copy()]
         else:
             grids = [p.T.copy() for p in self.parts]
         flat = [v.reshape(-1) for v in arrays]  # views where possible
@@ -92,8 +96,11 @@ class AngleTable:
             if one_scene:
                 out[part] = vals[0]
             else:
-                w, a, f = (v[part][:, None] for v in flat[1:])
-                out[part] = vals[0] + w * w * vals[1] + a * vals[2] + f * vals[3]
+                w, a, *f = (v[part][:, None] for v in flat[1:])
+                total = vals[0] + w * w * vals[1] + a * vals[2]
+                for fk, vk in zip(f, vals[3:]):
+                    total = total + fk * vk
+                out[part] = total
         if not shape:
             return {n: float(out[0, k]) for k, n in enumerate(self.names)}
         return {n: out[:, k].reshape(shape) for k, n in enumerate(self.names)}

@@ -22,85 +22,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .kinematics import RPP, RRP, RRR, Crank, KinematicState
+from .groups import KinematicState
+from .groups.base import push
 from .numerics import Number
-
-
-def _push(mech, st: KinematicState, W: dict, body: str, point: str, fx, fy) -> None:
-    """Add the force ``(fx, fy)`` acting at ``point`` to ``body``'s wrench (not the frame)."""
-    if body == mech.frame:
-        return
-    w = W[body]
-    (px, py), (sx, sy) = st.p[point], st.p[mech.cg[body]]
-    w[0] = w[0] + fx
-    w[1] = w[1] + fy
-    w[2] = w[2] + (px - sx) * fy - (py - sy) * fx
-
-
-def _moment_about(mech, st: KinematicState, W: dict, body: str, point: str):
-    """Force and moment of ``body``'s wrench, the moment taken about ``point``."""
-    fx, fy, m = W[body]
-    (px, py), (sx, sy) = st.p[point], st.p[mech.cg[body]]
-    return fx, fy, m + (sx - px) * fy - (sy - py) * fx
-
-
-def _crank(g: Crank, mech, st, W, R):
-    fx, fy, m = _moment_about(mech, st, W, g.link, g.pivot)
-    R[g.pivot] = (-fx, -fy)
-    return -m  # the moment the drive must add for equilibrium about the pivot
-
-
-def _rrr(g: RRR, mech, st, W, R):
-    fix, fiy, mi = _moment_about(mech, st, W, g.link1, g.C)
-    fjx, fjy, mj = _moment_about(mech, st, W, g.link2, g.C)
-    (cx, cy), (e1x, e1y), (e2x, e2y) = st.p[g.C], st.p[g.E1], st.p[g.E2]
-    ux, uy, wx, wy = e1x - cx, e1y - cy, e2x - cx, e2y - cy
-    fx, fy = fix + fjx, fiy + fjy
-    # link1 about C: u x R1 = -mi;  link2 about C with R2 = -F - R1: w x R1 = mj - w x F
-    a, c = -mi, mj - (wx * fy - wy * fx)
-    d = ux * wy - uy * wx
-    r1x, r1y = (a * wx - ux * c) / d, (a * wy - uy * c) / d
-    r2x, r2y = -fx - r1x, -fy - r1y
-    R[g.E1], R[g.E2] = (r1x, r1y), (r2x, r2y)
-    R[g.C] = (-r2x - fjx, -r2y - fjy)
-    _push(mech, st, W, mech.owner[g.E1], g.E1, -r1x, -r1y)
-    _push(mech, st, W, mech.owner[g.E2], g.E2, -r2x, -r2y)
-
-
-def _rrp(g: RRP, mech, st, W, R):
-    fix, fiy, mi = _moment_about(mech, st, W, g.link, g.B)
-    fjx, fjy, mj = _moment_about(mech, st, W, g.slider, g.B)
-    (bx, by), (ex, ey) = st.p[g.B], st.p[g.E]
-    nx, ny = -g.t[1], g.t[0]
-    ux, uy = ex - bx, ey - by
-    fx, fy = fix + fjx, fiy + fjy
-    # rod about B: u x (-F - N n) = -mi
-    N = (mi - (ux * fy - uy * fx)) / (ux * ny - uy * nx)
-    r1x, r1y = -fx - N * nx, -fy - N * ny
-    R[g.E] = (r1x, r1y)
-    R[g.B] = (-N * nx - fjx, -N * ny - fjy)
-    R[g.guide_joint] = (N, -mj)
-    _push(mech, st, W, mech.owner[g.E], g.E, -r1x, -r1y)
-
-
-def _rpp(g: RPP, mech, st, W, R):
-    fix, fiy, mi = _moment_about(mech, st, W, g.block, g.E)
-    fjx, fjy, mj = _moment_about(mech, st, W, g.yoke, g.ref)
-    (ex, ey), (rx, ry) = st.p[g.E], st.p[g.ref]
-    n1x, n1y = -g.t1[1], g.t1[0]
-    n2x, n2y = -g.t2[1], g.t2[0]
-    d = n1x * n2y - n1y * n2x
-    N1 = -(fjx * n2y - fjy * n2x) / d
-    N2 = (fjx * n1y - fjy * n1x) / d
-    M2 = -mi - N1 * ((ex - rx) * n1y - (ey - ry) * n1x) - mj
-    r1x, r1y = N1 * n1x - fix, N1 * n1y - fiy
-    R[g.E] = (r1x, r1y)
-    R[g.slot_joint] = (N1, mi)
-    R[g.guide_joint] = (N2, M2)
-    _push(mech, st, W, mech.owner[g.E], g.E, -r1x, -r1y)
-
-
-_GROUP_STATICS = {Crank: _crank, RRR: _rrr, RRP: _rrp, RPP: _rpp}
 
 
 def add_effort(mech, st: KinematicState, W: dict, effort: Number) -> None:
@@ -109,7 +33,7 @@ def add_effort(mech, st: KinematicState, W: dict, effort: Number) -> None:
     if e.direction is None:
         W[e.body][2] = W[e.body][2] + effort
     else:
-        _push(mech, st, W, e.body, e.point, effort * e.direction[0], effort * e.direction[1])
+        push(mech, st, W, e.body, e.point, effort * e.direction[0], effort * e.direction[1])
 
 
 def closed_form(mech, st: KinematicState, W: dict):
@@ -132,7 +56,7 @@ def closed_form(mech, st: KinematicState, W: dict):
     >>> from linkage_fmu.loads import wrenches
     >>> mech = presets.get("scotch_yoke")
     >>> st = mech.kinematics(math.radians(60), order=2)
-    >>> R, Mb = closed_form(mech, st, wrenches(mech, st, 10.0, 0.0, 400.0, static=False))
+    >>> R, Mb = closed_form(mech, st, wrenches(mech, st, 10.0, 0.0, (400.0,), static=False))
     >>> round(Mb, 4), round(R["slot"][0], 4)
     (15.6699, 313.3975)
     """
@@ -142,10 +66,9 @@ def closed_form(mech, st: KinematicState, W: dict):
         add_effort(mech, st, W, effort)
     R: dict = {}
     for g in reversed(mech.groups):
-        solve = _GROUP_STATICS.get(type(g))
-        if solve is not None:
-            crank_moment = solve(g, mech, st, W, R)
-    return R, (crank_moment if effort is None else effort)
+        moment = g.statics(mech, st, W, R)
+    # the crank, solved last, returns the moment the drive must add about its pivot
+    return R, (moment if effort is None else effort)
 
 
 def virtual_effort(mech, st: KinematicState, W: dict):
@@ -161,7 +84,7 @@ def virtual_effort(mech, st: KinematicState, W: dict):
     >>> from linkage_fmu.loads import wrenches
     >>> mech = presets.get("scotch_yoke")
     >>> st = mech.kinematics(math.radians(60), order=2)
-    >>> round(virtual_effort(mech, st, wrenches(mech, st, 10.0, 0.0, 400.0, False)), 4)
+    >>> round(virtual_effort(mech, st, wrenches(mech, st, 10.0, 0.0, (400.0,), False)), 4)
     15.6699
     """
     power = 0.0
@@ -225,7 +148,7 @@ def equilibrium_entries(mech, st: KinematicState, W: dict | None = None):
                 a += [(r, col, sign), (r + 2, col, -sign * ay),
                       (r + 1, col + 1, sign), (r + 2, col + 1, sign * ax)]
             else:  # N along the normal, couple M/L
-                nx, ny = j.normal
+                nx, ny = j.normal_at(st)
                 a += [(r, col, sign * nx), (r + 1, col, sign * ny),
                       (r + 2, col, sign * (ax * ny - ay * nx)), (r + 2, col + 1, sign)]
         col += 2
@@ -302,7 +225,7 @@ def direct(mech, st: KinematicState, W: dict, n_states: int = 1):
     >>> from linkage_fmu.loads import wrenches
     >>> mech = presets.get("scotch_yoke")
     >>> st = mech.kinematics(math.radians(60), order=2)
-    >>> R, Mb = direct(mech, st, wrenches(mech, st, 10.0, 0.0, 400.0, static=False))
+    >>> R, Mb = direct(mech, st, wrenches(mech, st, 10.0, 0.0, (400.0,), static=False))
     >>> round(float(Mb[0]), 4)
     15.6699
     """

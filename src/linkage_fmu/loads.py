@@ -1,28 +1,78 @@
-"""Known loads on every moving body: d'Alembert inertia, weight and the external load.
+"""Known loads on every moving body: d'Alembert inertia, weight and the input loads.
 
 Each body's loads are reduced to a wrench ``[Fx, Fy, M]`` at its centre of mass. Terms a
 scene does not have are not computed: no inertia in a static scene or for a massless
-body, no weight when ``g = 0``, no external term where the load acts elsewhere.
+body, no weight when ``g = 0``, no moment of a force acting at the centre of mass.
 """
 
 from __future__ import annotations
 
-from .kinematics import KinematicState
+import math
+from dataclasses import dataclass
+from typing import Sequence
+
+from .groups import KinematicState
 from .numerics import Number
 
 
-def wrenches(mech, st: KinematicState, omega: Number, alpha: Number, load: Number,
+@dataclass(frozen=True)
+class Load:
+    """An input load of a linkage: a force on ``body`` at its point ``at`` along the
+    unit vector ``direction`` (fixed in the frame, or in the body when ``fixed_in =
+    'link'``: then ``direction`` is in the body's own frame, x along its direction), or
+    a moment on ``body`` (``kind = 'moment'``, counter-clockwise positive).
+
+    Examples
+    --------
+    >>> Load("F_P", "2", "force", at="P", direction=(0.0, -2.0)).direction
+    (0.0, -1.0)
+    >>> Load("F", "2", "force", at="P", direction=(0.0, 0.0))
+    Traceback (most recent call last):
+    ...
+    ValueError: load F: direction (0.0, 0.0) has no length
+    """
+
+    name: str
+    body: str
+    kind: str
+    at: str = ""
+    direction: tuple = (0.0, 0.0)
+    fixed_in: str = "frame"
+    unit: str = ""
+    description: str = ""
+    start: float = 0.0
+
+    def __post_init__(self):
+        if self.kind not in ("force", "moment"):
+            raise ValueError(f"load {self.name}: kind must be 'force' or 'moment', got "
+                             f"{self.kind!r}")
+        if self.kind == "force":
+            x, y = (float(v) for v in self.direction)
+            norm = math.hypot(x, y)
+            if not norm > 0.0 or not math.isfinite(norm):
+                raise ValueError(f"load {self.name}: direction {self.direction!r} has no length")
+            if norm != 1.0:
+                object.__setattr__(self, "direction", (x / norm, y / norm))
+            if self.fixed_in not in ("frame", "link"):
+                raise ValueError(f"load {self.name}: fixed_in must be 'frame' or 'link'")
+        if not self.unit:
+            object.__setattr__(self, "unit", "N" if self.kind == "force" else "N.m")
+
+
+def wrenches(mech, st: KinematicState, omega: Number, alpha: Number, loads: Sequence[Number],
              static: bool) -> dict:
     """Wrench of all known loads on each moving body of ``mech``, about its centre of mass.
 
     Parameters
     ----------
     mech : Mechanism
-        The linkage (bodies with mass, inertia, centre of mass; unit external loads; g).
+        The linkage (bodies with mass, inertia, centre of mass; its loads; g).
     st : KinematicState
         Positions, and for a dynamic scene the first and second derivative coefficients.
-    omega, alpha, load : float or ndarray
-        Crank speed and acceleration, and the magnitude of the external load.
+    omega, alpha : float or ndarray
+        Crank speed and acceleration.
+    loads : sequence of float or ndarray
+        The magnitude of each of ``mech.loads``, in that order.
     static : bool
         True when ``omega = alpha = 0`` everywhere: inertia terms are skipped.
 
@@ -36,7 +86,7 @@ def wrenches(mech, st: KinematicState, omega: Number, alpha: Number, load: Numbe
     >>> from linkage_fmu import presets
     >>> mech = presets.get("scotch_yoke")
     >>> st = mech.kinematics(0.0, order=0)
-    >>> wrenches(mech, st, 0.0, 0.0, 400.0, static=True)["3"]
+    >>> wrenches(mech, st, 0.0, 0.0, (400.0,), static=True)["3"]
     [0.0, -400.0, 0.0]
     """
     g = mech.g
@@ -54,14 +104,27 @@ def wrenches(mech, st: KinematicState, omega: Number, alpha: Number, load: Numbe
                 fy = fy - body.mass * g
         if body.inertia and not static:
             m = -body.inertia * (st.w2[body.name] * w2 + st.w1[body.name] * alpha)
-        unit = mech.unit_load.get(body.name)
-        if unit is not None:
-            ux, uy, um = unit
-            if ux:
-                fx = fx + ux * load
-            if uy:
-                fy = fy + uy * load
-            if um:
-                m = m + um * load
         out[body.name] = [fx, fy, m]
+    for load, value in zip(mech.loads, loads):
+        w = out[load.body]
+        if load.kind == "moment":
+            w[2] = w[2] + value
+            continue
+        ux, uy = load.direction
+        if load.fixed_in == "link":
+            c, s = st.u[load.body]
+            ux, uy = c * ux - s * uy, s * ux + c * uy
+            fx, fy = ux * value, uy * value
+            w[0], w[1] = w[0] + fx, w[1] + fy
+        else:
+            fx = ux * value if ux else 0.0
+            fy = uy * value if uy else 0.0
+            if ux:
+                w[0] = w[0] + fx
+            if uy:
+                w[1] = w[1] + fy
+        cg = mech.cg[load.body]
+        if load.at != cg:
+            (px, py), (sx, sy) = st.p[load.at], st.p[cg]
+            w[2] = w[2] + (px - sx) * fy - (py - sy) * fx
     return out

@@ -1,27 +1,30 @@
 """A mechanism: a crank, ordered Assur groups, link inertia, loads and named outputs.
 
-Data flow is one way: inputs ``(theta, omega, alpha, load)`` -> :class:`KinematicState`
+Data flow is one way: inputs ``(theta, omega, alpha, *loads)`` -> :class:`KinematicState`
 -> load wrenches -> reactions -> named outputs. :meth:`Mechanism.solve` decides what a
-scene needs and computes only that.
+scene needs and computes only that. A mechanism is usually built from a
+:class:`~linkage_fmu.spec.Description` (a description file, or a preset's).
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field
-from typing import Any, Callable, Iterable, Sequence
+from dataclasses import dataclass
+from typing import Any, Iterable, Sequence
 
 import numpy as np
 
 from . import kinetostatics
 from .errors import AssemblyError, SingularPositionError
-from .kinematics import FRAME, OWNER, Crank, KinematicState, LinkPoint
-from .loads import wrenches
+from .groups import FRAME, OWNER, Crank, Group, KinematicState, LinkPoint
+from .loads import Load, wrenches
 from .numerics import ARRAY, SCALAR, finite_array, finite_float
+from .outputs import EffortOutput
 
 METHODS = ("closed_form", "direct")
-INPUTS = ("theta", "omega", "alpha", "load")
+#: the inputs every linkage has; its loads follow them
+MOTION = ("theta", "omega", "alpha")
 #: states per block of an array solve: its temporaries stay in the CPU caches
 CHUNK = 8192
 
@@ -29,12 +32,14 @@ CHUNK = 8192
 @dataclass(frozen=True)
 class Body:
     """A moving link: mass, moment of inertia about its centre of mass ``S``, and where
-    ``S`` is: at ``dist`` from the link's joint ``ref``, in the direction (link angle -
-    ``beta``).
+    ``S`` is in the link's own frame, measured from the link's point ``ref``: ``along``
+    the link's direction and ``across`` to its left (counter-clockwise); or, with
+    ``distance``, that far from ``ref`` in the direction ``angle`` counter-clockwise
+    from the link's.
 
     Examples
     --------
-    >>> Body("2", mass=2.0, inertia=0.02, ref="B", dist=0.175).cg
+    >>> Body("2", mass=2.0, inertia=0.02, ref="B", along=0.175).cg
     'S2'
     >>> Body("2", mass=-1.0, ref="B")
     Traceback (most recent call last):
@@ -46,22 +51,44 @@ class Body:
     mass: float = 0.0
     inertia: float = 0.0
     ref: str = ""
-    dist: float = 0.0
-    beta: float = 0.0
+    along: float = 0.0
+    across: float = 0.0
+    distance: float = 0.0
+    angle: float = 0.0
 
     def __post_init__(self):
-        for attr in ("mass", "inertia", "dist"):
+        for attr in ("mass", "inertia"):
             v = getattr(self, attr)
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0):
                 raise ValueError(
                     f"{attr} of body {self.name!r} must be a finite number >= 0, got {v!r}")
+        for attr in ("along", "across", "distance", "angle"):
+            v = getattr(self, attr)
+            if not (isinstance(v, (int, float)) and math.isfinite(v)):
+                raise ValueError(f"{attr} of the centre of mass of body {self.name!r} must be "
+                                 f"a finite number, got {v!r}")
+        if self.distance and (self.along or self.across):
+            raise ValueError(f"body {self.name!r}: give the centre of mass as along/across or "
+                             "as distance/angle, not both")
         if not self.ref:
-            raise ValueError(f"body {self.name!r} needs the joint 'ref' its centre of mass is measured from")
+            raise ValueError(f"body {self.name!r} needs the point 'ref' its centre of mass is measured from")
+
+    @property
+    def offset(self) -> float:
+        """Distance of the centre of mass from ``ref``."""
+        return abs(self.distance) if self.distance else math.hypot(self.along, self.across)
 
     @property
     def cg(self) -> str:
         """Name of the point at the centre of mass."""
-        return self.ref if self.dist == 0.0 else f"S{self.name}"
+        return self.ref if self.offset == 0.0 else f"S{self.name}"
+
+    def cg_point(self) -> LinkPoint:
+        """The centre of mass as a point fixed on the link."""
+        if self.distance:
+            return LinkPoint(self.name, self.ref, self.cg, distance=self.distance,
+                             angle=self.angle)
+        return LinkPoint(self.name, self.ref, self.cg, self.along, self.across)
 
 
 @dataclass(frozen=True)
@@ -73,75 +100,6 @@ class Effort:
     body: str
     point: str = ""
     direction: tuple | None = None
-
-
-@dataclass(frozen=True)
-class Force:
-    """Output: component ``axis`` ('x' or 'y') of the force of body ``by`` on body ``on``."""
-
-    name: str
-    by: str
-    on: str
-    axis: str
-    unit = "N"
-
-    @property
-    def description(self) -> str:
-        return f"force of link {self.by} on link {self.on}, {self.axis} component"
-
-    def bind(self, mech: "Mechanism") -> Callable:
-        i = "xy".index(self.axis)
-        for j in mech.joints:
-            if {j.a, j.b} == {self.by, self.on}:
-                sign = 1.0 if (j.a, j.b) == (self.by, self.on) else -1.0
-                if j.normal is None:
-                    return lambda R, E, name=j.name: sign * R[name][i]
-                k = sign * j.normal[i]
-                return lambda R, E, name=j.name: k * R[name][0]
-        raise ValueError(f"output {self.name}: no joint between bodies {self.by!r} and {self.on!r}")
-
-
-@dataclass(frozen=True)
-class Normal:
-    """Output: normal force of the prismatic pair ``joint`` (along its normal)."""
-
-    name: str
-    joint: str
-    unit = "N"
-
-    @property
-    def description(self) -> str:
-        return f"normal force of the prismatic pair '{self.joint}' along its normal"
-
-    def bind(self, mech: "Mechanism") -> Callable:
-        return lambda R, E: R[self.joint][0]
-
-
-@dataclass(frozen=True)
-class EffortOutput:
-    """Output: the balancing effort if it is the one named ``name``, else zero."""
-
-    name: str
-    unit: str = "N.m"
-    description: str = "balancing moment on the driver link, counter-clockwise positive"
-
-    def bind(self, mech: "Mechanism") -> Callable:
-        if mech.effort.name == self.name:
-            return lambda R, E: E
-        return lambda R, E: 0.0
-
-
-@dataclass(frozen=True)
-class Derived:
-    """Output: ``fn(R)`` of the reactions by joint name (e.g. bearing forces)."""
-
-    name: str
-    fn: Callable = field(compare=False)
-    unit: str = "N"
-    description: str = ""
-
-    def bind(self, mech: "Mechanism") -> Callable:
-        return lambda R, E: self.fn(R)
 
 
 class Solution(Mapping):
@@ -182,35 +140,42 @@ class Mechanism:
     frame : str
         Name of the frame body in output names (e.g. '4').
     frame_points : dict
-        Frame joint name -> (x, y).
-    groups : sequence
-        The :class:`~linkage_fmu.kinematics.Crank` first, then groups and link points in
-        an order in which each one's joints are already placed.
+        Frame point name -> (x, y).
+    groups : sequence of Group
+        The :class:`~linkage_fmu.groups.Crank` first, then groups and link points in
+        an order in which each one's points are already placed.
     bodies : sequence of Body
         One per moving link.
     effort : Effort
         Where the balancing effort acts.
     outputs : sequence
-        Output declarations (:class:`Force`, :class:`Normal`, :class:`EffortOutput`,
-        :class:`Derived`), in output order.
-    unit_load : dict
-        Body name -> ``(fx, fy, m)``: the wrench at its centre of mass per unit ``load``.
+        Output declarations (:mod:`linkage_fmu.outputs`), in output order.
+    loads : sequence of Load
+        The input loads, each an input of :meth:`solve` by its name.
     g : float
         Gravity along -y.
     parameters : dict, optional
-        The values it was built from (for information).
+        The parameter values it was built from.
+    description : Description, optional
+        What it was built from (for FMUs and the command line).
     """
 
     def __init__(self, name: str, frame: str, frame_points: dict, groups: Sequence,
                  bodies: Sequence[Body], effort: Effort, outputs: Sequence,
-                 unit_load: dict, g: float, parameters: dict | None = None):
+                 loads: Sequence[Load], g: float, parameters: dict | None = None,
+                 description=None):
         self.name, self.frame = name, frame
         self.g = float(g)
         self.frame_points = {k: (float(x), float(y)) for k, (x, y) in frame_points.items()}
         self.bodies = tuple(bodies)
         self.effort = effort
-        self.unit_load = dict(unit_load)
+        self.loads = tuple(loads)
         self.parameters = dict(parameters or {})
+        self.description = description
+        for grp in groups:
+            if not isinstance(grp, Group):
+                raise TypeError(f"{name}: {grp!r} is not a group (a subclass of "
+                                "linkage_fmu.groups.Group)")
         if not groups or not isinstance(groups[0], Crank):
             raise ValueError(f"{name}: the first group must be the Crank")
         placed = set(self.frame_points)
@@ -225,27 +190,35 @@ class Mechanism:
         body_names = [b.name for b in self.bodies]
         if sorted(links) != sorted(body_names):
             raise ValueError(f"{name}: bodies {body_names} do not match the moving links {links}")
-        cg_points = [LinkPoint(b.name, b.ref, b.cg, b.dist, b.beta)
-                     for b in self.bodies if b.dist != 0.0]
+        for load in self.loads:
+            if load.body not in body_names:
+                raise ValueError(f"{name}: load {load.name} acts on {load.body!r}, not a moving link")
+        cg_points = [b.cg_point() for b in self.bodies if b.cg != b.ref]
         self.groups = tuple(groups) + tuple(cg_points)
         self.cg = {b.name: b.cg for b in self.bodies}
         self.owner = owner
         self.joints = tuple(self._resolve(j) for grp in groups for j in grp.joints)
         self.effort_on_crank = effort.direction is None and effort.body == groups[0].link
         self.crank = groups[0]
-        self.length_scale = max(
-            v for grp in groups for k in ("length", "L1", "L2", "L") if (v := getattr(grp, k, 0.0))
-        )
+        #: a length of the linkage's size: its fixed link lengths, and, where a group's
+        #: size is not a fixed length (a slotted lever), the distances of the frame points
+        sizes = [v for grp in groups for v in grp.lengths]
+        if not all(grp.fixed_size for grp in groups):
+            points = list(self.frame_points.values())
+            sizes += [math.dist(p, q) for i, p in enumerate(points) for q in points[:i]]
+        self.length_scale = max(sizes)
         #: factor of ``cond`` for centres of mass far from their joints: the largest
-        #: ``dist / length_scale`` of the bodies, at least 1 (exactly 1 while every centre
-        #: of mass is within ``length_scale`` of its joint ``ref``). The equations take
-        #: moments about the centres of mass, so a joint force on a link whose centre of
-        #: mass lies ``d`` away gets an arm of about ``d``: the closed form cancels terms
-        #: of that size and the direct method's moment rows get entries ``d / L``. Both
-        #: lose about the largest ``d / L`` in relative accuracy, not the product of them
-        #: (measured; tests/test_stability.py)
-        self.offset_scale = max([1.0] + [b.dist / self.length_scale for b in self.bodies])
-        self.dyads = tuple(grp for grp in groups if getattr(grp, "key", None))
+        #: ``offset / length_scale`` of the bodies, at least 1 (exactly 1 while every
+        #: centre of mass is within ``length_scale`` of its point ``ref``). The equations
+        #: take moments about the centres of mass, so a joint force on a link whose
+        #: centre of mass lies ``d`` away gets an arm of about ``d``: the closed form
+        #: cancels terms of that size and the direct method's moment rows get entries
+        #: ``d / L``. Both lose about the largest ``d / L`` in relative accuracy, not the
+        #: product of them (measured; tests/test_stability.py)
+        self.offset_scale = max([1.0] + [b.offset / self.length_scale for b in self.bodies])
+        self.dyads = tuple(grp for grp in groups if grp.key)
+        #: the inputs of :meth:`solve`: theta, omega, alpha, then each load by name
+        self.input_names = MOTION + tuple(load.name for load in self.loads)
         self._outputs = tuple((o.name, o.bind(self)) for o in outputs)
         #: output name -> (unit, description), diagnostics included
         self.output_info = {o.name: (o.unit, o.description) for o in outputs}
@@ -317,16 +290,17 @@ class Mechanism:
         return st
 
     # -- solving ----------------------------------------------------------------
-    def solve(self, theta, omega=0.0, alpha=0.0, load=0.0, method: str = "closed_form",
-              outputs: Iterable[str] | None = None) -> Solution:
+    def solve(self, theta, omega=0.0, alpha=0.0, *loads, method: str = "closed_form",
+              outputs: Iterable[str] | None = None, **named_loads) -> Solution:
         """Joint reactions, balancing effort and diagnostics at one or many states.
 
         Parameters
         ----------
         theta, omega, alpha : float or array_like
             Crank angle [rad], speed [rad/s] and acceleration [rad/s2].
-        load : float or array_like
-            Magnitude of the preset's external load [N or N.m].
+        *loads, **named_loads : float or array_like
+            The magnitude of each load [N or N.m], in the order of :attr:`loads` or by
+            name (a preset's single load is ``load``); a load not given is zero.
         method : {'closed_form', 'direct'}
             Group-by-group closed form (fast) or the assembled linear system (reference).
         outputs : iterable of str, optional
@@ -360,15 +334,16 @@ class Mechanism:
         if method not in METHODS:
             raise ValueError(f"method must be one of {METHODS}, got {method!r}")
         wanted = self._wanted(outputs)
-        args = (theta, omega, alpha, load)
+        args = (theta, omega, alpha, *self._load_values(loads, named_loads))
+        names = self.input_names
         if all(type(a) is float or np.ndim(a) == 0 for a in args):
-            values = [finite_float(n, _item(a)) for n, a in zip(INPUTS, args)]
+            values = [finite_float(n, _item(a)) for n, a in zip(names, args)]
             return Solution(self._solve_scalar(values, method, wanted), True)
-        arrays = [finite_array(n, a) for n, a in zip(INPUTS, args)]
+        arrays = [finite_array(n, a) for n, a in zip(names, args)]
         try:
             arrays = np.broadcast_arrays(*arrays)
         except ValueError:
-            raise ValueError("theta, omega, alpha and load must broadcast to one shape, got "
+            raise ValueError(", ".join(names) + " must broadcast to one shape, got "
                              + ", ".join(str(np.shape(a)) for a in arrays)) from None
         shape = arrays[0].shape
         flat = [a.reshape(-1) for a in arrays]  # views where possible: no scalar copied n times
@@ -379,14 +354,31 @@ class Mechanism:
         with np.errstate(divide="ignore", invalid="ignore"):
             for start in range(0, max(n, 1), CHUNK):
                 part = slice(start, start + CHUNK)
-                values = self._solve(*(a[part] for a in flat), ARRAY, method, wanted)
+                values = self._solve(*(a[part] for a in flat[:3]), [a[part] for a in flat[3:]],
+                                     ARRAY, method, wanted)
                 valid[part] = values.pop(" valid")
                 for name, v in values.items():
                     out[name][part] = v
         return Solution({k: v.reshape(shape) for k, v in out.items()}, valid.reshape(shape))
 
-    def table(self, theta, omega=0.0, alpha=0.0, load=0.0, method: str = "closed_form",
-              outputs: Iterable[str] | None = None):
+    def _load_values(self, positional: tuple, named: dict) -> list:
+        """The load values in :attr:`loads` order from positional and named arguments."""
+        names = [load.name for load in self.loads]
+        if len(positional) > len(names):
+            raise TypeError(f"{self.name} has {len(names)} load(s) ({', '.join(names)}), got "
+                            f"{len(positional)} positional load values")
+        values = dict(zip(names, positional))
+        for key, value in named.items():
+            if key not in names:
+                raise TypeError(f"{self.name} has no input {key!r}; its inputs are: "
+                                + ", ".join(self.input_names))
+            if key in values:
+                raise TypeError(f"load {key} is given twice")
+            values[key] = value
+        return [values.get(n, 0.0) for n in names]
+
+    def table(self, theta, omega=0.0, alpha=0.0, *loads, method: str = "closed_form",
+              outputs: Iterable[str] | None = None, **named_loads):
         """:meth:`solve` over ``theta`` as a pandas DataFrame, one column per output.
 
         Examples
@@ -400,7 +392,8 @@ class Mechanism:
         import pandas as pd
 
         theta = np.atleast_1d(np.asarray(theta, dtype=float))
-        sol = self.solve(theta, omega, alpha, load, method, outputs)
+        sol = self.solve(theta, omega, alpha, *loads, method=method, outputs=outputs,
+                         **named_loads)
         index = pd.Index(np.broadcast_to(theta, np.shape(next(iter(sol.values())))).ravel(),
                          name="theta")
         return pd.DataFrame({k: np.ravel(v) for k, v in sol.items()}, index=index)
@@ -431,15 +424,16 @@ class Mechanism:
 
     def _solve_scalar(self, values, method: str, wanted: tuple,
                       positions: KinematicState | None = None) -> dict:
-        """One state of finite floats ``(theta, omega, alpha, load)``; names in
+        """One state of finite floats ``(theta, omega, alpha, *loads)``; names in
         ``wanted`` must be outputs of this mechanism (not checked here)."""
         try:
-            return self._solve(*values, SCALAR, method, wanted, positions)
+            return self._solve(values[0], values[1], values[2], values[3:], SCALAR, method,
+                               wanted, positions)
         except ZeroDivisionError:
             raise SingularPositionError(self.name, values[0],
                                         self._singular_detail(values[0])) from None
 
-    def _solve(self, theta, omega, alpha, load, xp, method, wanted, positions=None) -> dict:
+    def _solve(self, theta, omega, alpha, loads, xp, method, wanted, positions=None) -> dict:
         need_effort, need_reactions, need_diagnostics = self._plan(wanted)
         static = (omega == 0.0 and alpha == 0.0) if xp.scalar else not (omega.any() or alpha.any())
         # kinematic order the scene needs
@@ -454,7 +448,7 @@ class Mechanism:
         st = self._kinematics(theta, xp, order, positions)
         R, effort = {}, 0.0
         if need_reactions or need_effort:
-            W = wrenches(self, st, omega, alpha, load, static)
+            W = wrenches(self, st, omega, alpha, loads, static)
             if need_reactions and method == "direct":
                 R, effort = kinetostatics.direct(self, st, W, 1 if xp.scalar else theta.size)
                 if xp.scalar:
@@ -467,7 +461,7 @@ class Mechanism:
         out = {}
         for name, fn in self._outputs:
             if name in wanted:
-                out[name] = fn(R, effort)
+                out[name] = fn(R, effort, st)
         if need_diagnostics:
             out.update(self._diagnostics(st, wanted))
         if xp.scalar:
@@ -483,7 +477,7 @@ class Mechanism:
         out = {}
         cond = self.offset_scale  # 1.0 unless a centre of mass lies beyond length_scale
         for d in self.dyads:
-            mu, kappa = d.transmission(st)
+            mu, kappa = d.transmission(st, self.length_scale)
             out[f"mu_{d.key}"] = mu
             # kappa twice: the dyad's position amplifies rounding by kappa, and its
             # equilibrium (whose forces grow like kappa) amplifies that angle error again
@@ -503,7 +497,8 @@ class Mechanism:
 
     def _singular_detail(self, theta: float) -> str:
         st = self._kinematics(theta, SCALAR, 0)
-        parts = [f"mu_{d.key} = {d.transmission(st)[0]:.3g} rad" for d in self.dyads]
+        parts = [f"mu_{d.key} = {d.transmission(st, self.length_scale)[0]:.3g} rad"
+                 for d in self.dyads]
         return ("the equations have no unique solution (transmission angles: "
                 + ", ".join(parts) + "); the balancing effort or reactions are unbounded")
 

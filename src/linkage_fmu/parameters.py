@@ -1,4 +1,4 @@
-"""Named, validated parameters of a preset."""
+"""Named, validated parameters of a linkage: kinds with their units and rules, bounds."""
 
 from __future__ import annotations
 
@@ -7,8 +7,8 @@ from typing import Any, Mapping
 
 from .numerics import finite_float
 
-#: kind -> (unit, check description, predicate)
-_KINDS = {
+#: kind -> (unit, check description, predicate) for the real-valued kinds
+_REAL_KINDS = {
     "length": ("m", "> 0", lambda v: v > 0.0),
     "distance": ("m", ">= 0", lambda v: v >= 0.0),
     "coordinate": ("m", "finite", lambda v: True),
@@ -17,7 +17,12 @@ _KINDS = {
     "inertia": ("kg.m2", ">= 0", lambda v: v >= 0.0),
     "density": ("kg/m", ">= 0", lambda v: v >= 0.0),
     "gravity": ("m/s2", ">= 0", lambda v: v >= 0.0),
+    "force": ("N", "finite", lambda v: True),
+    "moment": ("N.m", "finite", lambda v: True),
+    "number": ("1", "finite", lambda v: True),
 }
+#: every kind: the real-valued ones, ``branch`` (+1 or -1) and ``choice`` (one of a list)
+KINDS = tuple(_REAL_KINDS) + ("branch", "choice")
 
 
 @dataclass(frozen=True)
@@ -25,8 +30,9 @@ class Parameter:
     """One parameter of a preset: name, default, kind and meaning.
 
     ``kind`` is one of ``length, distance, coordinate, angle, mass, inertia, density,
-    gravity`` (real numbers with a unit and a range), ``branch`` (+1 or -1) or
-    ``choice`` (one of ``choices``).
+    gravity, force, moment, number`` (real numbers with a unit and a rule),
+    ``branch`` (+1 or -1) or ``choice`` (one of ``choices``). ``minimum`` and
+    ``maximum``, when given, bound a real value (inclusive).
 
     Examples
     --------
@@ -44,11 +50,13 @@ class Parameter:
     kind: str
     description: str
     choices: tuple = ()
+    minimum: float | None = None
+    maximum: float | None = None
 
     @property
     def unit(self) -> str:
         """SI unit of the value ('' for branch and choice parameters)."""
-        return _KINDS[self.kind][0] if self.kind in _KINDS else ""
+        return _REAL_KINDS[self.kind][0] if self.kind in _REAL_KINDS else ""
 
     def validate(self, value: Any) -> Any:
         """Return the checked value, or raise a ``TypeError``/``ValueError`` naming it."""
@@ -62,10 +70,16 @@ class Parameter:
                     f"{self.name} must be one of {', '.join(map(repr, self.choices))}, got {value!r}"
                 )
             return value
-        unit, rule, ok = _KINDS[self.kind]
+        unit, rule, ok = _REAL_KINDS[self.kind]
         x = finite_float(self.name, value)
         if not ok(x):
             raise ValueError(f"{self.name} must be {rule} ({self.description}), got {x!r}")
+        if self.minimum is not None and x < self.minimum:
+            raise ValueError(f"{self.name} must be >= {self.minimum!r} ({self.description}), "
+                             f"got {x!r}")
+        if self.maximum is not None and x > self.maximum:
+            raise ValueError(f"{self.name} must be <= {self.maximum!r} ({self.description}), "
+                             f"got {x!r}")
         return x
 
 

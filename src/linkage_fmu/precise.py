@@ -23,15 +23,15 @@ MP = SimpleNamespace(scalar=True, sqrt=mpmath.sqrt, cos=mpmath.cos, sin=mpmath.s
                      atan2=mpmath.atan2, abs=abs)
 
 
-def reference(mech, theta: float, omega: float = 0.0, alpha: float = 0.0, load: float = 0.0,
-              dps: int = 40) -> dict:
+def reference(mech, theta: float, omega: float = 0.0, alpha: float = 0.0, *loads: float,
+              dps: int = 40, **named_loads: float) -> dict:
     """Outputs of ``mech`` at one state, computed with ``dps`` significant digits.
 
     Parameters
     ----------
     mech : Mechanism
         The linkage.
-    theta, omega, alpha, load : float
+    theta, omega, alpha, *loads, **named_loads : float
         The state, as for :meth:`~linkage_fmu.Mechanism.solve`.
     dps : int
         Decimal digits of the mpmath evaluation.
@@ -58,9 +58,10 @@ def reference(mech, theta: float, omega: float = 0.0, alpha: float = 0.0, load: 
     (15.6699, 313.3975)
     """
     with mpmath.workdps(dps):
-        state = [mpmath.mpf(float(v)) for v in (theta, omega, alpha, load)]
+        values = (theta, omega, alpha, *mech._load_values(loads, named_loads))
+        state = [mpmath.mpf(float(v)) for v in values]
         st = mech._kinematics(state[0], MP, 2)
-        W = wrenches(mech, st, *state[1:], static=False)
+        W = wrenches(mech, st, state[1], state[2], state[3:], static=False)
         n, a, b = kinetostatics.equilibrium_entries(mech, st, W)
         A, B = mpmath.zeros(n, n), mpmath.zeros(n, 1)
         for r, c, v in a:
@@ -69,10 +70,10 @@ def reference(mech, theta: float, omega: float = 0.0, alpha: float = 0.0, load: 
             B[r] = v
         x = mpmath.lu_solve(A, B)
         R, effort = kinetostatics.unknowns(mech, x)
-        return {name: +fn(R, effort) for name, fn in mech._outputs}
+        return {name: +fn(R, effort, st) for name, fn in mech._outputs}
 
 
-def references(mech, theta, omega=0.0, alpha=0.0, load=0.0, dps: int = 40) -> dict:
+def references(mech, theta, omega=0.0, alpha=0.0, *loads, dps: int = 40, **named_loads) -> dict:
     """:func:`reference` over arrays of states, rounded to float64 arrays.
 
     Examples
@@ -83,7 +84,7 @@ def references(mech, theta, omega=0.0, alpha=0.0, load=0.0, dps: int = 40) -> di
     (2,)
     """
     arrays = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in
-                                   (theta, omega, alpha, load)))
+                                   (theta, omega, alpha, *mech._load_values(loads, named_loads))))
     rows = [reference(mech, *map(float, s), dps=dps) for s in zip(*(a.ravel() for a in arrays))]
     return {n: np.array([float(r[n]) for r in rows]).reshape(arrays[0].shape)
             for n in mech.output_names}

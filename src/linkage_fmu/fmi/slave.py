@@ -1,7 +1,8 @@
-"""The FMI 2.0 co-simulation slave of a preset, built with pythonfmu.
+"""The FMI 2.0 co-simulation slave of a linkage, built with pythonfmu.
 
-One generic :class:`LinkageSlave`; each FMU's script subclasses it with ``PRESET`` set
-(``build_fmu.py`` writes those scripts). The slave has no state of its own: outputs are
+One generic :class:`LinkageSlave`; each FMU's script subclasses it with ``DESCRIPTION``
+set to the linkage's description file, bundled beside it (:mod:`linkage_fmu.fmi.build`
+writes those scripts). The slave has no state of its own: outputs are
 a direct feedthrough of the latest inputs, computed when a getReal call asks for them,
 only the ones asked for, at most once per change of inputs.
 
@@ -36,27 +37,22 @@ from pythonfmu import (DefaultExperiment, Fmi2Causality, Fmi2Slave, Fmi2Variabil
                        String)
 from pythonfmu.enums import Fmi2Status
 
-from . import __version__, presets
-from .mechanism import INPUTS, METHODS
+from .. import __version__
+from ..mechanism import METHODS
+from ..numerics import SCALAR
+from ..spec import Description
 from .model_description import RealWithUnit, complete
-from .numerics import SCALAR
+from .variables import variables
 
-_INPUT_INFO = {
-    "theta": ("rad", "deg", "crank angle from +x, counter-clockwise"),
-    "omega": ("rad/s", "", "crank angular speed"),
-    "alpha": ("rad/s2", "", "crank angular acceleration"),
-}
-_REAL_KINDS = {"length", "distance", "coordinate", "angle", "mass", "inertia", "density",
-               "gravity"}
-
+#: the linkage_fmu package this module belongs to
+PACKAGE = Path(__file__).parents[1]
 
 def fingerprint(package_dir: str | Path) -> str:
     """SHA-256 of the package's Python sources (relative names and contents).
 
     Examples
     --------
-    >>> import linkage_fmu
-    >>> len(fingerprint(Path(linkage_fmu.__file__).parent))
+    >>> len(fingerprint(PACKAGE))
     64
     """
     root = Path(package_dir)
@@ -70,7 +66,7 @@ def fingerprint(package_dir: str | Path) -> str:
 def _loaded_fingerprint() -> str:
     # Once per process, while the files are there: fmpy deletes the folder an FMU was
     # extracted to after simulate_fmu, but this package stays imported from it.
-    return fingerprint(Path(__file__).parent)
+    return fingerprint(PACKAGE)
 
 
 def check_bundle(expected: str, script: str | Path) -> None:
@@ -84,7 +80,7 @@ def check_bundle(expected: str, script: str | Path) -> None:
     found = _loaded_fingerprint()
     if found == expected:
         return
-    loaded = Path(__file__).resolve().parent
+    loaded = PACKAGE.resolve()
     if loaded.parent == Path(script).resolve().parent:
         raise ImportError(
             f"the linkage_fmu bundled in this FMU ({loaded}) was changed after the FMU was "
@@ -122,86 +118,80 @@ def hold_namespace(module_name: str) -> None:
 
 
 class LinkageSlave(Fmi2Slave):
-    """Co-simulation slave for the preset named by the subclass attribute ``PRESET``.
+    """Co-simulation slave for the linkage described by the file named ``DESCRIPTION`` (a
+    subclass attribute: the description file bundled in the FMU's resources).
 
-    Variables: inputs ``theta, omega, alpha, load``; every preset parameter (same name,
-    SI unit); ``method`` ('closed_form' or 'direct'); outputs: the preset's outputs and
-    diagnostics.
+    Variables: :func:`~linkage_fmu.fmi.variables.variables` of the linkage, whose
+    parameter defaults in the file are the FMU's start values.
     """
 
-    PRESET = ""
+    DESCRIPTION = ""
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         self._logged: list = []  # attributes of queued log messages (see log)
         self._cause = None  # cause of the latest warning, while it repeats
         self._repeats = 0
-        spec = presets.preset(self.PRESET)
-        mech = presets.get(self.PRESET)
+        # An instance finds the file in its own resources folder: the script module stays
+        # imported from the folder the first instance was extracted to, which the host
+        # may have deleted since (fmpy does after simulate_fmu). At build time there is
+        # no resources folder, and the file is beside the script.
+        folder = (Path(self.resources) if self.resources else
+                  Path(sys.modules[type(self).__module__].__file__).parent)
+        self._desc = Description.read(folder / self.DESCRIPTION)
+        mech = self._desc.build()
+        table = variables(mech)
         self.author = "linkage_fmu"
         self.version = __version__
-        self.description = f"{spec.title}: joint reactions and balancing effort (kinetostatics)"
-        start = spec.inputs
-        w0 = abs(start.omega)
+        self.description = (f"{self._desc.title or self._desc.name}: joint reactions and "
+                            "balancing effort (kinetostatics)")
+        w0 = abs(self._desc.inputs.get("omega", 0.0))
         stop = 2.0 * math.pi / w0 if w0 else 1.0
         self.default_experiment = DefaultExperiment(0.0, stop, stop / 360.0)
 
-        self._params = {p.name: p.default for p in spec.parameters}
+        self._params = {v.name: v.start for v in table
+                        if v.causality == "parameter" and v.name != "method"}
         self._method = "closed_form"
         self._mech = mech
         self._problem = ""  # why the parameters are unusable ('' = fine)
-        self._u = [float(getattr(start, n)) for n in INPUTS]
+        self._inputs = mech.input_names
+        self._u = [v.start for v in table if v.causality == "input"]
         self._cache: dict = {}
         self._positions = None  # positions at the current theta, from doStep
         self._unsolvable = ()  # (cause, message) while the cache holds NaN for a reason
         self._names = mech.output_names + mech.diagnostic_names
+        self._depends = {v.name: v.depends for v in table if v.causality == "output"}
         self._time = 0.0
 
         # The variables' getters and setters reach the slave through a weak proxy: a
         # reference cycle would keep the slave alive until a later garbage collection,
         # after fmpy may have unloaded pythonfmu's wrapper library, and crash the host.
         me = weakref.proxy(self)
-        self._vr_input = {}
-        for i, name in enumerate(INPUTS):
-            unit, display, text = _INPUT_INFO.get(
-                name, (start.load_unit, "", start.load_description))
-            self.register_variable(RealWithUnit(
-                name, unit, display, description=text, causality=Fmi2Causality.input,
-                variability=Fmi2Variability.continuous, start=self._u[i],
-                getter=lambda i=i: me._u[i], setter=lambda v, i=i: me._set_input(i, v)))
-            self._vr_input[len(self.vars) - 1] = i
-        for p in spec.parameters:
-            common = dict(description=p.description, causality=Fmi2Causality.parameter,
-                          variability=Fmi2Variability.fixed, start=p.default,
-                          getter=lambda n=p.name: me._params[n],
-                          setter=lambda v, n=p.name: me._set_param(n, v))
-            if p.kind in _REAL_KINDS:
-                self.register_variable(RealWithUnit(p.name, p.unit, **common))
-            elif p.kind == "branch":
-                self.register_variable(Integer(p.name, **common))
+        self._vr_input, self._vr_output = {}, {}
+        kinds = {"Real": RealWithUnit, "Integer": Integer, "String": String}
+        for v in table:
+            common = dict(description=v.description, causality=Fmi2Causality[v.causality],
+                          variability=Fmi2Variability[v.variability])
+            if v.type == "Real":
+                common.update(unit=v.unit, display_unit=v.display_unit)
+            if v.causality == "input":
+                i = len(self._vr_input)
+                common.update(start=v.start, getter=lambda i=i: me._u[i],
+                              setter=lambda x, i=i: me._set_input(i, x))
+            elif v.causality == "parameter":
+                common.update(start=v.start, getter=lambda n=v.name: me._parameter(n),
+                              setter=lambda x, n=v.name: me._set_param(n, x))
             else:
-                common["description"] += f" (one of {', '.join(p.choices)})"
-                self.register_variable(String(p.name, **common))
-        self.register_variable(String(
-            "method", description="solver: 'closed_form' (fast) or 'direct' (reference LU)",
-            causality=Fmi2Causality.parameter, variability=Fmi2Variability.fixed,
-            start="closed_form", getter=lambda: me._method,
-            setter=lambda v: me._set_param("method", v)))
-        self._vr_output = {}
-        for name in self._names:
-            unit, text = mech.output_info[name]
-            self.register_variable(RealWithUnit(
-                name, unit, "deg" if unit == "rad" else "", description=text,
-                causality=Fmi2Causality.output, variability=Fmi2Variability.continuous,
-                getter=lambda n=name: me._outputs((n,))[0]))
-            self._vr_output[len(self.vars) - 1] = name
+                common.update(getter=lambda n=v.name: me._outputs((n,))[0])
+            self.register_variable(kinds[v.type](v.name, **common))
+            if v.causality == "input":
+                self._vr_input[len(self.vars) - 1] = len(self._vr_input)
+            elif v.causality == "output":
+                self._vr_output[len(self.vars) - 1] = v.name
 
     # -- model description (build time) ---------------------------------------------
     def to_xml(self, model_options=dict()):
-        root = super().to_xml(model_options)
-        deps = {n: (("theta",) if n in self._mech.diagnostic_names else INPUTS)
-                for n in self._names}
-        return complete(root, deps)
+        return complete(super().to_xml(model_options), self._depends)
 
     # -- logging: statuses for the guard, no leak, repeated warnings counted ---------
     def log(self, msg, status=Fmi2Status.ok, category=None, debug=None):
@@ -259,6 +249,9 @@ class LinkageSlave(Fmi2Slave):
     def _set_input(self, i: int, value: float) -> None:
         self._u[i] = value
         self._invalidate()
+
+    def _parameter(self, name: str):
+        return self._method if name == "method" else self._params[name]
 
     def _set_param(self, name: str, value) -> None:
         if name == "method":
@@ -336,14 +329,14 @@ class LinkageSlave(Fmi2Slave):
             try:
                 if self._method not in METHODS:
                     raise ValueError(f"method must be one of {METHODS}, got {self._method!r}")
-                self._mech = presets.get(self.PRESET, **self._params)
+                self._mech = self._desc.build(**self._params)
             except (TypeError, ValueError) as err:
                 self._problem = f"invalid parameter: {err}"
         return self._mech
 
     def _input_problem(self) -> tuple:
         """``(cause, message)`` if the inputs are not all finite, else ``()``."""
-        for name, value in zip(INPUTS, self._u):
+        for name, value in zip(self._inputs, self._u):
             if not math.isfinite(value):
                 return ("input", name), f"input {name} = {value!r} is not a finite number"
         return ()
@@ -380,10 +373,9 @@ class LinkageSlave(Fmi2Slave):
                 if not bad:
                     self._end_repeats()
                     return out
-                problem = ("overflow",), (
-                    f"the arithmetic overflows at theta = {self._u[0]!r}, omega = "
-                    f"{self._u[1]!r}, alpha = {self._u[2]!r}, load = {self._u[3]!r}: "
-                    f"{bad[0]} = {out[bad[0]]!r}")
+                inputs = ", ".join(f"{n} = {u!r}" for n, u in zip(self._inputs, self._u))
+                problem = ("overflow",), (f"the arithmetic overflows at {inputs}: "
+                                          f"{bad[0]} = {out[bad[0]]!r}")
         # every output, not only those asked for: none may be read stale or half-valid
         self._unsolved(problem[0], f"outputs are NaN at t = {self._time!r}: {problem[1]}")
         return dict.fromkeys(names, math.nan)

@@ -10,17 +10,16 @@ from __future__ import annotations
 
 import math
 import time
+import xml.etree.ElementTree as ET
+import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from . import presets
-from .mechanism import INPUTS
+from ..mechanism import Mechanism
+from ..spec import Description
 
-#: preset -> model name of its FMU
-MODEL_NAMES = {"scotch_yoke": "ScotchYoke", "four_bar": "FourBar", "six_bar": "SixBar",
-               "slider_crank": "SliderCrank"}
 _NOMINAL_LOAD = {"N": 100.0, "N.m": 10.0}
 
 
@@ -38,38 +37,50 @@ class CheckResult:
         return self.max_rel_error <= tol
 
 
-def revolution(preset: str, steps: int = 360) -> np.ndarray:
-    """Inputs over one revolution: speed +-20 %, load +-50 % around the start values.
+def fmu_linkage(fmu: str | Path) -> Mechanism:
+    """The linkage an FMU built by :func:`~linkage_fmu.fmi.build.build_fmu` computes: its
+    bundled description file, with the FMU's parameter start values."""
+    with zipfile.ZipFile(fmu) as archive:
+        root = ET.fromstring(archive.read("modelDescription.xml"))
+        model = root.find("CoSimulation").get("modelIdentifier")
+        name = f"resources/{model}.toml"
+        text = archive.read(name).decode("utf-8")
+    return Description.from_toml(text, f"{fmu}:{name}").build()
 
-    Returns a structured array with fields ``time`` and the four inputs, one row per
-    communication point (``steps + 1`` rows), as fmpy's ``simulate_fmu`` takes it.
+
+def revolution(mech: Mechanism, steps: int = 360) -> np.ndarray:
+    """Inputs over one revolution: speed +-20 %, each load +-50 % around the start values
+    (a load whose start value is zero varies around 100 N or 10 N.m).
+
+    Returns a structured array with fields ``time`` and the linkage's inputs, one row
+    per communication point (``steps + 1`` rows), as fmpy's ``simulate_fmu`` takes it.
 
     Examples
     --------
-    >>> u = revolution("four_bar", steps=4)
+    >>> from linkage_fmu import presets
+    >>> u = revolution(presets.get("four_bar"), steps=4)
     >>> u.dtype.names, round(float(u["theta"][-1]), 12) == round(2 * math.pi, 12)
     (('time', 'theta', 'omega', 'alpha', 'load'), True)
     """
-    start = presets.preset(preset).inputs
-    w0 = start.omega or 2.0 * math.pi
-    load0 = start.load or _NOMINAL_LOAD[start.load_unit]
+    start = mech.description.inputs
+    w0 = start.get("omega", 0.0) or 2.0 * math.pi
     period = 2.0 * math.pi / abs(w0)
     t = np.linspace(0.0, period, steps + 1)
     k = 2.0 * math.pi / period
-    u = np.zeros(steps + 1, dtype=[(n, np.float64) for n in ("time",) + INPUTS])
+    u = np.zeros(steps + 1, dtype=[(n, np.float64) for n in ("time",) + mech.input_names])
     u["time"] = t
-    u["theta"] = start.theta + w0 * (t - 0.2 / k * (np.cos(k * t) - 1.0))
+    u["theta"] = start.get("theta", 0.0) + w0 * (t - 0.2 / k * (np.cos(k * t) - 1.0))
     u["omega"] = w0 * (1.0 + 0.2 * np.sin(k * t))
     u["alpha"] = w0 * 0.2 * k * np.cos(k * t)
-    u["load"] = load0 * (1.0 + 0.5 * np.sin(2.0 * k * t))
+    for j, load in enumerate(mech.loads):
+        load0 = load.start or _NOMINAL_LOAD.get(load.unit, 1.0)
+        u[load.name] = load0 * (1.0 + 0.5 * np.sin((2.0 + j) * k * t))
     return u
 
 
-def reference(preset: str, inputs: np.ndarray, parameters: dict | None = None) -> dict:
+def reference(mech: Mechanism, inputs: np.ndarray) -> dict:
     """The direct (LU) solver's outputs at every row of ``inputs``."""
-    mech = presets.get(preset, **(parameters or {}))
-    sol = mech.solve(*(inputs[n] for n in INPUTS), method="direct")
-    return dict(sol)
+    return dict(mech.solve(*(inputs[n] for n in mech.input_names), method="direct"))
 
 
 def compare(result: np.ndarray, ref: dict, names) -> tuple[float, str]:
@@ -88,23 +99,24 @@ def compare(result: np.ndarray, ref: dict, names) -> tuple[float, str]:
     return worst, where
 
 
-def check_fmu(fmu: str | Path, preset: str, steps: int = 360) -> CheckResult:
-    """Simulate ``fmu`` over :func:`revolution` with fmpy and compare with :func:`reference`."""
+def check_fmu(fmu: str | Path, steps: int = 360) -> CheckResult:
+    """Simulate ``fmu`` with fmpy over :func:`revolution` of its own linkage and compare
+    every output with the direct solver."""
     from fmpy import simulate_fmu
 
-    u = revolution(preset, steps)
-    mech = presets.get(preset)
+    mech = fmu_linkage(fmu)
+    u = revolution(mech, steps)
     names = list(mech.output_names + mech.diagnostic_names)
     h = float(u["time"][1] - u["time"][0])
     t0 = time.perf_counter()
     result = simulate_fmu(str(fmu), start_time=0.0, stop_time=float(u["time"][-1]),
-                          step_size=h, output_interval=h, input=u, output=names)
+                          output_interval=h, input=u, output=names)
     seconds = time.perf_counter() - t0
-    err, where = compare(result, reference(preset, u), names)
-    return CheckResult(MODEL_NAMES[preset], float(err), where, len(result) - 1, seconds)
+    err, where = compare(result, reference(mech, u), names)
+    return CheckResult(mech.description.model, float(err), where, len(result) - 1, seconds)
 
 
-def write_crosscheck(out: str | Path, preset: str, steps: int = 360) -> list[Path]:
+def write_crosscheck(out: str | Path, mech: Mechanism, steps: int = 360) -> list[Path]:
     """Write the FMI cross-check files ``<M>_in.csv``, ``<M>_ref.csv``, ``<M>_ref.opt``.
 
     The reference is the direct solver at each row's own inputs (the exact
@@ -113,10 +125,9 @@ def write_crosscheck(out: str | Path, preset: str, steps: int = 360) -> list[Pat
     """
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    model = MODEL_NAMES[preset]
-    u = revolution(preset, steps)
-    ref = reference(preset, u)
-    mech = presets.get(preset)
+    model = mech.description.model
+    u = revolution(mech, steps)
+    ref = reference(mech, u)
     names = mech.output_names + mech.diagnostic_names
 
     def write(path: Path, columns: dict) -> None:
@@ -124,7 +135,7 @@ def write_crosscheck(out: str | Path, preset: str, steps: int = 360) -> list[Pat
         rows = np.column_stack([np.asarray(v, dtype=float) for v in columns.values()])
         np.savetxt(path, rows, delimiter=",", header=header, comments="", fmt="%.17g")
 
-    write(out / f"{model}_in.csv", {n: u[n] for n in ("time",) + INPUTS})
+    write(out / f"{model}_in.csv", {n: u[n] for n in ("time",) + mech.input_names})
     write(out / f"{model}_ref.csv", {"time": u["time"], **{n: ref[n] for n in names}})
     h = float(u["time"][1] - u["time"][0])
     (out / f"{model}_ref.opt").write_text(
@@ -133,18 +144,17 @@ def write_crosscheck(out: str | Path, preset: str, steps: int = 360) -> list[Pat
 
 
 def main(argv: list[str] | None = None) -> int:
-    """``python -m linkage_fmu.check FMU PRESET``: print the check result as JSON."""
+    """``python -m linkage_fmu.fmi.check FMU``: print the check result as JSON."""
     import argparse
     import json
 
     parser = argparse.ArgumentParser(description="check a linkage FMU against the direct solver")
     parser.add_argument("fmu")
-    parser.add_argument("preset", choices=tuple(MODEL_NAMES))
     parser.add_argument("--steps", type=int, default=360)
     args = parser.parse_args(argv)
     from fmpy.validation import validate_fmu
 
-    result = check_fmu(args.fmu, args.preset, args.steps)
+    result = check_fmu(args.fmu, args.steps)
     print(json.dumps({**result.__dict__, "validate": validate_fmu(args.fmu)}))
     return 0
 

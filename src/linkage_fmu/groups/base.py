@@ -1,0 +1,267 @@
+"""What every group type is: the state it writes into, its joints, and the abstract base.
+
+A linkage is a driver (the crank) followed by Assur groups and points fixed on links,
+each placing new points, or orienting new links, from points already placed. Every group
+works at three orders:
+
+* ``position``: joint positions and link directions (unit vectors), with an explicit
+  assembly ``branch`` where there is a choice; a state that cannot be assembled is an
+  error (scalars) or NaN with ``invalid = True`` (arrays), never clamped;
+* ``first``: first-order coefficients ``dX/dtheta`` of every point and ``dphi/dtheta``
+  of every link (velocities at unit crank speed);
+* ``second``: second-order coefficients ``d2X/dtheta2`` and ``d2phi/dtheta2``;
+
+and knows its own statics (the reactions of its joints from the loads on its links, in
+closed form), the equilibrium rows of its joints, and its transmission angle.
+
+Velocity and acceleration follow as ``v = X'*omega`` and ``a = X''*omega**2 + X'*alpha``,
+so a static scene needs none of the derivative work, and the equations of motion are
+linear in ``omega**2``, ``alpha`` and the loads. Every formula is written once and runs
+on floats (:data:`~linkage_fmu.numerics.SCALAR`), arrays (:data:`~linkage_fmu.numerics.ARRAY`)
+or mpmath numbers (:data:`linkage_fmu.precise.MP`).
+"""
+
+from __future__ import annotations
+
+import math
+from abc import ABC, abstractmethod
+from typing import Callable, ClassVar, NamedTuple
+
+import numpy as np
+
+from ..numerics import Number
+
+Vec = tuple  # (x, y) of floats or arrays
+
+
+class KinematicState:
+    """Positions and derivative coefficients of every point and link at one or many states.
+
+    Attributes
+    ----------
+    theta : float or ndarray
+        Crank angle(s).
+    xp : namespace
+        :data:`~linkage_fmu.numerics.SCALAR`, :data:`~linkage_fmu.numerics.ARRAY` or
+        :data:`linkage_fmu.precise.MP`.
+    p, d1, d2 : dict
+        Point name -> ``(x, y)``, ``(x', y')``, ``(x'', y'')``.
+    u, w1, w2 : dict
+        Link name -> unit direction ``(cos phi, sin phi)``, ``phi'``, ``phi''``.
+    invalid : ndarray of bool or None
+        For arrays, the states that could not be assembled.
+    on_invalid : callable
+        ``on_invalid(condition)`` raises for a scalar state (set by the mechanism).
+    """
+
+    __slots__ = ("theta", "xp", "p", "d1", "d2", "u", "w1", "w2", "invalid", "on_invalid")
+
+    def __init__(self, theta: Number, xp, on_invalid: Callable[[str], None] | None = None):
+        self.theta = theta
+        self.xp = xp
+        self.p: dict = {}
+        self.d1: dict = {}
+        self.d2: dict = {}
+        self.u: dict = {}
+        self.w1: dict = {}
+        self.w2: dict = {}
+        self.invalid = None
+        self.on_invalid = on_invalid or _raise_value_error
+
+    def velocity(self, point: str, omega: Number) -> Vec:
+        """Velocity of ``point`` at crank speed ``omega``."""
+        x1, y1 = self.d1[point]
+        return x1 * omega, y1 * omega
+
+    def acceleration(self, point: str, omega: Number, alpha: Number) -> Vec:
+        """Acceleration of ``point`` at crank speed ``omega`` and acceleration ``alpha``."""
+        x1, y1 = self.d1[point]
+        x2, y2 = self.d2[point]
+        w2 = omega * omega
+        return x2 * w2 + x1 * alpha, y2 * w2 + y1 * alpha
+
+    def root(self, value: Number, condition: Callable[[], str]) -> Number:
+        """``sqrt(value)``; a negative value is an assembly failure (raise, or NaN + mask)."""
+        if self.xp.scalar:
+            if value < 0.0:
+                self.on_invalid(condition())
+            return self.xp.sqrt(value)
+        bad = value < 0.0
+        if bad.any():
+            self._mark(bad)
+            value = np.where(bad, np.nan, value)
+        return np.sqrt(value)
+
+    def positive(self, value: Number, condition: Callable[[], str]) -> Number:
+        """``value``, which must be > 0 to assemble (raise, or NaN + mask)."""
+        if self.xp.scalar:
+            if not value > 0.0:
+                self.on_invalid(condition())
+            return value
+        bad = ~(value > 0.0)
+        if bad.any():
+            self._mark(bad)
+            value = np.where(bad, np.nan, value)
+        return value
+
+    def _mark(self, bad: np.ndarray) -> None:
+        self.invalid = bad if self.invalid is None else (self.invalid | bad)
+
+
+#: Placeholder body names in joint declarations, resolved by the mechanism.
+FRAME = "<frame>"
+OWNER = "<owner of the point>"
+
+
+class Joint(NamedTuple):
+    """A kinematic pair between bodies ``a`` and ``b``; its reaction is the action of
+    ``a`` on ``b``. A revolute pair (``normal is None``) transmits a force ``(Fx, Fy)``
+    at ``point``; a prismatic pair transmits a force ``N`` along its normal through
+    ``point`` and a couple ``M``. The normal is a fixed unit vector ``(nx, ny)``, or the
+    name of the link whose left normal it is (a guide on a moving link).
+    """
+
+    name: str
+    point: str
+    a: str
+    b: str
+    normal: tuple | str | None = None
+
+    def normal_at(self, st: KinematicState) -> Vec:
+        """The unit normal of a prismatic pair at the state ``st``."""
+        if isinstance(self.normal, str):
+            return left_normal(st.u[self.normal])
+        return self.normal
+
+
+def left_normal(t: Vec) -> Vec:
+    """Left normal of the unit vector ``t``."""
+    return -t[1], t[0]
+
+
+def unit_vector(angle: float) -> Vec:
+    return math.cos(angle), math.sin(angle)
+
+
+def _raise_value_error(condition: str) -> None:
+    raise ValueError(condition)
+
+
+def fmt(x: Number) -> str:
+    """First value of ``x`` for a message."""
+    x = np.asarray(x)
+    return f"{float(x):.6g}" if x.ndim == 0 else f"{float(x.flat[0]):.6g}"
+
+
+def angle_and_kappa(xp, sin_mu, cos_mu):
+    """``(mu, kappa)`` from the sine and cosine of a transmission angle: ``mu`` in
+    [0, pi] and ``kappa = (1 + |cos mu|) / |sin mu|``, the 2-norm condition number of a
+    dyad's normalised 2x2 core system (infinite at a toggle)."""
+    a = xp.abs(sin_mu)
+    mu = xp.atan2(a, cos_mu)
+    if xp.scalar:
+        kappa = (1.0 + abs(cos_mu)) / a if a > 0.0 else math.inf
+    else:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            kappa = (1.0 + np.abs(cos_mu)) / a
+    return mu, kappa
+
+
+class Group(ABC):
+    """A driver, an Assur group or a point fixed on a link.
+
+    Subclasses state what they need and give, and implement every abstract method; a
+    class that misses one cannot be instantiated (``TypeError`` naming it). Each
+    concrete class with a ``kind`` is the group type of that name in description files.
+
+    Attributes
+    ----------
+    kind : str
+        Name of the type in description files (``'RRR'``, ...).
+    needs : tuple of str
+        Points that must be placed before this group.
+    places : tuple of str
+        Points this group places.
+    links : tuple of str
+        Moving links this group adds (one body each).
+    joints : tuple of Joint
+        The pairs this group closes, with :data:`FRAME`/:data:`OWNER` placeholders.
+    owners : dict
+        Point -> link for the points placed that belong to one link only.
+    key : str or None
+        Name of the group in diagnostics (``mu_<key>``), None for a group without a
+        transmission angle (the crank, a point on a link).
+    """
+
+    kind: ClassVar[str] = ""
+    registry: ClassVar[dict] = {}
+
+    needs: tuple = ()
+    places: tuple = ()
+    links: tuple = ()
+    joints: tuple = ()
+    lengths: tuple = ()  # fixed lengths, for the linkage's length scale
+    #: False for a group whose size no fixed length gives (its position varies with the
+    #: state): the linkage's length scale then includes the frame's size
+    fixed_size: bool = True
+    owners: dict = {}
+    key: str | None = None
+
+    def __init_subclass__(cls, **kwargs):
+        super().__init_subclass__(**kwargs)
+        if cls.kind:
+            if cls.kind in Group.registry:
+                raise TypeError(f"group kind {cls.kind!r} is defined twice: "
+                                f"{Group.registry[cls.kind].__qualname__} and {cls.__qualname__}")
+            Group.registry[cls.kind] = cls
+
+    @abstractmethod
+    def position(self, st: KinematicState) -> None:
+        """Place ``places`` and orient ``links`` in ``st``."""
+
+    @abstractmethod
+    def first(self, st: KinematicState) -> None:
+        """First-order coefficients of ``places`` and ``links``."""
+
+    @abstractmethod
+    def second(self, st: KinematicState) -> None:
+        """Second-order coefficients of ``places`` and ``links``."""
+
+    @abstractmethod
+    def statics(self, mech, st: KinematicState, W: dict, R: dict):
+        """Reactions of this group's joints, in closed form, into ``R`` (joint name ->
+        ``(Fx, Fy)`` or ``(N, M)``), from the wrenches ``W`` of its links (body name ->
+        ``[Fx, Fy, M]`` about the centre of mass). Adds the reactions on the links it is
+        attached to into their wrenches (groups are solved from the last back to the
+        crank). Returns the balancing moment for the crank, else None."""
+
+    @abstractmethod
+    def transmission(self, st: KinematicState, scale: float):
+        """``(mu, kappa)``: the transmission angle in [0, pi] and the condition number of
+        the group's position and equilibrium, for a linkage of length scale ``scale``;
+        None for a group with neither."""
+
+    @classmethod
+    @abstractmethod
+    def from_spec(cls, spec: dict, value: Callable):
+        """Build from the fields ``spec`` of a description file's group table, with
+        ``value(field)`` evaluating a field's expression over the parameters."""
+
+
+# -- statics helpers shared by the group types ------------------------------------------
+def push(mech, st: KinematicState, W: dict, body: str, point: str, fx, fy) -> None:
+    """Add the force ``(fx, fy)`` acting at ``point`` to ``body``'s wrench (not the frame)."""
+    if body == mech.frame:
+        return
+    w = W[body]
+    (px, py), (sx, sy) = st.p[point], st.p[mech.cg[body]]
+    w[0] = w[0] + fx
+    w[1] = w[1] + fy
+    w[2] = w[2] + (px - sx) * fy - (py - sy) * fx
+
+
+def moment_about(mech, st: KinematicState, W: dict, body: str, point: str):
+    """Force and moment of ``body``'s wrench, the moment taken about ``point``."""
+    fx, fy, m = W[body]
+    (px, py), (sx, sy) = st.p[point], st.p[mech.cg[body]]
+    return fx, fy, m + (sx - px) * fy - (sy - py) * fx

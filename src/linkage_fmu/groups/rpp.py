@@ -1,0 +1,94 @@
+"""The block-and-yoke dyad (RPP): a block in a slot of a yoke sliding on a frame guide."""
+
+from __future__ import annotations
+
+from ..numerics import SCALAR
+from .base import (FRAME, OWNER, Group, Joint, KinematicState, angle_and_kappa, left_normal,
+                   moment_about, push, unit_vector)
+
+
+class RPP(Group):
+    """Dyad block ``block`` (pin at ``E``) + ``yoke``: the block slides in a straight slot
+    of the yoke (direction ``slot_angle``), the yoke slides on a straight frame guide
+    (through ``guide_point``, direction ``guide_angle``). The yoke's reference point
+    ``ref`` is where the slot's centre line crosses the guide line.
+
+    Examples
+    --------
+    >>> import math
+    >>> from linkage_fmu.numerics import SCALAR
+    >>> st = KinematicState(0.0, SCALAR)
+    >>> st.p["B"] = (0.05, 0.0866)
+    >>> RPP("2", "3", "B", "S3", 0.0, (0.0, 0.0), math.pi / 2, "slot", "guide").position(st)
+    >>> [round(v, 12) for v in st.p["S3"]]
+    [0.0, 0.0866]
+    """
+
+    kind = "RPP"
+    FIELDS = {"block": "new link", "yoke": "new link", "pin": "point", "ref": "new point",
+              "slot_angle": "angle", "guide_point": "vector", "guide_angle": "angle",
+              "slot": "new joint", "guide": "new joint"}
+
+    def __init__(self, block: str, yoke: str, E: str, ref: str, slot_angle: float,
+                 guide_point: tuple, guide_angle: float, slot_joint: str, guide_joint: str):
+        self.block, self.yoke, self.E, self.ref = block, yoke, E, ref
+        self.t1 = unit_vector(slot_angle)
+        self.t2 = unit_vector(guide_angle)
+        self.q = (guide_point[0], guide_point[1])
+        self.cross = self.t2[0] * self.t1[1] - self.t2[1] * self.t1[0]
+        if abs(self.cross) < 1e-12:
+            raise ValueError("slot_angle and guide_angle must not be parallel")
+        self.slot_joint, self.guide_joint = slot_joint, guide_joint
+        self.needs = (E,)
+        self.places = (ref,)
+        self.links = (block, yoke)
+        self.joints = (Joint(E, E, OWNER, block),
+                       Joint(slot_joint, E, block, yoke, left_normal(self.t1)),
+                       Joint(guide_joint, ref, FRAME, yoke, left_normal(self.t2)))
+        self.owners = {ref: yoke}
+        self.key = E
+
+    @classmethod
+    def from_spec(cls, spec, value):
+        return cls(spec["block"], spec["yoke"], spec["pin"], spec["ref"], value("slot_angle"),
+                   value("guide_point"), value("guide_angle"), spec["slot"], spec["guide"])
+
+    def _along(self, x, y):
+        return (x * self.t1[1] - y * self.t1[0]) / self.cross
+
+    def position(self, st: KinematicState) -> None:
+        ex, ey = st.p[self.E]
+        s = self._along(ex - self.q[0], ey - self.q[1])
+        st.p[self.ref] = (self.q[0] + s * self.t2[0], self.q[1] + s * self.t2[1])
+        st.u[self.block], st.u[self.yoke] = self.t1, self.t2
+
+    def first(self, st: KinematicState) -> None:
+        s = self._along(*st.d1[self.E])
+        st.d1[self.ref] = (s * self.t2[0], s * self.t2[1])
+        st.w1[self.block] = st.w1[self.yoke] = 0.0
+
+    def second(self, st: KinematicState) -> None:
+        s = self._along(*st.d2[self.E])
+        st.d2[self.ref] = (s * self.t2[0], s * self.t2[1])
+        st.w2[self.block] = st.w2[self.yoke] = 0.0
+
+    def statics(self, mech, st, W, R):
+        fix, fiy, mi = moment_about(mech, st, W, self.block, self.E)
+        fjx, fjy, mj = moment_about(mech, st, W, self.yoke, self.ref)
+        (ex, ey), (rx, ry) = st.p[self.E], st.p[self.ref]
+        n1x, n1y = -self.t1[1], self.t1[0]
+        n2x, n2y = -self.t2[1], self.t2[0]
+        d = n1x * n2y - n1y * n2x
+        N1 = -(fjx * n2y - fjy * n2x) / d
+        N2 = (fjx * n1y - fjy * n1x) / d
+        M2 = -mi - N1 * ((ex - rx) * n1y - (ey - ry) * n1x) - mj
+        r1x, r1y = N1 * n1x - fix, N1 * n1y - fiy
+        R[self.E] = (r1x, r1y)
+        R[self.slot_joint] = (N1, mi)
+        R[self.guide_joint] = (N2, M2)
+        push(mech, st, W, mech.owner[self.E], self.E, -r1x, -r1y)
+
+    def transmission(self, st, scale):
+        """Angle between slot and guide, in [0, pi/2] (constant: the design's)."""
+        (a, b), (c, d) = self.t1, self.t2
+        return angle_and_kappa(SCALAR, abs(a * d - b * c), abs(a * c + b * d))

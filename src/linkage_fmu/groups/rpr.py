@@ -1,0 +1,108 @@
+"""The slotted-lever dyad (RPR): a block turning on a pin and sliding along a lever."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .base import OWNER, Group, Joint, KinematicState, moment_about, push
+
+
+class RPR(Group):
+    """Block ``block`` turns on the pin ``pin`` (a point already placed on another link)
+    and slides along ``lever``, which turns about the placed point ``pivot``.
+
+    The lever's direction is pivot -> pin, so there is no assembly branch; the block
+    turns with the lever. The only position that cannot be solved is pin = pivot, where
+    the lever's direction is undefined. The slide pair ``slide`` transmits the block's
+    force on the lever along the lever's left normal, through the pin, and a couple.
+
+    Examples
+    --------
+    >>> from linkage_fmu.numerics import SCALAR
+    >>> st = KinematicState(0.0, SCALAR)
+    >>> st.p.update(B=(0.3, 0.0), C=(0.0, -0.4))
+    >>> RPR("2", "3", "B", "C", "slot").position(st)
+    >>> [round(v, 12) for v in st.u["3"]]
+    [0.6, 0.8]
+    """
+
+    kind = "RPR"
+    fixed_size = False  # the pin slides along the lever
+    FIELDS = {"block": "new link", "lever": "new link", "pin": "point", "pivot": "point",
+              "slide": "new joint"}
+
+    def __init__(self, block: str, lever: str, pin: str, pivot: str, slide_joint: str):
+        self.block, self.lever, self.P, self.C = block, lever, pin, pivot
+        self.slide_joint = slide_joint
+        self.needs = (pin, pivot)
+        self.places = ()
+        self.links = (block, lever)
+        self.joints = (Joint(pin, pin, OWNER, block),
+                       Joint(slide_joint, pin, block, lever, lever),
+                       Joint(pivot, pivot, OWNER, lever))
+        self.owners = {}
+        self.key = pin
+
+    @classmethod
+    def from_spec(cls, spec, value):
+        return cls(spec["block"], spec["lever"], spec["pin"], spec["pivot"], spec["slide"])
+
+    def _arm(self, st: KinematicState, d: dict):
+        (px, py), (cx, cy) = d[self.P], d[self.C]
+        return px - cx, py - cy
+
+    def position(self, st: KinematicState) -> None:
+        rx, ry = self._arm(st, st.p)
+        s = st.positive(st.xp.sqrt(rx * rx + ry * ry), lambda: (
+            f"the lever's direction is undefined: {self.P} coincides with {self.C}"))
+        u = (rx / s, ry / s)
+        st.u[self.lever] = st.u[self.block] = u
+
+    def _slide(self, st: KinematicState):
+        """Distance pivot -> pin along the lever, and its first-order coefficient."""
+        ux, uy = st.u[self.lever]
+        rx, ry = self._arm(st, st.p)
+        vx, vy = self._arm(st, st.d1)
+        return rx * ux + ry * uy, vx * ux + vy * uy, (ux, uy, vx, vy)
+
+    def first(self, st: KinematicState) -> None:
+        s, _, (ux, uy, vx, vy) = self._slide(st)
+        st.w1[self.lever] = st.w1[self.block] = (ux * vy - uy * vx) / s
+
+    def second(self, st: KinematicState) -> None:
+        s, s1, (ux, uy, _, _) = self._slide(st)
+        w = st.w1[self.lever]
+        ax, ay = self._arm(st, st.d2)
+        # r'' = (s'' - s w^2) u + (2 s' w + s w') n, with n the left normal of u
+        st.w2[self.lever] = st.w2[self.block] = ((ux * ay - uy * ax) - 2.0 * s1 * w) / s
+
+    def statics(self, mech, st, W, R):
+        fbx, fby, mb = moment_about(mech, st, W, self.block, self.P)
+        flx, fly, ml = moment_about(mech, st, W, self.lever, self.C)
+        ux, uy = st.u[self.lever]
+        nx, ny = -uy, ux
+        rx, ry = self._arm(st, st.p)
+        # block about the pin: mb - M = 0; lever about the pivot: ml + s N + M = 0
+        M = mb
+        N = -(ml + M) / (rx * ux + ry * uy)
+        r1x, r1y = N * nx - fbx, N * ny - fby  # owner of the pin on the block
+        r2x, r2y = -flx - N * nx, -fly - N * ny  # owner of the pivot on the lever
+        R[self.P], R[self.slide_joint], R[self.C] = (r1x, r1y), (N, M), (r2x, r2y)
+        push(mech, st, W, mech.owner[self.P], self.P, -r1x, -r1y)
+        push(mech, st, W, mech.owner[self.C], self.C, -r2x, -r2y)
+
+    def transmission(self, st, scale):
+        """The block's force on the lever is normal to it, as is the lever's motion at
+        the pin: the transmission angle is always pi/2. The position and the slide force
+        amplify rounding by ``scale / s`` as the pin nears the pivot."""
+        rx, ry = self._arm(st, st.p)
+        s = st.xp.sqrt(rx * rx + ry * ry)
+        if st.xp.scalar:
+            kappa = max(1.0, scale / s) if s > 0.0 else math.inf
+        else:
+            with np.errstate(divide="ignore"):
+                kappa = np.maximum(1.0, scale / s)
+        return 0.5 * math.pi + 0.0 * s, kappa
+

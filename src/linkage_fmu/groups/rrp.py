@@ -1,0 +1,119 @@
+"""The rod-and-slider dyad (RRP) on a straight frame guide."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .base import (FRAME, OWNER, Group, Joint, KinematicState, angle_and_kappa, fmt, left_normal,
+                   moment_about, push, unit_vector)
+
+
+class RRP(Group):
+    """Dyad rod ``link`` (E-B) + ``slider`` at ``B`` on a straight frame guide.
+
+    The guide passes through ``guide_point`` (x, y) with direction angle ``gamma``.
+    ``branch = +1`` puts ``B`` on the +gamma side of the foot of the perpendicular from
+    ``E`` to the guide. The rod's direction is E -> B; the slider does not turn.
+
+    Examples
+    --------
+    >>> from linkage_fmu.numerics import SCALAR
+    >>> st = KinematicState(0.0, SCALAR)
+    >>> st.p["A"] = (0.0, 0.3)
+    >>> RRP("2", "3", "A", "B", 0.5, (0.0, 0.0), 0.0, +1, "guide").position(st)
+    >>> [round(v, 12) for v in st.p["B"]]
+    [0.4, 0.0]
+    """
+
+    kind = "RRP"
+    FIELDS = {"rod": "new link", "slider": "new link", "end": "point", "pin": "new point",
+              "length": "length", "guide_point": "vector", "guide_angle": "angle",
+              "branch": "branch", "guide": "new joint"}
+
+    def __init__(self, link: str, slider: str, E: str, B: str, L: float,
+                 guide_point: tuple, gamma: float, branch: int, guide_joint: str):
+        self.link, self.slider, self.E, self.B = link, slider, E, B
+        self.L, self.branch = L, int(branch)
+        self.q = (guide_point[0], guide_point[1])
+        self.t = unit_vector(gamma)
+        self.guide_joint = guide_joint
+        self.needs = (E,)
+        self.places = (B,)
+        self.links = (link, slider)
+        self.joints = (Joint(E, E, OWNER, link), Joint(B, B, link, slider),
+                       Joint(guide_joint, B, FRAME, slider, left_normal(self.t)))
+        self.owners = {}  # B belongs to rod and slider
+        self.key = B
+        self.lengths = (L,)
+
+    @classmethod
+    def from_spec(cls, spec, value):
+        return cls(spec["rod"], spec["slider"], spec["end"], spec["pin"], value("length"),
+                   value("guide_point"), value("guide_angle"), value("branch"), spec["guide"])
+
+    def position(self, st: KinematicState) -> None:
+        ex, ey = st.p[self.E]
+        tx, ty = self.t
+        dx, dy = self.q[0] - ex, self.q[1] - ey
+        dt = dx * tx + dy * ty
+        dn = dy * tx - dx * ty  # distance of E from the guide, signed
+        L = self.L
+        root = st.root((L - dn) * (L + dn), lambda: (
+            f"{self.E} is {fmt(abs(np.asarray(dn).flat[0]))} m from the guide of {self.B}, "
+            f"more than {self.E}{self.B} = {fmt(L)} m"))
+        s = -dt + self.branch * root
+        bx, by = self.q[0] + s * tx, self.q[1] + s * ty
+        st.p[self.B] = (bx, by)
+        st.u[self.link] = ((bx - ex) / L, (by - ey) / L)
+        st.u[self.slider] = self.t
+
+    def _axis(self, st: KinematicState):
+        c, s = st.u[self.link]
+        ux, uy = self.L * c, self.L * s
+        return ux, uy, ux * self.t[0] + uy * self.t[1]
+
+    def first(self, st: KinematicState) -> None:
+        ux, uy, ut = self._axis(st)
+        tx, ty = self.t
+        ex, ey = st.d1[self.E]
+        sp = (ux * ex + uy * ey) / ut
+        bx, by = sp * tx, sp * ty
+        st.d1[self.B] = (bx, by)
+        st.w1[self.link] = (ux * (by - ey) - uy * (bx - ex)) / (self.L * self.L)
+        st.w1[self.slider] = 0.0
+
+    def second(self, st: KinematicState) -> None:
+        ux, uy, ut = self._axis(st)
+        tx, ty = self.t
+        (e1x, e1y), (b1x, b1y) = st.d1[self.E], st.d1[self.B]
+        ex, ey = st.d2[self.E]
+        rx, ry = b1x - e1x, b1y - e1y
+        spp = (ux * ex + uy * ey - (rx * rx + ry * ry)) / ut
+        bx, by = spp * tx, spp * ty
+        st.d2[self.B] = (bx, by)
+        st.w2[self.link] = (ux * (by - ey) - uy * (bx - ex)) / (self.L * self.L)
+        st.w2[self.slider] = 0.0
+
+    def statics(self, mech, st, W, R):
+        fix, fiy, mi = moment_about(mech, st, W, self.link, self.B)
+        fjx, fjy, mj = moment_about(mech, st, W, self.slider, self.B)
+        (bx, by), (ex, ey) = st.p[self.B], st.p[self.E]
+        nx, ny = -self.t[1], self.t[0]
+        ux, uy = ex - bx, ey - by
+        fx, fy = fix + fjx, fiy + fjy
+        # rod about B: u x (-F - N n) = -mi
+        N = (mi - (ux * fy - uy * fx)) / (ux * ny - uy * nx)
+        r1x, r1y = -fx - N * nx, -fy - N * ny
+        R[self.E] = (r1x, r1y)
+        R[self.B] = (-N * nx - fjx, -N * ny - fjy)
+        R[self.guide_joint] = (N, -mj)
+        push(mech, st, W, mech.owner[self.E], self.E, -r1x, -r1y)
+
+    def transmission(self, st, scale):
+        """Angle between the rod and the guide's normal, in [0, pi/2]; 0 is singular."""
+        c, s = st.u[self.link]
+        tx, ty = self.t
+        ut = c * tx + s * ty
+        un = s * tx - c * ty
+        xp = st.xp
+        return angle_and_kappa(xp, xp.abs(ut), xp.abs(un))

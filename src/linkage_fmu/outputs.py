@@ -1,0 +1,146 @@
+"""What a linkage reports: output declarations, each bound once to a mechanism.
+
+``bind(mech)`` returns ``fn(R, E, st)`` of the reactions ``R`` (joint name -> ``(Fx, Fy)``
+or ``(N, M)``), the balancing effort ``E`` and the kinematic state ``st``; it works on
+floats and arrays alike.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+from .spec.expressions import Expression
+
+
+def _pair(mech, by: str, on: str, output: str):
+    """The joint between bodies ``by`` and ``on``, and +1 if it is declared as the
+    action of ``by`` on ``on``, -1 if the other way round."""
+    for j in mech.joints:
+        if {j.a, j.b} == {by, on}:
+            return j, (1.0 if (j.a, j.b) == (by, on) else -1.0)
+    raise ValueError(f"output {output}: no joint between bodies {by!r} and {on!r}")
+
+
+@dataclass(frozen=True)
+class Force:
+    """Output: component ``axis`` ('x' or 'y') of the force of body ``by`` on body ``on``."""
+
+    name: str
+    by: str
+    on: str
+    axis: str
+    unit = "N"
+
+    @property
+    def description(self) -> str:
+        return f"force of link {self.by} on link {self.on}, {self.axis} component"
+
+    def bind(self, mech) -> Callable:
+        i = "xy".index(self.axis)
+        j, sign = _pair(mech, self.by, self.on, self.name)
+        if j.normal is None:
+            return lambda R, E, st, name=j.name: sign * R[name][i]
+        if isinstance(j.normal, str):  # a guide on a moving link
+            return lambda R, E, st, name=j.name: sign * j.normal_at(st)[i] * R[name][0]
+        k = sign * j.normal[i]
+        return lambda R, E, st, name=j.name: k * R[name][0]
+
+
+@dataclass(frozen=True)
+class Magnitude:
+    """Output: magnitude of the force of body ``by`` on body ``on`` (bearing sizing)."""
+
+    name: str
+    by: str
+    on: str
+    unit = "N"
+
+    @property
+    def description(self) -> str:
+        return f"magnitude of the force of link {self.by} on link {self.on}"
+
+    def bind(self, mech) -> Callable:
+        j, _ = _pair(mech, self.by, self.on, self.name)
+
+        def magnitude(R, E, st, name=j.name):
+            a, b = R[name]
+            if j.normal is not None:  # a prismatic pair: the normal force alone
+                return st.xp.abs(a)
+            return st.xp.sqrt(a * a + b * b)
+
+        return magnitude
+
+
+@dataclass(frozen=True)
+class Normal:
+    """Output: normal force of the prismatic pair ``joint`` (along its normal)."""
+
+    name: str
+    joint: str
+    unit = "N"
+
+    @property
+    def description(self) -> str:
+        return f"normal force of the prismatic pair '{self.joint}' along its normal"
+
+    def bind(self, mech) -> Callable:
+        return lambda R, E, st: R[self.joint][0]
+
+
+@dataclass(frozen=True)
+class Couple:
+    """Output: couple transmitted by the prismatic pair ``joint`` (of body a on body b)."""
+
+    name: str
+    joint: str
+    unit = "N.m"
+
+    @property
+    def description(self) -> str:
+        return f"couple of the prismatic pair '{self.joint}', counter-clockwise positive"
+
+    def bind(self, mech) -> Callable:
+        return lambda R, E, st: R[self.joint][1]
+
+
+@dataclass(frozen=True)
+class EffortOutput:
+    """Output: the balancing effort if it is the one named ``name``, else zero."""
+
+    name: str
+    unit: str = "N.m"
+    description: str = "balancing moment on the driver link, counter-clockwise positive"
+
+    def bind(self, mech) -> Callable:
+        if mech.effort.name == self.name:
+            return lambda R, E, st: E
+        return lambda R, E, st: 0.0
+
+
+@dataclass(frozen=True)
+class Derived:
+    """Output: an expression of the joint reactions (``N_<joint>``, ``M_<joint>``,
+    ``Fx_<joint>``, ``Fy_<joint>``), the balancing effort (by its name) and the
+    parameters, e.g. the scotch yoke's two guide bearings."""
+
+    name: str
+    expression: str
+    unit: str = "N"
+    description: str = ""
+
+    def bind(self, mech) -> Callable:
+        expr = Expression(self.expression)
+        kinds = {j.name: ("N", "M") if j.normal is not None else ("Fx", "Fy") for j in mech.joints}
+        params = {k: v for k, v in mech.parameters.items() if isinstance(v, float)}
+        needed = set(expr.names)
+
+        def derived(R, E, st):
+            values = dict(params)
+            values[mech.effort.name] = E
+            for joint, (a, b) in kinds.items():
+                if f"{a}_{joint}" in needed or f"{b}_{joint}" in needed:
+                    values[f"{a}_{joint}"], values[f"{b}_{joint}"] = R[joint]
+            return expr(values)
+
+        return derived

@@ -1,0 +1,128 @@
+"""From a checked description and parameter values to a Mechanism."""
+
+from __future__ import annotations
+
+import math
+
+from ..groups import Group
+from ..loads import Load
+from ..mechanism import Body, Effort, Mechanism
+from ..outputs import Couple, Derived, EffortOutput, Force, Magnitude, Normal
+from ..parameters import resolve
+from .expressions import Expression
+
+
+def build(d, given: dict) -> Mechanism:
+    """The linkage ``d`` (checked) with the parameter values ``given`` over its defaults.
+
+    Raises
+    ------
+    TypeError
+        An unknown parameter name.
+    ValueError
+        An invalid parameter value, or a value computed from the parameters that the
+        linkage cannot take (a length that is not positive, ...), naming it.
+    """
+    params = resolve(d.parameter_specs(), given, d.name)
+    numbers = {k: v for k, v in params.items() if isinstance(v, (int, float))}
+
+    def number(where: str, source, rule: str = "") -> float:
+        try:
+            x = Expression(source)(numbers)
+        except (ValueError, ZeroDivisionError, OverflowError) as err:
+            raise ValueError(f"{d.name}: {where} = {source!r}: {err}") from None
+        if not math.isfinite(x):
+            raise ValueError(f"{d.name}: {where} = {source!r} = {x!r} is not finite")
+        if rule == "length" and not x > 0.0:
+            raise ValueError(f"{d.name}: {where} = {source!r} = {x!r} must be > 0")
+        if rule == "branch" and x not in (1.0, -1.0):
+            raise ValueError(f"{d.name}: {where} = {source!r} = {x!r} must be +1 or -1")
+        return x
+
+    def vector(where: str, xy) -> tuple:
+        return number(where + " x", xy[0]), number(where + " y", xy[1])
+
+    frame_points = {name: vector(f"[points] {name}", xy) for name, xy in d.points.items()}
+    groups = []
+    for k, spec in enumerate(d.groups):
+        cls = Group.registry[spec["type"]]
+        where = f"[[groups]] #{k + 1} ({spec['type']})"
+
+        def value(key, spec=spec, cls=cls, where=where):
+            role = cls.FIELDS[key]
+            if role == "vector":
+                return vector(f"{where} {key}", spec[key])
+            x = number(f"{where} {key}", spec[key], role)
+            return int(x) if role == "branch" else x
+
+        groups.append(cls.from_spec(spec, value))
+
+    bodies = []
+    for link, spec in d.bodies.items():
+        where = f"[bodies.{link}]"
+        cg = spec["cg"]
+        try:
+            place = {key: number(f"{where} cg {key}", cg[key])
+                     for key in ("along", "across", "distance", "angle") if key in cg}
+            bodies.append(Body(link, number(f"{where} mass", spec["mass"]),
+                               number(f"{where} inertia", spec["inertia"]), cg["from"], **place))
+        except ValueError as err:
+            raise ValueError(f"{d.name}: {err}") from None
+
+    loads = []
+    for spec in d.loads:
+        where = f"[[loads]] {spec['name']}"
+        direction = (vector(f"{where} direction", spec["direction"])
+                     if spec["kind"] == "force" else (0.0, 0.0))
+        loads.append(Load(spec["name"], spec["body"], spec["kind"], spec.get("at", ""),
+                          direction, spec.get("fixed_in", "frame"), spec.get("unit", ""),
+                          spec.get("description", ""), float(spec.get("start", 0.0))))
+
+    chosen = None
+    for when, spec in d.efforts.items():
+        if when is None or params[when[0]] == when[1]:
+            chosen = spec
+    if chosen is None:
+        options = [w[1] for w in d.efforts]
+        raise ValueError(f"{d.name}: no [effort] option for {next(iter(d.efforts))[0]} = "
+                         f"{params[next(iter(d.efforts))[0]]!r}; the options are "
+                         + ", ".join(map(repr, options)))
+    effort = Effort(chosen["name"], chosen["body"], chosen.get("at", ""),
+                    _unit(vector("[effort] direction", chosen["direction"]))
+                    if "direction" in chosen else None)
+
+    outputs = []
+    for spec in d.outputs:
+        kind, name = spec["kind"], spec["name"]
+        text = spec.get("description", "")
+        if kind == "force":
+            for axis in spec.get("components", ["x", "y"]):
+                outputs.append(Force(spec.get(axis, name + axis), spec["by"], spec["on"], axis))
+            if spec.get("magnitude"):
+                m = spec["magnitude"]
+                outputs.append(Magnitude(m if isinstance(m, str) else f"{name}_abs", spec["by"],
+                                         spec["on"]))
+        elif kind == "normal":
+            outputs.append(Normal(name, spec["joint"]))
+        elif kind == "couple":
+            outputs.append(Couple(name, spec["joint"]))
+        elif kind == "effort":
+            unit = spec.get("unit") or ("N.m" if _is_moment(d, name) else "N")
+            outputs.append(EffortOutput(name, unit, text or (
+                "balancing moment on the driver link, counter-clockwise positive"
+                if unit == "N.m" else "balancing force")))
+        else:
+            outputs.append(Derived(name, spec["expression"], spec.get("unit", "N"), text))
+    return Mechanism(d.name, d.frame, frame_points, groups, bodies, effort, outputs, loads,
+                     number("[linkage] gravity", d.gravity), params, d)
+
+
+def _unit(v: tuple) -> tuple:
+    n = math.hypot(*v)
+    if not n > 0.0:
+        raise ValueError(f"direction {v!r} has no length")
+    return v if n == 1.0 else (v[0] / n, v[1] / n)
+
+
+def _is_moment(d, name: str) -> bool:
+    return any(s.get("name") == name and "direction" not in s for s in d.efforts.values())

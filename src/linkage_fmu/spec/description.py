@@ -1,0 +1,656 @@
+"""A linkage as data: a description, composed in Python or read from a TOML file.
+
+:class:`Description` is the public builder; a description file is its serialisation,
+one TOML table per builder call::
+
+    [linkage]    name, title, model (the FMU's model identifier), frame (the frame's
+                 body name in output names), gravity (along -y; default 0)
+    [parameters] NAME = { default, kind, description, min, max, choices }
+    [points]     NAME = [x, y]               frame points
+    [[groups]]   type = "crank" | "RRR" | "RRP" | "RPP" | "RPR" | "point", and the
+                 type's fields, in an order in which every point is placed before use
+    [bodies.L]   mass, inertia (about the centre of mass), cg = { from, along, across }:
+                 the centre of mass in link L's own frame, measured from its point
+                 ``from``: ``along`` the link's direction, ``across`` to its left; or
+                 cg = { from, distance, angle }: ``angle`` counter-clockwise from the
+                 link's direction
+    [[loads]]    name, body, kind = "force" | "moment", at, direction = [x, y],
+                 fixed_in = "frame" | "link", unit, description, start
+    [effort]     name, body (a moment on a link), or at + direction (a force), or
+                 choose = PARAMETER with options = { VALUE = {...} }
+    [[outputs]]  kind = "force" | "normal" | "couple" | "effort" | "expression", ...
+    [inputs]     start values of theta, omega, alpha
+
+Numbers may be given as expressions of the parameters (:mod:`~.expressions`).
+:meth:`Description.build` checks everything, reporting every problem at once with the
+file, table and key, and returns a :class:`~linkage_fmu.mechanism.Mechanism`.
+
+Examples
+--------
+>>> d = (Description("demo", model="Demo", frame="0")
+...      .parameter("r", 0.1, "length", "crank radius")
+...      .point("A", 0, 0)
+...      .group("crank", link="1", pivot="A", tip="B", length="r")
+...      .body("1", mass=1.0, cg={"from": "A", "along": "r / 2"})
+...      .load("T", body="1", kind="moment", description="torque on the crank")
+...      .effort("Mb", body="1")
+...      .output("effort", name="Mb"))
+>>> mech = d.build()
+>>> round(mech.solve(0.0, omega=2.0, T=3.0)["Mb"], 12)
+-3.0
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import math
+import re
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from ..groups import Group
+from ..parameters import KINDS, Parameter
+from .expressions import Expression
+
+INPUT_NAMES = ("theta", "omega", "alpha")
+TABLES = ("linkage", "parameters", "points", "groups", "bodies", "loads", "effort", "outputs",
+          "inputs")
+_IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
+_OUTPUT_FIELDS = {
+    "force": {"name", "by", "on", "components", "x", "y", "magnitude", "description"},
+    "normal": {"name", "joint", "description"},
+    "couple": {"name", "joint", "description"},
+    "effort": {"name", "unit", "description"},
+    "expression": {"name", "expression", "unit", "description"},
+}
+_LOAD_FIELDS = {"name", "body", "kind", "at", "direction", "fixed_in", "unit", "description",
+                "start"}
+_EFFORT_FIELDS = {"name", "body", "at", "direction"}
+
+
+class DescriptionError(ValueError):
+    """A description with problems; ``problems`` lists every one of them."""
+
+    def __init__(self, source: str, problems: list[str]):
+        self.source, self.problems = source, list(problems)
+        n = len(self.problems)
+        super().__init__(f"{source}: {n} problem{'s' if n > 1 else ''}:\n"
+                         + "\n".join(f"  {p}" for p in self.problems))
+
+
+@dataclass
+class Description:
+    """The data of one linkage; each method adds one table and returns the description.
+
+    Parameters
+    ----------
+    name : str
+        Name of the linkage in messages (and of a shipped preset).
+    title : str
+        One line saying what it is.
+    model : str
+        Model identifier of its FMUs (a C identifier).
+    frame : str
+        Name of the frame body in output names.
+    gravity : number or expression
+        Gravitational acceleration along -y (usually the parameter ``g``).
+    source : str
+        Where the description came from, for messages (a file path).
+    """
+
+    name: str
+    title: str = ""
+    model: str = ""
+    frame: str = "0"
+    gravity: Any = 0.0
+    source: str = field(default="<python>", compare=False)
+    parameters: dict = field(default_factory=dict)
+    points: dict = field(default_factory=dict)
+    groups: list = field(default_factory=list)
+    bodies: dict = field(default_factory=dict)
+    loads: list = field(default_factory=list)
+    efforts: dict = field(default_factory=dict)
+    outputs: list = field(default_factory=list)
+    inputs: dict = field(default_factory=lambda: dict.fromkeys(INPUT_NAMES, 0.0))
+    _checked: bool = field(default=False, repr=False, compare=False)
+
+    # -- the builder -----------------------------------------------------------------
+    def parameter(self, name: str, default: Any, kind: str, description: str = "",
+                  min: float | None = None, max: float | None = None,
+                  choices: tuple = ()) -> "Description":
+        """A parameter: name, default, kind (unit and rule, see
+        :mod:`~linkage_fmu.parameters`), meaning, and optional bounds."""
+        self.parameters[name] = dict(default=default, kind=kind, description=description,
+                                     min=min, max=max, choices=tuple(choices))
+        return self._changed()
+
+    def point(self, name: str, x: Any, y: Any) -> "Description":
+        """A point fixed in the frame."""
+        self.points[name] = (x, y)
+        return self._changed()
+
+    def group(self, type: str, **fields) -> "Description":
+        """The next group: the crank first, then groups placing points from placed ones."""
+        self.groups.append({"type": type, **fields})
+        return self._changed()
+
+    def body(self, link: str, mass: Any = 0.0, inertia: Any = 0.0,
+             cg: dict | None = None) -> "Description":
+        """Mass, moment of inertia about the centre of mass, and where that is."""
+        self.bodies[link] = {"mass": mass, "inertia": inertia, "cg": dict(cg or {})}
+        return self._changed()
+
+    def load(self, name: str, body: str, kind: str, at: str = "", direction: Any = None,
+             fixed_in: str = "frame", unit: str = "", description: str = "",
+             start: float = 0.0) -> "Description":
+        """An input load: a force on ``body`` at its point ``at`` along ``direction``
+        (fixed in the frame or in the link), or a moment on ``body``."""
+        spec = {"name": name, "body": body, "kind": kind, "fixed_in": fixed_in, "unit": unit,
+                "description": description, "start": start}
+        if at:
+            spec["at"] = at
+        if direction is not None:
+            spec["direction"] = direction
+        self.loads.append(spec)
+        return self._changed()
+
+    def effort(self, name: str, body: str, at: str = "", direction: Any = None,
+               when: tuple | None = None) -> "Description":
+        """Where the balancing effort acts: a moment on ``body``, or a force at its point
+        ``at`` along ``direction``. ``when = (parameter, value)`` makes it the effort
+        only for that value of a choice parameter."""
+        spec = {"name": name, "body": body}
+        if at:
+            spec["at"] = at
+        if direction is not None:
+            spec["direction"] = direction
+        self.efforts[when] = spec
+        return self._changed()
+
+    def output(self, kind: str, **fields) -> "Description":
+        """An output: ``force`` (components of the force of body ``by`` on body ``on``),
+        ``normal`` or ``couple`` of a prismatic pair, ``effort``, or ``expression``."""
+        self.outputs.append({"kind": kind, **fields})
+        return self._changed()
+
+    def start(self, **values: float) -> "Description":
+        """Start values of the inputs theta, omega, alpha."""
+        self.inputs.update(values)
+        return self._changed()
+
+    def _changed(self) -> "Description":
+        self._checked = False
+        return self
+
+    # -- reading ---------------------------------------------------------------------
+    @classmethod
+    def from_toml(cls, text: str, source: str = "<string>") -> "Description":
+        """Read a description file's text; problems are reported with ``source``."""
+        try:
+            data = tomllib.loads(text)
+        except tomllib.TOMLDecodeError as err:
+            raise DescriptionError(source, [f"not valid TOML: {err}"]) from None
+        problems = []
+        for key in data:
+            if key not in TABLES:
+                problems.append(f"[{key}]: unknown table; the tables are {', '.join(TABLES)}")
+        head = data.get("linkage", {})
+        if not isinstance(head, dict):
+            head = {}
+        for key in head:
+            if key not in ("name", "title", "model", "frame", "gravity"):
+                problems.append(f"[linkage] {key}: unknown key; the keys are name, title, "
+                                "model, frame, gravity")
+        d = cls(name=str(head.get("name", Path(source).stem)), title=str(head.get("title", "")),
+                model=str(head.get("model", "")), frame=str(head.get("frame", "0")),
+                gravity=head.get("gravity", 0.0), source=source)
+        problems += _read_tables(d, data)
+        if problems:
+            raise DescriptionError(source, problems)
+        return d
+
+    @classmethod
+    def read(cls, path: str | Path) -> "Description":
+        """Read the description file at ``path``."""
+        path = Path(path)
+        try:
+            text = path.read_text(encoding="utf-8")
+        except OSError as err:
+            raise DescriptionError(str(path), [f"cannot read it: {err.strerror}"]) from None
+        return cls.from_toml(text, str(path))
+
+    # -- checking --------------------------------------------------------------------
+    def parameter_specs(self) -> tuple[Parameter, ...]:
+        """The parameters as :class:`~linkage_fmu.parameters.Parameter` objects."""
+        return tuple(Parameter(n, p["default"], p["kind"], p["description"], p["choices"],
+                               p["min"], p["max"]) for n, p in self.parameters.items())
+
+    def check(self) -> "Description":
+        """Raise :class:`DescriptionError` listing every problem; return self if none."""
+        if not self._checked:
+            problems = _check(self)
+            if problems:
+                raise DescriptionError(self.source, problems)
+            self._checked = True
+        return self
+
+    def build(self, **parameters) -> "Mechanism":  # noqa: F821
+        """Check the description and build the linkage with ``parameters`` overriding
+        the defaults (an unknown name is a ``TypeError``, an invalid value a
+        ``ValueError``, each naming the parameter)."""
+        from .build import build
+
+        return build(self.check(), parameters)
+
+    def copy(self) -> "Description":
+        return copy.deepcopy(self)
+
+    def with_defaults(self, values: dict) -> "Description":
+        """A copy whose parameter defaults are ``values`` (e.g. a built linkage's)."""
+        d = self.copy()
+        for name, value in values.items():
+            d.parameters[name]["default"] = value
+        return d._changed()
+
+    # -- writing ---------------------------------------------------------------------
+    def to_toml(self) -> str:
+        """The description file of this description (:meth:`from_toml` reads it back).
+
+        Examples
+        --------
+        >>> from linkage_fmu import presets
+        >>> d = presets.preset("four_bar")
+        >>> Description.from_toml(d.to_toml()) == d
+        True
+        """
+        lines = ["[linkage]"]
+        lines += [f"{k} = {_toml(v)}" for k, v in (("name", self.name), ("title", self.title),
+                                                   ("model", self.model), ("frame", self.frame),
+                                                   ("gravity", self.gravity))]
+        lines += ["", "[parameters]"]
+        for name, p in self.parameters.items():
+            spec = {"default": p["default"], "kind": p["kind"], "description": p["description"]}
+            spec.update({k: p[k] for k in ("min", "max") if p[k] is not None})
+            if p["choices"]:
+                spec["choices"] = list(p["choices"])
+            lines.append(f"{_key(name)} = {_toml(spec)}")
+        lines += ["", "[points]"] + [f"{_key(n)} = {_toml(list(xy))}" for n, xy in self.points.items()]
+        for spec in self.groups:
+            lines += ["", "[[groups]]"] + [f"{_key(k)} = {_toml(v)}" for k, v in spec.items()]
+        for link, spec in self.bodies.items():
+            lines += ["", f"[bodies.{_key(link)}]"]
+            lines += [f"{k} = {_toml(v)}" for k, v in spec.items()]
+        for spec in self.loads:
+            lines += ["", "[[loads]]"] + [f"{_key(k)} = {_toml(v)}" for k, v in spec.items()]
+        if None in self.efforts:
+            lines += ["", "[effort]"]
+            lines += [f"{_key(k)} = {_toml(v)}" for k, v in self.efforts[None].items()]
+        elif self.efforts:
+            choose = next(iter(self.efforts))[0]
+            lines += ["", "[effort]", f"choose = {_toml(choose)}"]
+            lines += [f"options.{_key(str(w[1]))} = {_toml(spec)}" for w, spec in self.efforts.items()]
+        for spec in self.outputs:
+            lines += ["", "[[outputs]]"] + [f"{_key(k)} = {_toml(v)}" for k, v in spec.items()]
+        lines += ["", "[inputs]"] + [f"{k} = {_toml(v)}" for k, v in self.inputs.items()]
+        return "\n".join(lines) + "\n"
+
+
+# -- reading the tables --------------------------------------------------------------
+def _read_tables(d: Description, data: dict) -> list[str]:
+    problems = []
+
+    def table(key, kind=dict):
+        value = data.get(key, kind())
+        if not isinstance(value, kind):
+            problems.append(f"[{key}]: must be a {'table' if kind is dict else 'list of tables'}")
+            return kind()
+        return value
+
+    for name, spec in table("parameters").items():
+        where = f"[parameters] {name}"
+        if not isinstance(spec, dict):
+            problems.append(f"{where}: must be a table {{ default, kind, description }}")
+            continue
+        unknown = set(spec) - {"default", "kind", "description", "min", "max", "choices"}
+        if unknown:
+            problems.append(f"{where}: unknown key(s) {', '.join(sorted(unknown))}")
+        if "default" not in spec or "kind" not in spec:
+            problems.append(f"{where}: needs 'default' and 'kind'")
+            continue
+        d.parameters[name] = dict(default=spec["default"], kind=spec["kind"],
+                                  description=str(spec.get("description", "")),
+                                  min=spec.get("min"), max=spec.get("max"),
+                                  choices=tuple(spec.get("choices", ())))
+    for name, xy in table("points").items():
+        d.points[name] = xy
+    for k, spec in enumerate(table("groups", list)):
+        if not isinstance(spec, dict):
+            problems.append(f"[[groups]] #{k + 1}: must be a table")
+            continue
+        d.groups.append(dict(spec))
+    for link, spec in table("bodies").items():
+        if not isinstance(spec, dict):
+            problems.append(f"[bodies.{link}]: must be a table")
+            continue
+        unknown = set(spec) - {"mass", "inertia", "cg"}
+        if unknown:
+            problems.append(f"[bodies.{link}]: unknown key(s) {', '.join(sorted(unknown))}; the "
+                            "keys are mass, inertia, cg")
+        d.bodies[link] = {"mass": spec.get("mass", 0.0), "inertia": spec.get("inertia", 0.0),
+                          "cg": spec.get("cg", {})}
+    for k, spec in enumerate(table("loads", list)):
+        if not isinstance(spec, dict):
+            problems.append(f"[[loads]] #{k + 1}: must be a table")
+            continue
+        d.loads.append({"fixed_in": "frame", "unit": "", "description": "", "start": 0.0,
+                        **spec})
+    effort = table("effort")
+    if "choose" in effort:
+        options = effort.get("options", {})
+        if set(effort) - {"choose", "options"} or not isinstance(options, dict):
+            problems.append("[effort]: with 'choose', give only 'options' = { VALUE = {...} }")
+        else:
+            for value, spec in options.items():
+                d.efforts[(effort["choose"], value)] = spec
+    elif effort:
+        d.efforts[None] = effort
+    for k, spec in enumerate(table("outputs", list)):
+        if not isinstance(spec, dict):
+            problems.append(f"[[outputs]] #{k + 1}: must be a table")
+            continue
+        d.outputs.append(dict(spec))
+    inputs = table("inputs")
+    for key, value in inputs.items():
+        if key not in INPUT_NAMES:
+            problems.append(f"[inputs] {key}: unknown input; the inputs with start values here "
+                            "are theta, omega, alpha (a load's start value is in its table)")
+        d.inputs[key] = value
+    return problems
+
+
+# -- checking the structure -----------------------------------------------------------
+def _check(d: Description) -> list[str]:
+    """Every problem of ``d``, each naming the table and key."""
+    problems: list[str] = []
+    params = d.parameters
+
+    def expr(where: str, value, names=None) -> Expression | None:
+        try:
+            e = Expression(value)
+        except ValueError as err:
+            problems.append(f"{where}: {err}")
+            return None
+        unknown = [n for n in e.names if n not in (names if names is not None else params)]
+        if unknown:
+            problems.append(f"{where}: {value!r} uses {', '.join(map(repr, unknown))}, which "
+                            f"{'is not a parameter' if len(unknown) == 1 else 'are not parameters'}")
+            return None
+        return e
+
+    if not d.model or not _IDENTIFIER.match(d.model):
+        problems.append(f"[linkage] model: {d.model!r} must be a C identifier (the FMU's model "
+                        "identifier)")
+    expr("[linkage] gravity", d.gravity)
+    for name, p in params.items():
+        where = f"[parameters] {name}"
+        if not _IDENTIFIER.match(name):
+            problems.append(f"{where}: not an identifier")
+        if name in INPUT_NAMES:
+            problems.append(f"{where}: {name} is an input, not a parameter")
+        if p["kind"] not in KINDS:
+            problems.append(f"{where}: kind {p['kind']!r} is unknown; the kinds are "
+                            f"{', '.join(KINDS)}")
+            continue
+        try:
+            spec = Parameter(name, p["default"], p["kind"], p["description"], p["choices"],
+                             p["min"], p["max"])
+            spec.validate(p["default"])
+        except (TypeError, ValueError) as err:
+            problems.append(f"{where}: default: {err}")
+    for key, value in d.inputs.items():
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+            problems.append(f"[inputs] {key}: start value {value!r} must be a finite number")
+
+    placed = {}  # point -> where it was placed
+    for name, xy in d.points.items():
+        where = f"[points] {name}"
+        if not (isinstance(xy, (list, tuple)) and len(xy) == 2):
+            problems.append(f"{where}: must be [x, y]")
+            continue
+        expr(f"{where} x", xy[0])
+        expr(f"{where} y", xy[1])
+        placed[name] = where
+    links: dict = {}
+    joints: dict = {}
+    if not d.groups:
+        problems.append("[[groups]]: there are none; the first must be the crank")
+    for k, spec in enumerate(d.groups):
+        where = f"[[groups]] #{k + 1}"
+        kind = spec.get("type")
+        cls = Group.registry.get(kind)
+        if cls is None:
+            problems.append(f"{where} type: {kind!r} is not a group type; the types are "
+                            f"{', '.join(sorted(Group.registry))}")
+            continue
+        where = f"{where} ({kind})"
+        if k == 0 and kind != "crank":
+            problems.append(f"{where}: the first group must be the crank")
+        if k > 0 and kind == "crank":
+            problems.append(f"{where}: only one crank (the first group) drives the linkage")
+        fields = cls.FIELDS
+        for key in spec:
+            if key != "type" and key not in fields:
+                problems.append(f"{where} {key}: unknown field; a {kind} has "
+                                f"{', '.join(fields)}")
+        optional = set(getattr(cls, "OPTIONAL", ()))
+        new_points, new_links, new_joints = [], [], []
+        for key, role in fields.items():
+            if key not in spec:
+                if key not in optional:
+                    problems.append(f"{where} {key}: missing")
+                continue
+            value = spec[key]
+            w = f"{where} {key}"
+            if role in ("link", "new link", "point", "new point", "new joint"):
+                if not isinstance(value, str) or not value:
+                    problems.append(f"{w}: must be a name")
+                    continue
+            if role == "point" and value not in placed:
+                problems.append(f"{w}: point {value!r} is not placed before this group "
+                                f"(placed so far: {', '.join(placed) or 'none'})")
+            elif role == "new point":
+                if value in placed:
+                    problems.append(f"{w}: point {value!r} is already placed by {placed[value]}")
+                new_points.append(value)
+            elif role == "link" and value not in links:
+                problems.append(f"{w}: link {value!r} is not added by an earlier group")
+            elif role == "new link":
+                if value in links or value == d.frame:
+                    problems.append(f"{w}: link {value!r} is already "
+                                    f"{'the frame' if value == d.frame else 'added by ' + links[value]}")
+                new_links.append(value)
+            elif role == "new joint":
+                new_joints.append(value)
+            elif role == "vector":
+                if not (isinstance(value, (list, tuple)) and len(value) == 2):
+                    problems.append(f"{w}: must be [x, y]")
+                else:
+                    expr(w + " x", value[0])
+                    expr(w + " y", value[1])
+            elif role in ("length", "angle", "coordinate", "branch"):
+                expr(w, value)
+        for p in new_points:
+            placed[p] = where
+        for link in new_links:
+            links[link] = where
+        # joint names of the pairs this group closes: points and named pairs
+        pair_names = [spec.get(f) for f, r in fields.items() if r in ("point", "new point")
+                      and kind not in ("point",)] + new_joints
+        if kind == "crank":
+            pair_names = [spec.get("pivot")]
+        if kind in ("RRP", "RPP"):
+            pair_names = [p for p in pair_names if p != spec.get("ref")]
+        for j in pair_names:
+            if j is None:
+                continue
+            if j in joints:
+                problems.append(f"{where}: joint {j!r} is already a pair of {joints[j]}: a point "
+                                "may join two links only; name the points apart")
+            joints[j] = where
+
+    body_names = set(d.bodies)
+    for link, where in links.items():
+        if link not in body_names:
+            problems.append(f"[bodies.{link}]: missing: link {link!r} ({where}) needs a body "
+                            "(mass, inertia, cg)")
+    for link, spec in d.bodies.items():
+        where = f"[bodies.{link}]"
+        if link not in links:
+            problems.append(f"{where}: no group adds a link {link!r}: a body without a link")
+            continue
+        expr(f"{where} mass", spec["mass"])
+        expr(f"{where} inertia", spec["inertia"])
+        cg = spec["cg"]
+        if not isinstance(cg, dict) or "from" not in cg:
+            problems.append(f"{where} cg: needs {{ from = POINT, along = ..., across = ... }}")
+            continue
+        unknown = set(cg) - {"from", "along", "across", "distance", "angle"}
+        if unknown:
+            problems.append(f"{where} cg: unknown key(s) {', '.join(sorted(unknown))}; the keys "
+                            "are from, along, across (or distance, angle)")
+        if ({"along", "across"} & set(cg)) and ({"distance", "angle"} & set(cg)):
+            problems.append(f"{where} cg: give along/across or distance/angle, not both")
+        if cg["from"] not in placed:
+            problems.append(f"{where} cg from: point {cg['from']!r} is not placed")
+        for key in ("along", "across", "distance", "angle"):
+            if key in cg:
+                expr(f"{where} cg {key}", cg[key])
+
+    names_taken = set(INPUT_NAMES) | set(params)
+    load_names = []
+    for k, spec in enumerate(d.loads):
+        name = spec.get("name", "")
+        where = f"[[loads]] #{k + 1} ({name or 'no name'})"
+        unknown = set(spec) - _LOAD_FIELDS
+        if unknown:
+            problems.append(f"{where}: unknown key(s) {', '.join(sorted(unknown))}")
+        if not isinstance(name, str) or not _IDENTIFIER.match(name):
+            problems.append(f"{where} name: {name!r} must be an identifier")
+        elif name in names_taken or name in load_names:
+            problems.append(f"{where} name: {name!r} is already an input or parameter name")
+        load_names.append(name)
+        if spec.get("body") not in links:
+            problems.append(f"{where} body: {spec.get('body')!r} is not a moving link")
+        kind = spec.get("kind")
+        if kind == "force":
+            if spec.get("at") not in placed:
+                problems.append(f"{where} at: a force needs the placed point it acts at, got "
+                                f"{spec.get('at')!r}")
+            _direction(where, spec.get("direction"), expr, problems)
+            if spec.get("fixed_in") not in ("frame", "link"):
+                problems.append(f"{where} fixed_in: must be 'frame' or 'link'")
+        elif kind == "moment":
+            for key in ("at", "direction"):
+                if key in spec:
+                    problems.append(f"{where} {key}: a moment has no {key}")
+        else:
+            problems.append(f"{where} kind: {kind!r} must be 'force' or 'moment'")
+        start = spec.get("start", 0.0)
+        if isinstance(start, bool) or not isinstance(start, (int, float)) or not math.isfinite(start):
+            problems.append(f"{where} start: {start!r} must be a finite number")
+
+    if not d.efforts:
+        problems.append("[effort]: missing: where does the balancing effort act?")
+    for when, spec in d.efforts.items():
+        where = "[effort]" if when is None else f"[effort] options.{when[1]}"
+        if when is not None and (when[0] not in params or params[when[0]]["kind"] != "choice"):
+            problems.append(f"[effort] choose: {when[0]!r} is not a choice parameter")
+        if not isinstance(spec, dict):
+            problems.append(f"{where}: must be a table")
+            continue
+        unknown = set(spec) - _EFFORT_FIELDS
+        if unknown:
+            problems.append(f"{where}: unknown key(s) {', '.join(sorted(unknown))}")
+        if spec.get("body") not in links:
+            problems.append(f"{where} body: {spec.get('body')!r} is not a moving link")
+        if "at" in spec or "direction" in spec:
+            if spec.get("at") not in placed:
+                problems.append(f"{where} at: {spec.get('at')!r} is not a placed point")
+            _direction(where, spec.get("direction"), expr, problems)
+
+    output_names = []
+    joint_vars = {f"{v}_{j}" for j in joints for v in ("N", "M", "Fx", "Fy")}
+    efforts = {spec.get("name") for spec in d.efforts.values() if isinstance(spec, dict)}
+    for k, spec in enumerate(d.outputs):
+        kind = spec.get("kind")
+        where = f"[[outputs]] #{k + 1} ({spec.get('name', kind)})"
+        if kind not in _OUTPUT_FIELDS:
+            problems.append(f"{where} kind: {kind!r} is not one of {', '.join(_OUTPUT_FIELDS)}")
+            continue
+        unknown = set(spec) - _OUTPUT_FIELDS[kind] - {"kind"}
+        if unknown:
+            problems.append(f"{where}: unknown key(s) {', '.join(sorted(unknown))}")
+        name = spec.get("name")
+        if not isinstance(name, str) or not _IDENTIFIER.match(name):
+            problems.append(f"{where} name: {name!r} must be an identifier")
+            continue
+        if kind == "force":
+            for key in ("by", "on"):
+                if spec.get(key) not in links and spec.get(key) != d.frame:
+                    problems.append(f"{where} {key}: {spec.get(key)!r} is not a body")
+            comps = spec.get("components", ["x", "y"])
+            if not set(comps) <= {"x", "y"} or not comps:
+                problems.append(f"{where} components: must be a list of 'x' and/or 'y'")
+            names = [spec.get(c, name + c) for c in comps]
+            if spec.get("magnitude"):
+                m = spec["magnitude"]
+                names.append(m if isinstance(m, str) else f"{name}_abs")
+        elif kind in ("normal", "couple"):
+            if spec.get("joint") not in joints:
+                problems.append(f"{where} joint: {spec.get('joint')!r} is not a pair")
+            names = [name]
+        elif kind == "effort":
+            if name not in efforts:
+                problems.append(f"{where} name: {name!r} is not the name of an [effort]")
+            names = [name]
+        else:
+            expr(f"{where} expression", spec.get("expression", ""),
+                 set(params) | joint_vars | efforts)
+            names = [name]
+        for n in names:
+            if n in output_names or n in names_taken or n in load_names:
+                problems.append(f"{where}: output name {n!r} is used twice")
+            output_names.append(n)
+    if not d.outputs:
+        problems.append("[[outputs]]: there are none")
+    return problems
+
+
+def _key(key: str) -> str:
+    return key if re.fullmatch(r"[A-Za-z0-9_-]+", key) else json.dumps(key)
+
+
+def _toml(value) -> str:
+    """A TOML value: strings, numbers, booleans, lists and inline tables."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (int, float)):
+        return repr(value)
+    if isinstance(value, str):
+        return json.dumps(value)  # JSON's string escapes are TOML's basic-string escapes
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_toml(v) for v in value) + "]"
+    if isinstance(value, dict):
+        return "{ " + ", ".join(f"{_key(k)} = {_toml(v)}" for k, v in value.items()) + " }"
+    raise TypeError(f"cannot write {value!r} to a description file")
+
+
+def _direction(where, value, expr, problems) -> None:
+    if not (isinstance(value, (list, tuple)) and len(value) == 2):
+        problems.append(f"{where} direction: must be [x, y]")
+        return
+    expr(f"{where} direction x", value[0])
+    expr(f"{where} direction y", value[1])
