@@ -243,7 +243,7 @@ def test_unsolvable_and_overflowing_inputs_warn_and_read_nan(dist, tmp_path):
         assert close(r[6 * k + 5][1], expected), row
     warnings = "\n".join(out["log"]["1"])
     assert "cannot be assembled at theta = 3.14159" in warnings
-    assert "the arithmetic overflows at theta = 0.2, omega = 1e+160" in warnings
+    assert "overflow float64 at theta = 0.2, omega = 1e+160" in warnings
 
 
 def test_state_round_trips_are_bit_exact_and_bad_states_are_rejected(dist, tmp_path):

@@ -212,3 +212,103 @@ def test_static_six_bar_effort_is_virtual_work(driver, theta, method):
     other = "Mb" if driver == "D" else "Pb"
     assert sol[name] == pytest.approx(_virtual_work_effort(mech, theta), rel=1e-10)
     assert sol[other] == 0.0
+
+
+@pytest.mark.parametrize("variant", VARIANTS, ids=IDS)
+@settings(max_examples=12, deadline=None, derandomize=True)
+@given(state=STATES)
+def test_random_states_match_the_mpmath_reference(variant, state):
+    """Both methods against the 40-digit mpmath evaluation of the same equations
+    (:mod:`linkage_fmu.precise`): normwise relative error <= 16 cond eps."""
+    from linkage_fmu.precise import reference
+
+    mech = presets.get(variant[0], **variant[1])
+    ref = {n: float(v) for n, v in reference(mech, *state).items()}
+    scale = max(abs(v) for v in ref.values())
+    for method in ("closed_form", "direct"):
+        sol = mech.solve(*state, method=method)
+        err = max(abs(sol[n] - ref[n]) for n in ref) / scale
+        assert err <= 16 * sol["cond"] * 2.2e-16, (method, err, sol["cond"])
+
+
+# -- Marghitu & Dupac, Advanced Dynamics (Springer 2012), Example 6.1 ---------------
+# The R-RTR-RRT shaper: crank AB = 0.2 m about A; block on B sliding on the lever pivoted
+# at D = (0, -0.4) (our C), lever tip C at 0.7 m (our D); rod CE = 0.3 m (our DE) to the
+# ram E on the guide y = 0.35; phi = 45 deg, n = 200 rpm counter-clockwise, g = 9.807;
+# steel bars and sliders (rho = 8000) with the example's masses and inertias, among them
+# its rod inertia 6.00667e-5 kg m2 (computed there with the slider's mass); a 500 N
+# force on the ram along +x, against its velocity. The printed results (Fij = force of
+# i on j, N and N m, three decimals) are those of the example's program (E6_1.m; E6_2.m,
+# the contour method, prints the same). The example puts the crank's centre of mass at
+# mid-AB; the preset's is at A, so the crank is massless here, and then F01 = F12 and
+# Mb = B x F12, both from the printed F12.
+EX61 = dict(l_AB=0.2, l_AC=0.4, l_CD=0.7, l_DE=0.3, h_E=0.35, g=9.807, m1=0.0, J1=0.0,
+            m2=8000 * 0.02 * 0.05 * 0.001, J2=8000 * 0.02 * 0.05 * 0.001 * (0.02**2 + 0.05**2) / 12,
+            m3=8000 * 0.7 * 0.01 * 0.001, J_S3=8000 * 0.7 * 0.01 * 0.001 * (0.7**2 + 0.01**2) / 12,
+            l_CS3=0.35, m4=8000 * 0.3 * 0.01 * 0.001, J_S4=6.00667e-5, l_DS4=0.15,
+            m5=8000 * 0.02 * 0.05 * 0.001, branch=-1)
+EX61_STATE = (math.radians(45.0), 200 * 2 * math.pi / 60, 0.0)
+EX61_PRINTED = {"F12": (-625.610, 162.864), "F32": (625.114, -163.282),
+                "F03": (123.647, -38.376), "F34": (-500.685, 124.998),
+                "F54": (500.140, -125.037), "F05": (0.0, -124.959), "phi3_deg": 75.361,
+                "Min2": -5.871e-5}
+
+
+def _ex61_crank_terms():
+    B = (0.2 * math.cos(EX61_STATE[0]), 0.2 * math.sin(EX61_STATE[0]))
+    fx, fy = EX61_PRINTED["F12"]
+    return B, B[0] * fy - B[1] * fx  # Mb of a massless crank: B x F12
+
+
+def test_crank_shaper_reproduces_marghitu_dupac_example_6_1():
+    """Every printed joint force of the example to its three printed decimals (1.5e-3 N),
+    the block's couple on the lever to 1e-8 N m, and the driving moment of a massless
+    crank, with both methods."""
+    mech = presets.get("crank_shaper", **EX61)
+    p = EX61_PRINTED
+    n3 = (-math.sin(math.radians(p["phi3_deg"])), math.cos(math.radians(p["phi3_deg"])))
+    _, Mb = _ex61_crank_terms()
+    expect = {"F12x": p["F12"][0], "F12y": p["F12"][1], "F01x": p["F12"][0],
+              "F01y": p["F12"][1], "F03x": p["F03"][0], "F03y": p["F03"][1],
+              "F34x": p["F34"][0], "F34y": p["F34"][1], "F45x": -p["F54"][0],
+              "F45y": -p["F54"][1], "N05": p["F05"][1],
+              # the block's force on the lever, -F32, along the lever's left normal
+              "N23": -p["F32"][0] * n3[0] - p["F32"][1] * n3[1]}
+    for method in ("closed_form", "direct"):
+        sol = mech.solve(*EX61_STATE, -500.0, method=method)  # 500 N along +x
+        for name, value in expect.items():
+            tol = 0.02 if name == "N23" else 1.5e-3  # N23 also carries the printed angle
+            assert sol[name] == pytest.approx(value, abs=tol), (method, name)
+        assert sol["M23"] == pytest.approx(p["Min2"], abs=1e-8)
+        assert sol["Mb"] == pytest.approx(Mb, abs=1e-3)
+    st = mech.kinematics(EX61_STATE[0], order=0)
+    assert math.degrees(math.atan2(st.u["3"][1], st.u["3"][0])) == pytest.approx(
+        p["phi3_deg"], abs=1e-3)
+    assert st.p["E"][0] == pytest.approx(-0.114, abs=1e-3)
+
+
+def test_slotted_lever_reproduces_the_lever_of_marghitu_dupac_example_6_1():
+    """The crank and slotted lever of the same example, with the rod replaced by what
+    the example prints for it: the moment about the pivot of the rod's force on the
+    lever (-F34 at the lever's tip). The crank pin, block and driving moment are then
+    those printed; the pivot carries the printed F03 plus the rod's force, F03 - F34."""
+    params = {k: EX61[k] for k in ("l_AB", "l_AC", "g", "m1", "J1", "m2", "J2", "m3", "J_S3",
+                                   "l_CS3")}
+    mech = presets.get("slotted_lever", **params)
+    p = EX61_PRINTED
+    B, Mb = _ex61_crank_terms()
+    C = (0.0, -0.4)
+    s = math.hypot(B[0] - C[0], B[1] - C[1])
+    D = (C[0] + 0.7 * (B[0] - C[0]) / s, C[1] + 0.7 * (B[1] - C[1]) / s)
+    fx, fy = -p["F34"][0], -p["F34"][1]  # the rod on the lever, at D
+    moment = (D[0] - C[0]) * fy - (D[1] - C[1]) * fx
+    n3 = (-math.sin(math.radians(p["phi3_deg"])), math.cos(math.radians(p["phi3_deg"])))
+    for method in ("closed_form", "direct"):
+        sol = mech.solve(*EX61_STATE, moment, method=method)
+        assert sol["F12x"] == pytest.approx(p["F12"][0], abs=2e-3)
+        assert sol["F12y"] == pytest.approx(p["F12"][1], abs=2e-3)
+        assert sol["N23"] == pytest.approx(-p["F32"][0] * n3[0] - p["F32"][1] * n3[1], abs=0.02)
+        assert sol["M23"] == pytest.approx(p["Min2"], abs=1e-8)
+        assert sol["F03x"] == pytest.approx(p["F03"][0] - p["F34"][0], abs=3e-3)
+        assert sol["F03y"] == pytest.approx(p["F03"][1] - p["F34"][1], abs=3e-3)
+        assert sol["Mb"] == pytest.approx(Mb, abs=2e-3)

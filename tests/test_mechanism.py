@@ -144,3 +144,14 @@ def test_table_is_a_dataframe_with_one_column_per_output():
     assert list(df.columns) == list(mech.output_names + mech.diagnostic_names)
     assert df.index.name == "theta" and len(df) == len(TH)
     np.testing.assert_allclose(df["Mb"], mech.solve(TH, 10.0, 0.0, 100.0)["Mb"], rtol=0)
+
+
+@pytest.mark.parametrize("inputs", [dict(omega=1e160), dict(omega=-1e200, alpha=1e300)])
+def test_inputs_that_overflow_are_an_error_not_a_silent_inf(mech, inputs):
+    """Finite inputs too large for float64 arithmetic: an OverflowInputError naming the
+    inputs, for both methods (they used to come back as inf or NaN, silently)."""
+    from linkage_fmu import OverflowInputError
+
+    for method in ("closed_form", "direct"):
+        with pytest.raises(OverflowInputError, match="overflow float64 at theta = 0.3"):
+            mech.solve(0.3, **inputs, method=method)

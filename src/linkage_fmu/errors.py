@@ -45,3 +45,23 @@ class SingularPositionError(ValueError):
         self.mechanism = mechanism
         self.theta = theta
         super().__init__(f"{mechanism} is singular at {_angle(theta)}: {detail}")
+
+
+class OverflowInputError(ValueError):
+    """Finite inputs whose magnitudes make the outputs overflow float64 (``omega = 1e160``).
+
+    Raised for scalar inputs; array inputs give the non-finite values as they come.
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets, OverflowInputError
+    >>> try:
+    ...     presets.get("four_bar").solve(0.3, omega=1e160)
+    ... except OverflowInputError as err:
+    ...     print(str(err).split(":")[0])
+    four_bar
+    """
+
+    def __init__(self, mechanism: str, detail: str):
+        self.mechanism = mechanism
+        super().__init__(f"{mechanism}: {detail}")

@@ -16,7 +16,7 @@ from typing import Any, Iterable, Sequence
 import numpy as np
 
 from . import kinetostatics
-from .errors import AssemblyError, SingularPositionError
+from .errors import AssemblyError, OverflowInputError, SingularPositionError
 from .groups import FRAME, OWNER, Crank, Group, KinematicState, LinkPoint
 from .loads import Load, wrenches
 from .numerics import ARRAY, SCALAR, finite_array, finite_float
@@ -430,8 +430,18 @@ class Mechanism:
             return self._solve(values[0], values[1], values[2], values[3:], SCALAR, method,
                                wanted, positions)
         except ZeroDivisionError:
-            raise SingularPositionError(self.name, values[0],
-                                        self._singular_detail(values[0])) from None
+            pass
+        theta = values[0]
+        try:  # a finite condition: the position is fine, the inputs overflow
+            st = self._kinematics(theta, SCALAR, 0 if self.effort_on_crank else 1)
+            cond = self._diagnostics(st, ("cond",))["cond"]
+        except ZeroDivisionError:
+            cond = math.inf
+        if math.isfinite(cond):
+            inputs = ", ".join(f"{n} = {v!r}" for n, v in zip(self.input_names, values))
+            raise OverflowInputError(self.name, f"the outputs overflow float64 at {inputs}: "
+                                     "an input is too large in magnitude")
+        raise SingularPositionError(self.name, theta, self._singular_detail(theta))
 
     def _solve(self, theta, omega, alpha, loads, xp, method, wanted, positions=None) -> dict:
         need_effort, need_reactions, need_diagnostics = self._plan(wanted)
@@ -465,8 +475,8 @@ class Mechanism:
         if need_diagnostics:
             out.update(self._diagnostics(st, wanted))
         if xp.scalar:
-            if method == "direct" and not all(map(math.isfinite, out.values())):
-                raise ZeroDivisionError
+            if not all(math.isfinite(out[n]) for n in self.output_names if n in out):
+                raise ZeroDivisionError  # singular, or overflowing: see _solve_scalar
             return {n: float(out[n]) for n in wanted}
         valid = ~st.invalid if st.invalid is not None else np.ones(theta.shape, bool)
         out = {n: out[n] for n in wanted}

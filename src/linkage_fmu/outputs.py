@@ -30,11 +30,12 @@ class Force:
     by: str
     on: str
     axis: str
+    note: str = ""  # the description, if not the default one
     unit = "N"
 
     @property
     def description(self) -> str:
-        return f"force of link {self.by} on link {self.on}, {self.axis} component"
+        return self.note or f"force of link {self.by} on link {self.on}, {self.axis} component"
 
     def bind(self, mech) -> Callable:
         i = "xy".index(self.axis)
@@ -54,11 +55,12 @@ class Magnitude:
     name: str
     by: str
     on: str
+    note: str = ""
     unit = "N"
 
     @property
     def description(self) -> str:
-        return f"magnitude of the force of link {self.by} on link {self.on}"
+        return self.note or f"magnitude of the force of link {self.by} on link {self.on}"
 
     def bind(self, mech) -> Callable:
         j, _ = _pair(mech, self.by, self.on, self.name)
@@ -78,11 +80,12 @@ class Normal:
 
     name: str
     joint: str
+    note: str = ""
     unit = "N"
 
     @property
     def description(self) -> str:
-        return f"normal force of the prismatic pair '{self.joint}' along its normal"
+        return self.note or f"normal force of the prismatic pair '{self.joint}' along its normal"
 
     def bind(self, mech) -> Callable:
         return lambda R, E, st: R[self.joint][0]
@@ -94,11 +97,12 @@ class Couple:
 
     name: str
     joint: str
+    note: str = ""
     unit = "N.m"
 
     @property
     def description(self) -> str:
-        return f"couple of the prismatic pair '{self.joint}', counter-clockwise positive"
+        return self.note or f"couple of the prismatic pair '{self.joint}', counter-clockwise positive"
 
     def bind(self, mech) -> Callable:
         return lambda R, E, st: R[self.joint][1]

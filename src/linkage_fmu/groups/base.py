@@ -209,7 +209,7 @@ class Group(ABC):
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)
-        if cls.kind:
+        if cls.__dict__.get("kind"):  # a subclass that inherits its kind is no new type
             if cls.kind in Group.registry:
                 raise TypeError(f"group kind {cls.kind!r} is defined twice: "
                                 f"{Group.registry[cls.kind].__qualname__} and {cls.__qualname__}")

@@ -97,15 +97,16 @@ def build(d, given: dict) -> Mechanism:
         text = spec.get("description", "")
         if kind == "force":
             for axis in spec.get("components", ["x", "y"]):
-                outputs.append(Force(spec.get(axis, name + axis), spec["by"], spec["on"], axis))
+                outputs.append(Force(spec.get(axis, name + axis), spec["by"], spec["on"], axis,
+                                     f"{text}, {axis} component" if text else ""))
             if spec.get("magnitude"):
                 m = spec["magnitude"]
                 outputs.append(Magnitude(m if isinstance(m, str) else f"{name}_abs", spec["by"],
-                                         spec["on"]))
+                                         spec["on"], f"{text}, magnitude" if text else ""))
         elif kind == "normal":
-            outputs.append(Normal(name, spec["joint"]))
+            outputs.append(Normal(name, spec["joint"], text))
         elif kind == "couple":
-            outputs.append(Couple(name, spec["joint"]))
+            outputs.append(Couple(name, spec["joint"], text))
         elif kind == "effort":
             unit = spec.get("unit") or ("N.m" if _is_moment(d, name) else "N")
             outputs.append(EffortOutput(name, unit, text or (

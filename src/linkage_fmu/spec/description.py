@@ -208,8 +208,10 @@ class Description:
                 model=str(head.get("model", "")), frame=str(head.get("frame", "0")),
                 gravity=head.get("gravity", 0.0), source=source)
         problems += _read_tables(d, data)
+        problems += _check(d)  # every problem at once, not the reading ones first
         if problems:
             raise DescriptionError(source, problems)
+        d._checked = True
         return d
 
     @classmethod
@@ -325,7 +327,7 @@ def _read_tables(d: Description, data: dict) -> list[str]:
                                   min=spec.get("min"), max=spec.get("max"),
                                   choices=tuple(spec.get("choices", ())))
     for name, xy in table("points").items():
-        d.points[name] = xy
+        d.points[name] = tuple(xy) if isinstance(xy, list) else xy
     for k, spec in enumerate(table("groups", list)):
         if not isinstance(spec, dict):
             problems.append(f"[[groups]] #{k + 1}: must be a table")
