@@ -48,7 +48,7 @@ BUILD_SCRIPT = Path(__file__).resolve().parents[1] / "build_fmu.py"
 
 # A plain pythonfmu slave. Inputs use pythonfmu's default attribute getters and setters;
 # each output has a getter returning theta + k. The two module-level statements and the
-# block in __init__ are what linkage_fmu.fmu.hold_namespace and _release_wrapper_at_exit
+# block in __init__ are what linkage_fmu.fmi.slave.hold_namespace and the guard's exit handler
 # do, inlined so that the FMU bundles nothing but pythonfmu: without them a second
 # instance or the process exit can crash (pythonfmu 0.7 wrapper defects). The class
 # derives from a name spelled Fmi2Slave: the wrapper looks for it in the script text.
@@ -123,18 +123,17 @@ def build_trivial(preset: str, out: Path) -> Path:
         preset's output and diagnostic names, output ``k`` being ``theta + k``.
     """
     from linkage_fmu import presets
-    from linkage_fmu.check import MODEL_NAMES
     from pythonfmu.builder import FmuBuilder
 
-    start = presets.preset(preset).inputs
-    model = f"Trivial{MODEL_NAMES[preset]}"
+    d = presets.preset(preset)
+    start = {**d.inputs, "load": d.loads[0]["start"]}
+    model = f"Trivial{d.model}"
     module = f"linkage_fmu_bench_trivial_{preset}_slave"  # unique module name
     with tempfile.TemporaryDirectory(prefix="fmu_timing_build_") as tmp:
         script = Path(tmp) / f"{module}.py"
         script.write_text(TRIVIAL_SCRIPT.format(
-            model=model, model_of=MODEL_NAMES[preset], module=module, inputs=INPUTS,
-            outputs=output_names(preset),
-            starts=tuple(float(getattr(start, n)) for n in INPUTS)))
+            model=model, model_of=d.model, module=module, inputs=INPUTS,
+            outputs=output_names(preset), starts=tuple(float(start[n]) for n in INPUTS)))
         out.mkdir(parents=True, exist_ok=True)
         FmuBuilder.build_FMU(script, dest=out)
     return out / f"{model}.fmu"

@@ -145,13 +145,11 @@ def peer_rows(preset: str, load: float, ref: dict) -> list[dict]:
 def fmu_rows(dist: Path, trivial: dict, steps: int) -> tuple[list[dict], list[dict]]:
     """Per step through fmpy: our FMUs and a trivial pythonfmu FMU with the same I/O.
     The FMUs' error is the build check's (against the direct solver, 360 steps)."""
-    from linkage_fmu.check import MODEL_NAMES
-
     work, fmu = [], []
     for preset in PRESETS:
-        ours_path = dist / f"{MODEL_NAMES[preset]}.fmu"
-        check = subprocess.run([sys.executable, "-m", "linkage_fmu.check", str(ours_path),
-                                preset], capture_output=True, text=True, cwd=tempfile.gettempdir())
+        ours_path = dist / f"{presets.preset(preset).model}.fmu"
+        check = subprocess.run([sys.executable, "-m", "linkage_fmu.fmi.check", str(ours_path)],
+                               capture_output=True, text=True, cwd=tempfile.gettempdir())
         error = json.loads(check.stdout.splitlines()[-1])["max_rel_error"]
         for kind, path in (("linkage_fmu", ours_path), ("trivial pythonfmu", trivial[preset])):
             loop = fmu_timing.time_step_loop(path, steps)
@@ -177,15 +175,13 @@ def communication(dist: Path) -> list[dict]:
     torque and the energy per revolution it computes from the sampled Mb (rectangle
     rule on fmpy's output rows), against the exact values (periodic trapezoid on 65536
     angles of the closed form, exact to rounding for a smooth periodic Mb)."""
-    from linkage_fmu.check import MODEL_NAMES
-
     rows = []
     for preset, load in PRESETS.items():
         mech = presets.get(preset)
         fine = mech.solve(2 * math.pi * np.arange(65536) / 65536, OMEGA, 0.0, load)["Mb"]
         exact_energy = float(np.mean(fine)) * 2 * math.pi
         steps = [8, 16, 32, 64, 128, 256, 1024]
-        job = {"fmu": str(dist / f"{MODEL_NAMES[preset]}.fmu"), "steps": steps,
+        job = {"fmu": str(dist / f"{presets.preset(preset).model}.fmu"), "steps": steps,
                "omega": OMEGA, "load": load}
         run = subprocess.run([sys.executable, __file__, "--master", json.dumps(job)],
                              capture_output=True, text=True, cwd=tempfile.gettempdir())

@@ -184,7 +184,8 @@ class Host:
 
 
     def steps(self, name, rows, h, refs):
-        """Set the 4 inputs, doStep, get ``refs`` per row; count statuses and NaN reads."""
+        """Set the 4 inputs, doStep, get ``refs`` per row; count statuses and NaN reads.
+        ``rows`` is a list of rows, or ``{"pattern": rows, "repeat": n}``."""
         fmu, component, _ = self.instances[name]
         fn = fmu._functions
         set_real, do_step, get_real = fn["fmi2SetReal"], fn["fmi2DoStep"], fn["fmi2GetReal"]
@@ -192,7 +193,10 @@ class Host:
         vout, n_out = self.vrs(refs)
         u, y = (c_double * 4)(), (c_double * n_out)()
         counts, nan_rows, t = [0] * 6, 0, 0.0
-        for row in rows if isinstance(rows, list) else [rows[0]] * rows[1]:
+        if isinstance(rows, dict):
+            pattern, repeat = rows["pattern"], rows["repeat"]
+            rows = (row for _ in range(repeat) for row in pattern)
+        for row in rows:
             u[:] = row
             counts[set_real(component, vin, n_in, u)] += 1
             counts[do_step(component, t, h, 1)] += 1

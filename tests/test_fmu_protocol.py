@@ -319,21 +319,23 @@ def test_many_instances_interleaved_and_instantiate_free_cycles(dist, tmp_path):
 
 
 def test_memory_is_flat_while_every_step_fails(dist, tmp_path):
-    """200,000 steps that cannot be solved (FourBar with l_AB = 0.3, theta = pi), with
-    logging on, after 20,000 steps to warm up: resident memory grows by less than 2 MB
-    (the wrapper's leak of ~211 bytes per log message would be 38 MB), and every step
-    answers fmi2Warning with NaN outputs."""
+    """10^6 steps that cannot be solved (FourBar with l_AB = 0.3, theta = pi), with
+    logging on, after 30,000 steps to warm up, alternating with a valid step now and
+    then so that new warnings keep being logged: resident memory grows by less than
+    2 MB (the wrapper's leak of ~211 bytes per log message would be ~140 MB), and every
+    such step and read answers fmi2Warning with NaN outputs."""
     v = variables(dist, "FourBar")
     outs = [vr for vr, kind, c in v.values() if c == "output"]
-    row = [math.pi, 5.0, 0.0, 1.0]
-    # alternate with a valid step now and then so new warnings keep being logged
+    bad, good = [math.pi, 5.0, 0.0, 1.0], [0.3, 5.0, 0.0, 1.0]
+    pattern = [bad, bad, good]
+    n = 500_000  # 10^6 unsolvable rows
     ops = start("a", params={"l_AB": 0.3}, dist=dist) + [
-        ["a", "steps", [row, row, [0.3, 5.0, 0.0, 1.0]] * 6667, 1e-3, outs], ["a", "rss"],
-        ["a", "steps", [row, row, [0.3, 5.0, 0.0, 1.0]] * 66667, 1e-3, outs], ["a", "rss"]]
+        ["a", "steps", {"pattern": pattern, "repeat": 10_000}, 1e-3, outs], ["a", "rss"],
+        ["a", "steps", {"pattern": pattern, "repeat": n}, 1e-3, outs], ["a", "rss"]]
     out = raw(dist, ops, tmp_path, keep_log=5)
     (_, warm), (_, before), (_, run), (_, after) = out["results"][-4:]
-    # doStep and getReal both warn at each of the 2 x 66667 unsolvable rows
-    assert run["counts"][WARNING] == 2 * 2 * 66667 and run["counts"][ERROR] == 0
-    assert run["nan_rows"] == 2 * 66667
-    print(f"resident memory {before} KiB -> {after} KiB over 200,001 steps")
+    # doStep and getReal both warn at each of the 2 n unsolvable rows
+    assert run["counts"][WARNING] == 2 * 2 * n and run["counts"][ERROR] == 0
+    assert run["nan_rows"] == 2 * n
+    print(f"resident memory {before} KiB -> {after} KiB over {3 * n} steps")
     assert after - before < 2048, (before, after)

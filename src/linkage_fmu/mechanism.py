@@ -8,6 +8,7 @@ scene needs and computes only that. A mechanism is usually built from a
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -73,12 +74,12 @@ class Body:
         if not self.ref:
             raise ValueError(f"body {self.name!r} needs the point 'ref' its centre of mass is measured from")
 
-    @property
+    @functools.cached_property
     def offset(self) -> float:
         """Distance of the centre of mass from ``ref``."""
         return abs(self.distance) if self.distance else math.hypot(self.along, self.across)
 
-    @property
+    @functools.cached_property  # read for every body at every state
     def cg(self) -> str:
         """Name of the point at the centre of mass."""
         return self.ref if self.offset == 0.0 else f"S{self.name}"
@@ -226,6 +227,7 @@ class Mechanism:
         self.output_names = tuple(o.name for o in outputs)
         self.diagnostic_names = tuple(f"mu_{d.key}" for d in self.dyads) + ("cond",)
         self._plans: dict = {}  # wanted outputs -> what they need (see _plan)
+        self._finite_names: dict = {}  # wanted outputs -> those that must be finite
         for d in self.dyads:
             self.output_info[f"mu_{d.key}"] = (
                 "rad", f"transmission angle of the dyad at {d.key} (0 or pi: toggle)")
@@ -363,6 +365,8 @@ class Mechanism:
 
     def _load_values(self, positional: tuple, named: dict) -> list:
         """The load values in :attr:`loads` order from positional and named arguments."""
+        if not named and len(positional) == len(self.loads):
+            return positional
         names = [load.name for load in self.loads]
         if len(positional) > len(names):
             raise TypeError(f"{self.name} has {len(names)} load(s) ({', '.join(names)}), got "
@@ -410,6 +414,15 @@ class Mechanism:
                 raise ValueError(f"{self.name} has no output {name!r}; its outputs are: "
                                  + ", ".join(names))
         return wanted
+
+    def _checked_outputs(self, wanted: tuple) -> tuple:
+        """The names in ``wanted`` that must be finite: the outputs, not the diagnostics
+        (``cond`` is infinite at a toggle)."""
+        names = self._finite_names.get(wanted)
+        if names is None:
+            names = self._finite_names[wanted] = tuple(
+                n for n in wanted if n in self.output_info and n not in self.diagnostic_names)
+        return names
 
     def _plan(self, wanted: tuple) -> tuple:
         """What ``wanted`` needs: (effort, reactions, diagnostics), worked out once."""
@@ -475,8 +488,11 @@ class Mechanism:
         if need_diagnostics:
             out.update(self._diagnostics(st, wanted))
         if xp.scalar:
-            if not all(math.isfinite(out[n]) for n in self.output_names if n in out):
-                raise ZeroDivisionError  # singular, or overflowing: see _solve_scalar
+            # one finite sum: every term is finite (a sum that overflows is checked term
+            # by term); a non-finite output means singular or overflowing: _solve_scalar
+            if not math.isfinite(sum(out[n] for n in self._checked_outputs(wanted))) and \
+                    not all(math.isfinite(out[n]) for n in self._checked_outputs(wanted)):
+                raise ZeroDivisionError
             return {n: float(out[n]) for n in wanted}
         valid = ~st.invalid if st.invalid is not None else np.ones(theta.shape, bool)
         out = {n: out[n] for n in wanted}

@@ -134,17 +134,18 @@ class Derived:
     description: str = ""
 
     def bind(self, mech) -> Callable:
-        expr = Expression(self.expression)
         kinds = {j.name: ("N", "M") if j.normal is not None else ("Fx", "Fy") for j in mech.joints}
-        params = {k: v for k, v in mech.parameters.items() if isinstance(v, float)}
-        needed = set(expr.names)
+        by_name = {f"{k}_{joint}": (joint, i) for joint, ks in kinds.items()
+                   for i, k in enumerate(ks)}
 
-        def derived(R, E, st):
-            values = dict(params)
-            values[mech.effort.name] = E
-            for joint, (a, b) in kinds.items():
-                if f"{a}_{joint}" in needed or f"{b}_{joint}" in needed:
-                    values[f"{a}_{joint}"], values[f"{b}_{joint}"] = R[joint]
-            return expr(values)
+        def resolve(name):
+            if name in by_name:
+                joint, i = by_name[name]
+                return lambda R, E, st: R[joint][i]
+            if name == mech.effort.name:
+                return lambda R, E, st: E
+            if name in mech.parameters:
+                return float(mech.parameters[name])
+            return lambda R, E, st: 0.0  # another effort's name: not this linkage's effort
 
-        return derived
+        return Expression(self.expression).bind(resolve)

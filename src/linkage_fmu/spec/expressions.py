@@ -22,7 +22,7 @@ from __future__ import annotations
 import ast
 import math
 import operator
-from typing import Mapping
+from typing import Callable, Mapping
 
 #: functions an expression may call
 FUNCTIONS = {
@@ -91,6 +91,39 @@ class Expression:
 
     def __call__(self, values: Mapping[str, float]) -> float:
         return self._eval(self._tree, values)
+
+    def bind(self, resolve) -> "Callable":
+        """A function of ``*args`` that evaluates the expression, each name bound once
+        by ``resolve(name)`` to a number or to a function of ``*args``: a tree of
+        closures, so no mapping is built per call.
+
+        Examples
+        --------
+        >>> f = Expression("-0.5 * N - M / h").bind(
+        ...     lambda n: {"h": 2.0}.get(n) or (lambda R: R[0] if n == "N" else R[1]))
+        >>> f((4.0, 6.0))
+        -5.0
+        """
+        return self._bind(self._tree, resolve)
+
+    def _bind(self, node, resolve):
+        if isinstance(node, ast.Constant):
+            value = float(node.value)
+            return lambda *args: value
+        if isinstance(node, ast.Name):
+            target = CONSTANTS[node.id] if node.id in CONSTANTS else resolve(node.id)
+            if callable(target):
+                return target
+            return lambda *args: target
+        if isinstance(node, ast.BinOp):
+            op, a, b = _BINARY[type(node.op)], self._bind(node.left, resolve), self._bind(
+                node.right, resolve)
+            return lambda *args: op(a(*args), b(*args))
+        if isinstance(node, ast.UnaryOp):
+            op, a = _UNARY[type(node.op)], self._bind(node.operand, resolve)
+            return lambda *args: op(a(*args))
+        fn, parts = FUNCTIONS[node.func.id], [self._bind(a, resolve) for a in node.args]
+        return lambda *args: fn(*(p(*args) for p in parts))
 
     def _eval(self, node, values):
         if isinstance(node, ast.Constant):
