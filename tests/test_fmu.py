@@ -109,7 +109,7 @@ def test_unsolvable_inputs_warn_with_nan_outputs_and_the_next_valid_step_works(d
 @pytest.mark.parametrize("params, message", [
     ({"l_AB": -0.1}, "l_AB must be > 0 (crank length AB), got -0.1"),
     ({"branch": 0}, "branch must be +1 or -1"),
-    ({"method": "lu"}, "method must be one of ('closed_form', 'direct'), got 'lu'"),
+    ({"method": "lu"}, "method must be one of ('closed_form', 'direct', 'interpreted'), got 'lu'"),
 ])
 def test_invalid_parameter_fails_exit_initialization_and_names_it(dist, tmp_path, params,
                                                                    message):

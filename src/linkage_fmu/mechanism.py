@@ -12,20 +12,26 @@ import functools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
+from types import SimpleNamespace
 from typing import Any, Iterable, Sequence
 
 import numpy as np
 
 from . import kinetostatics
 from .errors import AssemblyError, OverflowInputError, SingularPositionError
+from .kernels import finite
 from .groups import FRAME, OWNER, Crank, Group, KinematicState, LinkPoint
 from .loads import Load, wrenches
 from .numerics import ARRAY, SCALAR, finite_array, finite_float
 from .outputs import EffortOutput
 
-METHODS = ("closed_form", "direct")
+#: closed_form: the traced kernel (scalars) or the group formulas (arrays); direct: the
+#: assembled linear system (the reference); interpreted: the group formulas step by step
+METHODS = ("closed_form", "direct", "interpreted")
 #: the inputs every linkage has; its loads follow them
 MOTION = ("theta", "omega", "alpha")
+#: the kernel of a plan that could not be traced: every state is interpreted
+_NO_KERNEL = SimpleNamespace(function=lambda *inputs: None, checked=(), index={})
 #: states per block of an array solve: its temporaries stay in the CPU caches
 CHUNK = 8192
 
@@ -113,21 +119,29 @@ class Solution(Mapping):
         :class:`~linkage_fmu.AssemblyError` instead).
     """
 
-    def __init__(self, values: dict, valid):
-        self._values = values
-        self.valid = valid
+    __slots__ = ("_values", "_index", "valid")
+
+    def __init__(self, values, valid, index: dict | None = None):
+        # a dict, or a tuple with the name -> position map its kernel shares
+        if index is None:
+            index = {name: i for i, name in enumerate(values)}
+            values = tuple(values.values())
+        self._values, self._index, self.valid = values, index, valid
 
     def __getitem__(self, name: str):
-        return self._values[name]
+        return self._values[self._index[name]]
 
     def __iter__(self):
-        return iter(self._values)
+        return iter(self._index)
 
     def __len__(self) -> int:
-        return len(self._values)
+        return len(self._index)
+
+    def __eq__(self, other):
+        return dict(self) == dict(other) if isinstance(other, Mapping) else NotImplemented
 
     def __repr__(self) -> str:
-        body = ", ".join(f"{k}={v!r}" for k, v in self._values.items())
+        body = ", ".join(f"{k}={v!r}" for k, v in self.items())
         return f"Solution({body})"
 
 
@@ -228,6 +242,7 @@ class Mechanism:
         self.diagnostic_names = tuple(f"mu_{d.key}" for d in self.dyads) + ("cond",)
         self._plans: dict = {}  # wanted outputs -> what they need (see _plan)
         self._finite_names: dict = {}  # wanted outputs -> those that must be finite
+        self._kernels: dict = {}  # (wanted outputs, static) -> Kernel
         for d in self.dyads:
             self.output_info[f"mu_{d.key}"] = (
                 "rad", f"transmission angle of the dyad at {d.key} (0 or pi: toggle)")
@@ -267,22 +282,19 @@ class Mechanism:
             theta = finite_array("theta", theta)
         return self._kinematics(theta, xp, order)
 
-    def _kinematics(self, theta, xp, order: int,
-                    positions: KinematicState | None = None) -> KinematicState:
-        """Kinematics to ``order``; ``positions``, the order-0 state of the same
-        ``theta`` computed earlier, is extended instead of computed again."""
+    def _kinematics(self, theta, xp, order: int) -> KinematicState:
+        """Kinematics to ``order`` on numbers of the namespace ``xp``."""
         groups = self.groups
-        st = positions
-        if st is None:
-            def fail(condition):
-                raise AssemblyError(self.name, theta, condition)
 
-            st = KinematicState(theta, xp, fail)
-            zero = (0.0, 0.0)
-            for p, xy in self.frame_points.items():
-                st.p[p], st.d1[p], st.d2[p] = xy, zero, zero
-            for grp in groups:
-                grp.position(st)
+        def fail(condition):
+            raise AssemblyError(self.name, theta, condition)
+
+        st = KinematicState(theta, xp, fail)
+        zero = (0.0, 0.0)
+        for p, xy in self.frame_points.items():
+            st.p[p], st.d1[p], st.d2[p] = xy, zero, zero
+        for grp in groups:
+            grp.position(st)
         if order >= 1:
             for grp in groups:
                 grp.first(st)
@@ -303,8 +315,11 @@ class Mechanism:
         *loads, **named_loads : float or array_like
             The magnitude of each load [N or N.m], in the order of :attr:`loads` or by
             name (a preset's single load is ``load``); a load not given is zero.
-        method : {'closed_form', 'direct'}
-            Group-by-group closed form (fast) or the assembled linear system (reference).
+        method : {'closed_form', 'direct', 'interpreted'}
+            The closed form, group by group from the last group back to the crank (for
+            one state, its traced kernel: :meth:`kernel`); the assembled linear system
+            (the reference); or the closed form's group formulas run step by step (a
+            second reference).
         outputs : iterable of str, optional
             Names wanted (default: all of :attr:`output_names` and
             :attr:`diagnostic_names`). Asking only for the balancing effort skips the
@@ -338,9 +353,11 @@ class Mechanism:
         wanted = self._wanted(outputs)
         args = (theta, omega, alpha, *self._load_values(loads, named_loads))
         names = self.input_names
-        if all(type(a) is float or np.ndim(a) == 0 for a in args):
+        if all(type(a) is float and a - a == 0.0 for a in args):  # finite floats: FMU steps
+            return self._one_state(args, method, wanted)
+        if all(np.ndim(a) == 0 for a in args):
             values = [finite_float(n, _item(a)) for n, a in zip(names, args)]
-            return Solution(self._solve_scalar(values, method, wanted), True)
+            return self._one_state(values, method, wanted)
         arrays = [finite_array(n, a) for n, a in zip(names, args)]
         try:
             arrays = np.broadcast_arrays(*arrays)
@@ -435,13 +452,50 @@ class Mechanism:
             self._plans[wanted] = plan
         return plan
 
-    def _solve_scalar(self, values, method: str, wanted: tuple,
-                      positions: KinematicState | None = None) -> dict:
+    def kernel(self, outputs: Iterable[str] | None = None, static: bool = False):
+        """The traced kernel of the plan ``(outputs, static)``, made on first use.
+
+        ``kernel(theta, omega, alpha, *loads)`` returns the outputs as a tuple of floats,
+        or None at a state it does not take (see :class:`~linkage_fmu.kernels.Kernel`).
+        """
+        wanted = self._wanted(outputs)
+        self._plan(wanted)  # remember the validated names
+        k = self._kernels.get((wanted, static))
+        if k is None:
+            from .kernels import trace_kernel
+
+            k = self._kernels[(wanted, static)] = trace_kernel(self, wanted, static)
+        return k
+
+    def _one_state(self, values, method: str, wanted: tuple) -> Solution:
+        """One state of finite floats: the kernel's tuple, or the interpreted formulas."""
+        if method == "closed_form":
+            static = values[1] == 0.0 and values[2] == 0.0
+            k = self._kernels.get((wanted, static)) or self._kernel_or_none(wanted, static)
+            try:
+                r = k.function(*values)
+            except (ArithmeticError, ValueError):  # a division by zero, math range error
+                r = None
+            if r is not None and (math.isfinite(sum(r)) or finite([r[i] for i in k.checked])):
+                return Solution(r, True, k.index)
+            # the interpreted formulas decide: they raise the exact error, or compute
+            # the state the trace did not take
+            method = "interpreted"
+        return Solution(self._solve_scalar(values, method, wanted), True)
+
+    def _kernel_or_none(self, wanted: tuple, static: bool):
+        try:
+            return self.kernel(wanted, static)
+        except ValueError:  # no witness state: this plan stays interpreted
+            self._kernels[(wanted, static)] = _NO_KERNEL
+            return _NO_KERNEL
+
+    def _solve_scalar(self, values, method: str, wanted: tuple) -> dict:
         """One state of finite floats ``(theta, omega, alpha, *loads)``; names in
         ``wanted`` must be outputs of this mechanism (not checked here)."""
         try:
             return self._solve(values[0], values[1], values[2], values[3:], SCALAR, method,
-                               wanted, positions)
+                               wanted)
         except ZeroDivisionError:
             pass
         theta = values[0]
@@ -456,9 +510,28 @@ class Mechanism:
                                      "an input is too large in magnitude")
         raise SingularPositionError(self.name, theta, self._singular_detail(theta))
 
-    def _solve(self, theta, omega, alpha, loads, xp, method, wanted, positions=None) -> dict:
-        need_effort, need_reactions, need_diagnostics = self._plan(wanted)
+    def _solve(self, theta, omega, alpha, loads, xp, method, wanted) -> dict:
         static = (omega == 0.0 and alpha == 0.0) if xp.scalar else not (omega.any() or alpha.any())
+        out, st = self._compute(theta, omega, alpha, loads, xp, method, wanted, static)
+        if xp.scalar:
+            # one finite sum: every term is finite (a sum that overflows is checked term
+            # by term); a non-finite output means singular or overflowing: _solve_scalar
+            if not math.isfinite(sum(out[n] for n in self._checked_outputs(wanted))) and \
+                    not all(math.isfinite(out[n]) for n in self._checked_outputs(wanted)):
+                raise ZeroDivisionError
+            return {n: float(out[n]) for n in wanted}
+        valid = ~st.invalid if st.invalid is not None else np.ones(theta.shape, bool)
+        out = {n: out[n] for n in wanted}
+        out[" valid"] = valid
+        return out
+
+    def _compute(self, theta, omega, alpha, loads, xp, method, wanted,
+                 static) -> tuple[dict, KinematicState]:
+        """The outputs ``wanted`` (and whatever the plan computes besides) on numbers of
+        the namespace ``xp``, and the kinematic state; ``static`` says omega = alpha = 0.
+        The one sequence of formulas behind every path: floats, arrays, mpmath and the
+        traced kernels (:mod:`linkage_fmu.kernels`)."""
+        need_effort, need_reactions, need_diagnostics = self._plan(wanted)
         # kinematic order the scene needs
         order = 0
         if need_reactions or need_effort:
@@ -468,7 +541,7 @@ class Mechanism:
                 order = 1
         if "cond" in wanted and not self.effort_on_crank:
             order = max(order, 1)
-        st = self._kinematics(theta, xp, order, positions)
+        st = self._kinematics(theta, xp, order)
         R, effort = {}, 0.0
         if need_reactions or need_effort:
             W = wrenches(self, st, omega, alpha, loads, static)
@@ -487,17 +560,7 @@ class Mechanism:
                 out[name] = fn(R, effort, st)
         if need_diagnostics:
             out.update(self._diagnostics(st, wanted))
-        if xp.scalar:
-            # one finite sum: every term is finite (a sum that overflows is checked term
-            # by term); a non-finite output means singular or overflowing: _solve_scalar
-            if not math.isfinite(sum(out[n] for n in self._checked_outputs(wanted))) and \
-                    not all(math.isfinite(out[n]) for n in self._checked_outputs(wanted)):
-                raise ZeroDivisionError
-            return {n: float(out[n]) for n in wanted}
-        valid = ~st.invalid if st.invalid is not None else np.ones(theta.shape, bool)
-        out = {n: out[n] for n in wanted}
-        out[" valid"] = valid
-        return out
+        return out, st
 
     def _diagnostics(self, st: KinematicState, wanted) -> dict:
         out = {}

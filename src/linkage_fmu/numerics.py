@@ -17,11 +17,13 @@ Number = Union[float, np.ndarray]
 
 #: Functions for one state given as Python floats.
 SCALAR = SimpleNamespace(
-    scalar=True, sqrt=math.sqrt, cos=math.cos, sin=math.sin, atan2=math.atan2, abs=abs
+    scalar=True, sqrt=math.sqrt, cos=math.cos, sin=math.sin, atan2=math.atan2, abs=abs,
+    maximum=max
 )
 #: Functions for many states given as numpy arrays.
 ARRAY = SimpleNamespace(
-    scalar=False, sqrt=np.sqrt, cos=np.cos, sin=np.sin, atan2=np.arctan2, abs=np.abs
+    scalar=False, sqrt=np.sqrt, cos=np.cos, sin=np.sin, atan2=np.arctan2, abs=np.abs,
+    maximum=np.maximum
 )
 
 

@@ -20,7 +20,7 @@ from .loads import wrenches
 
 #: evaluation mode of the formulas on mpmath numbers (see :mod:`linkage_fmu.numerics`)
 MP = SimpleNamespace(scalar=True, sqrt=mpmath.sqrt, cos=mpmath.cos, sin=mpmath.sin,
-                     atan2=mpmath.atan2, abs=abs)
+                     atan2=mpmath.atan2, abs=abs, maximum=max)
 
 
 def reference(mech, theta: float, omega: float = 0.0, alpha: float = 0.0, *loads: float,

@@ -39,7 +39,6 @@ from pythonfmu.enums import Fmi2Status
 
 from .. import __version__
 from ..mechanism import METHODS
-from ..numerics import SCALAR
 from ..spec import Description
 from .model_description import RealWithUnit, complete
 from .variables import variables
@@ -157,7 +156,7 @@ class LinkageSlave(Fmi2Slave):
         self._inputs = mech.input_names
         self._u = [v.start for v in table if v.causality == "input"]
         self._cache: dict = {}
-        self._positions = None  # positions at the current theta, from doStep
+        self._assembles = False  # doStep found the linkage assembled at these inputs
         self._unsolvable = ()  # (cause, message) while the cache holds NaN for a reason
         self._names = mech.output_names + mech.diagnostic_names
         self._depends = {v.name: v.depends for v in table if v.causality == "output"}
@@ -244,7 +243,7 @@ class LinkageSlave(Fmi2Slave):
     # -- setters and getters: the guard has checked references, types and states ----
     def _invalidate(self) -> None:
         """Forget everything computed from the inputs and parameters."""
-        self._cache, self._positions, self._unsolvable = {}, None, ()
+        self._cache, self._assembles, self._unsolvable = {}, False, ()
 
     def _set_input(self, i: int, value: float) -> None:
         self._u[i] = value
@@ -365,7 +364,7 @@ class LinkageSlave(Fmi2Slave):
         problem = self._input_problem()
         if not problem:
             try:
-                out = mech._solve_scalar(self._u, self._method, tuple(names), self._positions)
+                out = dict(mech.solve(*self._u, method=self._method, outputs=tuple(names)))
             except ValueError as err:  # AssemblyError, SingularPositionError
                 problem = (type(err).__name__,), str(err)
             else:
@@ -413,11 +412,16 @@ class LinkageSlave(Fmi2Slave):
                 self.log(f"doStep: {self._problem}", Fmi2Status.error)
                 return True
             problem = self._input_problem()
-            if not problem and self._positions is None:
-                try:  # can it be assembled? (the outputs then start from these positions)
-                    self._positions = mech._kinematics(self._u[0], SCALAR, 0)
-                except ValueError as err:
-                    problem = (type(err).__name__,), str(err)
+            if not problem and not self._assembles:
+                # can it be assembled? The kernel of the positions alone says yes at once;
+                # where it does not, the linkage's own check names the condition
+                self._assembles = mech.kernel(())(*self._u) is not None
+                if not self._assembles:
+                    try:
+                        mech.kinematics(self._u[0], order=0)
+                        self._assembles = True  # another guard: the read decides
+                    except ValueError as err:
+                        problem = (type(err).__name__,), str(err)
             if problem:
                 self._unsolved(problem[0], f"doStep to t = {self._time!r}: outputs are NaN: "
                                            f"{problem[1]}")

@@ -98,11 +98,12 @@ class RPR(Group):
         the pin: the transmission angle is always pi/2. The position and the slide force
         amplify rounding by ``scale / s`` as the pin nears the pivot."""
         rx, ry = self._arm(st, st.p)
-        s = st.xp.sqrt(rx * rx + ry * ry)
-        if st.xp.scalar:
-            kappa = max(1.0, scale / s) if s > 0.0 else math.inf
+        xp = st.xp
+        s = xp.sqrt(rx * rx + ry * ry)
+        if xp.scalar:
+            kappa = xp.maximum(1.0, scale / s) if s > 0.0 else math.inf
         else:
             with np.errstate(divide="ignore"):
-                kappa = np.maximum(1.0, scale / s)
+                kappa = xp.maximum(1.0, scale / s)
         return 0.5 * math.pi + 0.0 * s, kappa
 

@@ -1,0 +1,167 @@
+"""Tracing: the package's own formulas run once on a recording number type.
+
+A :class:`Sym` is a node of a :class:`Tape`: every arithmetic operation and elementary
+function applied to it appends one node (an identical operation on the same operands is
+stored once), and carries its value at a *witness* state, so that the formulas' own
+comparisons (``if value < 0.0`` in an assembly check, ``if a > 0.0`` before a division)
+can take the branch the witness takes. Each such comparison is recorded as a *guard*:
+the kernel checks it at run time, and a state where a guard fails (it cannot be
+assembled, it is singular, it takes another branch) is handed back to the interpreted
+formulas, which raise the exact error or compute the exceptional case. No formula is
+written twice: the tape is what the formulas did.
+
+Parameters are Python floats during tracing, so everything that depends only on them is
+computed once, at trace time, and enters the tape as a constant.
+
+Examples
+--------
+>>> tape = Tape()
+>>> x = tape.input("x", 0.5)
+>>> y = TRACE.sqrt(x * x + 1.0)
+>>> bool(y > 1.0)   # the witness branch, recorded as a guard (1.0: the constant stored once)
+True
+>>> [node.op for node in tape.nodes]
+['input', 'mul', 'const', 'add', 'sqrt', 'gt']
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from types import SimpleNamespace
+
+
+@dataclass(frozen=True)
+class Node:
+    """One operation: ``op`` on the node indices ``args`` (a constant's value, an
+    input's name in ``value``)."""
+
+    op: str
+    args: tuple = ()
+    value: object = None
+
+
+class Tape:
+    """The recorded operations, in order, with identical ones stored once."""
+
+    def __init__(self):
+        self.nodes: list[Node] = []
+        self.witness: list[float] = []
+        self.guards: list[tuple[int, bool]] = []  # (comparison node, outcome seen)
+        self._index: dict = {}
+
+    def _add(self, node: Node, witness: float) -> "Sym":
+        key = (node.op, node.args, _key(node.value))
+        i = self._index.get(key)
+        if i is None:
+            i = self._index[key] = len(self.nodes)
+            self.nodes.append(node)
+            self.witness.append(witness)
+        return Sym(self, i)
+
+    def input(self, name: str, witness: float) -> "Sym":
+        """An argument of the kernel, with its witness value."""
+        return self._add(Node("input", (), name), float(witness))
+
+    def const(self, value: float) -> "Sym":
+        return self._add(Node("const", (), float(value)), float(value))
+
+    def apply(self, op: str, fn, *operands) -> "Sym":
+        syms = [o if isinstance(o, Sym) else self.const(o) for o in operands]
+        witness = fn(*(self.witness[s.index] for s in syms))
+        return self._add(Node(op, tuple(s.index for s in syms)), witness)
+
+    def guard(self, op: str, fn, a, b) -> bool:
+        """Record the comparison ``a op b`` and return its outcome at the witness."""
+        node = self.apply(op, fn, a, b)
+        outcome = bool(self.witness[node.index])
+        self.guards.append((node.index, outcome))
+        return outcome
+
+
+def _key(value):
+    # -0.0 and 0.0 are different constants; so are NaNs of one bit pattern only
+    return (value, math.copysign(1.0, value)) if isinstance(value, float) else value
+
+
+def _binary(op: str, fn, reverse: bool = False):
+    if reverse:
+        return lambda self, other: self.tape.apply(op, fn, other, self)
+    return lambda self, other: self.tape.apply(op, fn, self, other)
+
+
+def _compare(op: str, fn):
+    return lambda self, other: self.tape.guard(op, fn, self, other)
+
+
+class Sym:
+    """A traced number: an index into its :class:`Tape`."""
+
+    __slots__ = ("tape", "index")
+    __array_priority__ = 1000  # numpy scalars defer to Sym's reflected operators
+
+    def __init__(self, tape: Tape, index: int):
+        self.tape, self.index = tape, index
+
+    __add__ = _binary("add", lambda a, b: a + b)
+    __radd__ = _binary("add", lambda a, b: a + b, reverse=True)
+    __sub__ = _binary("sub", lambda a, b: a - b)
+    __rsub__ = _binary("sub", lambda a, b: a - b, reverse=True)
+    __mul__ = _binary("mul", lambda a, b: a * b)
+    __rmul__ = _binary("mul", lambda a, b: a * b, reverse=True)
+    __truediv__ = _binary("div", lambda a, b: a / b)
+    __rtruediv__ = _binary("div", lambda a, b: a / b, reverse=True)
+    __pow__ = _binary("pow", lambda a, b: a ** b)
+    __rpow__ = _binary("pow", lambda a, b: a ** b, reverse=True)
+    __lt__ = _compare("lt", lambda a, b: a < b)
+    __le__ = _compare("le", lambda a, b: a <= b)
+    __gt__ = _compare("gt", lambda a, b: a > b)
+    __ge__ = _compare("ge", lambda a, b: a >= b)
+    __eq__ = _compare("eq", lambda a, b: a == b)
+    __ne__ = _compare("ne", lambda a, b: a != b)
+    __hash__ = None
+
+    def __neg__(self):
+        return self.tape.apply("neg", lambda a: -a, self)
+
+    def __pos__(self):
+        return self
+
+    def __abs__(self):
+        return self.tape.apply("abs", abs, self)
+
+    def __bool__(self):
+        return self.tape.guard("ne", lambda a, b: a != b, self, 0.0)
+
+    def __float__(self):
+        # a formula that needs a plain float of a traced value (only error messages do,
+        # and they are not traced: the guard before them hands the state back)
+        raise TypeError("a traced value has no float value")
+
+
+def _unary(op: str, fn):
+    def apply(x):
+        if isinstance(x, Sym):
+            return x.tape.apply(op, fn, x)
+        return fn(x)
+    return apply
+
+
+def _atan2(y, x):
+    tape = y.tape if isinstance(y, Sym) else x.tape if isinstance(x, Sym) else None
+    if tape is None:
+        return math.atan2(y, x)
+    return tape.apply("atan2", math.atan2, y, x)
+
+
+def _maximum(a, b):
+    tape = a.tape if isinstance(a, Sym) else b.tape if isinstance(b, Sym) else None
+    if tape is None:
+        return max(a, b)
+    return tape.apply("max", max, a, b)
+
+
+#: evaluation mode of the formulas on traced numbers (see :mod:`linkage_fmu.numerics`)
+TRACE = SimpleNamespace(scalar=True, sqrt=_unary("sqrt", math.sqrt), cos=_unary("cos", math.cos),
+                        sin=_unary("sin", math.sin), atan2=_atan2, abs=_unary("abs", abs),
+                        maximum=_maximum)

@@ -1,0 +1,112 @@
+"""Traced kernels: bit-identical to the interpreted closed form for every preset and plan,
+equal to the direct solver, the same assembly mask, the same errors, and only the work
+each plan needs."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st_
+
+from conftest import IDS, VARIANTS
+from linkage_fmu import AssemblyError, SingularPositionError, presets
+
+STATES = st_.tuples(
+    st_.floats(0.0, 2 * math.pi),
+    st_.floats(-60.0, 60.0),
+    st_.floats(-500.0, 500.0),
+    st_.floats(-200.0, 200.0),
+)
+
+
+def plans(mech) -> list[tuple]:
+    """All outputs; the effort alone; the diagnostics alone; a few forces."""
+    names = mech.output_names
+    return [None, (mech.effort.name,), tuple(mech.diagnostic_names), names[:3] + ("cond",)]
+
+
+@pytest.mark.parametrize("variant", VARIANTS, ids=IDS)
+@settings(max_examples=25, deadline=None, derandomize=True)
+@given(state=STATES)
+def test_kernels_are_the_interpreted_formulas_bit_for_bit(variant, state):
+    """For every plan, static (omega = alpha = 0) or not: the kernel's outputs are the
+    interpreted closed form's, bit for bit (the same operations in the same order), and
+    equal the direct solver to 1e-13 max(1, cond/100) of the largest output."""
+    mech = presets.get(variant[0], **variant[1])
+    for state in (state, (state[0], 0.0, 0.0, state[3])):
+        for outputs in plans(mech):
+            try:
+                ref = mech.solve(*state, method="interpreted", outputs=outputs)
+            except (AssemblyError, SingularPositionError):
+                with pytest.raises((AssemblyError, SingularPositionError)):
+                    mech.solve(*state, outputs=outputs)
+                continue
+            got = mech.solve(*state, outputs=outputs)
+            assert dict(got) == dict(ref), outputs
+            direct = mech.solve(*state, method="direct", outputs=outputs)
+            forces = [n for n in got if n in mech.output_names]
+            if forces:
+                scale = max(abs(ref[n]) for n in forces)
+                tol = 1e-13 * max(1.0, ref["cond"] / 100 if "cond" in ref else
+                                  mech.solve(*state, outputs=("cond",))["cond"] / 100)
+                for n in forces:
+                    assert abs(got[n] - direct[n]) <= tol * scale, n
+
+
+def test_the_assembly_mask_and_errors_are_the_interpreted_ones():
+    """A four-bar whose crank cannot turn fully: over 3601 angles the kernel gives up
+    (None) exactly where the interpreted positions raise AssemblyError, and solve raises
+    the same error with the same message; everywhere else the outputs are identical."""
+    mech = presets.get("four_bar", l_AB=0.3)
+    kernel = mech.kernel()
+    positions = mech.kernel(())
+    failed = 0
+    for theta in np.linspace(0.0, 2 * math.pi, 3601):
+        theta = float(theta)
+        try:
+            mech.kinematics(theta, order=0)
+            assembles = True
+        except AssemblyError as err:
+            assembles, message = False, str(err)
+        assert (positions(theta, 10.0, 0.0, 1.0) is not None) == assembles
+        assert (kernel(theta, 10.0, 0.0, 1.0) is not None) == assembles
+        if assembles:
+            assert mech.solve(theta, 10.0, 0.0, 1.0) == mech.solve(theta, 10.0, 0.0, 1.0,
+                                                                   method="interpreted")
+        else:
+            failed += 1
+            with pytest.raises(AssemblyError) as info:
+                mech.solve(theta, 10.0, 0.0, 1.0)
+            assert str(info.value) == message
+    assert 0 < failed < 3601
+
+
+def test_a_singular_state_raises_as_the_interpreted_path_does():
+    mech = presets.get("slider_crank", l_OA=0.25, l_AB=0.5, e=-0.25)
+    with pytest.raises(SingularPositionError, match=r"theta = 1\.5708 rad"):
+        mech.solve(math.pi / 2, 0.0, load=10.0)
+
+
+def test_a_plan_computes_only_what_it_needs():
+    """Fewer operations for the effort alone than for every reaction, and for a static
+    scene than a moving one (no derivative kinematics, no inertia)."""
+    mech = presets.get("four_bar")
+    full = mech.kernel()
+    effort = mech.kernel(("Mb",))
+    static = mech.kernel(static=True)
+    positions = mech.kernel(())
+    assert positions.operations < static.operations < full.operations
+    assert effort.operations < full.operations
+    body = static.source.split("\n", 1)[1]
+    assert "cos(x0)" in full.source and "x1" not in body and "x2" not in body  # no omega, alpha
+
+
+def test_kernel_sources_are_straight_line_python():
+    """One assignment per operation, a guard per comparison, no loops or calls into the
+    package: the kernel stands alone."""
+    source = presets.get("crank_shaper").kernel().source
+    assert "for " not in source and "while " not in source and "linkage_fmu" not in source
+    assert source.count("return None") >= 2  # the lever's and the rod's assembly checks
