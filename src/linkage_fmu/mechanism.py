@@ -358,27 +358,59 @@ class Mechanism:
         if all(np.ndim(a) == 0 for a in args):
             values = [finite_float(n, _item(a)) for n, a in zip(names, args)]
             return self._one_state(values, method, wanted)
-        arrays = [finite_array(n, a) for n, a in zip(names, args)]
+        given = [finite_array(n, a) for n, a in zip(names, args)]
         try:
-            arrays = np.broadcast_arrays(*arrays)
+            arrays = np.broadcast_arrays(*given)
         except ValueError:
             raise ValueError(", ".join(names) + " must broadcast to one shape, got "
-                             + ", ".join(str(np.shape(a)) for a in arrays)) from None
+                             + ", ".join(str(np.shape(a)) for a in given)) from None
         shape = arrays[0].shape
         flat = [a.reshape(-1) for a in arrays]  # views where possible: no scalar copied n times
         n = flat[0].size
+        if method == "closed_form" and n:
+            solved = self._compiled_arrays(given, flat, shape, n, wanted)
+            if solved is not None:
+                return solved
+            method = "interpreted"  # no C compiler: numpy
         out = {name: np.empty(n) for name in wanted}
         valid = np.empty(n, dtype=bool)
-        # in blocks that stay in cache: the formulas make many temporaries per state
+        self._interpreted_arrays(flat, method, wanted, out, valid, slice(0, n))
+        return Solution({k: v.reshape(shape) for k, v in out.items()}, valid.reshape(shape))
+
+    def _interpreted_arrays(self, flat, method, wanted, out, valid, rows) -> None:
+        """The group formulas on numpy arrays over the states ``rows`` of ``flat``
+        (a slice, or an index array), in blocks that stay in the CPU caches (the
+        formulas make many temporaries per state); results into ``out`` and ``valid``."""
+        if isinstance(rows, slice):
+            parts = (slice(i, min(i + CHUNK, rows.stop)) for i in range(rows.start, rows.stop, CHUNK))
+        else:
+            parts = (rows[i:i + CHUNK] for i in range(0, rows.size, CHUNK))
         with np.errstate(divide="ignore", invalid="ignore"):
-            for start in range(0, max(n, 1), CHUNK):
-                part = slice(start, start + CHUNK)
+            for part in parts:
                 values = self._solve(*(a[part] for a in flat[:3]), [a[part] for a in flat[3:]],
                                      ARRAY, method, wanted)
                 valid[part] = values.pop(" valid")
                 for name, v in values.items():
                     out[name][part] = v
-        return Solution({k: v.reshape(shape) for k, v in out.items()}, valid.reshape(shape))
+
+    def _compiled_arrays(self, given, flat, shape, n, wanted):
+        """The compiled kernel of the plan over every state, the interpreted formulas
+        for the states it hands back; None without a compiled kernel."""
+        omega, alpha = flat[1], flat[2]
+        static = not (omega.any() or alpha.any())
+        k = self._kernels.get((wanted, static)) or self._kernel_or_none(wanted, static)
+        array = k.array() if k is not _NO_KERNEL else None
+        if array is None:
+            return None
+        # one value, or the whole flat array: a broadcast scalar is never copied n times
+        inputs = [g.reshape(1) if g.size == 1 else f for g, f in zip(given, flat)]
+        values, valid = array(inputs, n)
+        back = np.flatnonzero(~valid)
+        if back.size:  # cannot be assembled, singular, or another branch: the formulas decide
+            out = dict(zip(wanted, values))
+            self._interpreted_arrays(flat, "interpreted", wanted, out, valid, back)
+        return Solution({name: v.reshape(shape) for name, v in zip(wanted, values)},
+                        valid.reshape(shape))
 
     def _load_values(self, positional: tuple, named: dict) -> list:
         """The load values in :attr:`loads` order from positional and named arguments."""

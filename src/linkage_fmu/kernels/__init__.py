@@ -25,6 +25,8 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 from ..numerics import SCALAR
+from . import compiled
+from .c_source import c_source
 from .python_source import compile_source, live_nodes, python_source
 from .trace import TRACE, Tape
 
@@ -50,9 +52,26 @@ class Kernel:
     seconds: float = 0.0  # tracing and generation
     checked: tuple = ()  # positions of the outputs that must be finite (not diagnostics)
     index: dict = field(default_factory=dict)  # output name -> position in the tuple
+    tape: Tape = field(default=None, repr=False)
+    results: list = field(default_factory=list, repr=False)
+    n_inputs: int = 0
+    _array: object = field(default=False, repr=False)
 
     def __call__(self, *inputs):
         return self.function(*inputs)
+
+    def c_source(self) -> str:
+        """The kernel as C (:mod:`~linkage_fmu.kernels.c_source`)."""
+        return c_source(self.tape, self.n_inputs, self.results)
+
+    def array(self):
+        """The compiled array kernel (:class:`~linkage_fmu.kernels.compiled.ArrayKernel`),
+        built or loaded from the cache on first use; None without a C compiler."""
+        if self._array is False:
+            path = compiled.build(self.c_source())
+            self._array = (None if path is None else
+                           compiled.ArrayKernel(path, "linkage", len(self.outputs)))
+        return self._array
 
 
 def trace_kernel(mech, outputs: tuple, static: bool) -> Kernel:
@@ -78,7 +97,7 @@ def trace_kernel(mech, outputs: tuple, static: bool) -> Kernel:
         checked = tuple(i for i, n in enumerate(outputs) if n in mech.output_names)
         return Kernel(tuple(outputs), static, source, function,
                       len(live_nodes(tape, results)), time.perf_counter() - t0, checked,
-                      {name: i for i, name in enumerate(outputs)})
+                      {name: i for i, name in enumerate(outputs)}, tape, results, len(names))
     raise ValueError(f"{mech.name} cannot be assembled at any of the witness angles "
                      f"{WITNESS_ANGLES}: {last}")
 
