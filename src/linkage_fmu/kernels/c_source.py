@@ -79,7 +79,7 @@ def c_source(tape: Tape, n_inputs: int, results: list, prefix: str = "linkage") 
         "",
         f"void {prefix}_array(size_t n, const double *const *x, const size_t *step,",
         f"                    double *const *y, unsigned char *ok) {{",
-        "#pragma omp parallel for schedule(static)",
+        "#pragma omp parallel for schedule(static) if (n > 8192)",
         "    for (size_t i = 0; i < n; i++) {",
         f"        double xi[{max(n_inputs, 1)}], yi[{max(n_out, 1)}];",
         f"        for (int k = 0; k < {n_inputs}; k++) xi[k] = x[k][i * step[k]];",

@@ -85,10 +85,15 @@ class ArrayKernel:
 
     def __call__(self, inputs: list, n: int, out: list | None = None):
         arrays = [np.ascontiguousarray(a, dtype=np.float64) for a in inputs]
-        x = (ctypes.c_void_p * len(arrays))(*(a.ctypes.data for a in arrays))
+        x = (ctypes.c_void_p * len(arrays))(*(_address(a) for a in arrays))
         step = (ctypes.c_size_t * len(arrays))(*(0 if a.size == 1 else 1 for a in arrays))
         out = out if out is not None else [np.empty(n) for _ in range(self.n_outputs)]
-        y = (ctypes.c_void_p * max(len(out), 1))(*(a.ctypes.data for a in out))
+        y = (ctypes.c_void_p * max(len(out), 1))(*(_address(a) for a in out))
         ok = np.empty(n, dtype=np.uint8)
-        self._array(n, x, step, y, ok.ctypes.data)
+        self._array(n, x, step, y, _address(ok))
         return out, ok.view(bool)
+
+
+def _address(a: np.ndarray) -> int:
+    # the array interface, not ndarray.ctypes, which builds a ctypes object per access
+    return a.__array_interface__["data"][0]
