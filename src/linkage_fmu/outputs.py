@@ -76,36 +76,32 @@ class Magnitude:
 
 @dataclass(frozen=True)
 class Normal:
-    """Output: normal force of the prismatic pair ``joint`` (along its normal)."""
+    """Output: normal force of the prismatic pair ``joint`` (of body a on body b, along
+    the pair's normal)."""
 
     name: str
     joint: str
     note: str = ""
     unit = "N"
+    component = 0  # of the pair's reaction (N, M)
+    what = "normal force of the prismatic pair '{joint}' along its normal"
 
     @property
     def description(self) -> str:
-        return self.note or f"normal force of the prismatic pair '{self.joint}' along its normal"
+        return self.note or self.what.format(joint=self.joint)
 
     def bind(self, mech) -> Callable:
-        return lambda R, E, st: R[self.joint][0]
+        i = self.component
+        return lambda R, E, st: R[self.joint][i]
 
 
 @dataclass(frozen=True)
-class Couple:
+class Couple(Normal):
     """Output: couple transmitted by the prismatic pair ``joint`` (of body a on body b)."""
 
-    name: str
-    joint: str
-    note: str = ""
     unit = "N.m"
-
-    @property
-    def description(self) -> str:
-        return self.note or f"couple of the prismatic pair '{self.joint}', counter-clockwise positive"
-
-    def bind(self, mech) -> Callable:
-        return lambda R, E, st: R[self.joint][1]
+    component = 1
+    what = "couple of the prismatic pair '{joint}', counter-clockwise positive"
 
 
 @dataclass(frozen=True)

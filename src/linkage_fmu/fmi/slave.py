@@ -158,6 +158,7 @@ class LinkageSlave(Fmi2Slave):
         self._cache: dict = {}
         self._assembles = False  # doStep found the linkage assembled at these inputs
         self._unsolvable = ()  # (cause, message) while the cache holds NaN for a reason
+        self._kernels: dict = {}  # (outputs, static) -> the mechanism's kernel
         self._names = mech.output_names + mech.diagnostic_names
         self._depends = {v.name: v.depends for v in table if v.causality == "output"}
         self._time = 0.0
@@ -329,6 +330,7 @@ class LinkageSlave(Fmi2Slave):
                 if self._method not in METHODS:
                     raise ValueError(f"method must be one of {METHODS}, got {self._method!r}")
                 self._mech = self._desc.build(**self._params)
+                self._kernels = {}
             except (TypeError, ValueError) as err:
                 self._problem = f"invalid parameter: {err}"
         return self._mech
@@ -364,8 +366,10 @@ class LinkageSlave(Fmi2Slave):
         problem = self._input_problem()
         if not problem:
             try:
-                out = dict(mech.solve(*self._u, method=self._method, outputs=tuple(names)))
-            except ValueError as err:  # AssemblyError, SingularPositionError
+                out = self._kernel_outputs(mech, names)
+                if out is None:  # the linkage's own solve decides (and names any error)
+                    out = dict(mech.solve(*self._u, method=self._method, outputs=tuple(names)))
+            except ValueError as err:  # AssemblyError, SingularPositionError, overflow
                 problem = (type(err).__name__,), str(err)
             else:
                 bad = [n for n, v in out.items() if not math.isfinite(v)]
@@ -378,6 +382,29 @@ class LinkageSlave(Fmi2Slave):
         # every output, not only those asked for: none may be read stale or half-valid
         self._unsolved(problem[0], f"outputs are NaN at t = {self._time!r}: {problem[1]}")
         return dict.fromkeys(names, math.nan)
+
+    def _kernel(self, mech, names: tuple, static: bool):
+        """The linkage's kernel of this plan (kept per instance: one lookup a step)."""
+        key = (names, static)
+        kernel = self._kernels.get(key)
+        if kernel is None:
+            kernel = self._kernels[key] = mech.kernel(names, static)
+        return kernel
+
+    def _kernel_outputs(self, mech, names) -> dict | None:
+        """The outputs from the plan's kernel, or None where it does not decide (another
+        method, a guard that fails, a value that is not finite)."""
+        if self._method != "closed_form":
+            return None
+        u = self._u
+        names = tuple(names)
+        try:
+            r = self._kernel(mech, names, u[1] == 0.0 and u[2] == 0.0)(*u)
+        except (ArithmeticError, ValueError):
+            return None
+        if r is None or not math.isfinite(sum(r)):
+            return None
+        return dict(zip(names, r))
 
     # -- life cycle -----------------------------------------------------------------
     def setup_experiment(self, start_time, stop_time=None, tolerance=None):
@@ -415,7 +442,10 @@ class LinkageSlave(Fmi2Slave):
             if not problem and not self._assembles:
                 # can it be assembled? The kernel of the positions alone says yes at once;
                 # where it does not, the linkage's own check names the condition
-                self._assembles = mech.kernel(())(*self._u) is not None
+                try:
+                    self._assembles = self._kernel(mech, (), False)(*self._u) is not None
+                except (ArithmeticError, ValueError):  # no kernel: the check below decides
+                    self._assembles = False
                 if not self._assembles:
                     try:
                         mech.kinematics(self._u[0], order=0)

@@ -27,8 +27,8 @@ from typing import Callable
 from ..numerics import SCALAR
 from . import compiled
 from .c_source import c_source
-from .python_source import compile_source, live_nodes, python_source
-from .trace import TRACE, Tape
+from .python_source import compile_source, python_source
+from .trace import TRACE, Tape, program
 
 #: crank angles tried as the witness state of a trace, until one assembles
 WITNESS_ANGLES = (0.3, 1.1, 2.3, 4.0, 5.5, 0.0, 3.0)
@@ -96,7 +96,7 @@ def trace_kernel(mech, outputs: tuple, static: bool) -> Kernel:
         function = compile_source(source, label=f"kernel of {mech.name}")
         checked = tuple(i for i, n in enumerate(outputs) if n in mech.output_names)
         return Kernel(tuple(outputs), static, source, function,
-                      len(live_nodes(tape, results)), time.perf_counter() - t0, checked,
+                      len(program(tape, results)[0]), time.perf_counter() - t0, checked,
                       {name: i for i, name in enumerate(outputs)}, tape, results, len(names))
     raise ValueError(f"{mech.name} cannot be assembled at any of the witness angles "
                      f"{WITNESS_ANGLES}: {last}")

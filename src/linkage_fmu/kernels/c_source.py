@@ -9,8 +9,7 @@ OpenMP where the compiler has it) that marks the states whose guards fail.
 
 from __future__ import annotations
 
-from .python_source import live_nodes
-from .trace import Sym, Tape
+from .trace import Sym, Tape, operand, program
 
 _INFIX = {"add": "+", "sub": "-", "mul": "*", "div": "/", "lt": "<", "le": "<=", "gt": ">",
           "ge": ">=", "eq": "==", "ne": "!="}
@@ -33,18 +32,10 @@ def c_source(tape: Tape, n_inputs: int, results: list, prefix: str = "linkage") 
     every guard) and ``<prefix>_array(n, x, step, y, ok)`` over ``n`` states: input
     ``k`` of state ``i`` is ``x[k][i * step[k]]`` (step 0 broadcasts one value), output
     ``k`` goes to ``y[k][i]``, ``ok[i]`` is 0 where a guard fails (outputs NaN there)."""
-    live = live_nodes(tape, results)
-    guards = {}
-    for index, outcome in tape.guards:
-        guards.setdefault(index, outcome)
+    live, guards = program(tape, results)
 
     def ref(i: int) -> str:
-        node = tape.nodes[i]
-        if node.op == "input":
-            return node.value
-        if node.op == "const":
-            return _literal(node.value)
-        return f"t{i}"
+        return operand(tape, i, _literal)
 
     used = {tape.nodes[i].value for i in live if tape.nodes[i].op == "input"}
     body = [f"    const double x{k} = x[{k}];" for k in range(n_inputs) if f"x{k}" in used]

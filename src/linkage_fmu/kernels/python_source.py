@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 
-from .trace import Sym, Tape
+from .trace import Sym, Tape, operand, program
 
 _INFIX = {"add": "+", "sub": "-", "mul": "*", "div": "/", "pow": "**", "lt": "<", "le": "<=",
           "gt": ">", "ge": ">=", "eq": "==", "ne": "!="}
@@ -20,16 +20,9 @@ NAMESPACE = {"sqrt": math.sqrt, "cos": math.cos, "sin": math.sin, "atan2": math.
              "inf": math.inf, "nan": math.nan}
 
 
-def live_nodes(tape: Tape, results: list) -> set:
-    """Indices of the nodes the ``results`` (Syms or floats) and the guards need."""
-    todo = [r.index for r in results if isinstance(r, Sym)] + [g for g, _ in tape.guards]
-    live = set()
-    while todo:
-        i = todo.pop()
-        if i not in live:
-            live.add(i)
-            todo.extend(tape.nodes[i].args)
-    return live
+def _literal(value: float) -> str:
+    text = repr(value)
+    return f"({text})" if text.startswith("-") else text
 
 
 def python_source(tape: Tape, arguments: list[str], results: list, name: str = "kernel") -> str:
@@ -51,19 +44,10 @@ def python_source(tape: Tape, arguments: list[str], results: list, name: str = "
         t5 = t3 * 2.0
         return (t5,)
     """
-    live = live_nodes(tape, results)
-    guards = {}
-    for index, outcome in tape.guards:
-        guards.setdefault(index, outcome)
+    live, guards = program(tape, results)
 
     def ref(i: int) -> str:
-        node = tape.nodes[i]
-        if node.op == "input":
-            return node.value
-        if node.op == "const":
-            text = repr(node.value)
-            return f"({text})" if text.startswith("-") else text
-        return f"t{i}"
+        return operand(tape, i, _literal)
 
     lines = [f"def {name}({', '.join(arguments)}):"]
     for i, node in enumerate(tape.nodes):

@@ -79,6 +79,34 @@ class Tape:
         return outcome
 
 
+def program(tape: Tape, results: list) -> tuple[set, dict]:
+    """What code generated from ``tape`` must compute for ``results`` (Syms or floats):
+    the live node indices (the results', the guards' and what they depend on), and the
+    guards, comparison node -> the outcome the witness took."""
+    todo = [r.index for r in results if isinstance(r, Sym)] + [g for g, _ in tape.guards]
+    live = set()
+    while todo:
+        i = todo.pop()
+        if i not in live:
+            live.add(i)
+            todo.extend(tape.nodes[i].args)
+    guards = {}
+    for index, outcome in tape.guards:
+        guards.setdefault(index, outcome)
+    return live, guards
+
+
+def operand(tape: Tape, i: int, literal) -> str:
+    """Node ``i`` as an operand: an input's name, a constant through ``literal``, or
+    the variable ``t<i>``."""
+    node = tape.nodes[i]
+    if node.op == "input":
+        return node.value
+    if node.op == "const":
+        return literal(node.value)
+    return f"t{i}"
+
+
 def _key(value):
     # -0.0 and 0.0 are different constants; so are NaNs of one bit pattern only
     return (value, math.copysign(1.0, value)) if isinstance(value, float) else value
