@@ -165,3 +165,39 @@ def test_without_a_compiler_arrays_use_numpy_after_one_warning(monkeypatch, tmp_
     assert mech.kernel().array() is None and not list(tmp_path.iterdir())
     b = mech.solve(th, 10.0, method="interpreted")
     assert all(np.array_equal(a[n], b[n]) for n in a)
+
+
+def test_a_hot_plan_is_compiled_and_gives_the_same_floats():
+    """After HOT_CALLS one-state solves the plan calls its compiled C kernel (through
+    cffi); on 2,000 random states, including unassemblable ones, it gives the Python
+    kernel's floats exactly and hands back the same states."""
+    from linkage_fmu.kernels import HOT_CALLS
+    from linkage_fmu.kernels.compiled import ScalarKernel
+
+    mech = presets.get("four_bar", l_AB=0.3)
+    kernel = mech.kernel()
+    for i in range(HOT_CALLS):
+        mech.solve(0.4 + 1e-4 * i, 10.0, 0.0, 1.0)
+    if not isinstance(kernel.call, ScalarKernel):
+        pytest.skip("no C compiler")
+    rng = np.random.default_rng(9)
+    states = rng.uniform([0, -30, -100, -50], [2 * np.pi, 30, 100, 50], size=(2000, 4))
+    handed_back = 0
+    for state in states:
+        state = [float(v) for v in state]
+        python, c = kernel.function(*state), kernel.call(*state)
+        handed_back += python is None
+        assert (c is None and python is None) or tuple(c) == python
+    assert 0 < handed_back < len(states)
+
+
+def test_without_a_compiler_a_plan_stays_python(monkeypatch, tmp_path):
+    from linkage_fmu.kernels import compiled
+
+    monkeypatch.setenv("CC", "no-such-compiler")
+    monkeypatch.setenv("LINKAGE_FMU_CACHE", str(tmp_path))
+    compiled._no_compiler_warning.cache_clear()
+    kernel = presets.get("slider_crank", e=0.01).kernel()
+    with pytest.warns(RuntimeWarning, match="no C compiler found"):
+        assert kernel.compile() is False
+    assert kernel.call is kernel.function

@@ -31,7 +31,8 @@ METHODS = ("closed_form", "direct", "interpreted")
 #: the inputs every linkage has; its loads follow them
 MOTION = ("theta", "omega", "alpha")
 #: the kernel of a plan that could not be traced: every state is interpreted
-_NO_KERNEL = SimpleNamespace(function=lambda *inputs: None, checked=(), index={})
+_NO_KERNEL = SimpleNamespace(call=lambda *inputs: None, checked=(), index={},
+                             count=lambda: None)
 #: states per block of an array solve: its temporaries stay in the CPU caches
 CHUNK = 8192
 
@@ -240,6 +241,7 @@ class Mechanism:
         self._effort_outputs = {o.name for o in outputs if isinstance(o, EffortOutput)}
         self.output_names = tuple(o.name for o in outputs)
         self.diagnostic_names = tuple(f"mu_{d.key}" for d in self.dyads) + ("cond",)
+        self._all_names = self.output_names + self.diagnostic_names  # one object: fast keys
         self._plans: dict = {}  # wanted outputs -> what they need (see _plan)
         self._finite_names: dict = {}  # wanted outputs -> those that must be finite
         self._kernels: dict = {}  # (wanted outputs, static) -> Kernel
@@ -353,8 +355,9 @@ class Mechanism:
         wanted = self._wanted(outputs)
         args = (theta, omega, alpha, *self._load_values(loads, named_loads))
         names = self.input_names
-        if all(type(a) is float and a - a == 0.0 for a in args):  # finite floats: FMU steps
-            return self._one_state(args, method, wanted)
+        if type(theta) is float and type(omega) is float and type(alpha) is float and \
+                all(type(a) is float for a in args[3:]) and math.isfinite(sum(args)):
+            return self._one_state(args, method, wanted)  # finite floats: FMU steps
         if all(np.ndim(a) == 0 for a in args):
             values = [finite_float(n, _item(a)) for n, a in zip(names, args)]
             return self._one_state(values, method, wanted)
@@ -452,7 +455,7 @@ class Mechanism:
         return pd.DataFrame({k: np.ravel(v) for k, v in sol.items()}, index=index)
 
     def _wanted(self, outputs) -> tuple:
-        names = self.output_names + self.diagnostic_names
+        names = self._all_names
         if outputs is None:
             return names
         if type(outputs) is tuple and outputs in self._plans:  # validated before
@@ -505,9 +508,10 @@ class Mechanism:
             static = values[1] == 0.0 and values[2] == 0.0
             k = self._kernels.get((wanted, static)) or self._kernel_or_none(wanted, static)
             try:
-                r = k.function(*values)
+                r = k.call(*values)
             except (ArithmeticError, ValueError):  # a division by zero, math range error
                 r = None
+            k.count()  # a hot plan is compiled
             if r is not None and (math.isfinite(sum(r)) or finite([r[i] for i in k.checked])):
                 return Solution(r, True, k.index)
             # the interpreted formulas decide: they raise the exact error, or compute

@@ -399,7 +399,9 @@ class LinkageSlave(Fmi2Slave):
         u = self._u
         names = tuple(names)
         try:
-            r = self._kernel(mech, names, u[1] == 0.0 and u[2] == 0.0)(*u)
+            kernel = self._kernel(mech, names, u[1] == 0.0 and u[2] == 0.0)
+            r = kernel(*u)
+            kernel.count()  # a hot plan is compiled
         except (ArithmeticError, ValueError):
             return None
         if r is None or not math.isfinite(sum(r)):
@@ -443,7 +445,9 @@ class LinkageSlave(Fmi2Slave):
                 # can it be assembled? The kernel of the positions alone says yes at once;
                 # where it does not, the linkage's own check names the condition
                 try:
-                    self._assembles = self._kernel(mech, (), False)(*self._u) is not None
+                    kernel = self._kernel(mech, (), False)
+                    self._assembles = kernel(*self._u) is not None
+                    kernel.count()
                 except (ArithmeticError, ValueError):  # no kernel: the check below decides
                     self._assembles = False
                 if not self._assembles:

@@ -30,6 +30,9 @@ from .c_source import c_source
 from .python_source import compile_source, python_source
 from .trace import TRACE, Tape, program
 
+#: one-state calls of a plan after which it is compiled (parameters are folded into each
+#: kernel, so compiling every plan on first use would compile every parameter set)
+HOT_CALLS = 1000
 #: crank angles tried as the witness state of a trace, until one assembles
 WITNESS_ANGLES = (0.3, 1.1, 2.3, 4.0, 5.5, 0.0, 3.0)
 
@@ -56,9 +59,36 @@ class Kernel:
     results: list = field(default_factory=list, repr=False)
     n_inputs: int = 0
     _array: object = field(default=False, repr=False)
+    #: what a one-state solve calls: the Python kernel, or once compiled, the C one
+    call: Callable = field(default=None, repr=False)
+    calls: int = 0
+
+    def __post_init__(self):
+        if self.call is None:
+            self.call = self.function
 
     def __call__(self, *inputs):
-        return self.function(*inputs)
+        return self.call(*inputs)
+
+    def count(self) -> None:
+        """Count a one-state call; the :data:`HOT_CALLS`-th compiles the plan."""
+        self.calls += 1
+        if self.calls == HOT_CALLS:
+            self.compile()
+
+    def compile(self) -> bool:
+        """Make one-state calls use the compiled C kernel (built or loaded from the cache
+        now); False, and the Python kernel stays, where there is no C compiler."""
+        if self.call is self.function:
+            source = c_source(self.tape, self.n_inputs, self.results, array=False)
+            try:
+                module = compiled.build_module(source, self.n_inputs, len(self.outputs))
+            except compiled.CompilerError as err:  # keep the Python kernel, say why once
+                compiled.warn_once(f"one-state kernels stay Python: {err}")
+                module = None
+            if module is not None:
+                self.call = compiled.ScalarKernel(module, self.n_inputs, len(self.outputs))
+        return self.call is not self.function
 
     def c_source(self) -> str:
         """The kernel as C (:mod:`~linkage_fmu.kernels.c_source`)."""

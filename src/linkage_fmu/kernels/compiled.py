@@ -1,7 +1,9 @@
 """Compiled kernels: the C source of a trace, built once and cached on disk.
 
-The shared library is keyed by the hash of its source, the compiler and the flags, and
-kept in the user's cache folder (``$LINKAGE_FMU_CACHE``, else
+Arrays call a shared library through ctypes (one call for many states); one state calls
+a CPython extension module made with cffi's API mode (a call costs a fraction of a
+microsecond, ctypes several). Each is keyed by the hash of its source, the compiler and
+the flags, and kept in the user's cache folder (``$LINKAGE_FMU_CACHE``, else
 ``$XDG_CACHE_HOME/linkage_fmu`` or ``~/.cache/linkage_fmu``), never in the package. Where
 no C compiler is found, :func:`load` returns None after one warning, and the caller keeps
 its numpy path.
@@ -12,8 +14,10 @@ from __future__ import annotations
 import ctypes
 import functools
 import hashlib
+import importlib.util
 import os
 import tempfile
+import threading
 import warnings
 from pathlib import Path
 
@@ -38,6 +42,11 @@ def cache_folder() -> Path:
 def _no_compiler_warning() -> None:
     warnings.warn("no C compiler found (cc, gcc, clang or $CC): array solves use numpy, "
                   "about 10x slower per state", RuntimeWarning, stacklevel=3)
+
+
+@functools.lru_cache(maxsize=None)
+def warn_once(message: str) -> None:
+    warnings.warn(message, RuntimeWarning, stacklevel=4)
 
 
 @functools.lru_cache(maxsize=None)
@@ -97,3 +106,65 @@ class ArrayKernel:
 def _address(a: np.ndarray) -> int:
     # the array interface, not ndarray.ctypes, which builds a ctypes object per access
     return a.__array_interface__["data"][0]
+
+
+def build_module(source: str, n_inputs: int, n_outputs: int):
+    """The cffi extension module of a one-state C kernel (``linkage_one``), compiled on
+    first use and cached; None without a compiler (after one warning)."""
+    cc = find_compiler()
+    if cc is None:
+        _no_compiler_warning()
+        return None
+    key = hashlib.sha256("\0".join([source, cc, "cffi", *FLAGS]).encode()).hexdigest()[:24]
+    name = f"_linkage_kernel_{key}"
+    folder = cache_folder()
+    found = list(folder.glob(f"{name}.*.so")) if folder.is_dir() else []
+    if not found:
+        from cffi import FFI
+
+        ffi = FFI()
+        ffi.cdef("int linkage_one(const double *x, double *y);")
+        ffi.set_source(name, source, extra_compile_args=list(FLAGS), libraries=["m"])
+        folder.mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryDirectory(prefix="linkage_fmu_cffi_") as tmp:
+            os.environ.setdefault("CC", cc)
+            try:
+                built = Path(ffi.compile(tmpdir=tmp))
+            except Exception as err:  # the compiler's own message, in a CompilerError
+                raise CompilerError(f"compiling the kernel module {name} failed: {err}") from None
+            target = folder / built.name
+            os.replace(built, target)  # atomic: another process may race us
+        found = [target]
+    return _load_module(name, str(found[0]))
+
+
+@functools.lru_cache(maxsize=None)
+def _load_module(name: str, path: str):
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+class ScalarKernel:
+    """A compiled plan for one state: ``kernel(theta, omega, alpha, *loads)`` returns the
+    outputs as a list of floats, or None where a guard fails (as the Python kernel)."""
+
+    def __init__(self, module, n_inputs: int, n_outputs: int):
+        self._ffi, self._one = module.ffi, module.lib.linkage_one
+        self._n_in, self._n_out = n_inputs, n_outputs
+        self._local = threading.local()  # cffi releases the GIL during the call
+
+    def _buffers(self):
+        b = getattr(self._local, "b", None)
+        if b is None:
+            b = self._local.b = (self._ffi.new(f"double[{self._n_in}]"),
+                                 self._ffi.new(f"double[{max(self._n_out, 1)}]"))
+        return b
+
+    def __call__(self, *inputs):
+        x, y = self._buffers()
+        x[0:self._n_in] = inputs
+        if not self._one(x, y):
+            return None
+        return self._ffi.unpack(y, self._n_out)  # a list of floats
