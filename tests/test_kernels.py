@@ -201,3 +201,21 @@ def test_without_a_compiler_a_plan_stays_python(monkeypatch, tmp_path):
     with pytest.warns(RuntimeWarning, match="no C compiler found"):
         assert kernel.compile() is False
     assert kernel.call is kernel.function
+
+
+def test_a_plan_without_a_witness_is_traced_once():
+    """A slider-crank whose rod is so short that it assembles only within 0.003 rad of
+    0.7 and pi - 0.7 has no witness state among the trace's: kernel() says so, once;
+    the next call raises the same error without tracing again, and solve stays on the
+    interpreted formulas."""
+    import time
+
+    mech = presets.get("slider_crank", l_OA=1.0, l_AB=0.002, e=math.sin(0.7))
+    with pytest.raises(ValueError, match="cannot be assembled at any of the witness angles"):
+        mech.kernel()
+    t0 = time.perf_counter()
+    with pytest.raises(ValueError, match="witness"):
+        mech.kernel()
+    assert time.perf_counter() - t0 < 1e-3
+    ref = mech.solve(0.7, 5.0, 0.0, 1.0, method="interpreted")
+    assert mech.solve(0.7, 5.0, 0.0, 1.0) == ref

@@ -244,7 +244,8 @@ class Mechanism:
         self._all_names = self.output_names + self.diagnostic_names  # one object: fast keys
         self._plans: dict = {}  # wanted outputs -> what they need (see _plan)
         self._finite_names: dict = {}  # wanted outputs -> those that must be finite
-        self._kernels: dict = {}  # (wanted outputs, static) -> Kernel
+        self._kernels: dict = {}  # (wanted outputs, static) -> Kernel, or _NO_KERNEL
+        self._kernel_errors: dict = {}  # (wanted outputs, static) -> why it has none
         for d in self.dyads:
             self.output_info[f"mu_{d.key}"] = (
                 "rad", f"transmission angle of the dyad at {d.key} (0 or pi: toggle)")
@@ -496,10 +497,17 @@ class Mechanism:
         wanted = self._wanted(outputs)
         self._plan(wanted)  # remember the validated names
         k = self._kernels.get((wanted, static))
-        if k is None:
+        if k is None or k is _NO_KERNEL:
+            if k is _NO_KERNEL:  # traced before, without a witness: say so at once
+                raise self._kernel_errors[(wanted, static)]
             from .kernels import trace_kernel
 
-            k = self._kernels[(wanted, static)] = trace_kernel(self, wanted, static)
+            try:
+                k = self._kernels[(wanted, static)] = trace_kernel(self, wanted, static)
+            except ValueError as err:
+                self._kernels[(wanted, static)] = _NO_KERNEL
+                self._kernel_errors[(wanted, static)] = err
+                raise
         return k
 
     def _one_state(self, values, method: str, wanted: tuple) -> Solution:
@@ -523,7 +531,6 @@ class Mechanism:
         try:
             return self.kernel(wanted, static)
         except ValueError:  # no witness state: this plan stays interpreted
-            self._kernels[(wanted, static)] = _NO_KERNEL
             return _NO_KERNEL
 
     def _solve_scalar(self, values, method: str, wanted: tuple) -> dict:
