@@ -5,6 +5,7 @@ each plan needs."""
 from __future__ import annotations
 
 import math
+import time
 
 import numpy as np
 import pytest
@@ -208,8 +209,6 @@ def test_a_plan_without_a_witness_is_traced_once():
     0.7 and pi - 0.7 has no witness state among the trace's: kernel() says so, once;
     the next call raises the same error without tracing again, and solve stays on the
     interpreted formulas."""
-    import time
-
     mech = presets.get("slider_crank", l_OA=1.0, l_AB=0.002, e=math.sin(0.7))
     with pytest.raises(ValueError, match="cannot be assembled at any of the witness angles"):
         mech.kernel()
@@ -219,3 +218,26 @@ def test_a_plan_without_a_witness_is_traced_once():
     assert time.perf_counter() - t0 < 1e-3
     ref = mech.solve(0.7, 5.0, 0.0, 1.0, method="interpreted")
     assert mech.solve(0.7, 5.0, 0.0, 1.0) == ref
+
+
+def test_the_kernel_cache_keeps_the_most_recently_used(monkeypatch, tmp_path):
+    """Beyond CACHE_FILES compiled kernels, the least recently used are removed: five
+    parameter sets compiled with room for three leave the last three, and a kernel used
+    again counts as recent."""
+    from linkage_fmu.kernels import compiled
+
+    if compiled.find_compiler() is None:
+        pytest.skip("no C compiler")
+    monkeypatch.setenv("LINKAGE_FMU_CACHE", str(tmp_path))
+    monkeypatch.setattr(compiled, "CACHE_FILES", 3)
+    sources = [presets.get("scotch_yoke", l_AB=0.1 + 0.01 * k).kernel().c_source()
+               for k in range(5)]
+    paths = []
+    for k, source in enumerate(sources):
+        paths.append(compiled.build(source))
+        if k == 2:
+            time.sleep(0.05)
+            compiled.build(sources[0])  # used again: now the most recent
+        time.sleep(0.05)
+    left = set(tmp_path.glob("kernel-*.so"))
+    assert left == {paths[0], paths[3], paths[4]}

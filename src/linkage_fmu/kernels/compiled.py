@@ -27,6 +27,9 @@ from ..ccompiler import CompilerError, compile_shared, find_compiler
 
 #: flags of every build: IEEE operations as written (no contraction into FMA), no errno
 FLAGS = ("-O2", "-ffp-contract=off", "-fno-math-errno")
+#: compiled kernels kept in the cache folder; the least recently used go beyond this
+#: (parameters are folded into kernels: every parameter set used is one more file)
+CACHE_FILES = 1000
 
 
 def cache_folder() -> Path:
@@ -64,7 +67,7 @@ def build(source: str) -> Path | None:
     key = hashlib.sha256("\0".join([source, cc, *FLAGS]).encode()).hexdigest()[:24]
     target = cache_folder() / f"kernel-{key}.so"
     if target.is_file():
-        return target
+        return _used(target)
     target.parent.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(prefix="linkage_fmu_kernel_") as tmp:
         c = Path(tmp) / "kernel.c"
@@ -74,7 +77,35 @@ def build(source: str) -> Path | None:
         except CompilerError:
             compile_shared([c], Path(tmp) / "k.so", flags=FLAGS, libraries=["m"])
         os.replace(Path(tmp) / "k.so", target)  # atomic: another process may race us
+    _trim(target.parent)
     return target
+
+
+def _used(path: Path) -> Path:
+    """Mark a cached kernel as just used (its modification time orders the trimming)."""
+    try:
+        os.utime(path)
+    except OSError:  # another process trimmed it: it is still loadable if loaded
+        pass
+    return path
+
+
+def _trim(folder: Path, keep: int | None = None) -> None:
+    """Remove the least recently used compiled kernels beyond ``keep`` (CACHE_FILES)."""
+    keep = CACHE_FILES if keep is None else keep
+    files = []
+    for pattern in ("kernel-*.so", "_linkage_kernel_*.so"):
+        for f in folder.glob(pattern):
+            try:
+                files.append((f.stat().st_mtime, f))
+            except OSError:
+                pass
+    files.sort(reverse=True)
+    for _, f in files[keep:]:
+        try:
+            f.unlink()  # a process that has it loaded keeps its mapping
+        except OSError:
+            pass
 
 
 class ArrayKernel:
@@ -119,7 +150,9 @@ def build_module(source: str, n_inputs: int, n_outputs: int):
     name = f"_linkage_kernel_{key}"
     folder = cache_folder()
     found = list(folder.glob(f"{name}.*.so")) if folder.is_dir() else []
-    if not found:
+    if found:
+        _used(found[0])
+    else:
         from cffi import FFI
 
         ffi = FFI()
@@ -134,6 +167,7 @@ def build_module(source: str, n_inputs: int, n_outputs: int):
                 raise CompilerError(f"compiling the kernel module {name} failed: {err}") from None
             target = folder / built.name
             os.replace(built, target)  # atomic: another process may race us
+        _trim(folder)
         found = [target]
     return _load_module(name, str(found[0]))
 
