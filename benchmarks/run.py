@@ -30,6 +30,7 @@ from pathlib import Path
 import numpy as np
 
 import fmu_timing
+import kinepy_peer
 import peers
 import seed_way
 from linkage_fmu import presets
@@ -118,7 +119,8 @@ def seeds_way(preset: str, load: float, ref: dict) -> dict:
 
 
 def peer_rows(preset: str, load: float, ref: dict) -> list[dict]:
-    """fourbarhinge (four-bar only) on the same states; exudyn at several step sizes,
+    """fourbarhinge (four-bar only) and kinepy on the same states; exudyn at several
+    step sizes,
     its errors against our direct solver at its own sample angles (float64, ~1e-15)."""
     mech = presets.get(preset)
     theta = angles(N_ANGLES)
@@ -131,6 +133,18 @@ def peer_rows(preset: str, load: float, ref: dict) -> list[dict]:
                       3) / N_ANGLES
         rows.append(row(preset, "fourbarhinge", versions["fourbarhinge"], t,
                         relative_error(got, ref).max()))
+    if kinepy_peer.kinepy_version():  # stencils of 3 samples: see kinepy_peer
+        fn = getattr(kinepy_peer, f"kinepy_{preset}")
+        p = {"four_bar": kinepy_peer.KINEPY_PARAMS,
+             "slider_crank": kinepy_peer.KINEPY_SLIDER_PARAMS}[preset]
+        for extrapolate in (False, True):
+            got = fn(p, theta, OMEGA, ALPHA, load, extrapolate=extrapolate)
+            t = best_time(lambda: fn(p, theta, OMEGA, ALPHA, load, extrapolate=extrapolate),
+                          3) / N_ANGLES
+            rows.append(row(preset, "kinepy", ("Richardson, 2 solves" if extrapolate else
+                                               "3-sample stencil per angle"), t,
+                            relative_error(got, ref).max(),
+                            f"kinepy {kinepy_peer.kinepy_version()}"))
     if versions["exudyn"]:
         for steps in (90, 360, 1440, 5760):
             runs = [peers.exudyn_run(preset, steps, OMEGA, load) for _ in range(3)]
@@ -348,7 +362,7 @@ def summary(work, fmu, comm, scl, first, machine: str, seconds: float) -> str:
                   ("FMU step / trivial FMU step",
                    ours_fmu["fmpy_us_per_step"] / triv["fmpy_us_per_step"], "<="),
                   ("max relative error (exact methods)", exact, "<=")]
-        for peer in ("fourbarhinge", "exudyn"):
+        for peer in ("fourbarhinge", "kinepy", "exudyn"):
             runs = [r for r in work if r["preset"] == preset and r["method"] == peer]
             if runs:  # its most accurate run; our scalar path is at least as accurate
                 best = min(runs, key=lambda r: r["max_rel_error"])
