@@ -101,7 +101,7 @@ def test_a_plan_computes_only_what_it_needs():
     positions = mech.kernel(())
     assert positions.operations < static.operations < full.operations
     assert effort.operations < full.operations
-    body = static.source.split("\n", 1)[1]
+    body = static.source.split("def kernel(", 1)[1].split("\n", 1)[1]
     assert "cos(x0)" in full.source and "x1" not in body and "x2" not in body  # no omega, alpha
 
 
@@ -169,17 +169,16 @@ def test_without_a_compiler_arrays_use_numpy_after_one_warning(monkeypatch, tmp_
 
 
 def test_a_hot_plan_is_compiled_and_gives_the_same_floats():
-    """After HOT_CALLS one-state solves the plan calls its compiled C kernel (through
-    cffi); on 2,000 random states, including unassemblable ones, it gives the Python
-    kernel's floats exactly and hands back the same states."""
+    """After HOT_CALLS one-state solves the plan calls its compiled C kernel (an
+    extension module); on 2,000 random states, including unassemblable ones, it gives
+    the Python kernel's floats exactly and hands back the same states."""
     from linkage_fmu.kernels import HOT_CALLS
-    from linkage_fmu.kernels.compiled import ScalarKernel
 
     mech = presets.get("four_bar", l_AB=0.3)
     kernel = mech.kernel()
     for i in range(HOT_CALLS):
         mech.solve(0.4 + 1e-4 * i, 10.0, 0.0, 1.0)
-    if not isinstance(kernel.call, ScalarKernel):
+    if not kernel.compiled:
         pytest.skip("no C compiler")
     rng = np.random.default_rng(9)
     states = rng.uniform([0, -30, -100, -50], [2 * np.pi, 30, 100, 50], size=(2000, 4))
@@ -188,8 +187,31 @@ def test_a_hot_plan_is_compiled_and_gives_the_same_floats():
         state = [float(v) for v in state]
         python, c = kernel.function(*state), kernel.call(*state)
         handed_back += python is None
-        assert (c is None and python is None) or tuple(c) == python
+        assert (c is None and python is None) or c == python
     assert 0 < handed_back < len(states)
+    assert kernel.call(0.4, 10.0, 0.0, float("nan")) is None  # the C kernel checks inputs
+    assert kernel.call(0.4, 10.0, 0, 1.0) is None  # not a float: the caller converts
+
+
+def test_parameters_are_arguments_of_one_kernel_source():
+    """The real-valued parameters enter the parameter step, not the code: two parameter
+    sets of a linkage generate the same Python and C source, even where one has zeros
+    the formulas skip (no gravity; a crank inertia and offset centre of mass where the
+    defaults have none), and each kernel gives its own linkage's interpreted floats
+    exactly. A branch (structure) is part of the code."""
+    a = presets.get("four_bar")
+    b = presets.get("four_bar", l_AB=0.12, m2=3.0, g=0.0, J1=0.001, l_AS1=0.05, beta1=0.3)
+    ka, kb = a.kernel(), b.kernel()
+    assert ka.source == kb.source and ka.c_source() == kb.c_source()
+    assert ka.frozen != kb.frozen
+    assert ka.parameters == tuple(k for k, v in a.parameters.items() if k != "branch")
+    for mech, k in ((a, ka), (b, kb)):
+        ref = mech.solve(0.7, 5.0, 1.0, 2.0, method="interpreted")
+        assert k(0.7, 5.0, 1.0, 2.0) == tuple(ref[n] for n in k.outputs)
+    assert presets.get("four_bar", branch=-1).kernel().source != ka.source
+    # the parameter step checks what the linkage was built to check: a length must be > 0
+    values = dict(zip(ka.parameters, (a.parameters[n] for n in ka.parameters)), l_BC=-0.35)
+    assert ka.prepare(*values.values()) is None
 
 
 def test_without_a_compiler_a_plan_stays_python(monkeypatch, tmp_path):
@@ -222,16 +244,17 @@ def test_a_plan_without_a_witness_is_traced_once():
 
 def test_the_kernel_cache_keeps_the_most_recently_used(monkeypatch, tmp_path):
     """Beyond CACHE_FILES compiled kernels, the least recently used are removed: five
-    parameter sets compiled with room for three leave the last three, and a kernel used
-    again counts as recent."""
+    plans compiled with room for three leave the last three, and a kernel used again
+    counts as recent."""
     from linkage_fmu.kernels import compiled
 
     if compiled.find_compiler() is None:
         pytest.skip("no C compiler")
     monkeypatch.setenv("LINKAGE_FMU_CACHE", str(tmp_path))
     monkeypatch.setattr(compiled, "CACHE_FILES", 3)
-    sources = [presets.get("scotch_yoke", l_AB=0.1 + 0.01 * k).kernel().c_source()
-               for k in range(5)]
+    yoke = presets.get("scotch_yoke")
+    plans = [None, ("Mb",), ("Mb", "F12x"), ("F23y",), ()]
+    sources = [yoke.kernel(plan).c_source() for plan in plans]
     paths = []
     for k, source in enumerate(sources):
         paths.append(compiled.build(source))

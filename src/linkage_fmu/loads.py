@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from typing import Sequence
 
 from .groups import KinematicState
+from . import numerics
 from .numerics import Number
 
 
@@ -47,9 +48,9 @@ class Load:
             raise ValueError(f"load {self.name}: kind must be 'force' or 'moment', got "
                              f"{self.kind!r}")
         if self.kind == "force":
-            x, y = (float(v) for v in self.direction)
-            norm = math.hypot(x, y)
-            if not norm > 0.0 or not math.isfinite(norm):
+            x, y = (numerics.real(v) for v in self.direction)
+            norm = numerics.hypot(x, y)
+            if not norm > 0.0 or not (hasattr(norm, "traced") or math.isfinite(norm)):
                 raise ValueError(f"load {self.name}: direction {self.direction!r} has no length")
             if norm != 1.0:
                 object.__setattr__(self, "direction", (x / norm, y / norm))

@@ -17,7 +17,7 @@ from typing import Any, Iterable, Sequence
 
 import numpy as np
 
-from . import kinetostatics
+from . import kinetostatics, numerics
 from .errors import AssemblyError, OverflowInputError, SingularPositionError
 from .kernels import finite
 from .groups import FRAME, OWNER, Crank, Group, KinematicState, LinkPoint
@@ -61,10 +61,13 @@ class Body:
     ref: str = ""
     along: float = 0.0
     across: float = 0.0
-    distance: float = 0.0
+    distance: float | None = None  # given: the centre of mass is placed by distance/angle
     angle: float = 0.0
 
     def __post_init__(self):
+        if any(hasattr(getattr(self, a), "traced") for a in ("mass", "inertia", "along",
+                                                               "across", "distance", "angle")):
+            return  # traced parameters: their values were checked when they were floats
         for attr in ("mass", "inertia"):
             v = getattr(self, attr)
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0):
@@ -72,10 +75,12 @@ class Body:
                     f"{attr} of body {self.name!r} must be a finite number >= 0, got {v!r}")
         for attr in ("along", "across", "distance", "angle"):
             v = getattr(self, attr)
+            if v is None and attr == "distance":
+                continue
             if not (isinstance(v, (int, float)) and math.isfinite(v)):
                 raise ValueError(f"{attr} of the centre of mass of body {self.name!r} must be "
                                  f"a finite number, got {v!r}")
-        if self.distance and (self.along or self.across):
+        if self.distance is not None and (self.along or self.across):
             raise ValueError(f"body {self.name!r}: give the centre of mass as along/across or "
                              "as distance/angle, not both")
         if not self.ref:
@@ -84,7 +89,9 @@ class Body:
     @functools.cached_property
     def offset(self) -> float:
         """Distance of the centre of mass from ``ref``."""
-        return abs(self.distance) if self.distance else math.hypot(self.along, self.across)
+        if self.distance is not None:
+            return abs(self.distance)
+        return numerics.hypot(self.along, self.across)
 
     @functools.cached_property  # read for every body at every state
     def cg(self) -> str:
@@ -93,7 +100,7 @@ class Body:
 
     def cg_point(self) -> LinkPoint:
         """The centre of mass as a point fixed on the link."""
-        if self.distance:
+        if self.distance is not None:
             return LinkPoint(self.name, self.ref, self.cg, distance=self.distance,
                              angle=self.angle)
         return LinkPoint(self.name, self.ref, self.cg, self.along, self.across)
@@ -181,8 +188,9 @@ class Mechanism:
                  loads: Sequence[Load], g: float, parameters: dict | None = None,
                  description=None):
         self.name, self.frame = name, frame
-        self.g = float(g)
-        self.frame_points = {k: (float(x), float(y)) for k, (x, y) in frame_points.items()}
+        self.g = numerics.real(g)
+        self.frame_points = {k: (numerics.real(x), numerics.real(y))
+                             for k, (x, y) in frame_points.items()}
         self.bodies = tuple(bodies)
         self.effort = effort
         self.loads = tuple(loads)
@@ -221,8 +229,9 @@ class Mechanism:
         sizes = [v for grp in groups for v in grp.lengths]
         if not all(grp.fixed_size for grp in groups):
             points = list(self.frame_points.values())
-            sizes += [math.dist(p, q) for i, p in enumerate(points) for q in points[:i]]
-        self.length_scale = max(sizes)
+            sizes += [numerics.hypot(p[0] - q[0], p[1] - q[1])
+                      for i, p in enumerate(points) for q in points[:i]]
+        self.length_scale = numerics.largest(sizes)
         #: factor of ``cond`` for centres of mass far from their joints: the largest
         #: ``offset / length_scale`` of the bodies, at least 1 (exactly 1 while every
         #: centre of mass is within ``length_scale`` of its point ``ref``). The equations
@@ -231,7 +240,8 @@ class Mechanism:
         #: cancels terms of that size and the direct method's moment rows get entries
         #: ``d / L``. Both lose about the largest ``d / L`` in relative accuracy, not the
         #: product of them (measured; tests/test_stability.py)
-        self.offset_scale = max([1.0] + [b.offset / self.length_scale for b in self.bodies])
+        self.offset_scale = numerics.largest([1.0] + [b.offset / self.length_scale
+                                                      for b in self.bodies])
         self.dyads = tuple(grp for grp in groups if grp.key)
         #: the inputs of :meth:`solve`: theta, omega, alpha, then each load by name
         self.input_names = MOTION + tuple(load.name for load in self.loads)
@@ -246,6 +256,8 @@ class Mechanism:
         self._finite_names: dict = {}  # wanted outputs -> those that must be finite
         self._kernels: dict = {}  # (wanted outputs, static) -> Kernel, or _NO_KERNEL
         self._kernel_errors: dict = {}  # (wanted outputs, static) -> why it has none
+        #: (static, moving): the compiled kernel of all outputs and its index, once hot
+        self._fast: list = [None, None]
         for d in self.dyads:
             self.output_info[f"mu_{d.key}"] = (
                 "rad", f"transmission angle of the dyad at {d.key} (0 or pi: toggle)")
@@ -351,6 +363,13 @@ class Mechanism:
         >>> yoke.solve([0.0, math.pi / 2], omega=10.0, load=400.0)["F23y"].round(4)
         array([400., 300.])
         """
+        if outputs is None and method == "closed_form" and type(omega) is float and \
+                type(alpha) is float and not named_loads and len(loads) == len(self.loads):
+            fast = self._fast[omega != 0.0 or alpha != 0.0]
+            if fast is not None:  # a compiled kernel that checks its inputs: FMU steps
+                r = fast[0](theta, omega, alpha, *loads)
+                if r is not None:
+                    return Solution(r, True, fast[1])
         if method not in METHODS:
             raise ValueError(f"method must be one of {METHODS}, got {method!r}")
         wanted = self._wanted(outputs)
@@ -520,6 +539,8 @@ class Mechanism:
             except (ArithmeticError, ValueError):  # a division by zero, math range error
                 r = None
             k.count()  # a hot plan is compiled
+            if wanted is self._all_names and k is not _NO_KERNEL and k.compiled:
+                self._fast[not static] = (k.call, k.index)
             if r is not None and (math.isfinite(sum(r)) or finite([r[i] for i in k.checked])):
                 return Solution(r, True, k.index)
             # the interpreted formulas decide: they raise the exact error, or compute

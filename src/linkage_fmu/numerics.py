@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 from types import SimpleNamespace
-from typing import Union
+from typing import Callable, Union
 
 import numpy as np
 
@@ -25,6 +25,48 @@ ARRAY = SimpleNamespace(
     scalar=False, sqrt=np.sqrt, cos=np.cos, sin=np.sin, atan2=np.arctan2, abs=np.abs,
     maximum=np.maximum
 )
+
+
+def _on_traced(fn: Callable) -> Callable:
+    # a traced number (kernels.trace.Sym) records the call instead of taking a float
+    def call(*args):
+        for a in args:
+            if hasattr(a, "traced"):
+                return a.traced(fn.__name__, fn, *args)
+        return fn(*args)
+
+    call.__name__ = call.__qualname__ = fn.__name__
+    call.__doc__ = f"``math.{fn.__name__}``, also on traced numbers (build-time values)."
+    return call
+
+
+#: :mod:`math` functions for values computed from parameters when a linkage is built:
+#: on floats, or on traced numbers when the parameters are kernel arguments
+cos, sin, tan, asin, acos, atan, atan2, hypot, sqrt, radians, degrees = map(_on_traced, (
+    math.cos, math.sin, math.tan, math.asin, math.acos, math.atan, math.atan2, math.hypot,
+    math.sqrt, math.radians, math.degrees))
+minimum, maximum = _on_traced(min), _on_traced(max)
+
+
+def real(value) -> float:
+    """``float(value)``; a traced number stays traced.
+
+    Examples
+    --------
+    >>> real(3), largest([0.1, 0.4, 0.3])
+    (3.0, 0.4)
+    """
+    return value if hasattr(value, "traced") else float(value)
+
+
+def largest(values) -> float:
+    """The largest of ``values`` as ``max`` picks it, recorded as one operation per pair
+    (not as a branch) for traced numbers."""
+    values = list(values)
+    best = values[0]
+    for v in values[1:]:
+        best = maximum(best, v)
+    return best
 
 
 def finite_float(name: str, value: object) -> float:

@@ -10,6 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Callable
 
+from . import numerics
 from .spec.expressions import Expression
 
 
@@ -140,8 +141,8 @@ class Derived:
                 return lambda R, E, st: R[joint][i]
             if name == mech.effort.name:
                 return lambda R, E, st: E
-            if name in mech.parameters:
-                return float(mech.parameters[name])
+            if name in mech.parameters:  # a float, or a traced parameter
+                return numerics.real(mech.parameters[name])
             return lambda R, E, st: 0.0  # another effort's name: not this linkage's effort
 
         return Expression(self.expression).bind(resolve)

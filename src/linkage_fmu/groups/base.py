@@ -29,6 +29,7 @@ from typing import Callable, ClassVar, NamedTuple
 
 import numpy as np
 
+from .. import numerics
 from ..numerics import Number
 
 Vec = tuple  # (x, y) of floats or arrays
@@ -140,7 +141,7 @@ def left_normal(t: Vec) -> Vec:
 
 
 def unit_vector(angle: float) -> Vec:
-    return math.cos(angle), math.sin(angle)
+    return numerics.cos(angle), numerics.sin(angle)
 
 
 def _raise_value_error(condition: str) -> None:

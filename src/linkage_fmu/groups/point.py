@@ -2,8 +2,7 @@
 
 from __future__ import annotations
 
-import math
-
+from .. import numerics
 from .base import Group, KinematicState
 
 
@@ -32,7 +31,8 @@ class LinkPoint(Group):
                  distance: float | None = None, angle: float = 0.0):
         self.link, self.ref, self.name = link, ref, name
         self.along, self.across = along, across
-        self.polar = None if distance is None else (distance, math.cos(angle), math.sin(angle))
+        self.polar = None if distance is None else (distance, numerics.cos(angle),
+                                                        numerics.sin(angle))
         self.needs = (ref,)
         self.places = (name,)
         self.owners = {name: link}

@@ -9,12 +9,17 @@ OpenMP where the compiler has it) that marks the states whose guards fail.
 
 from __future__ import annotations
 
+import math
+
 from .trace import Sym, Tape, operand, program
 
 _INFIX = {"add": "+", "sub": "-", "mul": "*", "div": "/", "lt": "<", "le": "<=", "gt": ">",
           "ge": ">=", "eq": "==", "ne": "!="}
-_CALL = {"sqrt": "sqrt", "cos": "cos", "sin": "sin", "atan2": "atan2", "abs": "fabs",
+_CALL = {"sqrt": "sqrt", "cos": "cos", "sin": "sin", "tan": "tan", "asin": "asin",
+         "acos": "acos", "atan": "atan", "atan2": "atan2", "hypot": "hypot", "abs": "fabs",
          "pow": "pow"}
+#: CPython's math.radians and math.degrees: one multiplication by these
+_SCALE = {"radians": math.pi / 180.0, "degrees": 180.0 / math.pi}
 _COMPARE = {"lt", "le", "gt", "ge", "eq", "ne"}
 
 
@@ -27,61 +32,94 @@ def _literal(value: float) -> str:
     return f"({text})" if text.startswith("-") else text
 
 
-def c_source(tape: Tape, n_inputs: int, results: list, prefix: str = "linkage",
-             array: bool = True) -> str:
-    """C functions ``<prefix>_one(const double *x, double *y)`` (1 if the state passed
-    every guard) and ``<prefix>_array(n, x, step, y, ok)`` over ``n`` states: input
-    ``k`` of state ``i`` is ``x[k][i * step[k]]`` (step 0 broadcasts one value), output
-    ``k`` goes to ``y[k][i]``, ``ok[i]`` is 0 where a guard fails (outputs NaN there);
-    without ``array``, the first only."""
-    live, guards = program(tape, results)
-
-    def ref(i: int) -> str:
-        return operand(tape, i, _literal)
-
-    used = {tape.nodes[i].value for i in live if tape.nodes[i].op == "input"}
-    body = [f"    const double x{k} = x[{k}];" for k in range(n_inputs) if f"x{k}" in used]
-    for i, node in enumerate(tape.nodes):
-        if i not in live or node.op in ("input", "const"):
-            continue
-        a = [ref(j) for j in node.args]
+def _statements(tape: Tape, nodes: list, guards: dict, indent: str = "    ") -> list:
+    body = []
+    for i in nodes:
+        node = tape.nodes[i]
+        a = [operand(tape, j, _literal) for j in node.args]
         if node.op in _COMPARE:
-            body.append(f"    const int t{i} = {a[0]} {_INFIX[node.op]} {a[1]};")
+            body.append(f"{indent}const int t{i} = {a[0]} {_INFIX[node.op]} {a[1]};")
         elif node.op in _INFIX:
-            body.append(f"    const double t{i} = {a[0]} {_INFIX[node.op]} {a[1]};")
+            body.append(f"{indent}const double t{i} = {a[0]} {_INFIX[node.op]} {a[1]};")
         elif node.op == "neg":
-            body.append(f"    const double t{i} = -{a[0]};")
+            body.append(f"{indent}const double t{i} = -{a[0]};")
         elif node.op == "max":  # Python's max(a, b): b only if b > a
-            body.append(f"    const double t{i} = {a[1]} > {a[0]} ? {a[1]} : {a[0]};")
+            body.append(f"{indent}const double t{i} = {a[1]} > {a[0]} ? {a[1]} : {a[0]};")
+        elif node.op == "min":  # Python's min(a, b): b only if b < a
+            body.append(f"{indent}const double t{i} = {a[1]} < {a[0]} ? {a[1]} : {a[0]};")
+        elif node.op in _SCALE:
+            body.append(f"{indent}const double t{i} = {a[0]} * {_literal(_SCALE[node.op])};")
         else:
-            body.append(f"    const double t{i} = {_CALL[node.op]}({', '.join(a)});")
+            body.append(f"{indent}const double t{i} = {_CALL[node.op]}({', '.join(a)});")
         if i in guards:
-            body.append(f"    if ({'!' if guards[i] else ''}t{i}) return 0;")
-    for k, r in enumerate(results):
-        body.append(f"    y[{k}] = {ref(r.index) if isinstance(r, Sym) else _literal(r)};")
-    n_out = len(results)
-    one = [
+            body.append(f"{indent}if ({'!' if guards[i] else ''}t{i}) return 0;")
+    return body
+
+
+def c_source(tape: Tape, n_inputs: int, results: list, parameters: tuple = (),
+             prefix: str = "linkage", array: bool = True) -> str:
+    """C functions of the traced ``results``:
+
+    - ``int <prefix>_prepare(const double *p, double *q)``: the parameter step, from the
+      parameters ``p`` (in the order of ``parameters``) to the values ``q`` the state
+      step reads; 0 where a check of the parameters fails;
+    - ``int <prefix>_one(const double *q, const double *x, double *y)``: one state, 1 if
+      it passed every guard;
+    - with ``array``, ``void <prefix>_array(n, q, x, step, y, ok)`` over ``n`` states:
+      input ``k`` of state ``i`` is ``x[k][i * step[k]]`` (step 0 broadcasts one
+      value), output ``k`` goes to ``y[k][i]``, ``ok[i]`` is 0 where a guard fails
+      (outputs NaN there).
+
+    ``<PREFIX>_N_P``, ``_N_Q``, ``_N_X`` and ``_N_Y`` give the lengths of the four.
+    """
+    prog = program(tape, results)
+    used = {tape.nodes[i].value for i in (*prog.prepare, *prog.state, *prog.frozen)
+            if tape.nodes[i].op == "input"}
+    used.update(tape.nodes[a].value for i in (*prog.prepare, *prog.state)
+                for a in tape.nodes[i].args if tape.nodes[a].op == "input")
+    frozen = [operand(tape, i, _literal) for i in prog.frozen]
+    n_out, upper = len(results), prefix.upper()
+    head = [
         "/* generated by linkage_fmu.kernels.c_source: do not edit */",
         "#include <math.h>",
         "#include <stddef.h>",
         "",
-        f"int {prefix}_one(const double *x, double *y) {{",
-        *body,
+        f"#define {upper}_N_P {len(parameters)}",
+        f"#define {upper}_N_Q {len(frozen)}",
+        f"#define {upper}_N_X {n_inputs}",
+        f"#define {upper}_N_Y {n_out}",
+        "",
+        f"int {prefix}_prepare(const double *p, double *q) {{",
+        *(f"    const double {name} = p[{k}];" for k, name in enumerate(parameters)
+          if name in used),
+        *_statements(tape, prog.prepare, prog.guards),
+        *(f"    q[{k}] = {name};" for k, name in enumerate(frozen)),
+        "    (void)p; (void)q;",
+        "    return 1;",
+        "}",
+        "",
+        f"int {prefix}_one(const double *q, const double *x, double *y) {{",
+        *(f"    const double {name} = q[{k}];" for k, name in enumerate(frozen)),
+        *(f"    const double x{k} = x[{k}];" for k in range(n_inputs) if f"x{k}" in used),
+        *_statements(tape, prog.state, prog.guards),
+        *(f"    y[{k}] = {operand(tape, r.index, _literal) if isinstance(r, Sym) else _literal(r)};"
+          for k, r in enumerate(results)),
+        "    (void)q; (void)x; (void)y;",
         "    return 1;",
         "}",
         "",
     ]
     if not array:
-        return "\n".join(one)
+        return "\n".join(head)
     return "\n".join([
-        *one,
-        f"void {prefix}_array(size_t n, const double *const *x, const size_t *step,",
-        f"                    double *const *y, unsigned char *ok) {{",
+        *head,
+        f"void {prefix}_array(size_t n, const double *q, const double *const *x,",
+        "                    const size_t *step, double *const *y, unsigned char *ok) {",
         "#pragma omp parallel for schedule(static) if (n > 8192)",
         "    for (size_t i = 0; i < n; i++) {",
         f"        double xi[{max(n_inputs, 1)}], yi[{max(n_out, 1)}];",
         f"        for (int k = 0; k < {n_inputs}; k++) xi[k] = x[k][i * step[k]];",
-        f"        const int good = {prefix}_one(xi, yi);",
+        f"        const int good = {prefix}_one(q, xi, yi);",
         "        ok[i] = (unsigned char)good;",
         f"        for (int k = 0; k < {n_out}; k++) y[k][i] = good ? yi[k] : NAN;",
         "    }",

@@ -1,8 +1,8 @@
 """Compiled kernels: the C source of a trace, built once and cached on disk.
 
 Arrays call a shared library through ctypes (one call for many states); one state calls
-a CPython extension module made with cffi's API mode (a call costs a fraction of a
-microsecond, ctypes several). Each is keyed by the hash of its source, the compiler and
+a small CPython extension module (``pykernel.c`` around the kernel: a call costs a
+fraction of a microsecond, ctypes several). Each is keyed by the hash of its source, the compiler and
 the flags, and kept in the user's cache folder (``$LINKAGE_FMU_CACHE``, else
 ``$XDG_CACHE_HOME/linkage_fmu`` or ``~/.cache/linkage_fmu``), never in the package. Where
 no C compiler is found, :func:`load` returns None after one warning, and the caller keeps
@@ -16,10 +16,12 @@ import functools
 import hashlib
 import importlib.util
 import os
+import sys
+import sysconfig
 import tempfile
-import threading
 import warnings
 from pathlib import Path
+from typing import Callable
 
 import numpy as np
 
@@ -109,19 +111,22 @@ def _trim(folder: Path, keep: int | None = None) -> None:
 
 
 class ArrayKernel:
-    """A compiled plan over arrays: ``kernel(inputs, n)`` with ``inputs`` a list of
-    float64 arrays of ``n`` entries or of one (broadcast) returns the outputs (a list
-    of arrays) and the mask of states that passed every guard."""
+    """A compiled plan over arrays, with the parameter step's values ``frozen``:
+    ``kernel(inputs, n)`` with ``inputs`` a list of float64 arrays of ``n`` entries or
+    of one (broadcast) returns the outputs (a list of arrays) and the mask of states
+    that passed every guard."""
 
-    def __init__(self, path: Path, prefix: str, n_outputs: int):
+    def __init__(self, path: Path, prefix: str, n_outputs: int, frozen=()):
         lib = _library(str(path))
         self._array = getattr(lib, f"{prefix}_array")
         self._array.restype = None
-        self._array.argtypes = [ctypes.c_size_t, ctypes.POINTER(ctypes.c_void_p),
+        self._array.argtypes = [ctypes.c_size_t, ctypes.c_void_p, ctypes.POINTER(ctypes.c_void_p),
                                 ctypes.POINTER(ctypes.c_size_t), ctypes.POINTER(ctypes.c_void_p),
                                 ctypes.c_void_p]
         self.n_outputs = n_outputs
         self.path = path
+        self.frozen = np.array(frozen, dtype=np.float64).reshape(-1)
+        self._q = np.concatenate([self.frozen, [0.0]])  # never an empty buffer
 
     def __call__(self, inputs: list, n: int, out: list | None = None):
         arrays = [np.ascontiguousarray(a, dtype=np.float64) for a in inputs]
@@ -130,7 +135,7 @@ class ArrayKernel:
         out = out if out is not None else [np.empty(n) for _ in range(self.n_outputs)]
         y = (ctypes.c_void_p * max(len(out), 1))(*(_address(a) for a in out))
         ok = np.empty(n, dtype=np.uint8)
-        self._array(n, x, step, y, _address(ok))
+        self._array(n, _address(self._q), x, step, y, _address(ok))
         return out, ok.view(bool)
 
 
@@ -139,37 +144,43 @@ def _address(a: np.ndarray) -> int:
     return a.__array_interface__["data"][0]
 
 
-def build_module(source: str, n_inputs: int, n_outputs: int):
-    """The cffi extension module of a one-state C kernel (``linkage_one``), compiled on
-    first use and cached; None without a compiler (after one warning)."""
+def build_module(source: str):
+    """The extension module (``pykernel.c`` around the generated ``source``) of a
+    one-state kernel, compiled on first use and cached; None without a compiler (after
+    one warning).
+
+    Raises
+    ------
+    CompilerError
+        The compiler failed (for example, no ``Python.h`` on this system).
+    """
     cc = find_compiler()
     if cc is None:
         _no_compiler_warning()
         return None
-    key = hashlib.sha256("\0".join([source, cc, "cffi", *FLAGS]).encode()).hexdigest()[:24]
+    template = (Path(__file__).with_name("pykernel.c")).read_text()
+    include = sysconfig.get_paths()["include"]
+    key = hashlib.sha256("\0".join([source, template, cc, include, sys.version, *FLAGS])
+                         .encode()).hexdigest()[:24]
     name = f"_linkage_kernel_{key}"
-    folder = cache_folder()
-    found = list(folder.glob(f"{name}.*.so")) if folder.is_dir() else []
-    if found:
-        _used(found[0])
+    target = cache_folder() / f"{name}{sysconfig.get_config_var('EXT_SUFFIX') or '.so'}"
+    if target.is_file():
+        _used(target)
     else:
-        from cffi import FFI
-
-        ffi = FFI()
-        ffi.cdef("int linkage_one(const double *x, double *y);")
-        ffi.set_source(name, source, extra_compile_args=list(FLAGS), libraries=["m"])
-        folder.mkdir(parents=True, exist_ok=True)
-        with tempfile.TemporaryDirectory(prefix="linkage_fmu_cffi_") as tmp:
-            os.environ.setdefault("CC", cc)
-            try:
-                built = Path(ffi.compile(tmpdir=tmp))
-            except Exception as err:  # the compiler's own message, in a CompilerError
-                raise CompilerError(f"compiling the kernel module {name} failed: {err}") from None
-            target = folder / built.name
-            os.replace(built, target)  # atomic: another process may race us
-        _trim(folder)
-        found = [target]
-    return _load_module(name, str(found[0]))
+        target.parent.mkdir(parents=True, exist_ok=True)
+        if not (Path(include) / "Python.h").is_file():
+            raise CompilerError(f"no Python.h in {include}: install this Python's development "
+                                "headers (e.g. python3-dev) for compiled one-state kernels")
+        with tempfile.TemporaryDirectory(prefix="linkage_fmu_kernel_") as tmp:
+            (Path(tmp) / "kernel.c").write_text(source)
+            (Path(tmp) / "pykernel.c").write_text(template)
+            compile_shared([Path(tmp) / "pykernel.c"], Path(tmp) / "m.so",
+                           include=[Path(tmp), Path(include)],
+                           defines=[f"MODULE_INIT=PyInit_{name}"], flags=FLAGS,
+                           libraries=["m"])
+            os.replace(Path(tmp) / "m.so", target)  # atomic: another process may race us
+        _trim(target.parent)
+    return _load_module(name, str(target))
 
 
 @functools.lru_cache(maxsize=None)
@@ -180,25 +191,12 @@ def _load_module(name: str, path: str):
     return module
 
 
-class ScalarKernel:
-    """A compiled plan for one state: ``kernel(theta, omega, alpha, *loads)`` returns the
-    outputs as a list of floats, or None where a guard fails (as the Python kernel)."""
-
-    def __init__(self, module, n_inputs: int, n_outputs: int):
-        self._ffi, self._one = module.ffi, module.lib.linkage_one
-        self._n_in, self._n_out = n_inputs, n_outputs
-        self._local = threading.local()  # cffi releases the GIL during the call
-
-    def _buffers(self):
-        b = getattr(self._local, "b", None)
-        if b is None:
-            b = self._local.b = (self._ffi.new(f"double[{self._n_in}]"),
-                                 self._ffi.new(f"double[{max(self._n_out, 1)}]"))
-        return b
-
-    def __call__(self, *inputs):
-        x, y = self._buffers()
-        x[0:self._n_in] = inputs
-        if not self._one(x, y):
-            return None
-        return self._ffi.unpack(y, self._n_out)  # a list of floats
+def scalar_kernel(module, frozen, checked) -> Callable:
+    """The compiled one-state kernel of ``module`` with the parameter step's values
+    ``frozen``: ``kernel(theta, omega, alpha, *loads)`` returns the outputs as a tuple,
+    or None where it does not take the state (an input that is not a finite float, a
+    guard fails, or an output at a position in ``checked`` is not finite)."""
+    flags = bytearray(module.n_outputs)
+    for i in checked:
+        flags[i] = 1
+    return module.bind(np.asarray(frozen, dtype=np.float64).tobytes() + bytes(flags))

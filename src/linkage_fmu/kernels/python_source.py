@@ -2,7 +2,8 @@
 
 One assignment per live operation, in the order the formulas did them (so the results
 are bit-identical to the interpreted formulas on floats), and an early ``return None``
-where a guard does not hold.
+where a guard does not hold. The work on the parameters alone is a separate function,
+run once per parameter set; its values are closed over by the kernel of a state.
 """
 
 from __future__ import annotations
@@ -13,11 +14,11 @@ from .trace import Sym, Tape, operand, program
 
 _INFIX = {"add": "+", "sub": "-", "mul": "*", "div": "/", "pow": "**", "lt": "<", "le": "<=",
           "gt": ">", "ge": ">=", "eq": "==", "ne": "!="}
-_CALL = {"sqrt": "sqrt", "cos": "cos", "sin": "sin", "atan2": "atan2", "abs": "abs",
-         "max": "max"}
+_FUNCTIONS = ("sqrt", "cos", "sin", "tan", "asin", "acos", "atan", "atan2", "hypot",
+              "radians", "degrees")
+_CALL = {**{f: f for f in _FUNCTIONS}, "abs": "abs", "max": "max", "min": "min"}
 #: what the generated source calls: the very functions of the scalar formulas
-NAMESPACE = {"sqrt": math.sqrt, "cos": math.cos, "sin": math.sin, "atan2": math.atan2,
-             "inf": math.inf, "nan": math.nan}
+NAMESPACE = {**{f: getattr(math, f) for f in _FUNCTIONS}, "inf": math.inf, "nan": math.nan}
 
 
 def _literal(value: float) -> str:
@@ -25,51 +26,74 @@ def _literal(value: float) -> str:
     return f"({text})" if text.startswith("-") else text
 
 
-def python_source(tape: Tape, arguments: list[str], results: list, name: str = "kernel") -> str:
-    """A function ``name(*arguments)`` returning the tuple of ``results``, or None when a
-    guard fails.
-
-    Examples
-    --------
-    >>> from linkage_fmu.kernels.trace import TRACE
-    >>> tape = Tape()
-    >>> x = tape.input("x", 4.0)
-    >>> if x < 0.0:
-    ...     pass
-    >>> print(python_source(tape, ["x"], [TRACE.sqrt(x) * 2.0]), end="")
-    def kernel(x):
-        t2 = x < 0.0
-        if t2: return None
-        t3 = sqrt(x)
-        t5 = t3 * 2.0
-        return (t5,)
-    """
-    live, guards = program(tape, results)
-
-    def ref(i: int) -> str:
-        return operand(tape, i, _literal)
-
-    lines = [f"def {name}({', '.join(arguments)}):"]
-    for i, node in enumerate(tape.nodes):
-        if i not in live or node.op in ("input", "const"):
-            continue
-        args = [ref(a) for a in node.args]
+def _statements(tape: Tape, nodes: list, guards: dict, fail: str, indent: str) -> list:
+    lines = []
+    for i in nodes:
+        node = tape.nodes[i]
+        args = [operand(tape, a, _literal) for a in node.args]
         if node.op in _INFIX:
             expr = f"{args[0]} {_INFIX[node.op]} {args[1]}"
         elif node.op == "neg":
             expr = f"-{args[0]}"
         else:
             expr = f"{_CALL[node.op]}({', '.join(args)})"
-        lines.append(f"    t{i} = {expr}")
+        lines.append(f"{indent}t{i} = {expr}")
         if i in guards:
-            lines.append(f"    if {'not ' if guards[i] else ''}t{i}: return None")
-    values = [ref(r.index) if isinstance(r, Sym) else repr(float(r)) for r in results]
-    lines.append(f"    return ({', '.join(values)}{',' if len(values) == 1 else ''})")
-    return "\n".join(lines) + "\n"
+            lines.append(f"{indent}if {'not ' if guards[i] else ''}t{i}: return {fail}")
+    return lines
 
 
-def compile_source(source: str, name: str = "kernel", label: str = "kernel"):
-    """The function defined by the generated ``source`` (our own code, never a file's)."""
+def _tuple(items: list) -> str:
+    return f"({', '.join(items)}{',' if len(items) == 1 else ''})"
+
+
+def python_source(tape: Tape, arguments: list[str], results: list,
+                  parameters: tuple = ()) -> str:
+    """Two functions: ``prepare(*parameters)``, the parameter step, returning the values
+    the state step reads (or None when a check of the parameters fails), and
+    ``make(*those values)``, returning ``kernel(*arguments)``, which returns the tuple
+    of ``results`` or None when a guard fails.
+
+    Examples
+    --------
+    >>> from linkage_fmu.kernels.trace import TRACE
+    >>> tape = Tape()
+    >>> x, L = tape.input("x", 4.0), tape.input("p0", 2.0, parameter=True)
+    >>> if x < 0.0:
+    ...     pass
+    >>> print(python_source(tape, ["x"], [TRACE.sqrt(x) * (L * 3.0)], ("p0",)), end="")
+    def prepare(p0):
+        t6 = p0 * 3.0
+        return (t6,)
+    def make(t6):
+        def kernel(x):
+            t3 = x < 0.0
+            if t3: return None
+            t4 = sqrt(x)
+            t7 = t4 * t6
+            return (t7,)
+        return kernel
+    """
+    prog = program(tape, results)
+    frozen = [operand(tape, i, _literal) for i in prog.frozen]
+    values = [operand(tape, r.index, _literal) if isinstance(r, Sym) else repr(float(r))
+              for r in results]
+    return "\n".join([
+        f"def prepare({', '.join(parameters)}):",
+        *_statements(tape, prog.prepare, prog.guards, "None", "    "),
+        f"    return {_tuple(frozen)}",
+        f"def make({', '.join(frozen)}):",
+        f"    def kernel({', '.join(arguments)}):",
+        *_statements(tape, prog.state, prog.guards, "None", "        "),
+        f"        return {_tuple(values)}",
+        "    return kernel",
+        "",
+    ])
+
+
+def compile_source(source: str, label: str = "kernel"):
+    """The functions ``prepare`` and ``make`` defined by the generated ``source`` (our
+    own code, never a file's)."""
     namespace = dict(NAMESPACE)
     exec(compile(source, f"<linkage_fmu {label}>", "exec"), namespace)
-    return namespace[name]
+    return namespace["prepare"], namespace["make"]

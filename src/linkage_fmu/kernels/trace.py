@@ -48,23 +48,27 @@ class Tape:
         self.nodes: list[Node] = []
         self.witness: list[float] = []
         self.guards: list[tuple[int, bool]] = []  # (comparison node, outcome seen)
+        self.fixed: set = set()  # nodes of the parameters and constants alone
         self._index: dict = {}
 
-    def _add(self, node: Node, witness: float) -> "Sym":
+    def _add(self, node: Node, witness: float, fixed: bool = False) -> "Sym":
         key = (node.op, node.args, _key(node.value))
         i = self._index.get(key)
         if i is None:
             i = self._index[key] = len(self.nodes)
             self.nodes.append(node)
             self.witness.append(witness)
+            if fixed or (node.args and all(a in self.fixed for a in node.args)):
+                self.fixed.add(i)
         return Sym(self, i)
 
-    def input(self, name: str, witness: float) -> "Sym":
-        """An argument of the kernel, with its witness value."""
-        return self._add(Node("input", (), name), float(witness))
+    def input(self, name: str, witness: float, parameter: bool = False) -> "Sym":
+        """An argument of the kernel (of its parameter step, with ``parameter``), with
+        its witness value."""
+        return self._add(Node("input", (), name), float(witness), parameter)
 
     def const(self, value: float) -> "Sym":
-        return self._add(Node("const", (), float(value)), float(value))
+        return self._add(Node("const", (), float(value)), float(value), True)
 
     def apply(self, op: str, fn, *operands) -> "Sym":
         syms = [o if isinstance(o, Sym) else self.const(o) for o in operands]
@@ -72,17 +76,41 @@ class Tape:
         return self._add(Node(op, tuple(s.index for s in syms)), witness)
 
     def guard(self, op: str, fn, a, b) -> bool:
-        """Record the comparison ``a op b`` and return its outcome at the witness."""
+        """Record the comparison ``a op b`` and return its outcome at the witness.
+
+        An (in)equality of parameters alone is a shortcut of the formulas (``if
+        body.mass:`` skips the terms of a zero mass): it takes the general branch
+        (``!=`` true, ``==`` false) and is not recorded, so that one kernel serves every
+        value of the parameters. An order comparison of parameters (``length > 0``) is
+        a check of the parameter step."""
         node = self.apply(op, fn, a, b)
+        if op in ("eq", "ne") and node.index in self.fixed:
+            return op == "ne"
         outcome = bool(self.witness[node.index])
         self.guards.append((node.index, outcome))
         return outcome
 
 
-def program(tape: Tape, results: list) -> tuple[set, dict]:
-    """What code generated from ``tape`` must compute for ``results`` (Syms or floats):
-    the live node indices (the results', the guards' and what they depend on), and the
-    guards, comparison node -> the outcome the witness took."""
+@dataclass
+class Program:
+    """What code generated from a tape computes, in the tape's order.
+
+    ``prepare`` (once per parameter set): the live operations on the parameters alone,
+    then its checks; ``frozen``: the values of the parameter step the state step reads;
+    ``state`` (once per state): the other live operations; ``guards``: comparison node
+    -> the outcome the witness took, for both steps.
+    """
+
+    prepare: list
+    frozen: list
+    state: list
+    guards: dict
+
+
+def program(tape: Tape, results: list) -> Program:
+    """The :class:`Program` of ``results`` (Syms or floats): the live nodes (the
+    results', the guards' and what they depend on), split into the work on the
+    parameters alone and the work per state."""
     todo = [r.index for r in results if isinstance(r, Sym)] + [g for g, _ in tape.guards]
     live = set()
     while todo:
@@ -93,7 +121,14 @@ def program(tape: Tape, results: list) -> tuple[set, dict]:
     guards = {}
     for index, outcome in tape.guards:
         guards.setdefault(index, outcome)
-    return live, guards
+    fixed = tape.fixed
+    order = sorted(live)
+    state = [i for i in order if i not in fixed and tape.nodes[i].op != "input"]
+    read = {a for i in state for a in tape.nodes[i].args}
+    read.update(r.index for r in results if isinstance(r, Sym))
+    frozen = [i for i in order if i in fixed and i in read and tape.nodes[i].op != "const"]
+    prepare = [i for i in order if i in fixed and tape.nodes[i].op not in ("input", "const")]
+    return Program(prepare, frozen, state, guards)
 
 
 def operand(tape: Tape, i: int, literal) -> str:
@@ -160,6 +195,13 @@ class Sym:
 
     def __bool__(self):
         return self.tape.guard("ne", lambda a, b: a != b, self, 0.0)
+
+    def traced(self, name: str, fn, *args) -> "Sym":
+        """Record ``fn(*args)`` (a :mod:`math` function or ``min``/``max``) as ``name``."""
+        if len(args) > 2:  # min/max of several: pairwise, as the builtins compare
+            first = self.traced(name, fn, *args[:2])
+            return first.traced(name, fn, first, *args[2:])
+        return self.tape.apply(name, fn, *args)
 
     def __float__(self):
         # a formula that needs a plain float of a traced value (only error messages do,

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+from .. import numerics
 from ..groups import Group
 from ..loads import Load
 from ..mechanism import Body, Effort, Mechanism
@@ -12,8 +13,14 @@ from ..parameters import resolve
 from .expressions import Expression
 
 
-def build(d, given: dict) -> Mechanism:
+def build(d, given: dict, symbols: dict | None = None) -> Mechanism:
     """The linkage ``d`` (checked) with the parameter values ``given`` over its defaults.
+
+    With ``symbols`` (parameter name -> traced number, see
+    :mod:`~linkage_fmu.kernels.trace`), those parameters enter as the traced numbers:
+    everything computed from them is recorded, so a kernel takes them as arguments.
+    Their values were checked as floats (``given``); the rules on computed values
+    (a length must be > 0) are recorded as checks of the kernel's parameter step.
 
     Raises
     ------
@@ -25,12 +32,19 @@ def build(d, given: dict) -> Mechanism:
     """
     params = resolve(d.parameter_specs(), given, d.name)
     numbers = {k: v for k, v in params.items() if isinstance(v, (int, float))}
+    if symbols:
+        numbers.update(symbols)
+        params = {**params, **symbols}
 
     def number(where: str, source, rule: str = "") -> float:
         try:
             x = Expression(source)(numbers)
         except (ValueError, ZeroDivisionError, OverflowError) as err:
             raise ValueError(f"{d.name}: {where} = {source!r}: {err}") from None
+        if hasattr(x, "traced"):
+            if rule == "length":
+                x > 0.0  # noqa: B015 -- recorded as a check of the parameter step
+            return x
         if not math.isfinite(x):
             raise ValueError(f"{d.name}: {where} = {source!r} = {x!r} is not finite")
         if rule == "length" and not x > 0.0:
@@ -119,7 +133,7 @@ def build(d, given: dict) -> Mechanism:
 
 
 def _unit(v: tuple) -> tuple:
-    n = math.hypot(*v)
+    n = numerics.hypot(*v)
     if not n > 0.0:
         raise ValueError(f"direction {v!r} has no length")
     return v if n == 1.0 else (v[0] / n, v[1] / n)

@@ -24,12 +24,15 @@ import math
 import operator
 from typing import Callable, Mapping
 
+from .. import numerics
+
 #: functions an expression may call
+#: (those of :mod:`~linkage_fmu.numerics`: on floats, or on traced parameters)
 FUNCTIONS = {
-    "sqrt": math.sqrt, "sin": math.sin, "cos": math.cos, "tan": math.tan,
-    "asin": math.asin, "acos": math.acos, "atan": math.atan, "atan2": math.atan2,
-    "hypot": math.hypot, "radians": math.radians, "degrees": math.degrees,
-    "abs": abs, "min": min, "max": max,
+    "sqrt": numerics.sqrt, "sin": numerics.sin, "cos": numerics.cos, "tan": numerics.tan,
+    "asin": numerics.asin, "acos": numerics.acos, "atan": numerics.atan,
+    "atan2": numerics.atan2, "hypot": numerics.hypot, "radians": numerics.radians,
+    "degrees": numerics.degrees, "abs": abs, "min": numerics.minimum, "max": numerics.maximum,
 }
 CONSTANTS = {"pi": math.pi}
 _BINARY = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul,

@@ -1,0 +1,80 @@
+/* One-state kernel as a CPython extension: a generated kernel (kernel.c, which defines
+ * linkage_prepare, linkage_one and LINKAGE_N_*) behind one fast-call function.
+ *
+ * bind(state) returns a builtin function of the LINKAGE_N_X inputs bound to `state`, a
+ * bytes object: the LINKAGE_N_Q doubles of the parameter step, then one byte per output,
+ * nonzero where the output must be finite. The function returns the outputs as a tuple of
+ * floats, or None where it does not take the state: an input that is not a finite float,
+ * a failed guard, or a non-finite output that must be finite. The caller then decides
+ * with the interpreted formulas, which raise the exact error. Compiled with MODULE_INIT
+ * defined as the PyInit_ name of the module. */
+#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+#include <string.h>
+
+#include "kernel.c"
+
+#define STATE_SIZE (LINKAGE_N_Q * sizeof(double) + LINKAGE_N_Y)
+
+static PyObject *one(PyObject *state, PyObject *const *args, Py_ssize_t nargs) {
+    double q[LINKAGE_N_Q + 1], x[LINKAGE_N_X + 1], y[LINKAGE_N_Y + 1];
+    const char *bytes = PyBytes_AS_STRING(state);
+    if (nargs != LINKAGE_N_X) {
+        PyErr_Format(PyExc_TypeError, "the kernel takes %d inputs, got %zd",
+                     LINKAGE_N_X, nargs);
+        return NULL;
+    }
+    for (Py_ssize_t k = 0; k < nargs; k++) {
+        if (!PyFloat_CheckExact(args[k])) Py_RETURN_NONE;
+        x[k] = PyFloat_AS_DOUBLE(args[k]);
+        if (!isfinite(x[k])) Py_RETURN_NONE;
+    }
+    memcpy(q, bytes, LINKAGE_N_Q * sizeof(double));
+    if (!linkage_one(q, x, y)) Py_RETURN_NONE;
+    const char *checked = bytes + LINKAGE_N_Q * sizeof(double);
+    for (int k = 0; k < LINKAGE_N_Y; k++)
+        if (checked[k] && !isfinite(y[k])) Py_RETURN_NONE;
+    PyObject *out = PyTuple_New(LINKAGE_N_Y);
+    if (out == NULL) return NULL;
+    for (int k = 0; k < LINKAGE_N_Y; k++) {
+        PyObject *v = PyFloat_FromDouble(y[k]);
+        if (v == NULL) {
+            Py_DECREF(out);
+            return NULL;
+        }
+        PyTuple_SET_ITEM(out, k, v);
+    }
+    return out;
+}
+
+static PyMethodDef one_def = {"kernel", (PyCFunction)(void (*)(void))one, METH_FASTCALL,
+                              "kernel(*inputs): the outputs as a tuple, or None"};
+
+static PyObject *bind(PyObject *module, PyObject *state) {
+    (void)module;
+    if (!PyBytes_CheckExact(state) || PyBytes_GET_SIZE(state) != (Py_ssize_t)STATE_SIZE) {
+        PyErr_Format(PyExc_ValueError, "bind() takes bytes of length %zu",
+                     (size_t)STATE_SIZE);
+        return NULL;
+    }
+    return PyCFunction_New(&one_def, state);
+}
+
+static PyMethodDef methods[] = {
+    {"bind", bind, METH_O, "bind(state): the kernel with its parameter step's values"},
+    {NULL, NULL, 0, NULL},
+};
+
+static struct PyModuleDef module_def = {PyModuleDef_HEAD_INIT, "kernel", NULL, -1, methods,
+                                        NULL, NULL, NULL, NULL};
+
+PyMODINIT_FUNC MODULE_INIT(void) {
+    PyObject *m = PyModule_Create(&module_def);
+    if (m != NULL && (PyModule_AddIntConstant(m, "n_inputs", LINKAGE_N_X) < 0 ||
+                      PyModule_AddIntConstant(m, "n_outputs", LINKAGE_N_Y) < 0 ||
+                      PyModule_AddIntConstant(m, "n_frozen", LINKAGE_N_Q) < 0)) {
+        Py_DECREF(m);
+        return NULL;
+    }
+    return m;
+}
