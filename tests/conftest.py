@@ -100,5 +100,19 @@ def dist(tmp_path_factory) -> Path:
     return out
 
 
+@pytest.fixture(scope="session")
+def native_dist(tmp_path_factory) -> Path:
+    """The native FMUs of the presets and of the README's description file, built once
+    per test session (no check), with their cross-check files."""
+    from linkage_fmu.fmi import build_native_fmu, fmu_linkage, write_crosscheck
+
+    out = tmp_path_factory.mktemp("native")
+    root = Path(__file__).resolve().parents[1]
+    for source in (*presets.names(), root / "examples" / "coupler_four_bar.toml"):
+        fmu = build_native_fmu(source, out)
+        write_crosscheck(out, fmu_linkage(fmu), steps=90)
+    return out
+
+
 #: preset -> model identifier of its FMU
 MODELS = {name: presets.preset(name).model for name in presets.names()}

@@ -113,10 +113,11 @@ def test_kernel_sources_are_straight_line_python():
     assert source.count("return None") >= 2  # the lever's and the rod's assembly checks
 
 
-def test_the_compiled_array_kernel_is_the_python_kernel_bit_for_bit():
-    """The C kernel (same operations, IEEE arithmetic, the C library's functions, which
-    Python's math module calls) gives the Python kernel's floats exactly, state by state,
-    and hands back the same states."""
+def test_the_compiled_array_kernel_is_the_python_kernel_to_a_few_ulp():
+    """The C array kernel (same operations, IEEE arithmetic, vector loops whose sin, cos
+    and atan2 come from glibc's libmvec, within a few ulp of the C library's functions
+    that Python's math module calls) hands back exactly the states the Python kernel
+    does, and its values agree to 1e-13 max(1, cond/100) of the largest output."""
     mech = presets.get("crank_shaper", branch=-1)
     kernel = mech.kernel()
     array = kernel.array()
@@ -125,11 +126,18 @@ def test_the_compiled_array_kernel_is_the_python_kernel_bit_for_bit():
     rng = np.random.default_rng(5)
     states = rng.uniform([0, -30, -100, -2000], [2 * np.pi, 30, 100, 2000], size=(3000, 4))
     values, ok = array([states[:, k].copy() for k in range(4)], len(states))
+    cond = kernel.index["cond"]
+    checked = 0
     for i, state in enumerate(states):
         r = kernel(*state)
         assert ok[i] == (r is not None)
         if r is not None:
-            assert tuple(v[i] for v in values) == r
+            scale = max(abs(r[j]) for j in kernel.checked)
+            tol = 1e-13 * max(1.0, r[cond] / 100) * scale
+            assert all(abs(v[i] - r[j]) <= tol for j, v in enumerate(values)
+                       if j in kernel.checked)
+            checked += 1
+    assert checked > len(states) // 2
 
 
 @pytest.mark.parametrize("variant", VARIANTS, ids=IDS)

@@ -30,6 +30,7 @@ EPILOG = """examples:
   linkage-fmu table scotch_yoke --omega 10 --load 400
   linkage-fmu table my_linkage.toml --theta 0:360:15 --deg --F_P 80 --T4 120 --csv
   linkage-fmu build four_bar --set l_AB=0.12 --out dist
+  linkage-fmu build --native my_linkage.toml --out dist/native
   linkage-fmu check dist/FourBar.fmu
 """
 
@@ -118,7 +119,11 @@ def main(argv: list[str] | None = None) -> int:
     build.add_argument("linkage", help=linkage_help)
     build.add_argument("--set", dest="params", metavar="NAME=VALUE", type=_parameter,
                        action="append", default=[], help="override a parameter (repeatable)")
-    build.add_argument("--out", default="dist", help="output folder (default dist)")
+    build.add_argument("--out", default=None,
+                       help="output folder (default dist, or dist/native with --native)")
+    build.add_argument("--native", action="store_true",
+                       help="a native FMU: the linkage's kernels in C, no Python in the "
+                            "importing tool (default: the pythonfmu FMU)")
 
     check = sub.add_parser("check", help="run an FMU with fmpy against the direct solver")
     check.add_argument("fmu")
@@ -136,9 +141,16 @@ def main(argv: list[str] | None = None) -> int:
         if args.command == "build":
             if rest:
                 parser.error(f"unrecognized arguments: {' '.join(rest)}")
-            from .fmi import build_fmu
+            from .ccompiler import CompilerError
+            from .fmi import build_fmu, build_native_fmu
 
-            print(build_fmu(d, args.out, **dict(args.params)))
+            make, out = ((build_native_fmu, "dist/native") if args.native else
+                         (build_fmu, "dist"))
+            try:
+                print(make(d, args.out or out, **dict(args.params)))
+            except CompilerError as err:
+                print(f"linkage-fmu: {err}", file=sys.stderr)
+                return 2
             return 0
         return _table(d, args, rest)
     except (DescriptionError, UsageError, TypeError, ValueError) as err:

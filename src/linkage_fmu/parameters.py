@@ -58,6 +58,11 @@ class Parameter:
         """SI unit of the value ('' for branch and choice parameters)."""
         return _REAL_KINDS[self.kind][0] if self.kind in _REAL_KINDS else ""
 
+    @property
+    def rule(self) -> str:
+        """The rule a real value must meet ('> 0', '>= 0' or 'finite'; '' otherwise)."""
+        return _REAL_KINDS[self.kind][1] if self.kind in _REAL_KINDS else ""
+
     def validate(self, value: Any) -> Any:
         """Return the checked value, or raise a ``TypeError``/``ValueError`` naming it."""
         if self.kind == "branch":

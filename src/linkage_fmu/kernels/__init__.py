@@ -109,10 +109,11 @@ class Kernel:
                 self.call = compiled.scalar_kernel(module, self.frozen, self.checked)
         return self.call is not self.function
 
-    def c_source(self, array: bool = True) -> str:
-        """The kernel as C (:mod:`~linkage_fmu.kernels.c_source`)."""
+    def c_source(self, array: bool = True, prefix: str = "linkage") -> str:
+        """The kernel as C (:mod:`~linkage_fmu.kernels.c_source`), its functions named
+        ``<prefix>_...``."""
         return c_source(self.tape, self.n_inputs, self.results,
-                        tuple(f"p{k}" for k in range(len(self.parameters))), array=array)
+                        tuple(f"p{k}" for k in range(len(self.parameters))), prefix, array)
 
     def array(self):
         """The compiled array kernel (:class:`~linkage_fmu.kernels.compiled.ArrayKernel`),

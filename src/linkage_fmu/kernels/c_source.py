@@ -32,7 +32,11 @@ def _literal(value: float) -> str:
     return f"({text})" if text.startswith("-") else text
 
 
-def _statements(tape: Tape, nodes: list, guards: dict, indent: str = "    ") -> list:
+def _statements(tape: Tape, nodes: list, guards: dict, indent: str = "    ",
+                simd: bool = False) -> list:
+    """One declaration per operation; a failed guard returns 0, or with ``simd`` marks
+    the state (``bad``) and the computation goes on (NaNs, no traps), and the
+    elementary functions are the vector ones (``lk_*``)."""
     body = []
     for i in nodes:
         node = tape.nodes[i]
@@ -50,10 +54,138 @@ def _statements(tape: Tape, nodes: list, guards: dict, indent: str = "    ") -> 
         elif node.op in _SCALE:
             body.append(f"{indent}const double t{i} = {a[0]} * {_literal(_SCALE[node.op])};")
         else:
-            body.append(f"{indent}const double t{i} = {_CALL[node.op]}({', '.join(a)});")
+            name = f"lk_{node.op}" if simd and node.op in _VECTOR else _CALL[node.op]
+            body.append(f"{indent}const double t{i} = {name}({', '.join(a)});")
         if i in guards:
-            body.append(f"{indent}if ({'!' if guards[i] else ''}t{i}) return 0;")
+            if simd:
+                body.append(f"{indent}bad |= {'!' if guards[i] else ''}t{i};")
+            else:
+                body.append(f"{indent}if ({'!' if guards[i] else ''}t{i}) return 0;")
     return body
+
+
+#: the elementary functions with vector versions in glibc's libmvec
+_VECTOR = ("sin", "cos", "atan2")
+#: the array kernel's options (-D): LK_SIMD (the blocked loop), LK_MVEC_SINCOS and
+#: LK_MVEC_ATAN2 (sin/cos from libmvec, glibc >= 2.22; atan2, glibc >= 2.35), LK_TARGETS
+_SIMD_HEAD = """\
+#if defined(LK_SIMD) && LK_SIMD
+/* Blocks of LK_BLOCK states, each one `omp simd` loop over the straight-line code.
+ * math.h declares the vector versions of sin, cos and atan2 only under __FAST_MATH__:
+ * the lk_* names are simd-declared aliases of them (from libmvec), or small functions
+ * of which GCC makes vector versions itself (a libm call per lane). Flags per state
+ * are int: a char makes GCC process 32 states per iteration and spill. */
+#ifndef LK_BLOCK
+#define LK_BLOCK 256
+#endif
+#if !defined(LK_CLONES) && defined(__x86_64__) && defined(__GLIBC__)
+#ifndef LK_TARGETS
+#define LK_TARGETS "default", "arch=x86-64-v3", "arch=x86-64-v4"
+#endif
+#define LK_CLONES __attribute__((target_clones(LK_TARGETS)))
+#endif
+#ifndef LK_CLONES
+#define LK_CLONES
+#endif
+"""
+_VECTOR_DECLARATIONS = {
+    "sin": ("LK_MVEC_SINCOS", "double lk_sin(double)", "sin", "(double v) { return sin(v); }"),
+    "cos": ("LK_MVEC_SINCOS", "double lk_cos(double)", "cos", "(double v) { return cos(v); }"),
+    "atan2": ("LK_MVEC_ATAN2", "double lk_atan2(double, double)", "atan2",
+              "(double v, double w) { return atan2(v, w); }"),
+}
+
+
+def _array_source(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
+                  frozen: list) -> list:
+    n_out = len(results)
+    used = {tape.nodes[i].op for i in prog.state} & set(_VECTOR)
+    declarations = []
+    for op in _VECTOR:
+        if op in used:
+            macro, signature, symbol, body = _VECTOR_DECLARATIONS[op]
+            declarations += [
+                "#pragma omp declare simd notinbranch",
+                f"#if defined({macro}) && {macro}",
+                f'extern {signature} __asm__("{symbol}");',
+                "#else",
+                f"static __attribute__((noinline)) double lk_{op}{body}",
+                "#endif",
+            ]
+    xs = ", ".join(f"const double *restrict xb{k}" for k in range(n_inputs))
+    ys = ", ".join(f"double *restrict y{k}" for k in range(n_out))
+    outputs = [operand(tape, r.index, _literal) if isinstance(r, Sym) else _literal(r)
+               for r in results]
+    block = [
+        "LK_CLONES __attribute__((noinline))",
+        f"static void {prefix}_block(size_t m, const double *restrict q"
+        + (f", {xs}" if xs else "") + (f", {ys}" if ys else "")
+        + ", unsigned char *restrict ok) {",
+        "    int badb[LK_BLOCK], anybad = 0;",
+        "    (void)q;",
+        "#pragma omp simd",
+        "    for (size_t j = 0; j < m; j++) {",
+        "        int bad = 0;",
+        *(f"        const double {name} = q[{k}];" for k, name in enumerate(frozen)),
+        *(f"        const double x{k} = xb{k}[j];" for k in range(n_inputs)),
+        *(f"        (void)x{k};" for k in range(n_inputs)),
+        *_statements(tape, prog.state, prog.guards, "        ", simd=True),
+        *(f"        y{k}[j] = {v};" for k, v in enumerate(outputs)),
+        "        badb[j] = bad;",
+        "    }",
+        "    for (size_t j = 0; j < m; j++) {",
+        "        ok[j] = (unsigned char)(badb[j] == 0);",
+        "        anybad |= badb[j];",
+        "    }",
+        "    if (anybad) /* NaN the outputs of the failed states only */",
+        "        for (size_t j = 0; j < m; j++)",
+        "            if (badb[j]) {",
+        *(f"                y{k}[j] = NAN;" for k in range(n_out)),
+        "            }",
+        "}",
+        "",
+    ]
+    signature = [f"void {prefix}_array(size_t n, const double *q, const double *const *x,",
+                 "                    const size_t *step, double *const *y, unsigned char *ok) {"]
+    blocked = [
+        *signature,
+        "    const size_t nb = (n + LK_BLOCK - 1) / LK_BLOCK;",
+        "#pragma omp parallel for schedule(static) if (n > 8192)",
+        "    for (size_t b = 0; b < nb; b++) {",
+        "        const size_t i0 = b * LK_BLOCK, m = n - i0 < LK_BLOCK ? n - i0 : LK_BLOCK;",
+        f"        double xbuf[{max(n_inputs, 1)}][LK_BLOCK];",
+        f"        const double *xb[{max(n_inputs, 1)}];",
+        f"        for (int k = 0; k < {n_inputs}; k++) {{",
+        "            const double *xk = x[k];",
+        "            const size_t s = step[k];",
+        "            if (s == 1) {",
+        "                xb[k] = xk + i0;",
+        "            } else {",
+        "                for (size_t j = 0; j < m; j++) xbuf[k][j] = xk[(i0 + j) * s];",
+        "                xb[k] = xbuf[k];",
+        "            }",
+        "        }",
+        f"        {prefix}_block(m, q"
+        + "".join(f", xb[{k}]" for k in range(n_inputs))
+        + "".join(f", y[{k}] + i0" for k in range(n_out)) + ", ok + i0);",
+        "    }",
+        "}",
+    ]
+    plain = [
+        *signature,
+        "#pragma omp parallel for schedule(static) if (n > 8192)",
+        "    for (size_t i = 0; i < n; i++) {",
+        f"        double xi[{max(n_inputs, 1)}], yi[{max(n_out, 1)}];",
+        f"        for (int k = 0; k < {n_inputs}; k++) xi[k] = x[k][i * step[k]];",
+        f"        const int good = {prefix}_one(q, xi, yi);",
+        "        ok[i] = (unsigned char)good;",
+        f"        for (int k = 0; k < {n_out}; k++) y[k][i] = good ? yi[k] : NAN;",
+        "    }",
+        "}",
+    ]
+    return [_SIMD_HEAD, *declarations, "", *block, *blocked,
+            "#else /* one state after the other, through the one-state function */",
+            *plain, "#endif", ""]
 
 
 def c_source(tape: Tape, n_inputs: int, results: list, parameters: tuple = (),
@@ -67,8 +199,12 @@ def c_source(tape: Tape, n_inputs: int, results: list, parameters: tuple = (),
       it passed every guard;
     - with ``array``, ``void <prefix>_array(n, q, x, step, y, ok)`` over ``n`` states:
       input ``k`` of state ``i`` is ``x[k][i * step[k]]`` (step 0 broadcasts one
-      value), output ``k`` goes to ``y[k][i]``, ``ok[i]`` is 0 where a guard fails
-      (outputs NaN there).
+      value), output ``k`` goes to ``y[k][i]`` (no output array may overlap another or
+      an input), ``ok[i]`` is 0 where a guard fails (outputs NaN there). Compiled with
+      ``-DLK_SIMD=1`` it runs blocks of states as vector loops (threads with OpenMP);
+      ``-DLK_MVEC_SINCOS=1`` and ``-DLK_MVEC_ATAN2=1`` take sin, cos and atan2 from
+      glibc's libmvec (within a few ulp of the scalar ones; without them every value
+      is the one-state function's, bit for bit).
 
     ``<PREFIX>_N_P``, ``_N_Q``, ``_N_X`` and ``_N_Y`` give the lengths of the four.
     """
@@ -111,18 +247,4 @@ def c_source(tape: Tape, n_inputs: int, results: list, parameters: tuple = (),
     ]
     if not array:
         return "\n".join(head)
-    return "\n".join([
-        *head,
-        f"void {prefix}_array(size_t n, const double *q, const double *const *x,",
-        "                    const size_t *step, double *const *y, unsigned char *ok) {",
-        "#pragma omp parallel for schedule(static) if (n > 8192)",
-        "    for (size_t i = 0; i < n; i++) {",
-        f"        double xi[{max(n_inputs, 1)}], yi[{max(n_out, 1)}];",
-        f"        for (int k = 0; k < {n_inputs}; k++) xi[k] = x[k][i * step[k]];",
-        f"        const int good = {prefix}_one(q, xi, yi);",
-        "        ok[i] = (unsigned char)good;",
-        f"        for (int k = 0; k < {n_out}; k++) y[k][i] = good ? yi[k] : NAN;",
-        "    }",
-        "}",
-        "",
-    ])
+    return "\n".join([*head, *_array_source(tape, prog, prefix, n_inputs, results, frozen)])

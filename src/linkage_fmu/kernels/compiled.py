@@ -29,6 +29,20 @@ from ..ccompiler import CompilerError, compile_shared, find_compiler
 
 #: flags of every build: IEEE operations as written (no contraction into FMA), no errno
 FLAGS = ("-O2", "-ffp-contract=off", "-fno-math-errno")
+_NO_UNDEFINED = "-Wl,--no-undefined"  # a missing vector function fails the link, not a call
+#: builds of an array kernel, fastest first: vector loops on two threads with glibc's
+#: vector sin, cos and atan2 (glibc >= 2.35), with its vector sin and cos only (AVX2
+#: clones: its scalar atan2 is slow from AVX-512 code), with vector loops of scalar
+#: calls, then one state after the other (with threads, then without)
+ARRAY_OPTIONS = (
+    (("-fopenmp", "-DLK_SIMD=1", "-DLK_MVEC_SINCOS=1", "-DLK_MVEC_ATAN2=1", _NO_UNDEFINED),
+     ["mvec", "m"]),
+    (("-fopenmp", "-DLK_SIMD=1", "-DLK_MVEC_SINCOS=1",
+      '-DLK_TARGETS="default","arch=x86-64-v3"', _NO_UNDEFINED), ["mvec", "m"]),
+    (("-fopenmp", "-DLK_SIMD=1"), ["m"]),
+    (("-fopenmp",), ["m"]),
+    ((), ["m"]),
+)
 #: compiled kernels kept in the cache folder; the least recently used go beyond this
 #: (parameters are folded into kernels: every parameter set used is one more file)
 CACHE_FILES = 1000
@@ -66,7 +80,8 @@ def build(source: str) -> Path | None:
     if cc is None:
         _no_compiler_warning()
         return None
-    key = hashlib.sha256("\0".join([source, cc, *FLAGS]).encode()).hexdigest()[:24]
+    key = hashlib.sha256("\0".join([source, cc, *FLAGS, *map(repr, ARRAY_OPTIONS)])
+                         .encode()).hexdigest()[:24]
     target = cache_folder() / f"kernel-{key}.so"
     if target.is_file():
         return _used(target)
@@ -74,10 +89,17 @@ def build(source: str) -> Path | None:
     with tempfile.TemporaryDirectory(prefix="linkage_fmu_kernel_") as tmp:
         c = Path(tmp) / "kernel.c"
         c.write_text(source)
-        try:  # threads where the compiler has OpenMP
-            compile_shared([c], Path(tmp) / "k.so", flags=(*FLAGS, "-fopenmp"), libraries=["m"])
-        except CompilerError:
-            compile_shared([c], Path(tmp) / "k.so", flags=FLAGS, libraries=["m"])
+        last = None
+        for flags, libraries in ARRAY_OPTIONS:  # the fastest this system builds and loads
+            try:
+                compile_shared([c], Path(tmp) / "k.so", flags=(*FLAGS, *flags),
+                               libraries=libraries)
+                ctypes.CDLL(str(Path(tmp) / "k.so"))
+                break
+            except (CompilerError, OSError) as err:
+                last = err
+        else:
+            raise CompilerError(f"no build of the array kernel succeeded: {last}")
         os.replace(Path(tmp) / "k.so", target)  # atomic: another process may race us
     _trim(target.parent)
     return target

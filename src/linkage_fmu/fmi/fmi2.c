@@ -1,31 +1,31 @@
-/* FMI 2.0 co-simulation guard in front of pythonfmu 0.7's wrapper.
+/* FMI 2.0 co-simulation framework of linkage_fmu's FMUs.
  *
- * The FMU's binary is this file compiled with a generated `guard_config.h` (the model's
- * identifier, GUID and variable table). It loads pythonfmu's stock wrapper, shipped
- * beside it as WRAPPED_LIBRARY, and forwards to it only calls that are valid:
+ * An FMU's binary is this file compiled with a generated `config.h` (the model's
+ * identifier, GUID and variable table) and one backend, included below as BACKEND:
+ * `backend_pythonfmu.c` (pythonfmu's stock wrapper, shipped beside the binary) or
+ * `backend_native.c` (the linkage's generated C kernels). The framework owns what every
+ * flavour must do the same way, and hands a backend only calls that are valid:
  *
  * - every argument is checked before any state changes: null pointers, unknown value
  *   references, wrong types, variables that may not be set in the current state (fixed
- *   parameters after initialisation, outputs), strings that are not UTF-8, step sizes
- *   and times that are not finite and positive; a bad call is fmi2Error with a log
- *   naming the call, the reference and the reason, and the instance stays usable;
- * - the co-simulation state machine of FMI 2.0 is enforced here;
- * - the status of a forwarded call is the worst status the Python slave logged during
- *   it (pythonfmu's wrapper can only answer OK, Discard or Fatal from Python): that is
- *   how exitInitializationMode answers fmi2Error for an invalid parameter set and doStep
- *   fmi2Warning for inputs that cannot be solved;
- * - fmi2Fatal never reaches the host: the wrapper frees its Python objects when it
- *   raises one, so the instance is marked failed, answers fmi2Error from then on, and is
- *   never handed back to the wrapper (not even to be freed);
- * - fmi2GetBooleanStatus(fmi2Terminated) and fmi2GetRealStatus(fmi2LastSuccessfulTime)
- *   are answered here (the wrapper's terminate flag, once set, stays set);
+ *   parameters after initialisation, outputs), strings that are not UTF-8, booleans
+ *   that are neither true nor false, step sizes and times that are not finite and
+ *   positive; a bad call is fmi2Error with a log naming the call, the reference and the
+ *   reason, and the instance stays usable;
+ * - the co-simulation state machine of FMI 2.0; an exitInitializationMode that the
+ *   backend rejects (an invalid parameter set) leaves the instance in initialisation
+ *   mode, to be fixed;
+ * - fmi2Fatal never reaches the host: a backend that reports it marks the instance
+ *   failed, which answers fmi2Error from then on;
+ * - fmi2GetBooleanStatus(fmi2Terminated) (true after a discarded step, until a step
+ *   succeeds) and fmi2GetRealStatus(fmi2LastSuccessfulTime);
  * - serialized states carry a header (model identifier, GUID, format version, length,
  *   CRC-32): a foreign or corrupted state is rejected with fmi2Error;
- * - the GUID passed to fmi2Instantiate must match; Python is initialised here with an
- *   error status instead of the interpreter's process exit when the host has none.
+ * - the GUID passed to fmi2Instantiate must match.
+ *
+ * No global state but what is constant per process (the backend's loaded library).
  */
 #define _GNU_SOURCE /* dladdr */
-#include <dlfcn.h>
 #include <limits.h>
 #include <math.h>
 #include <stdarg.h>
@@ -44,13 +44,11 @@ typedef struct {
     int type;
     int kind;
     const char *name;
+    int role;  /* what the backend makes of it (backend_native.c), and its position there */
+    int index;
 } Variable;
 
-#include "guard_config.h"
-
-#ifdef GUARD_PYTHON_INIT
-#include <Python.h>
-#endif
+#include "config.h"
 
 /* identity of this model's states in memory: the address is unique to this binary */
 static const char THIS_MODEL[] = MODEL_GUID;
@@ -62,107 +60,22 @@ typedef enum { S_INSTANTIATED, S_INIT, S_STEP, S_TERMINATED, S_FAILED } Machine;
 static const char *MACHINE_NAMES[] = {"Instantiated", "InitializationMode", "StepComplete",
                                       "Terminated", "failed"};
 
-/* -- the wrapped library ---------------------------------------------------------------- */
-typedef struct {
-    fmi2InstantiateTYPE *Instantiate;
-    fmi2FreeInstanceTYPE *FreeInstance;
-    fmi2SetDebugLoggingTYPE *SetDebugLogging;
-    fmi2SetupExperimentTYPE *SetupExperiment;
-    fmi2EnterInitializationModeTYPE *EnterInitializationMode;
-    fmi2ExitInitializationModeTYPE *ExitInitializationMode;
-    fmi2TerminateTYPE *Terminate;
-    fmi2ResetTYPE *Reset;
-    fmi2GetRealTYPE *GetReal;
-    fmi2GetIntegerTYPE *GetInteger;
-    fmi2GetBooleanTYPE *GetBoolean;
-    fmi2GetStringTYPE *GetString;
-    fmi2SetRealTYPE *SetReal;
-    fmi2SetIntegerTYPE *SetInteger;
-    fmi2SetBooleanTYPE *SetBoolean;
-    fmi2SetStringTYPE *SetString;
-    fmi2GetFMUstateTYPE *GetFMUstate;
-    fmi2SetFMUstateTYPE *SetFMUstate;
-    fmi2FreeFMUstateTYPE *FreeFMUstate;
-    fmi2SerializedFMUstateSizeTYPE *SerializedFMUstateSize;
-    fmi2SerializeFMUstateTYPE *SerializeFMUstate;
-    fmi2DeSerializeFMUstateTYPE *DeSerializeFMUstate;
-    fmi2DoStepTYPE *DoStep;
-    void (*finalize)(void);
-} Wrapped;
-
-static Wrapped wrapped;  /* resolved once per process; the library is never unloaded */
-static int wrapped_loaded = 0;
-static char wrapped_error[PATH_MAX + 512];
-
-/* The wrapper's interpreter state is a static shared_ptr that the C++ runtime destroys at
- * exit and its own destructor function releases again: a double free. Releasing it first,
- * from a handler registered after the wrapper was loaded (so it runs before the wrapper's
- * own exit-time destructors), leaves both later releases with an empty pointer. */
-static void release_wrapper(void) {
-    if (wrapped.finalize) wrapped.finalize();
-}
-
-static int load_wrapped(void) {
-    if (wrapped_loaded) return 1;
-    Dl_info info;
-    if (!dladdr((void *)&load_wrapped, &info) || !info.dli_fname) {
-        snprintf(wrapped_error, sizeof wrapped_error, "cannot find this FMU's binary");
-        return 0;
-    }
-    char path[PATH_MAX];
-    const char *slash = strrchr(info.dli_fname, '/');
-    size_t dir = slash ? (size_t)(slash - info.dli_fname + 1) : 0;
-    if (dir + strlen(WRAPPED_LIBRARY) + 1 > sizeof path) {
-        snprintf(wrapped_error, sizeof wrapped_error, "path of this FMU's binary is too long");
-        return 0;
-    }
-    memcpy(path, info.dli_fname, dir);
-    strcpy(path + dir, WRAPPED_LIBRARY);
-    void *lib = dlopen(path, RTLD_NOW | RTLD_LOCAL);
-    if (!lib) {
-        snprintf(wrapped_error, sizeof wrapped_error,
-                 "cannot load pythonfmu's wrapper (%s); it needs libpython " PYTHON_VERSION
-                 " loaded in the importing process: %s",
-                 path, dlerror());
-        return 0;
-    }
-#define RESOLVE(name)                                                                      \
-    if (!(wrapped.name = (fmi2##name##TYPE *)dlsym(lib, "fmi2" #name))) {                  \
-        snprintf(wrapped_error, sizeof wrapped_error, "%s has no fmi2" #name, path);       \
-        return 0;                                                                          \
-    }
-    RESOLVE(Instantiate) RESOLVE(FreeInstance) RESOLVE(SetDebugLogging)
-    RESOLVE(SetupExperiment) RESOLVE(EnterInitializationMode) RESOLVE(ExitInitializationMode)
-    RESOLVE(Terminate) RESOLVE(Reset) RESOLVE(GetReal) RESOLVE(GetInteger) RESOLVE(GetBoolean)
-    RESOLVE(GetString) RESOLVE(SetReal) RESOLVE(SetInteger) RESOLVE(SetBoolean)
-    RESOLVE(SetString) RESOLVE(GetFMUstate) RESOLVE(SetFMUstate) RESOLVE(FreeFMUstate)
-    RESOLVE(SerializedFMUstateSize) RESOLVE(SerializeFMUstate) RESOLVE(DeSerializeFMUstate)
-    RESOLVE(DoStep)
-#undef RESOLVE
-    wrapped.finalize = (void (*)(void))dlsym(lib, "finalizePythonInterpreter");
-    atexit(release_wrapper);
-    wrapped_loaded = 1;
-    return 1;
-}
-
-/* -- instances -------------------------------------------------------------------------- */
-typedef struct {
+typedef struct Instance {
     char *name;
-    fmi2CallbackFunctions host;        /* the importer's callbacks */
-    fmi2CallbackFunctions to_wrapped;  /* ours, handed to the wrapper (it keeps the pointer) */
-    fmi2Component inner;
+    fmi2CallbackFunctions host; /* the importer's callbacks */
+    void *model;                /* the backend's */
     Machine machine;
     fmi2Boolean logging;
-    unsigned categories;               /* bit i: LOG_CATEGORIES[i] enabled; 0 = all */
-    fmi2Status worst;                  /* worst status the slave logged in the current call */
-    double time;
+    unsigned categories; /* bit i: LOG_CATEGORIES[i] enabled; 0 = all */
+    double time;         /* the last successful communication point */
+    fmi2Boolean discarded; /* the last step was discarded: fmi2Terminated answers true */
 } Instance;
 
 typedef struct {
     char magic[8];
     const char *guid;
     double time;
-    fmi2FMUstate inner;
+    void *model;
 } SavedState;
 
 static const char *LOG_CATEGORIES[] = {"logStatusWarning", "logStatusDiscard",
@@ -196,30 +109,83 @@ static void emit(const Instance *in, fmi2Status status, const char *category,
     in->host.logger(in->host.componentEnvironment, in->name, status, category, text);
 }
 
-/* Log a message of this guard (printf-style) with `status`, and return `status`. */
+static const char *status_category(fmi2Status status) {
+    return status >= fmi2Error ? "logStatusError"
+           : status == fmi2Discard ? "logStatusDiscard"
+                                   : "logStatusWarning";
+}
+
+/* Log a message (printf-style) with `status`, and return `status`. */
 static fmi2Status say(const Instance *in, fmi2Status status, const char *fmt, ...) {
     char text[1024];
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(text, sizeof text, fmt, ap);
     va_end(ap);
-    emit(in, status, status >= fmi2Error ? "logStatusError" : "logStatusWarning", text);
+    emit(in, status, status_category(status), text);
     return status;
 }
 
-/* The wrapper's logger: note the worst status of the call, forward what is not empty.
- * The wrapper passes the text as the format without arguments; the slave escapes '%'. */
-static void from_wrapped(fmi2ComponentEnvironment env, fmi2String instance, fmi2Status status,
-                         fmi2String category, fmi2String message, ...) {
-    (void)instance;
-    Instance *in = (Instance *)env;
-    if (!in) return;
-    if (status > in->worst) in->worst = status;
-    if (!message || !*message) return; /* a status without a message (a counted repeat) */
-    if (status == fmi2Fatal) status = fmi2Error; /* the guard's answer, not the wrapper's */
-    if (in->host.logger && category_enabled(in, status, category))
-        in->host.logger(in->host.componentEnvironment, in->name, status, category, message);
+/* 1 if `s` is well-formed UTF-8. */
+static int utf8(const unsigned char *s) {
+    while (*s) {
+        unsigned c = *s++, n;
+        uint32_t cp;
+        if (c < 0x80) continue;
+        if (c >= 0xC2 && c <= 0xDF) n = 1, cp = c & 0x1F;
+        else if (c >= 0xE0 && c <= 0xEF) n = 2, cp = c & 0x0F;
+        else if (c >= 0xF0 && c <= 0xF4) n = 3, cp = c & 0x07;
+        else return 0;
+        for (unsigned k = 0; k < n; k++, s++) {
+            if ((*s & 0xC0) != 0x80) return 0;
+            cp = cp << 6 | (*s & 0x3F);
+        }
+        if ((n == 2 && cp < 0x800) || (n == 3 && (cp < 0x10000 || cp > 0x10FFFF)) ||
+            (cp >= 0xD800 && cp <= 0xDFFF))
+            return 0;
+    }
+    return 1;
 }
+
+/* The backend: BACKEND defines the functions declared here (static: one translation
+ * unit), each called only with checked arguments in a state that allows the call. */
+static int backend_ready(char *why, size_t size);
+static void *backend_instantiate(Instance *in, fmi2String guid, fmi2String resources,
+                                 fmi2Boolean visible);
+static void backend_free(Instance *in);
+static fmi2Status backend_setup_experiment(Instance *in, fmi2Boolean tolerance_defined,
+                                           fmi2Real tolerance, fmi2Real start,
+                                           fmi2Boolean stop_defined, fmi2Real stop);
+static fmi2Status backend_enter_initialization(Instance *in);
+static fmi2Status backend_exit_initialization(Instance *in);
+static fmi2Status backend_terminate(Instance *in);
+static fmi2Status backend_reset(Instance *in);
+static fmi2Status backend_get_real(Instance *in, const fmi2ValueReference vr[], size_t n,
+                                   fmi2Real value[]);
+static fmi2Status backend_get_integer(Instance *in, const fmi2ValueReference vr[], size_t n,
+                                      fmi2Integer value[]);
+static fmi2Status backend_get_boolean(Instance *in, const fmi2ValueReference vr[], size_t n,
+                                      fmi2Boolean value[]);
+static fmi2Status backend_get_string(Instance *in, const fmi2ValueReference vr[], size_t n,
+                                     fmi2String value[]);
+static fmi2Status backend_set_real(Instance *in, const fmi2ValueReference vr[], size_t n,
+                                   const fmi2Real value[]);
+static fmi2Status backend_set_integer(Instance *in, const fmi2ValueReference vr[], size_t n,
+                                      const fmi2Integer value[]);
+static fmi2Status backend_set_boolean(Instance *in, const fmi2ValueReference vr[], size_t n,
+                                      const fmi2Boolean value[]);
+static fmi2Status backend_set_string(Instance *in, const fmi2ValueReference vr[], size_t n,
+                                     const fmi2String value[]);
+static fmi2Status backend_do_step(Instance *in, fmi2Real t, fmi2Real h, fmi2Boolean no_set);
+static fmi2Status backend_get_state(Instance *in, void **state); /* *state: NULL or reused */
+static fmi2Status backend_set_state(Instance *in, void *state);
+static void backend_free_state(Instance *in, void *state);
+static fmi2Status backend_state_size(Instance *in, void *state, size_t *size);
+static fmi2Status backend_serialize(Instance *in, void *state, unsigned char *bytes, size_t n);
+static fmi2Status backend_deserialize(Instance *in, const unsigned char *bytes, size_t n,
+                                      void **state);
+
+#include BACKEND
 
 /* Check the instance pointer; NULL means no instance to log through. */
 #define INSTANCE(c, call)                                                                  \
@@ -235,19 +201,13 @@ static fmi2Status require(const Instance *in, const char *call, unsigned allowed
 }
 #define IN(s) (1u << (s))
 
-/* Begin a forwarded call. */
-static void start(Instance *in) { in->worst = fmi2OK; }
-
-/* End a forwarded call: the worst of the wrapper's status and what the slave logged.
- * A wrapper Fatal (a Python exception) fails the instance for good. */
-static fmi2Status finish(Instance *in, const char *call, fmi2Status status) {
-    if (status == fmi2Fatal || in->worst == fmi2Fatal) {
+/* A backend's answer: fmi2Fatal fails the instance for good, fmi2Pending is an error. */
+static fmi2Status answer(Instance *in, const char *call, fmi2Status status) {
+    if (status == fmi2Fatal) {
         in->machine = S_FAILED;
-        return say(in, fmi2Error, "%s: the Python slave raised; this instance can only be freed",
-                   call);
+        return say(in, fmi2Error, "%s failed fatally; this instance can only be freed", call);
     }
-    if (status == fmi2Pending) status = fmi2Error;
-    return in->worst > status ? in->worst : status;
+    return status == fmi2Pending ? fmi2Error : status;
 }
 
 /* -- argument checks -------------------------------------------------------------------- */
@@ -287,65 +247,6 @@ static fmi2Status check_settable(const Instance *in, const char *call,
     return fmi2OK;
 }
 
-/* 1 if `s` is well-formed UTF-8 (what the slave's Python strings must be). */
-static int utf8(const unsigned char *s) {
-    while (*s) {
-        unsigned c = *s++, n;
-        uint32_t cp;
-        if (c < 0x80) continue;
-        if (c >= 0xC2 && c <= 0xDF) n = 1, cp = c & 0x1F;
-        else if (c >= 0xE0 && c <= 0xEF) n = 2, cp = c & 0x0F;
-        else if (c >= 0xF0 && c <= 0xF4) n = 3, cp = c & 0x07;
-        else return 0;
-        for (unsigned k = 0; k < n; k++, s++) {
-            if ((*s & 0xC0) != 0x80) return 0;
-            cp = cp << 6 | (*s & 0x3F);
-        }
-        if ((n == 2 && cp < 0x800) || (n == 3 && (cp < 0x10000 || cp > 0x10FFFF)) ||
-            (cp >= 0xD800 && cp <= 0xDFFF))
-            return 0;
-    }
-    return 1;
-}
-
-/* -- Python ----------------------------------------------------------------------------- */
-/* Start the interpreter here if the host has none: Py_InitializeFromConfig reports a bad
- * PYTHONHOME as a status, where the wrapper's Py_Initialize would exit the process. The
- * functions are looked up in the process (the wrapper needs libpython there anyway), so
- * this binary does not link libpython. */
-static int python_ready(char *why, size_t size) {
-#ifdef GUARD_PYTHON_INIT
-    int (*is_initialized)(void) = (int (*)(void))dlsym(RTLD_DEFAULT, "Py_IsInitialized");
-    void (*init_config)(PyConfig *) =
-        (void (*)(PyConfig *))dlsym(RTLD_DEFAULT, "PyConfig_InitPythonConfig");
-    PyStatus (*initialize)(const PyConfig *) =
-        (PyStatus(*)(const PyConfig *))dlsym(RTLD_DEFAULT, "Py_InitializeFromConfig");
-    void (*clear)(PyConfig *) = (void (*)(PyConfig *))dlsym(RTLD_DEFAULT, "PyConfig_Clear");
-    int (*failed)(PyStatus) = (int (*)(PyStatus))dlsym(RTLD_DEFAULT, "PyStatus_Exception");
-    void *(*save_thread)(void) = (void *(*)(void))dlsym(RTLD_DEFAULT, "PyEval_SaveThread");
-    if (!is_initialized || !init_config || !initialize || !clear || !failed || !save_thread) {
-        snprintf(why, size, "libpython " PYTHON_VERSION " is not loaded in this process");
-        return 0;
-    }
-    if (is_initialized()) return 1;
-    PyConfig config;
-    init_config(&config);
-    PyStatus status = initialize(&config);
-    clear(&config);
-    if (failed(status)) {
-        snprintf(why, size, "cannot start Python " PYTHON_VERSION " (check PYTHONHOME and "
-                 "PYTHONPATH): %s%s%s", status.func ? status.func : "",
-                 status.func ? ": " : "", status.err_msg ? status.err_msg : "unknown error");
-        return 0;
-    }
-    save_thread(); /* the wrapper takes the GIL per call */
-#else
-    (void)why;
-    (void)size;
-#endif
-    return 1;
-}
-
 /* -- FMI 2.0: inquiry, instances, logging ------------------------------------------------ */
 const char *fmi2GetTypesPlatform(void) { return fmi2TypesPlatform; }
 const char *fmi2GetVersion(void) { return fmi2Version; }
@@ -371,10 +272,8 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     else if (!fmuResourceLocation || strncmp(fmuResourceLocation, "file:", 5))
         snprintf(why, sizeof why, "the resource location must be a file: URI, got %s",
                  fmuResourceLocation ? fmuResourceLocation : "(null)");
-    else if (!load_wrapped())
-        snprintf(why, sizeof why, "%s", wrapped_error);
     else
-        python_ready(why, sizeof why);
+        backend_ready(why, sizeof why);
     if (why[0]) {
         say(&probe, fmi2Error, "fmi2Instantiate: %s", why);
         return NULL;
@@ -383,22 +282,16 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     char *name = (char *)functions->allocateMemory(strlen(instanceName) + 1, 1);
     if (!in || !name) {
         if (in) functions->freeMemory(in);
+        if (name) functions->freeMemory(name);
         say(&probe, fmi2Error, "fmi2Instantiate: out of memory");
         return NULL;
     }
     strcpy(name, instanceName);
     *in = probe;
     in->name = name;
-    in->to_wrapped = *functions;
-    in->to_wrapped.logger = from_wrapped;
-    in->to_wrapped.componentEnvironment = in;
     in->machine = S_INSTANTIATED;
-    /* the wrapper logs nothing unless logging is on: it is always on towards the guard,
-     * which filters by the host's settings */
-    in->inner = wrapped.Instantiate(instanceName, fmuType, fmuGUID, fmuResourceLocation,
-                                    &in->to_wrapped, visible, fmi2True);
-    if (!in->inner) {
-        say(in, fmi2Error, "fmi2Instantiate: pythonfmu's wrapper could not create the slave");
+    in->model = backend_instantiate(in, fmuGUID, fmuResourceLocation, visible);
+    if (!in->model) {
         functions->freeMemory(name);
         functions->freeMemory(in);
         return NULL;
@@ -409,9 +302,7 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
 void fmi2FreeInstance(fmi2Component c) {
     Instance *in = (Instance *)c;
     if (!in) return;
-    /* a failed instance is left to the wrapper's freed objects: freeing it would free them
-     * again */
-    if (in->machine != S_FAILED) wrapped.FreeInstance(in->inner);
+    backend_free(in);
     fmi2CallbackFreeMemory release = in->host.freeMemory;
     release(in->name);
     release(in);
@@ -453,10 +344,9 @@ fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined, fm
     if (toleranceDefined && !(tolerance > 0.0 && isfinite(tolerance)))
         return say(in, fmi2Error, "fmi2SetupExperiment: tolerance = %g is not a positive number",
                    tolerance);
-    start(in);
-    fmi2Status s = finish(in, "fmi2SetupExperiment",
-                          wrapped.SetupExperiment(in->inner, toleranceDefined, tolerance, startTime,
-                                                  stopTimeDefined, stopTime));
+    fmi2Status s = answer(in, "fmi2SetupExperiment",
+                          backend_setup_experiment(in, toleranceDefined, tolerance, startTime,
+                                                   stopTimeDefined, stopTime));
     if (s <= fmi2Warning) in->time = startTime;
     return s;
 }
@@ -464,9 +354,7 @@ fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined, fm
 fmi2Status fmi2EnterInitializationMode(fmi2Component c) {
     INSTANCE(c, "fmi2EnterInitializationMode");
     if (require(in, "fmi2EnterInitializationMode", IN(S_INSTANTIATED))) return fmi2Error;
-    start(in);
-    fmi2Status s = finish(in, "fmi2EnterInitializationMode",
-                          wrapped.EnterInitializationMode(in->inner));
+    fmi2Status s = answer(in, "fmi2EnterInitializationMode", backend_enter_initialization(in));
     if (s <= fmi2Warning) in->machine = S_INIT;
     return s;
 }
@@ -474,9 +362,7 @@ fmi2Status fmi2EnterInitializationMode(fmi2Component c) {
 fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
     INSTANCE(c, "fmi2ExitInitializationMode");
     if (require(in, "fmi2ExitInitializationMode", IN(S_INIT))) return fmi2Error;
-    start(in);
-    fmi2Status s = finish(in, "fmi2ExitInitializationMode",
-                          wrapped.ExitInitializationMode(in->inner));
+    fmi2Status s = answer(in, "fmi2ExitInitializationMode", backend_exit_initialization(in));
     /* an invalid parameter set leaves the instance in initialisation mode, to be fixed */
     if (s <= fmi2Warning) in->machine = S_STEP;
     return s;
@@ -485,19 +371,18 @@ fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
 fmi2Status fmi2Terminate(fmi2Component c) {
     INSTANCE(c, "fmi2Terminate");
     if (require(in, "fmi2Terminate", IN(S_STEP))) return fmi2Error;
-    start(in);
-    fmi2Status s = finish(in, "fmi2Terminate", wrapped.Terminate(in->inner));
+    fmi2Status s = answer(in, "fmi2Terminate", backend_terminate(in));
     if (s <= fmi2Warning) in->machine = S_TERMINATED;
     return s;
 }
 
 fmi2Status fmi2Reset(fmi2Component c) {
     INSTANCE(c, "fmi2Reset");
-    start(in);
-    fmi2Status s = finish(in, "fmi2Reset", wrapped.Reset(in->inner));
+    fmi2Status s = answer(in, "fmi2Reset", backend_reset(in));
     if (s <= fmi2Warning) {
         in->machine = S_INSTANTIATED;
         in->time = 0.0;
+        in->discarded = fmi2False;
     }
     return s;
 }
@@ -506,7 +391,7 @@ fmi2Status fmi2Reset(fmi2Component c) {
 #define READABLE (IN(S_INIT) | IN(S_STEP) | IN(S_TERMINATED))
 #define WRITABLE (IN(S_INSTANTIATED) | IN(S_INIT) | IN(S_STEP))
 
-#define GETTER(Name, ctype, type)                                                          \
+#define GETTER(Name, name, ctype, type)                                                    \
     fmi2Status fmi2Get##Name(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,    \
                              ctype value[]) {                                              \
         INSTANCE(c, "fmi2Get" #Name);                                                      \
@@ -514,15 +399,14 @@ fmi2Status fmi2Reset(fmi2Component c) {
             check_refs(in, "fmi2Get" #Name, vr, nvr, value, type))                         \
             return fmi2Error;                                                              \
         if (nvr == 0) return fmi2OK;                                                       \
-        start(in);                                                                         \
-        return finish(in, "fmi2Get" #Name, wrapped.Get##Name(in->inner, vr, nvr, value));  \
+        return answer(in, "fmi2Get" #Name, backend_get_##name(in, vr, nvr, value));        \
     }
-GETTER(Real, fmi2Real, T_REAL)
-GETTER(Integer, fmi2Integer, T_INTEGER)
-GETTER(Boolean, fmi2Boolean, T_BOOLEAN)
-GETTER(String, fmi2String, T_STRING)
+GETTER(Real, real, fmi2Real, T_REAL)
+GETTER(Integer, integer, fmi2Integer, T_INTEGER)
+GETTER(Boolean, boolean, fmi2Boolean, T_BOOLEAN)
+GETTER(String, string, fmi2String, T_STRING)
 
-#define SETTER(Name, ctype, type, extra)                                                   \
+#define SETTER(Name, name, ctype, type, extra)                                             \
     fmi2Status fmi2Set##Name(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,    \
                              const ctype value[]) {                                        \
         INSTANCE(c, "fmi2Set" #Name);                                                      \
@@ -532,16 +416,15 @@ GETTER(String, fmi2String, T_STRING)
             return fmi2Error;                                                              \
         extra;                                                                             \
         if (nvr == 0) return fmi2OK;                                                       \
-        start(in);                                                                         \
-        return finish(in, "fmi2Set" #Name, wrapped.Set##Name(in->inner, vr, nvr, value));  \
+        return answer(in, "fmi2Set" #Name, backend_set_##name(in, vr, nvr, value));        \
     }
-SETTER(Real, fmi2Real, T_REAL, )
-SETTER(Integer, fmi2Integer, T_INTEGER, )
-SETTER(Boolean, fmi2Boolean, T_BOOLEAN,
+SETTER(Real, real, fmi2Real, T_REAL, )
+SETTER(Integer, integer, fmi2Integer, T_INTEGER, )
+SETTER(Boolean, boolean, fmi2Boolean, T_BOOLEAN,
        for (size_t i = 0; i < nvr; i++) if (value[i] != fmi2True && value[i] != fmi2False)
            return say(in, fmi2Error, "fmi2SetBoolean: value %d for '%s' is neither fmi2True "
                       "nor fmi2False", (int)value[i], VARIABLES[vr[i]].name))
-SETTER(String, fmi2String, T_STRING,
+SETTER(String, string, fmi2String, T_STRING,
        for (size_t i = 0; i < nvr; i++) if (!value[i] || !utf8((const unsigned char *)value[i]))
            return say(in, fmi2Error, "fmi2SetString: the value for '%s' is %s",
                       VARIABLES[vr[i]].name, value[i] ? "not valid UTF-8" : "NULL"))
@@ -557,10 +440,10 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint,
     if (!(communicationStepSize > 0.0) || !isfinite(communicationStepSize))
         return say(in, fmi2Error, "fmi2DoStep: communicationStepSize = %g is not a positive "
                    "finite number", communicationStepSize);
-    start(in);
-    fmi2Status s = finish(in, "fmi2DoStep",
-                          wrapped.DoStep(in->inner, currentCommunicationPoint,
-                                         communicationStepSize, noSetFMUStatePriorToCurrentPoint));
+    fmi2Status s = answer(in, "fmi2DoStep",
+                          backend_do_step(in, currentCommunicationPoint, communicationStepSize,
+                                          noSetFMUStatePriorToCurrentPoint));
+    in->discarded = s == fmi2Discard;
     if (s <= fmi2Warning) in->time = currentCommunicationPoint + communicationStepSize;
     return s;
 }
@@ -599,7 +482,9 @@ fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind s, fmi2Boo
     if (!value) return say(in, fmi2Error, "fmi2GetBooleanStatus: value is NULL");
     if (s != fmi2Terminated)
         return say(in, fmi2Discard, "fmi2GetBooleanStatus: only fmi2Terminated is known");
-    *value = fmi2False; /* the slave never asks the master to end the run */
+    /* after a discarded step the slave asks to end the run (a master that retries the
+     * same inputs would retry forever); a later valid step is still taken */
+    *value = in->discarded;
     return fmi2OK;
 }
 
@@ -660,18 +545,16 @@ fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *state) {
         s = (SavedState *)in->host.allocateMemory(1, sizeof *s);
         if (!s) return say(in, fmi2Error, "fmi2GetFMUstate: out of memory");
     }
-    fmi2FMUstate inner = NULL;
-    start(in);
-    fmi2Status status = finish(in, "fmi2GetFMUstate", wrapped.GetFMUstate(in->inner, &inner));
-    if (status > fmi2Warning || !inner) {
+    void *model = *state ? s->model : NULL;
+    fmi2Status status = answer(in, "fmi2GetFMUstate", backend_get_state(in, &model));
+    if (status > fmi2Warning || !model) {
         if (!*state) in->host.freeMemory(s);
         return status > fmi2Warning ? status : say(in, fmi2Error, "fmi2GetFMUstate: no state");
     }
-    if (*state && s->inner) wrapped.FreeFMUstate(in->inner, &s->inner);
     memcpy(s->magic, STATE_MAGIC, sizeof STATE_MAGIC);
     s->guid = THIS_MODEL;
     s->time = in->time;
-    s->inner = inner;
+    s->model = model;
     *state = s;
     return status;
 }
@@ -683,9 +566,11 @@ fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate state) {
         return fmi2Error;
     SavedState *s = saved(in, "fmi2SetFMUstate", state);
     if (!s) return fmi2Error;
-    start(in);
-    fmi2Status status = finish(in, "fmi2SetFMUstate", wrapped.SetFMUstate(in->inner, s->inner));
-    if (status <= fmi2Warning) in->time = s->time;
+    fmi2Status status = answer(in, "fmi2SetFMUstate", backend_set_state(in, s->model));
+    if (status <= fmi2Warning) {
+        in->time = s->time;
+        in->discarded = fmi2False;
+    }
     return status;
 }
 
@@ -695,7 +580,7 @@ fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *state) {
     if (!*state) return fmi2OK;
     SavedState *s = saved(in, "fmi2FreeFMUstate", *state);
     if (!s) return fmi2Error;
-    wrapped.FreeFMUstate(in->inner, &s->inner);
+    backend_free_state(in, s->model);
     memset(s->magic, 0, sizeof s->magic);
     in->host.freeMemory(s);
     *state = NULL;
@@ -703,7 +588,7 @@ fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *state) {
 }
 
 /* Serialized layout: magic[8] | u32 format | u32 nid | id | u32 nguid | guid | f64 time |
- * u64 n | payload[n] (the wrapper's) | u32 CRC-32 of all bytes before it. */
+ * u64 n | payload[n] (the backend's) | u32 CRC-32 of all bytes before it. */
 static uint32_t crc32(const unsigned char *p, size_t n) {
     uint32_t crc = 0xFFFFFFFFu;
     while (n--) {
@@ -723,9 +608,8 @@ fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate state, size_
     SavedState *s = saved(in, "fmi2SerializedFMUstateSize", state);
     if (!s) return fmi2Error;
     size_t n = 0;
-    start(in);
-    fmi2Status status = finish(in, "fmi2SerializedFMUstateSize",
-                               wrapped.SerializedFMUstateSize(in->inner, s->inner, &n));
+    fmi2Status status = answer(in, "fmi2SerializedFMUstateSize",
+                               backend_state_size(in, s->model, &n));
     if (status <= fmi2Warning) *size = header_size() + n + 4;
     return status;
 }
@@ -742,9 +626,7 @@ fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate state, fmi2Byte b
     if (!s) return fmi2Error;
     if (!bytes) return say(in, fmi2Error, "fmi2SerializeFMUstate: bytes is NULL");
     size_t n = 0;
-    start(in);
-    fmi2Status status = finish(in, "fmi2SerializeFMUstate",
-                               wrapped.SerializedFMUstateSize(in->inner, s->inner, &n));
+    fmi2Status status = answer(in, "fmi2SerializeFMUstate", backend_state_size(in, s->model, &n));
     if (status > fmi2Warning) return status;
     if (size != header_size() + n + 4)
         return say(in, fmi2Error, "fmi2SerializeFMUstate: size = %zu, but the state needs %zu "
@@ -761,9 +643,7 @@ fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate state, fmi2Byte b
     p = put(p, MODEL_GUID, nguid);
     p = put(p, &s->time, 8);
     p = put(p, &npayload, 8);
-    start(in);
-    status = finish(in, "fmi2SerializeFMUstate",
-                    wrapped.SerializeFMUstate(in->inner, s->inner, (fmi2Byte *)p, n));
+    status = answer(in, "fmi2SerializeFMUstate", backend_serialize(in, s->model, p, n));
     if (status > fmi2Warning) return status;
     p += n;
     uint32_t crc = crc32((const unsigned char *)bytes, (size_t)(p - (unsigned char *)bytes));
@@ -809,19 +689,16 @@ fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte serializedSta
         return say(in, fmi2Error, "%s: the state's time is not finite", call);
     SavedState *s = (SavedState *)in->host.allocateMemory(1, sizeof *s);
     if (!s) return say(in, fmi2Error, "%s: out of memory", call);
-    fmi2FMUstate inner = NULL;
-    start(in);
-    fmi2Status status = finish(in, call, wrapped.DeSerializeFMUstate(
-                                             in->inner, (const fmi2Byte *)(b + head), (size_t)n,
-                                             &inner));
-    if (status > fmi2Warning || !inner) {
+    void *model = NULL;
+    fmi2Status status = answer(in, call, backend_deserialize(in, b + head, (size_t)n, &model));
+    if (status > fmi2Warning || !model) {
         in->host.freeMemory(s);
         return status > fmi2Warning ? status : say(in, fmi2Error, "%s: no state", call);
     }
     memcpy(s->magic, STATE_MAGIC, sizeof STATE_MAGIC);
     s->guid = THIS_MODEL;
     s->time = time;
-    s->inner = inner;
+    s->model = model;
     *state = s;
     return status;
 }
