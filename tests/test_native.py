@@ -128,9 +128,9 @@ def test_unsolvable_inputs_discard_and_the_next_valid_step_is_right(native_dist,
         assert got[1][0] == DISCARD and got[2] == [OK, True], row
         assert got[3][0] == OK and math.isclose(got[3][1], 0.2 * k if k else 0.0), row
         assert got[4][0] == WARNING and all(y is None for y in got[4][1]), row
-        assert [s for s, _ in got[5:8]] == [OK, OK, OK] and got[7][1] is False, row
+        assert [s for s, _ in got[5:8]] == [OK, OK, OK] and got[7][1] == 0, row
         assert close(got[8][1], expected), row
-    log = "\n".join(out["log"]["2"] + out["log"]["1"])
+    log = "\n".join(out["log"]["2"])
     assert "cannot be assembled, or is singular, at theta = 3.14159" in log
     assert "omega = nan is not finite" in log and "the outputs overflow" in log
 
@@ -196,10 +196,11 @@ def test_states_instances_and_memory(native_dist, tmp_path):
             ops.append([name, "getReal", outs])
     outs = [vr for vr, kind, c in variables(dist, "FourBar").values() if c == "output"]
     first = len(ops)
-    ops += [["i0", "getReal", outs], ["i0", "getState", "k"], ["i0", "serialize", "k", "b"],
-            ["i0", "setReal", [0], [2.0]], ["i0", "doStep", 5.0, 0.1],
-            ["i0", "deserialize", "b", "k2", None], ["i0", "setState", "k2"],
-            ["i0", "getReal", outs], ["i0", "serialize", "k", "probe"]]
+    assert insts[1][1] == "FourBar"
+    ops += [["i1", "getReal", outs], ["i1", "getState", "k"], ["i1", "serialize", "k", "b"],
+            ["i1", "setReal", [0], [2.0]], ["i1", "doStep", 5.0, 0.1],
+            ["i1", "deserialize", "b", "k2", None], ["i1", "setState", "k2"],
+            ["i1", "getReal", outs], ["i1", "serialize", "k", "probe"]]
     r = raw(dist, ops, tmp_path, tuple(models))["results"]
     assert all(s == OK for s, _ in r)
     for index, model, params, u in reads:
@@ -207,7 +208,7 @@ def test_states_instances_and_memory(native_dist, tmp_path):
         assert close(r[index][1], reference(preset_of[model], u, params, names)), (model, u)
     assert r[first + 7][1] == r[first][1]  # bit-exact
     size = r[-1][1]
-    flips = [["i0", "deserialize", "b", "x", ["flip", i, 1 << (i % 8)]] for i in range(size)]
+    flips = [["i1", "deserialize", "b", "x", ["flip", i, 1 << (i % 8)]] for i in range(size)]
     r2 = raw(dist, ops + flips, tmp_path, tuple(models))["results"]
     assert [s for s, _ in r2[len(ops):]] == [ERROR] * size
 

@@ -81,10 +81,10 @@ static fmi2Status prepare(Instance *in, const char *call) {
             return say(in, fmi2Error, "%s: parameter %s = %g is not a finite number", call,
                        P_NAMES[k], v);
         if (P_POSITIVE[k] ? !(v > 0.0) : P_NONNEGATIVE[k] ? !(v >= 0.0) : 0)
-            return say(in, fmi2Error, "%s: parameter %s = %.17g must be %s", call, P_NAMES[k],
+            return say(in, fmi2Error, "%s: parameter %s = %.16g must be %s", call, P_NAMES[k],
                        v, P_POSITIVE[k] ? "> 0" : ">= 0");
         if (v < P_MIN[k] || v > P_MAX[k])
-            return say(in, fmi2Error, "%s: parameter %s = %.17g must be within [%.17g, %.17g]",
+            return say(in, fmi2Error, "%s: parameter %s = %.16g must be within [%.16g, %.16g]",
                        call, P_NAMES[k], v, P_MIN[k], P_MAX[k]);
     }
     int s = 0;
@@ -138,7 +138,7 @@ static int solve(Model *m) {
         }
     if (!n && !ONE[m->structure](m->q, m->x, m->y))
         n = append(m->why, sizeof m->why, (size_t)n,
-                   "the linkage cannot be assembled, or is singular, at %s = %.17g", m->x[0],
+                   "the linkage cannot be assembled, or is singular, at %s = %.16g", m->x[0],
                    X_NAMES[0]);
     if (!n)
         for (int k = 0; k < N_Y; k++)
@@ -282,7 +282,7 @@ static fmi2Status backend_do_step(Instance *in, fmi2Real t, fmi2Real h, fmi2Bool
     if (!m->prepared && prepare(in, "fmi2DoStep") != fmi2OK) return fmi2Error;
     if (solve(m)) return fmi2OK;
     m->reported = 1;
-    return say(in, fmi2Discard, "fmi2DoStep at t = %.17g: the outputs are NaN: %s", t, m->why);
+    return say(in, fmi2Discard, "fmi2DoStep at t = %.16g: the outputs are NaN: %s", t, m->why);
 }
 
 static fmi2Status backend_get_state(Instance *in, void **state) {
