@@ -139,13 +139,13 @@ def build_trivial(preset: str, out: Path) -> Path:
     return out / f"{model}.fmu"
 
 
-def build_project(presets: Sequence[str], out: Path) -> dict[str, Path]:
+def build_project(presets: Sequence[str], out: Path) -> dict[str, dict[str, Path]]:
     """Build the project's FMUs with ``build_fmu.py --no-check`` in a new process.
 
     Returns
     -------
     dict
-        Preset -> path of its FMU.
+        ``"pythonfmu"`` and ``"native"`` -> preset -> path of its FMU.
     """
     args = [sys.executable, str(BUILD_SCRIPT), "--no-check", "--out", str(out)]
     for preset in presets:
@@ -155,7 +155,46 @@ def build_project(presets: Sequence[str], out: Path) -> dict[str, Path]:
     if run.returncode != 0:
         raise RuntimeError(f"build_fmu.py failed (exit {run.returncode}): {run.stderr[-2000:]}")
     built = [Path(line.rsplit(": ", 1)[0]) for line in run.stdout.splitlines()]
-    return dict(zip(presets, built, strict=True))
+    return {"pythonfmu": dict(zip(presets, built[0::2], strict=True)),
+            "native": dict(zip(presets, built[1::2], strict=True))}
+
+
+def build_trivial_native(native: Path, out: Path) -> Path:
+    """``out/Trivial<Model>.fmu``: the native FMU ``native`` with its kernel replaced by
+    one that copies ``theta`` to every output: what the framework and fmpy cost per step
+    before the model does any work (same variables, same checks, same backend)."""
+    import shutil
+    import zipfile
+
+    from linkage_fmu.ccompiler import compile_shared
+    from linkage_fmu.fmi.native import FLAGS
+
+    with tempfile.TemporaryDirectory(prefix="fmu_timing_native_") as tmp:
+        root = Path(tmp) / "fmu"
+        with zipfile.ZipFile(native) as archive:
+            archive.extractall(root)
+        model_c = root / "sources" / "model.c"
+        text = model_c.read_text()
+        table = text[text.index("static int (*const ONE[])"):]
+        table = table[:table.index("};") + 2]
+        trivial = ("static int trivial_one(const double *q, const double *x, double *y) {\n"
+                   "    (void)q;\n    for (int k = 0; k < N_Y; k++) y[k] = x[0];\n"
+                   "    return 1;\n}\n")
+        n = table.count("_one")
+        model_c.write_text(text.replace(table, trivial + "static int (*const ONE[])(const "
+                                        "double *, const double *, double *) = {"
+                                        + ", ".join(["trivial_one"] * n) + "};"))
+        binary = next((root / "binaries" / "linux64").glob("*.so"))
+        compile_shared([root / "sources" / "fmi2.c"], binary, include=[root / "sources"],
+                       flags=FLAGS, libraries=["m"])
+        out.mkdir(parents=True, exist_ok=True)
+        target = out / f"Trivial{native.stem}.fmu"
+        with zipfile.ZipFile(target, "w", zipfile.ZIP_DEFLATED) as archive:
+            for path in sorted(root.rglob("*")):
+                if path.is_file():
+                    archive.write(path, path.relative_to(root).as_posix())
+        shutil.rmtree(root)
+    return target
 
 
 # -- timing in a fresh process ------------------------------------------------------

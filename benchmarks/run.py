@@ -24,6 +24,7 @@ import platform
 import subprocess
 import sys
 import tempfile
+import xml.etree.ElementTree as ET
 import time
 from pathlib import Path
 
@@ -39,12 +40,15 @@ from linkage_fmu.precise import references, relative_error
 
 HERE = Path(__file__).resolve().parent
 RESULTS = HERE / "results"
+ROOT = HERE.parent
 PRESETS = {"four_bar": 3.0, "slider_crank": 50.0}  # preset -> load
 OMEGA, ALPHA, N_ANGLES = 10.0, 0.0, 360
 FMU_ROUNDS = 3  # alternating timing rounds of each FMU (see fmu_rows)
 SEED = {"four_bar": seed_way.four_bar, "slider_crank": seed_way.slider_crank}
 TARGETS = {"vectorised / seed per angle": 500.0, "scalar / seed per angle": 10.0,
            "FMU step / trivial FMU step": 1.1, "max relative error (exact methods)": 1e-12,
+           "native FMU step / trivial native FMU step (fmpy)": 1.1,
+           "C host: pythonfmu FMU step / native FMU step": 20.0,
            "peer / our scalar, at equal or better error": 1.0}
 
 
@@ -158,17 +162,19 @@ def peer_rows(preset: str, load: float, ref: dict) -> list[dict]:
     return rows
 
 
-def fmu_rows(dist: Path, trivial: dict, steps: int) -> tuple[list[dict], list[dict]]:
-    """Per step through fmpy: our FMUs and a trivial pythonfmu FMU with the same I/O,
-    timed alternately in FMU_ROUNDS rounds. The FMUs' error is the build check's
-    (against the direct solver, 360 steps)."""
+def fmu_rows(built: dict, trivial: dict, steps: int) -> tuple[list[dict], list[dict]]:
+    """Per step through fmpy: our FMUs of each flavour and a trivial FMU of that flavour
+    with the same I/O (``trivial[flavour][preset]``), timed alternately in FMU_ROUNDS
+    rounds. The FMUs' error is the build check's (against the direct solver, 360
+    steps)."""
     work, fmu = [], []
-    for preset in PRESETS:
-        ours_path = dist / f"{presets.preset(preset).model}.fmu"
+    for preset, flavour in ((p, f) for p in PRESETS for f in ("pythonfmu", "native")):
+        ours_path = built[flavour][preset]
         check = subprocess.run([sys.executable, "-m", "linkage_fmu.fmi.check", str(ours_path)],
                                capture_output=True, text=True, cwd=tempfile.gettempdir())
         error = json.loads(check.stdout.splitlines()[-1])["max_rel_error"]
-        kinds = (("linkage_fmu", ours_path), ("trivial pythonfmu", trivial[preset]))
+        ours = "linkage_fmu" if flavour == "pythonfmu" else "linkage_fmu native"
+        kinds = ((ours, ours_path), (f"trivial {flavour}", trivial[flavour][preset]))
         # alternately, ours then the trivial one, in rounds (each a fresh process):
         # slow drift of this machine's speed hits both alike; each keeps its best loop
         loops = {kind: [] for kind, _ in kinds}
@@ -184,14 +190,56 @@ def fmu_rows(dist: Path, trivial: dict, steps: int) -> tuple[list[dict], list[di
                         "set_us": loop["split"]["set"], "doStep_us": loop["split"]["do_step"],
                         "get_us": loop["split"]["get"],
                         "simulate_fmu_us_per_step": sim["extracted"]["us_per_step"]})
-            if kind == "linkage_fmu":
-                work.append(row(preset, "FMU, FMU2Slave loop", f"{steps} steps",
+            if kind == ours:
+                work.append(row(preset, f"FMU ({flavour}), FMU2Slave loop", f"{steps} steps",
                                 loop["fmpy_api"]["us_per_step"] * 1e-6, error,
                                 "error: build check against the direct solver"))
                 work.append(row(preset, "FMU, simulate_fmu", f"{steps} steps",
                                 sim["extracted"]["us_per_step"] * 1e-6, error,
                                 "error: build check against the direct solver"))
     return work, fmu
+
+
+def c_host_rows(built: dict, tmp: Path, steps: int) -> list[dict]:
+    """Per step from the C host (``tests/c_host/host.c``, printing nothing): the native
+    FMU with no Python in the process, the pythonfmu FMU with this interpreter's
+    libpython preloaded; alternately in FMU_ROUNDS rounds, best of each."""
+    import sysconfig
+    import zipfile
+
+    import fmpy
+
+    exe = tmp / "host"
+    subprocess.run(["gcc", "-std=c99", "-O2", "-o", str(exe), str(ROOT / "tests" / "c_host" /
+                    "host.c"), "-I", str(Path(fmpy.__file__).parent / "c-code"), "-ldl"],
+                   check=True)
+    libpython = Path(sysconfig.get_config_var("LIBDIR")) / (
+        sysconfig.get_config_var("INSTSONAME") or sysconfig.get_config_var("LDLIBRARY"))
+    python_env = {**os.environ, "LD_PRELOAD": str(libpython),
+                  "PYTHONPATH": sysconfig.get_paths()["purelib"], "HOST_QUIET": "1"}
+    rows = []
+    for preset in PRESETS:
+        best = {}
+        for _ in range(FMU_ROUNDS):
+            for flavour, env in (("native", {"PATH": os.environ["PATH"], "HOST_QUIET": "1"}),
+                                 ("pythonfmu", python_env)):
+                folder = tmp / "host_fmus" / flavour / preset
+                if not folder.is_dir():
+                    with zipfile.ZipFile(built[flavour][preset]) as archive:
+                        archive.extractall(folder)
+                root = ET.parse(folder / "modelDescription.xml").getroot()
+                outs = [v.get("valueReference") for v in root.iter("ScalarVariable")
+                        if v.get("causality") == "output"]
+                model = root.find("CoSimulation").get("modelIdentifier")
+                run = subprocess.run([str(exe), str(folder), model, root.get("guid"),
+                                      str(steps), "10.0", "5.0", *outs], env=env,
+                                     capture_output=True, text=True, check=True)
+                us = float(run.stderr.strip().splitlines()[-1].split("= ")[1].split()[0])
+                best[flavour] = min(best.get(flavour, math.inf), us)
+        rows.append({"preset": preset, "native_us_per_step": best["native"],
+                     "pythonfmu_us_per_step": best["pythonfmu"],
+                     "ratio": best["pythonfmu"] / best["native"]})
+    return rows
 
 
 def communication(dist: Path) -> list[dict]:
@@ -339,7 +387,7 @@ def md_table(header: list, body: list) -> list[str]:
             + ["| " + " | ".join(str(c) for c in cells) + " |" for cells in body])
 
 
-def summary(work, fmu, comm, scl, first, machine: str, seconds: float) -> str:
+def summary(work, fmu, host, comm, scl, first, machine: str, seconds: float) -> str:
     def get(preset, method):
         return next(r for r in work if r["preset"] == preset and r["method"] == method)
 
@@ -352,8 +400,12 @@ def summary(work, fmu, comm, scl, first, machine: str, seconds: float) -> str:
         seed = get(preset, "seed way")["us_per_angle"]
         vec = get(preset, "closed_form vectorised")["us_per_angle"]
         sca = get(preset, "closed_form scalar")["us_per_angle"]
-        ours_fmu = next(r for r in fmu if r["preset"] == preset and r["fmu"] == "linkage_fmu")
-        triv = next(r for r in fmu if r["preset"] == preset and r["fmu"] != "linkage_fmu")
+        def step(kind):
+            return next(r for r in fmu if r["preset"] == preset and r["fmu"] == kind)
+
+        ours_fmu, triv = step("linkage_fmu"), step("trivial pythonfmu")
+        native, triv_native = step("linkage_fmu native"), step("trivial native")
+        c_host = next(r for r in host if r["preset"] == preset)
         exact = max(r["max_rel_error"] for r in work if r["preset"] == preset
                     and r["method"] in ("closed_form scalar", "closed_form vectorised",
                                         "direct scalar", "direct vectorised"))
@@ -361,6 +413,9 @@ def summary(work, fmu, comm, scl, first, machine: str, seconds: float) -> str:
                   ("scalar / seed per angle", seed / sca, ">="),
                   ("FMU step / trivial FMU step",
                    ours_fmu["fmpy_us_per_step"] / triv["fmpy_us_per_step"], "<="),
+                  ("native FMU step / trivial native FMU step (fmpy)",
+                   native["fmpy_us_per_step"] / triv_native["fmpy_us_per_step"], "<="),
+                  ("C host: pythonfmu FMU step / native FMU step", c_host["ratio"], ">="),
                   ("max relative error (exact methods)", exact, "<=")]
         for peer in ("fourbarhinge", "kinepy", "exudyn"):
             runs = [r for r in work if r["preset"] == preset and r["method"] == peer]
@@ -383,6 +438,13 @@ def summary(work, fmu, comm, scl, first, machine: str, seconds: float) -> str:
         [[r["preset"], r["fmu"]] + [f"{r[k]:.1f}" for k in (
             "fmpy_us_per_step", "raw_ctypes_us_per_step", "set_us", "doStep_us", "get_us",
             "simulate_fmu_us_per_step")] for r in fmu])
+    lines += ["", "## FMU step from a C host (us; tests/c_host/host.c, no output printed)", "",
+              "The native FMU runs with no Python in the process; the pythonfmu FMU needs "
+              "this interpreter's libpython preloaded and its site-packages on PYTHONPATH."
+              "", ""] + md_table(
+        ["preset", "native", "pythonfmu", "pythonfmu / native"],
+        [[r["preset"], f"{r['native_us_per_step']:.3g}", f"{r['pythonfmu_us_per_step']:.3g}",
+          f"{r['ratio']:.3g}"] for r in host])
     lines += ["", "## Communication step vs cycle-mean torque and energy (master's view)", "",
               "Error of the energy per revolution (2 pi x the cycle-mean torque, so the "
               "same relative error for both), relative to the torque's amplitude x 2 pi. "
@@ -449,10 +511,15 @@ def main(argv=None) -> int:
         tmp = Path(tmp)
         print("FMUs ...", flush=True)
         dist = tmp / "dist"
-        fmu_timing.build_project(list(PRESETS), dist)
-        trivial = {p: fmu_timing.build_trivial(p, tmp / "trivial") for p in PRESETS}
-        fmu_work, fmu = fmu_rows(dist, trivial, 500 if args.quick else 2000)
+        built = fmu_timing.build_project(list(PRESETS), dist)
+        trivial = {"pythonfmu": {p: fmu_timing.build_trivial(p, tmp / "trivial")
+                                 for p in PRESETS},
+                   "native": {p: fmu_timing.build_trivial_native(built["native"][p],
+                                                                 tmp / "trivial")
+                              for p in PRESETS}}
+        fmu_work, fmu = fmu_rows(built, trivial, 500 if args.quick else 2000)
         work += fmu_work
+        host = c_host_rows(built, tmp, 2000 if args.quick else 20000)
         comm = communication(dist)
     print("scale ...", flush=True)
     scl = scale([1, 10, 100, 1000, 10**4, 10**5] + ([] if args.quick else [10**6, 10**7]))
@@ -461,11 +528,12 @@ def main(argv=None) -> int:
     args.out.mkdir(parents=True, exist_ok=True)
     write_csv(args.out / "work_precision.csv", work)
     write_csv(args.out / "fmu.csv", fmu)
+    write_csv(args.out / "c_host.csv", host)
     write_csv(args.out / "communication.csv", comm)
     write_csv(args.out / "scale.csv", scl)
     write_csv(args.out / "first_calls.csv", first)
     plot(work, args.out / "work_precision.png")
-    text = summary(work, fmu, comm, scl, first, machine(), time.perf_counter() - start)
+    text = summary(work, fmu, host, comm, scl, first, machine(), time.perf_counter() - start)
     (args.out / "results.md").write_text(text)
     print(text)
     return 0

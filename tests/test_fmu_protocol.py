@@ -288,12 +288,14 @@ def test_state_round_trips_are_bit_exact_and_bad_states_are_rejected(dist, tmp_p
     assert "checksum mismatch" in errors and "is not of model FourBar" in errors
 
 
-def test_many_instances_interleaved_and_instantiate_free_cycles(dist, tmp_path):
-    """20 interleaved instances of the four FMUs with their own parameters after 100
-    instantiate/free cycles each way: every output matches the direct solver."""
-    models = list(PRESET_OF)
+def interleaved(dist: Path, cycles: int, rows: int) -> tuple[list, list, list]:
+    """Ops for ``cycles`` instantiate/free cycles of the four FMUs of ``MODELS`` in turn,
+    then 20 instances of them with their own parameters, stepped interleaved through
+    ``rows`` random inputs and read; the models, the ops, and the reads as (op index,
+    model, parameters, inputs)."""
+    models = [m for m in PRESET_OF if m in ("FourBar", "SliderCrank", "ScotchYoke", "SixBar")]
     ops = []
-    for k in range(100):
+    for k in range(cycles):
         ops += [[f"c{k}", "new", models[k % 4]], [f"c{k}", "free"]]
     insts = []
     for k in range(20):
@@ -303,19 +305,32 @@ def test_many_instances_interleaved_and_instantiate_free_cycles(dist, tmp_path):
         insts.append((f"i{k}", model, params))
         ops += start(f"i{k}", model, params, dist)
     rng = np.random.default_rng(7)
-    rows = rng.uniform([0, -20, -50, -10], [2 * np.pi, 20, 50, 10], size=(15, 4)).tolist()
     reads = []
-    for t, u in enumerate(rows):
+    for t, u in enumerate(rng.uniform([0, -20, -50, -10], [2 * np.pi, 20, 50, 10],
+                                      size=(rows, 4)).tolist()):
         for name, model, params in insts:
             outs = [vr for vr, kind, c in variables(dist, model).values() if c == "output"]
             ops += [[name, "setReal", [0, 1, 2, 3], u], [name, "doStep", 0.1 * t, 0.1]]
             reads.append((len(ops), model, params, u))
             ops.append([name, "getReal", outs])
-    r = raw(dist, ops, tmp_path, tuple(models))["results"]
-    assert all(s == OK for s, _ in r)
+    return models, ops, reads
+
+
+def check_reads(dist: Path, results: list, reads: list) -> None:
+    """Every read of :func:`interleaved` matches the direct solver."""
     for index, model, params, u in reads:
         names = [n for n, (vr, kind, c) in variables(dist, model).items() if c == "output"]
-        assert close(r[index][1], reference(PRESET_OF[model], u, params, names)), (model, u)
+        assert close(results[index][1], reference(PRESET_OF[model], u, params, names)), (
+            model, u)
+
+
+def test_many_instances_interleaved_and_instantiate_free_cycles(dist, tmp_path):
+    """20 interleaved instances of four FMUs with their own parameters after 100
+    instantiate/free cycles: every output matches the direct solver."""
+    models, ops, reads = interleaved(dist, 100, 15)
+    r = raw(dist, ops, tmp_path, tuple(models))["results"]
+    assert all(s == OK for s, _ in r)
+    check_reads(dist, r, reads)
 
 
 def test_memory_is_flat_while_every_step_fails(dist, tmp_path):

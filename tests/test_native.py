@@ -12,7 +12,6 @@ import math
 import shutil
 import subprocess
 import zipfile
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -22,10 +21,10 @@ from fmpy.validation import validate_fmu
 from conftest import MODELS
 from fmu_fuzz import DISCARD, ERROR, OK, WARNING, run
 from linkage_fmu import presets
-from linkage_fmu.fmi import check_fmu, fmu_linkage
+from linkage_fmu.fmi import check_fmu
 from test_c_host import compile_host, model_outputs
-from test_fmu_protocol import (LAST_SUCCESSFUL_TIME, TERMINATED, close, raw, reference, start,
-                               variables)
+from test_fmu_protocol import (LAST_SUCCESSFUL_TIME, TERMINATED, check_reads, close,
+                               interleaved, raw, reference, start, variables)
 
 NATIVE_MODELS = (*MODELS.values(), "CouplerFourBar")
 
@@ -173,39 +172,16 @@ def test_states_instances_and_memory(native_dist, tmp_path):
     is fmi2Error; 10^6 steps (two unsolvable for one solvable) leave resident memory
     within 1 MB."""
     dist = native_dist
-    models = list(MODELS.values())[:4]
-    preset_of = {m: p for p, m in MODELS.items()}
-    ops = []
-    for k in range(1000):
-        ops += [[f"c{k}", "new", models[k % 4]], [f"c{k}", "free"]]
-    insts = []
-    for k in range(20):
-        model = models[k % 4]
-        params = {"FourBar": {"l_AB": 0.08 + 0.002 * k}, "SliderCrank": {"e": 0.001 * k},
-                  "ScotchYoke": {"m3": 5.0 + k}, "SixBar": {"rho": 5.0 + k}}[model]
-        insts.append((f"i{k}", model, params))
-        ops += start(f"i{k}", model, params, dist)
-    rng = np.random.default_rng(7)
-    reads = []
-    for t, u in enumerate(rng.uniform([0, -20, -50, -10], [2 * np.pi, 20, 50, 10],
-                                      size=(10, 4)).tolist()):
-        for name, model, params in insts:
-            outs = [vr for vr, kind, c in variables(dist, model).values() if c == "output"]
-            ops += [[name, "setReal", [0, 1, 2, 3], u], [name, "doStep", 0.1 * t, 0.1]]
-            reads.append((len(ops), model, params, u))
-            ops.append([name, "getReal", outs])
+    models, ops, reads = interleaved(dist, 1000, 10)
     outs = [vr for vr, kind, c in variables(dist, "FourBar").values() if c == "output"]
     first = len(ops)
-    assert insts[1][1] == "FourBar"
     ops += [["i1", "getReal", outs], ["i1", "getState", "k"], ["i1", "serialize", "k", "b"],
             ["i1", "setReal", [0], [2.0]], ["i1", "doStep", 5.0, 0.1],
             ["i1", "deserialize", "b", "k2", None], ["i1", "setState", "k2"],
             ["i1", "getReal", outs], ["i1", "serialize", "k", "probe"]]
     r = raw(dist, ops, tmp_path, tuple(models))["results"]
     assert all(s == OK for s, _ in r)
-    for index, model, params, u in reads:
-        names = [n for n, (vr, kind, c) in variables(dist, model).items() if c == "output"]
-        assert close(r[index][1], reference(preset_of[model], u, params, names)), (model, u)
+    check_reads(dist, r, reads)
     assert r[first + 7][1] == r[first][1]  # bit-exact
     size = r[-1][1]
     flips = [["i1", "deserialize", "b", "x", ["flip", i, 1 << (i % 8)]] for i in range(size)]

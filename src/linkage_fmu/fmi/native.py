@@ -12,8 +12,10 @@ parameters are arguments of the kernels' parameter step, run at
 
 Examples
 --------
->>> from linkage_fmu.fmi.native import model_sources
->>> config, model = model_sources(presets.get("four_bar"))   # doctest: +SKIP
+>>> from linkage_fmu import presets
+>>> model_c, variables, built = model_sources(presets.get("four_bar"))
+>>> built, "s1_one" in model_c
+([{'branch': 1}, {'branch': -1}], True)
 """
 
 from __future__ import annotations
@@ -27,7 +29,7 @@ import zipfile
 from pathlib import Path
 from xml.etree import ElementTree as ET
 
-from .. import __version__, presets  # noqa: F401  (presets: for the doctest)
+from .. import __version__
 from ..ccompiler import compile_shared
 from ..kernels import kernel_parameters
 from ..kernels.c_source import _literal
@@ -60,10 +62,10 @@ def _array(ctype: str, name: str, values: list, fmt=str) -> str:
     return f"static const {ctype} {name}[] = {{{body}}};"
 
 
-def model_sources(mech) -> tuple[str, str, list[dict]]:
-    """``config.h`` (identity and variable table, for ``fmi2.c``) and ``model.c`` (the
-    kernels and their tables, for ``backend_native.c``) of the linkage ``mech``, and the
-    structures built (those whose kernel could be traced)."""
+def model_sources(mech) -> tuple[str, list[tuple], list[dict]]:
+    """``model.c`` of the linkage ``mech`` (the kernels and their tables, for
+    ``backend_native.c``), its variable table as ``(variable, role, index)`` rows (for
+    ``config.h``), and the structures built (those whose kernel could be traced)."""
     d = mech.description
     table = variables(mech)
     real = kernel_parameters(mech)
