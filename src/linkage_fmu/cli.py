@@ -1,4 +1,4 @@
-"""One command line over the library: ``linkage-fmu info|table|build|check``.
+"""One command line over the library: ``linkage-fmu info|table|sweep|plot|build|check``.
 
 Every command takes a description file or a preset name; ``--set NAME=VALUE`` overrides
 a parameter, and each load of the linkage is an option ``--NAME VALUE`` of ``table``.
@@ -29,6 +29,11 @@ EPILOG = """examples:
   linkage-fmu info four_bar
   linkage-fmu table scotch_yoke --omega 10 --load 400
   linkage-fmu table my_linkage.toml --theta 0:360:15 --deg --F_P 80 --T4 120 --csv
+  linkage-fmu table four_bar --theta 0:360:0.001 --deg -o revolution.parquet
+  linkage-fmu sweep four_bar --grid l_AB=0.05:0.15:0.01 --grid l_BC=0.3,0.35 --omega 10 -o designs.csv
+  linkage-fmu sweep four_bar --samples designs.csv --scheduler local
+  linkage-fmu plot four_bar --what torque --omega 10 -o torque.png
+  linkage-fmu plot four_bar --what polar F21 -o F21.svg
   linkage-fmu build four_bar --set l_AB=0.12 --out dist
   linkage-fmu build --native my_linkage.toml --out dist/native
   linkage-fmu check dist/FourBar.fmu
@@ -114,6 +119,27 @@ def main(argv: list[str] | None = None) -> int:
     table.add_argument("--method", choices=("closed_form", "direct"), default="closed_form")
     table.add_argument("--outputs", nargs="+", default=None)
     table.add_argument("--csv", action="store_true", help="print CSV instead of a table")
+    table.add_argument("-o", "--output", help="write the table to FILE.csv or FILE.parquet")
+
+    sweep = sub.add_parser("sweep", help="many designs over a revolution, summarised",
+                           epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    sweep.add_argument("linkage", help=linkage_help)
+    sweep.add_argument("--grid", metavar="NAME=VALUES", action="append", default=[],
+                       help="a parameter's values: a,b,c or START:STOP:STEP (repeatable; "
+                            "the designs are every combination)")
+    sweep.add_argument("--samples", help="designs from FILE.csv or FILE.parquet, one per row, "
+                                         "one column per parameter")
+    sweep.add_argument("--theta", help="angle(s): a list a,b,c or START:STOP:STEP")
+    sweep.add_argument("--deg", action="store_true", help="--theta in degrees")
+    sweep.add_argument("--n", type=int, default=360,
+                       help="without --theta: N angles over a revolution (default 360)")
+    for name in ("omega", "alpha"):
+        sweep.add_argument(f"--{name}", type=float, default=None,
+                           help=f"{name} (default: the linkage's start value)")
+    sweep.add_argument("--scheduler", help="'local' for a local Dask cluster, or a Dask "
+                                           "scheduler's address (tcp://host:8786); default: "
+                                           "this process")
+    sweep.add_argument("-o", "--output", help="write the table to FILE.csv or FILE.parquet")
 
     build = sub.add_parser("build", help="build the linkage's FMU")
     build.add_argument("linkage", help=linkage_help)
@@ -138,6 +164,8 @@ def main(argv: list[str] | None = None) -> int:
             if rest:
                 parser.error(f"unrecognized arguments: {' '.join(rest)}")
             return _info(d)
+        if args.command == "sweep":
+            return _sweep(d, args, rest)
         if args.command == "build":
             if rest:
                 parser.error(f"unrecognized arguments: {' '.join(rest)}")
@@ -228,7 +256,86 @@ def _table(d: Description, args, rest: list[str]) -> int:
             reason = f": {err}"
         raise UsageError(f"{mech.name} cannot be solved at {bad.size} of {theta.size} angles "
                          f"({shown}{more}){reason}")
-    print(df.to_csv() if args.csv else df.to_string(float_format=lambda v: f"{v:.6f}"))
+    if args.output:
+        write_table(df, args.output)
+    elif args.csv:
+        _in_pieces(df, lambda part, first: sys.stdout.write(part.to_csv(header=first)))
+    else:
+        _in_pieces(df, lambda part, first: sys.stdout.write(part.to_string(
+            header=first, float_format=lambda v: f"{v:.6f}") + "\n"))
+    return 0
+
+
+#: rows per piece of a long output, and the length from which a terminal shows progress
+PIECE, LONG = 50_000, 200_000
+
+
+def _in_pieces(df, write) -> None:
+    """``write(piece, first)`` for successive row ranges of ``df``, with a progress bar
+    on a terminal when the table is long."""
+    starts = range(0, max(len(df), 1), PIECE)
+    if len(df) >= LONG and sys.stderr.isatty():
+        from tqdm import tqdm
+
+        starts = tqdm(starts, desc="rows", unit_scale=PIECE, unit="row")
+    for i in starts:
+        write(df.iloc[i:i + PIECE], i == 0)
+
+
+def write_table(df, path: str) -> None:
+    """Write ``df`` to ``path``: CSV or Parquet by its suffix (Parquet needs pyarrow)."""
+    if path.endswith(".csv"):
+        with open(path, "w", newline="") as f:
+            _in_pieces(df, lambda part, first: part.to_csv(f, header=first))
+    elif path.endswith(".parquet"):
+        try:
+            df.to_parquet(path)
+        except ImportError:
+            raise UsageError(f"-o {path}: writing Parquet needs pyarrow (pip install pyarrow); "
+                             "or write .csv") from None
+    else:
+        raise UsageError(f"-o {path}: the file must end in .csv or .parquet")
+    print(f"wrote {len(df)} rows to {path}", file=sys.stderr)
+
+
+def _values(spec: str) -> tuple[str, list]:
+    name, sep, text = spec.partition("=")
+    if not sep or not name:
+        raise UsageError(f"--grid {spec!r}: expected NAME=a,b,c or NAME=START:STOP:STEP")
+    if ":" in text:
+        return name, angles(text, 0, False).tolist()
+    return name, [_parameter(f"{name}={v}")[1] for v in text.split(",")]
+
+
+def _sweep(d: Description, args, rest: list[str]) -> int:
+    import pandas as pd
+
+    from .sweep import grid, sweep
+
+    mech = d.build()
+    loads = argparse.ArgumentParser(prog=f"linkage-fmu sweep {args.linkage}")
+    for load in mech.loads:
+        loads.add_argument(f"--{load.name}", type=float, default=load.start,
+                           help=f"{load.description} [{load.unit}] (default {load.start!r})")
+    values = vars(loads.parse_args(rest))
+    if bool(args.grid) == bool(args.samples):
+        raise UsageError("give the designs as --grid NAME=VALUES (repeatable) or --samples FILE")
+    if args.samples:
+        designs = (pd.read_parquet(args.samples) if args.samples.endswith(".parquet")
+                   else pd.read_csv(args.samples))
+    else:
+        designs = grid(**dict(map(_values, args.grid)))
+    theta = (np.linspace(0.0, 2.0 * np.pi, args.n, endpoint=False) if args.theta is None
+             else angles(args.theta, 0, args.deg))
+    omega = d.inputs["omega"] if args.omega is None else args.omega
+    alpha = d.inputs["alpha"] if args.alpha is None else args.alpha
+    table = sweep(mech, designs, theta, omega, alpha, scheduler=args.scheduler,
+                  progress=args.scheduler is None and sys.stderr.isatty(),
+                  **{load.name: values[load.name] for load in mech.loads})
+    if args.output:
+        write_table(table, args.output)
+    else:
+        print(table.to_csv(index=False))
     return 0
 
 

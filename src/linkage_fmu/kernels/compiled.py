@@ -150,14 +150,21 @@ class ArrayKernel:
         self.frozen = np.array(frozen, dtype=np.float64).reshape(-1)
         self._q = np.concatenate([self.frozen, [0.0]])  # never an empty buffer
 
-    def __call__(self, inputs: list, n: int, out: list | None = None):
+    def __call__(self, inputs: list, n: int, out: list | None = None, frozen=None):
+        """The outputs (into ``out``, a list of contiguous float64 arrays of ``n``
+        entries, if given) and the mask; ``frozen``: another parameter set's values of
+        the parameter step (:meth:`Kernel.prepare <linkage_fmu.kernels.Kernel>`)."""
+        q = self._q if frozen is None else np.ascontiguousarray(
+            np.append(np.asarray(frozen, dtype=np.float64), 0.0))
+        if q.size != self._q.size:
+            raise ValueError(f"frozen has {q.size - 1} values, the kernel takes {self._q.size - 1}")
         arrays = [np.ascontiguousarray(a, dtype=np.float64) for a in inputs]
         x = (ctypes.c_void_p * len(arrays))(*(_address(a) for a in arrays))
         step = (ctypes.c_size_t * len(arrays))(*(0 if a.size == 1 else 1 for a in arrays))
         out = out if out is not None else [np.empty(n) for _ in range(self.n_outputs)]
         y = (ctypes.c_void_p * max(len(out), 1))(*(_address(a) for a in out))
         ok = np.empty(n, dtype=np.uint8)
-        self._array(n, _address(self._q), x, step, y, _address(ok))
+        self._array(n, _address(q), x, step, y, _address(ok))
         return out, ok.view(bool)
 
 

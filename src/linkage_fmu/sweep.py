@@ -1,0 +1,260 @@
+"""Design sweeps: many parameter sets of one linkage, a revolution each, summarised.
+
+A sweep solves every design (a row of parameter values) at every crank angle with the
+linkage's compiled array kernel: its parameters are arguments of the kernel (see
+:mod:`~linkage_fmu.kernels`), so one compilation serves every design of a structure
+(a value of each branch and choice parameter). Designs go in chunks, each one task
+solving thousands of states: in this process, or on a Dask cluster (``pip install
+"linkage_fmu[sweep]"``) for more cores or machines than this one.
+
+Each design's row holds its parameter values and:
+
+- ``valid``: the parameter set is valid and the linkage assembles at every angle;
+- ``problem``: why a parameter set is invalid ('' otherwise);
+- ``unassembled`` and ``first_unassembled_deg``: how many angles cannot be assembled
+  (or are singular), and the first of them in degrees (NaN if none);
+- ``<effort>_peak`` and ``<effort>_rms``: the balancing effort's largest magnitude and
+  root mean square over the angles that assemble;
+- ``<force>_peak``: each pin force's largest magnitude (``F21_peak`` from ``F21x``,
+  ``F21y``), and the largest magnitude of every other output (``<name>_peak``);
+- ``mu_<joint>_min_deg``: each transmission angle's minimum distance from a toggle,
+  ``min(mu, 180 - mu)`` in degrees.
+
+Examples
+--------
+>>> import numpy as np
+>>> from linkage_fmu.sweep import grid, sweep
+>>> designs = grid(l_AB=[0.08, 0.10, 0.12], l_BC=[0.30, 0.35])
+>>> table = sweep("four_bar", designs, omega=10.0)
+>>> len(table), bool(table["valid"].all()), table["Mb_peak"].idxmax()
+(6, True, 4)
+"""
+
+from __future__ import annotations
+
+import functools
+import itertools
+import math
+from typing import Any, Mapping, Sequence
+
+import numpy as np
+import pandas as pd
+
+from .fmi.build import linkage as _linkage
+from .kernels import kernel_parameters
+from .parameters import resolve
+from .spec import Description
+
+#: states a task solves at least (Dask's per-task overhead is 0.2 to 1 ms)
+STATES_PER_TASK = 50_000
+
+
+def grid(**axes: Sequence) -> pd.DataFrame:
+    """Every combination of the values of each parameter, one design per row.
+
+    Examples
+    --------
+    >>> grid(l_AB=[0.1, 0.2], m2=[1.0, 2.0, 3.0]).shape
+    (6, 2)
+    """
+    names = list(axes)
+    rows = list(itertools.product(*(list(axes[n]) for n in names)))
+    return pd.DataFrame(rows, columns=names)
+
+
+def sweep(source, designs: pd.DataFrame | Mapping[str, Sequence], theta=None,
+          omega: float = 0.0, alpha: float = 0.0, *loads: float, scheduler=None,
+          states_per_task: int = STATES_PER_TASK, progress: bool = False,
+          **named_loads: float) -> pd.DataFrame:
+    """Summaries of the linkage ``source`` (preset, description file, Description or a
+    Mechanism built from one) at each design over the crank angles ``theta``.
+
+    Parameters
+    ----------
+    source
+        The linkage; its parameter values are the defaults of every design.
+    designs : DataFrame or mapping of equal-length sequences
+        One design per row, one column per parameter swept (see :func:`grid`).
+    theta : array_like, optional
+        Crank angles [rad]; default 360 over a revolution.
+    omega, alpha, *loads, **named_loads : float
+        The same speed, acceleration and loads for every design and angle.
+    scheduler : None, "local", a Dask ``Client`` or a scheduler address
+        None solves in this process; "local" starts a local Dask cluster (one worker
+        per core); a Client or an address (``tcp://host:8786``) uses that cluster.
+    states_per_task : int
+        Designs per task: this many states, rounded up to whole designs.
+    progress : bool
+        A progress bar (tqdm) while the chunks are solved in this process.
+
+    Returns
+    -------
+    DataFrame
+        One row per design, in the order given (see the module's notes for the
+        columns).
+
+    Raises
+    ------
+    TypeError, ValueError
+        A column that is not a parameter of the linkage, an angle or load that is not
+        finite: naming it. An invalid parameter value is not an error: its design's row
+        says why (``problem``).
+    """
+    mech = _linkage(source)
+    designs = pd.DataFrame(designs).reset_index(drop=True)
+    specs = {p.name: p for p in mech.description.parameter_specs()}
+    for name in designs.columns:
+        if name not in specs:
+            raise TypeError(f"{mech.name} has no parameter {name!r}; its parameters are: "
+                            + ", ".join(specs))
+    theta = np.linspace(0.0, 2.0 * math.pi, 360, endpoint=False) if theta is None else theta
+    theta = np.asarray(theta, dtype=np.float64).reshape(-1)
+    values = [omega, alpha, *mech._load_values(loads, named_loads)]
+    inputs = [theta] + [np.full(1, float(v)) for v in values]
+    for name, a in zip(mech.input_names, inputs):
+        if not np.isfinite(a).all():
+            raise ValueError(f"{name} must be finite")
+    text = mech.description.with_defaults(mech.parameters).to_toml()
+    per = max(1, -(-states_per_task // max(theta.size, 1)))
+    chunks = [designs.iloc[i:i + per] for i in range(0, len(designs), per)] or [designs]
+    args = [(text, chunk.to_dict("list"), inputs) for chunk in chunks]
+    if scheduler is None:
+        parts = []
+        iterator = args
+        if progress:
+            from tqdm import tqdm
+
+            iterator = tqdm(args, desc=f"{mech.name}: designs", unit="chunk")
+        for a in iterator:
+            parts.append(solve_chunk(*a))
+    else:
+        parts = _on_dask(scheduler, args)
+    table = pd.concat(parts, ignore_index=True)
+    return pd.concat([designs, table], axis=1)
+
+
+def _on_dask(scheduler, args: list) -> list:
+    try:
+        from dask.distributed import Client, LocalCluster
+    except ImportError:
+        raise ImportError('a sweep on Dask needs dask.distributed: pip install '
+                          '"linkage_fmu[sweep]"') from None
+    cluster = None
+    if isinstance(scheduler, Client):
+        client, own = scheduler, False
+    elif scheduler == "local":
+        cluster = LocalCluster(threads_per_worker=1, processes=True, dashboard_address=None)
+        client, own = Client(cluster), True
+    else:
+        client, own = Client(scheduler), True
+    try:
+        futures = client.map(lambda a: solve_chunk(*a), args, pure=False)
+        return client.gather(futures)
+    finally:
+        if own:
+            client.close()
+        if cluster is not None:
+            cluster.close()
+
+
+def solve_chunk(text: str, columns: Mapping[str, list], inputs: list) -> pd.DataFrame:
+    """The summaries of the designs ``columns`` (parameter -> values) of the linkage
+    described by ``text`` (a description file's text, its defaults the base
+    parameters), at the flat ``inputs`` (theta, omega, alpha, loads; arrays of the
+    angles' length or of one): one task of :func:`sweep`."""
+    d = Description.from_toml(text, "<sweep>")
+    specs = {p.name: p for p in d.parameter_specs()}
+    names = list(columns)
+    n = len(next(iter(columns.values()))) if columns else 1
+    rows = []
+    base = resolve(tuple(specs.values()), {}, d.name)
+    for i in range(n):
+        given = {k: columns[k][i] for k in names}
+        try:
+            params = {k: specs[k].validate(v) for k, v in given.items()}
+        except (TypeError, ValueError) as err:
+            rows.append((None, str(err)))
+            continue
+        rows.append(({**base, **params}, ""))
+    structural = [p.name for p in specs.values() if p.kind in ("branch", "choice")]
+    results: list[dict] = [None] * n
+    groups: dict[tuple, list[int]] = {}
+    for i, (params, problem) in enumerate(rows):
+        if params is None:
+            results[i] = {"valid": False, "problem": problem}
+        else:
+            groups.setdefault(tuple(params[k] for k in structural), []).append(i)
+    theta = inputs[0]
+    for key, members in groups.items():
+        mech, kernel, array = _structure(text, tuple(zip(structural, key)))
+        outputs = kernel.outputs
+        block = np.empty((len(outputs), len(members), theta.size))
+        valid = np.zeros((len(members), theta.size), dtype=bool)
+        problems = [""] * len(members)
+        for j, i in enumerate(members):
+            params = rows[i][0]
+            frozen = kernel.prepare(*(params[k] for k in kernel.parameters))
+            if frozen is None or not np.isfinite(frozen).all():
+                problems[j] = "the parameter set cannot be built (a computed length is not " \
+                              "positive, or a value is not finite)"
+                block[:, j] = np.nan
+                continue
+            values, ok = array(inputs, theta.size, [block[k, j] for k in range(len(outputs))],
+                               frozen)
+            valid[j] = ok
+        for j, row in enumerate(_summaries(mech, outputs, block, valid, theta, problems)):
+            results[members[j]] = row
+    return pd.DataFrame(results)
+
+
+@functools.lru_cache(maxsize=64)
+def _structure(text: str, structure: tuple):
+    """The mechanism, kernel (all outputs, moving) and array kernel of one structure of
+    a linkage; kept per process, so a worker traces and loads each once."""
+    d = Description.from_toml(text, "<sweep>")
+    mech = d.build(**dict(structure))
+    kernel = mech.kernel(None, False)
+    array = kernel.array()
+    if array is None:
+        raise RuntimeError("a sweep needs the compiled array kernel, and no C compiler was "
+                           "found (cc, gcc or clang, or CC)")
+    assert kernel.parameters == kernel_parameters(mech)
+    return mech, kernel, array
+
+
+def _summaries(mech, outputs: tuple, block: np.ndarray, valid: np.ndarray,
+               theta: np.ndarray, problems: list) -> list[dict]:
+    index = {name: k for k, name in enumerate(outputs)}
+    effort = mech.effort.name
+    pairs = [name[:-1] for name in mech.output_names
+             if name.endswith("x") and name[:-1] + "y" in index]
+    paired = {p + a for p in pairs for a in "xy"}
+    others = [n for n in mech.output_names if n not in paired]
+    deg = np.degrees(theta)
+    rows = []
+    with np.errstate(invalid="ignore"):
+        for j, problem in enumerate(problems):
+            ok = valid[j]
+            row: dict[str, Any] = {"valid": bool(ok.all()) and not problem,
+                                   "problem": problem,
+                                   "unassembled": int((~ok).sum()) if not problem else theta.size,
+                                   "first_unassembled_deg": float(deg[~ok][0]) if (~ok).any()
+                                   and not problem else math.nan}
+            if problem or not ok.any():
+                rows.append(row)
+                continue
+            e = block[index[effort], j][ok]
+            row[f"{effort}_peak"] = float(np.max(np.abs(e)))
+            row[f"{effort}_rms"] = float(np.sqrt(np.mean(e * e)))
+            for p in pairs:
+                fx, fy = block[index[p + "x"], j][ok], block[index[p + "y"], j][ok]
+                row[f"{p}_peak"] = float(np.max(np.hypot(fx, fy)))
+            for name in others:
+                if name != effort:
+                    row[f"{name}_peak"] = float(np.max(np.abs(block[index[name], j][ok])))
+            for name in mech.diagnostic_names:
+                if name.startswith("mu_"):
+                    mu = np.degrees(block[index[name], j][ok])
+                    row[f"{name}_min_deg"] = float(np.min(np.minimum(mu, 180.0 - mu)))
+            rows.append(row)
+    return rows
