@@ -242,6 +242,39 @@ def c_host_rows(built: dict, tmp: Path, steps: int) -> list[dict]:
     return rows
 
 
+def sweep_rows(designs: int) -> list[dict]:
+    """Design sweeps of the four-bar: ``designs`` designs (l_AB x l_BC x m2) x 360 angles,
+    in this process and on a local Dask cluster of 1 and 2 worker processes (started
+    before the clock), best of 3; and Dask's overhead per task, from 400 tasks that do
+    nothing."""
+    from dask.distributed import Client, LocalCluster
+
+    from linkage_fmu.sweep import grid, sweep
+
+    side = round(designs ** (1 / 3))
+    table = grid(l_AB=np.linspace(0.05, 0.15, side), l_BC=np.linspace(0.3, 0.4, side),
+                 m2=np.linspace(1.0, 3.0, max(1, designs // side ** 2)))
+    theta = np.linspace(0.0, 2.0 * math.pi, 360, endpoint=False)
+    sweep("four_bar", table.iloc[:10], theta, 10.0, 0.0, 3.0)  # trace and compile first
+    rows = []
+    t = best_time(lambda: sweep("four_bar", table, theta, 10.0, 0.0, 3.0), 3)
+    rows.append({"where": "this process", "designs": len(table), "seconds": t,
+                 "designs_per_s": len(table) / t, "task_overhead_ms": math.nan})
+    for workers in (1, 2):
+        with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                          dashboard_address=None) as cluster, Client(cluster) as client:
+            sweep("four_bar", table.iloc[:10], theta, 10.0, 0.0, 3.0, scheduler=client)
+            t = best_time(lambda: sweep("four_bar", table, theta, 10.0, 0.0, 3.0,
+                                        scheduler=client), 3)
+            t0 = time.perf_counter()
+            client.gather(client.map(lambda k: k, range(400), pure=False))
+            overhead = (time.perf_counter() - t0) / 400 * workers
+        rows.append({"where": f"LocalCluster, {workers} worker(s)", "designs": len(table),
+                     "seconds": t, "designs_per_s": len(table) / t,
+                     "task_overhead_ms": overhead * 1e3})
+    return rows
+
+
 def communication(dist: Path) -> list[dict]:
     """A master running the FMU over one revolution at constant speed: the cycle-mean
     torque and the energy per revolution it computes from the sampled Mb (rectangle
@@ -387,7 +420,7 @@ def md_table(header: list, body: list) -> list[str]:
             + ["| " + " | ".join(str(c) for c in cells) + " |" for cells in body])
 
 
-def summary(work, fmu, host, comm, scl, first, machine: str, seconds: float) -> str:
+def summary(work, fmu, host, comm, scl, first, sweeps, machine: str, seconds: float) -> str:
     def get(preset, method):
         return next(r for r in work if r["preset"] == preset and r["method"] == method)
 
@@ -464,6 +497,12 @@ def summary(work, fmu, host, comm, scl, first, machine: str, seconds: float) -> 
         [[r["cache"]] + [f"{r[k]:.3g}" for k in (
             "first_scalar_ms", "next_scalar_ms", "first_array_ms", "next_array_ms",
             "compile_scalar_ms")] for r in first])
+    lines += ["", "## Design sweeps (four-bar, 360 angles per design)", "",
+              "`linkage_fmu.sweep`: chunks of about 50,000 states per task. The per-task "
+              "overhead is Dask's, from tasks that do nothing (per worker).", ""] + md_table(
+        ["where", "designs", "seconds", "designs per s", "overhead per task (ms)"],
+        [[r["where"], r["designs"], f"{r['seconds']:.3g}", f"{r['designs_per_s']:.4g}",
+          f"{r['task_overhead_ms']:.3g}"] for r in sweeps])
     lines += ["", "## Scale (four-bar, closed form, all outputs)", ""] + md_table(
         ["angles", "seconds", "ns per angle", "peak MB", "bytes per angle"],
         [[r["angles"]] + [f"{r[k]:.3g}" for k in (
@@ -525,6 +564,8 @@ def main(argv=None) -> int:
     scl = scale([1, 10, 100, 1000, 10**4, 10**5] + ([] if args.quick else [10**6, 10**7]))
     print("first calls ...", flush=True)
     first = first_calls()
+    print("sweeps ...", flush=True)
+    sweeps = sweep_rows(1000 if args.quick else 10_000)
     args.out.mkdir(parents=True, exist_ok=True)
     write_csv(args.out / "work_precision.csv", work)
     write_csv(args.out / "fmu.csv", fmu)
@@ -532,8 +573,10 @@ def main(argv=None) -> int:
     write_csv(args.out / "communication.csv", comm)
     write_csv(args.out / "scale.csv", scl)
     write_csv(args.out / "first_calls.csv", first)
+    write_csv(args.out / "sweep.csv", sweeps)
     plot(work, args.out / "work_precision.png")
-    text = summary(work, fmu, host, comm, scl, first, machine(), time.perf_counter() - start)
+    text = summary(work, fmu, host, comm, scl, first, sweeps, machine(),
+                   time.perf_counter() - start)
     (args.out / "results.md").write_text(text)
     print(text)
     return 0

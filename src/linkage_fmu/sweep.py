@@ -35,6 +35,7 @@ from __future__ import annotations
 import functools
 import itertools
 import math
+import warnings
 from typing import Any, Mapping, Sequence
 
 import numpy as np
@@ -188,21 +189,20 @@ def solve_chunk(text: str, columns: Mapping[str, list], inputs: list) -> pd.Data
     for key, members in groups.items():
         mech, kernel, array = _structure(text, tuple(zip(structural, key)))
         outputs = kernel.outputs
-        block = np.empty((len(outputs), len(members), theta.size))
+        block = np.full((len(outputs), len(members), theta.size), np.nan)
         valid = np.zeros((len(members), theta.size), dtype=bool)
         problems = [""] * len(members)
         for j, i in enumerate(members):
             params = rows[i][0]
             frozen = kernel.prepare(*(params[k] for k in kernel.parameters))
             if frozen is None or not np.isfinite(frozen).all():
-                problems[j] = "the parameter set cannot be built (a computed length is not " \
-                              "positive, or a value is not finite)"
-                block[:, j] = np.nan
+                problems[j] = ("the parameter set cannot be built (a computed length is not "
+                               "positive, or a value is not finite)")
                 continue
-            values, ok = array(inputs, theta.size, [block[k, j] for k in range(len(outputs))],
-                               frozen)
-            valid[j] = ok
-        for j, row in enumerate(_summaries(mech, outputs, block, valid, theta, problems)):
+            _, valid[j] = array(inputs, theta.size, [block[k, j] for k in range(len(outputs))],
+                                frozen)
+        summary = _summaries(mech, outputs, block, valid, theta, problems)
+        for j, row in enumerate(summary.to_dict("records")):
             results[members[j]] = row
     return pd.DataFrame(results)
 
@@ -223,38 +223,36 @@ def _structure(text: str, structure: tuple):
 
 
 def _summaries(mech, outputs: tuple, block: np.ndarray, valid: np.ndarray,
-               theta: np.ndarray, problems: list) -> list[dict]:
+               theta: np.ndarray, problems: list) -> pd.DataFrame:
+    """The summaries of the designs of one structure, all at once: ``block[k, j, i]`` is
+    output ``k`` of design ``j`` at angle ``i`` (NaN where it does not assemble),
+    ``valid[j, i]`` whether it does, ``problems[j]`` why design ``j`` is invalid."""
     index = {name: k for k, name in enumerate(outputs)}
     effort = mech.effort.name
     pairs = [name[:-1] for name in mech.output_names
              if name.endswith("x") and name[:-1] + "y" in index]
     paired = {p + a for p in pairs for a in "xy"}
-    others = [n for n in mech.output_names if n not in paired]
-    deg = np.degrees(theta)
-    rows = []
-    with np.errstate(invalid="ignore"):
-        for j, problem in enumerate(problems):
-            ok = valid[j]
-            row: dict[str, Any] = {"valid": bool(ok.all()) and not problem,
-                                   "problem": problem,
-                                   "unassembled": int((~ok).sum()) if not problem else theta.size,
-                                   "first_unassembled_deg": float(deg[~ok][0]) if (~ok).any()
-                                   and not problem else math.nan}
-            if problem or not ok.any():
-                rows.append(row)
-                continue
-            e = block[index[effort], j][ok]
-            row[f"{effort}_peak"] = float(np.max(np.abs(e)))
-            row[f"{effort}_rms"] = float(np.sqrt(np.mean(e * e)))
-            for p in pairs:
-                fx, fy = block[index[p + "x"], j][ok], block[index[p + "y"], j][ok]
-                row[f"{p}_peak"] = float(np.max(np.hypot(fx, fy)))
-            for name in others:
-                if name != effort:
-                    row[f"{name}_peak"] = float(np.max(np.abs(block[index[name], j][ok])))
-            for name in mech.diagnostic_names:
-                if name.startswith("mu_"):
-                    mu = np.degrees(block[index[name], j][ok])
-                    row[f"{name}_min_deg"] = float(np.min(np.minimum(mu, 180.0 - mu)))
-            rows.append(row)
-    return rows
+    bad = np.array([bool(p) for p in problems])
+    ok = valid & ~bad[:, None]
+    counts = np.where(bad, theta.size, (~ok).sum(axis=1))
+    first = np.where(bad | ok.all(axis=1), np.nan, np.degrees(theta)[np.argmin(ok, axis=1)])
+    table = {"valid": ok.all(axis=1), "problem": problems, "unassembled": counts,
+             "first_unassembled_deg": first}
+    with warnings.catch_warnings(), np.errstate(invalid="ignore"):
+        warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN rows: NaN summaries
+        e = np.where(ok, block[index[effort]], np.nan)
+        table[f"{effort}_peak"] = np.nanmax(np.abs(e), axis=1)
+        table[f"{effort}_rms"] = np.sqrt(np.nanmean(e * e, axis=1))
+        for p in pairs:
+            table[f"{p}_peak"] = np.nanmax(np.where(ok, np.hypot(block[index[p + "x"]],
+                                                                 block[index[p + "y"]]), np.nan),
+                                           axis=1)
+        for name in mech.output_names:
+            if name not in paired and name != effort:
+                table[f"{name}_peak"] = np.nanmax(np.where(ok, np.abs(block[index[name]]),
+                                                           np.nan), axis=1)
+        for name in mech.diagnostic_names:
+            if name.startswith("mu_"):
+                mu = np.degrees(np.where(ok, block[index[name]], np.nan))
+                table[f"{name}_min_deg"] = np.nanmin(np.minimum(mu, 180.0 - mu), axis=1)
+    return pd.DataFrame(table)
