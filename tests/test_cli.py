@@ -72,3 +72,25 @@ def test_sweep_command_grid_and_samples(tmp_path):
                      "72", "--omega", "10", "--load", "3", "-o", str(tmp_path / "s.csv")]) == 0
     again = pd.read_csv(tmp_path / "s.csv")
     np.testing.assert_allclose(again["Mb_peak"], expected["Mb_peak"], rtol=1e-15)
+
+
+def test_plot_command_writes_each_picture(tmp_path):
+    """Each --what writes a PNG (or SVG); the drawing's data are tested in test_plot.py.
+    A linkage picture needs one angle; an unknown kind is an error naming the kinds."""
+    import pytest
+
+    pytest.importorskip("matplotlib")
+    err = io.StringIO()
+    with redirect_stderr(err):
+        for what, name in ((["torque"], "t.png"), (["polar", "F21"], "p.svg"),
+                           (["mu"], "m.png")):
+            assert main(["plot", "four_bar", "--what", *what, "--omega", "10",
+                         "-o", str(tmp_path / name)]) == 0
+        assert main(["plot", "crank_shaper", "--what", "linkage", "--theta-deg", "60",
+                     "-o", str(tmp_path / "l.png")]) == 0
+        assert main(["plot", "four_bar", "--what", "linkage", "-o", str(tmp_path / "x.png")]) == 2
+        assert main(["plot", "four_bar", "--what", "pie", "-o", str(tmp_path / "x.png")]) == 2
+    assert "needs one angle" in err.getvalue() and "expected torque [OUTPUT]" in err.getvalue()
+    for name in ("t.png", "m.png", "l.png"):
+        assert (tmp_path / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert b"<svg" in (tmp_path / "p.svg").read_bytes()[:400]

@@ -34,6 +34,8 @@ EPILOG = """examples:
   linkage-fmu sweep four_bar --samples designs.csv --scheduler local
   linkage-fmu plot four_bar --what torque --omega 10 -o torque.png
   linkage-fmu plot four_bar --what polar F21 -o F21.svg
+  linkage-fmu plot six_bar --what linkage --theta-deg 60 -o six_bar.png
+  linkage-fmu plot four_bar --what mu --set l_AB=0.3 -o mu.png
   linkage-fmu build four_bar --set l_AB=0.12 --out dist
   linkage-fmu build --native my_linkage.toml --out dist/native
   linkage-fmu check dist/FourBar.fmu
@@ -141,6 +143,22 @@ def main(argv: list[str] | None = None) -> int:
                                            "this process")
     sweep.add_argument("-o", "--output", help="write the table to FILE.csv or FILE.parquet")
 
+    plot = sub.add_parser("plot", help="a picture: torque curve, force polar, the linkage "
+                                       "with its forces, transmission angles",
+                          epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    plot.add_argument("linkage", help=linkage_help)
+    plot.add_argument("--what", nargs="+", required=True, metavar="KIND [NAME]",
+                      help="torque [OUTPUT] | polar [FORCE] | linkage | mu")
+    plot.add_argument("--set", dest="params", metavar="NAME=VALUE", type=_parameter,
+                      action="append", default=[], help="override a parameter (repeatable)")
+    plot.add_argument("--theta-deg", dest="theta_deg",
+                      help="angle(s) in degrees: a value (linkage), a list or START:STOP:STEP "
+                           "(default a revolution in 0.5 degree steps)")
+    for name in ("omega", "alpha"):
+        plot.add_argument(f"--{name}", type=float, default=None,
+                          help=f"{name} (default: the linkage's start value)")
+    plot.add_argument("-o", "--output", required=True, help="FILE.png, .svg or .pdf")
+
     build = sub.add_parser("build", help="build the linkage's FMU")
     build.add_argument("linkage", help=linkage_help)
     build.add_argument("--set", dest="params", metavar="NAME=VALUE", type=_parameter,
@@ -166,6 +184,8 @@ def main(argv: list[str] | None = None) -> int:
             return _info(d)
         if args.command == "sweep":
             return _sweep(d, args, rest)
+        if args.command == "plot":
+            return _plot(d, args, rest)
         if args.command == "build":
             if rest:
                 parser.error(f"unrecognized arguments: {' '.join(rest)}")
@@ -305,6 +325,46 @@ def _values(spec: str) -> tuple[str, list]:
     if ":" in text:
         return name, angles(text, 0, False).tolist()
     return name, [_parameter(f"{name}={v}")[1] for v in text.split(",")]
+
+
+def _plot(d: Description, args, rest: list[str]) -> int:
+    try:
+        import matplotlib
+    except ImportError:
+        raise UsageError('plots need matplotlib: pip install "linkage_fmu[plot]"') from None
+    matplotlib.use("Agg")
+    from . import plot
+
+    mech = d.build(**dict(args.params))
+    loads = argparse.ArgumentParser(prog=f"linkage-fmu plot {args.linkage}")
+    for load in mech.loads:
+        loads.add_argument(f"--{load.name}", type=float, default=None,
+                           help=f"{load.description} [{load.unit}] (default {load.start!r})")
+    given = {k: v for k, v in vars(loads.parse_args(rest)).items() if v is not None}
+    kind, names = args.what[0], args.what[1:]
+    if kind not in ("torque", "polar", "linkage", "mu") or len(names) > 1 or (
+            names and kind in ("linkage", "mu")):
+        raise UsageError(f"--what {' '.join(args.what)}: expected torque [OUTPUT], polar "
+                         "[FORCE], linkage or mu")
+    theta_deg = None if args.theta_deg is None else angles(args.theta_deg, 0, False)
+    motion = {"omega": args.omega, "alpha": args.alpha}
+    if kind == "torque":
+        fig = plot.torque(mech, theta_deg=theta_deg, output=names[0] if names else None,
+                          **motion, **given)
+    elif kind == "polar":
+        fig = plot.polar(mech, names[0] if names else None, theta_deg=theta_deg, **motion,
+                         **given)
+    elif kind == "linkage":
+        if theta_deg is None or theta_deg.size != 1:
+            raise UsageError("--what linkage needs one angle: --theta-deg VALUE")
+        fig = plot.linkage(mech, theta_deg=float(theta_deg[0]), **motion, **given)
+    else:
+        fig = plot.transmission(mech, theta_deg=theta_deg)
+    if not args.output.endswith((".png", ".svg", ".pdf")):
+        raise UsageError(f"-o {args.output}: the file must end in .png, .svg or .pdf")
+    fig.savefig(args.output, dpi=120, bbox_inches="tight")
+    print(f"wrote {args.output}", file=sys.stderr)
+    return 0
 
 
 def _sweep(d: Description, args, rest: list[str]) -> int:

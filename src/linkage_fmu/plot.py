@@ -1,0 +1,770 @@
+"""Plots of a linkage's kinetostatics: driving torque, pin-force polars, the linkage
+with its joint forces, and transmission angles.
+
+Every public function returns a :class:`matplotlib.figure.Figure` and draws into the
+``ax`` given, or into a new figure (made with :mod:`matplotlib.pyplot`, so ``plt.show()``
+shows it). matplotlib is needed only here: ``pip install "linkage_fmu[plot]"``.
+
+Angles: ``theta`` is the crank angle in radians (as in :meth:`Mechanism.solve
+<linkage_fmu.Mechanism.solve>`), or give ``theta_deg`` in degrees instead; without
+either, a revolution of :data:`N_ANGLES` angles 0, 0.5, ..., 360 degrees. The plots'
+horizontal axes are in degrees: the given ``theta_deg`` itself, else ``degrees(theta)``.
+
+Inputs: ``omega``, ``alpha`` and each load (by position after ``alpha``, as in
+:meth:`~linkage_fmu.Mechanism.solve`, or by name) that are not given take the linkage's
+start values (its ``[inputs]`` table and each load's ``start``), as ``linkage-fmu
+table`` does: ``mech.solve`` instead takes 0 for an omitted load.
+
+What is drawn carries a ``gid`` (``artist.get_gid()``), so that scripts and tests can
+find it: the curves by output name, ``"mean"``, ``"peak"``, ``"origin"``,
+``"forces"`` (a quiver), ``"toggle:<mu>"`` and so on (see each function).
+
+Examples
+--------
+>>> import matplotlib
+>>> matplotlib.use("Agg")
+>>> import io
+>>> from linkage_fmu import plot, presets
+>>> mech = presets.get("four_bar")
+>>> fig = plot.torque(mech, omega=10.0, load=5.0)
+>>> fig.savefig(io.BytesIO(), format="png")
+>>> [p.name for p in plot.force_pairs(mech)]
+['F21', 'F32', 'F43', 'F14']
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from typing import TYPE_CHECKING, NamedTuple, Sequence
+
+import numpy as np
+
+from .outputs import _pair
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+    from .mechanism import Mechanism
+
+__all__ = ["torque", "polar", "linkage", "transmission", "ForcePair", "force_pairs",
+           "link_points", "revolution_mean", "toggles", "N_ANGLES", "ARROW_FRACTION",
+           "TOGGLE_TOL"]
+
+#: the default crank angles: 0, 0.5, ..., 360 degrees (both ends: a closed curve)
+N_ANGLES = 721
+#: the default arrow scale makes the largest joint force this fraction of the linkage size
+ARROW_FRACTION = 0.4
+#: a transmission angle within this of 0 or pi [rad] is a toggle
+TOGGLE_TOL = 1e-6
+
+_INSTALL = ('linkage_fmu.plot needs matplotlib (>= 3.7): pip install "linkage_fmu[plot]" '
+            "(or pip install matplotlib)")
+_LINK_COLORS = ("C0", "C1", "C2", "C4", "C9", "C6", "C8", "C5", "C7")  # no red: the forces
+_DEFAULT_FORCE = re.compile(r"^force of link (.+) on link (.+), ([xy]) component$")
+
+
+def _pyplot():
+    """matplotlib.pyplot, or an ImportError that says how to install it."""
+    try:
+        import matplotlib.pyplot as plt
+    except ImportError as err:
+        raise ImportError(_INSTALL) from err
+    return plt
+
+
+def _axes(ax: "Axes | None", figsize=(8.0, 4.5)) -> tuple["Figure", "Axes"]:
+    """``(figure, ax)``: the given axes' figure, or a new figure with one axes."""
+    if ax is not None:
+        return ax.figure, ax
+    fig, ax = _pyplot().subplots(figsize=figsize, layout="constrained")
+    return fig, ax
+
+
+# -- what a linkage has ------------------------------------------------------------------
+class ForcePair(NamedTuple):
+    """A force output with both components: ``x`` and ``y`` are the output names of
+    the force of body ``by`` on body ``on`` in the frame's axes; it acts at ``point``,
+    the point of the ``joint`` between the two bodies (both None if not known)."""
+
+    name: str
+    x: str
+    y: str
+    by: str | None
+    on: str | None
+    joint: str | None
+    point: str | None
+
+
+def force_pairs(mech: "Mechanism") -> tuple[ForcePair, ...]:
+    """The force outputs of ``mech`` that have both an x and a y component, in output
+    order.
+
+    They come from the linkage's description (its ``force`` outputs, whatever their
+    component names, e.g. the six-bar's ``XO``/``YO``); for a mechanism built without
+    one, from output names ``<stem>x``/``<stem>y`` (the joint is known when the
+    outputs keep their default descriptions).
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets
+    >>> force_pairs(presets.get("six_bar"))[0]
+    ForcePair(name='O', x='XO', y='YO', by='0', on='OA', joint='O', point='O')
+    >>> [(p.name, p.point) for p in force_pairs(presets.get("slider_crank"))]
+    [('F21', 'A'), ('F32', 'B'), ('F14', 'O')]
+    """
+    names = set(mech.output_names)
+    specs = []  # (name, x, y, by, on)
+    if mech.description is not None:
+        for spec in mech.description.outputs:
+            if spec["kind"] == "force" and {"x", "y"} <= set(spec.get("components", "xy")):
+                x, y = spec.get("x", spec["name"] + "x"), spec.get("y", spec["name"] + "y")
+                specs.append((spec["name"], x, y, spec["by"], spec["on"]))
+    else:
+        for x in mech.output_names:
+            y = x[:-1] + "y"
+            if x.endswith("x") and y in names:
+                bx, by = (_DEFAULT_FORCE.match(mech.output_info[n][1]) for n in (x, y))
+                known = bx and by and bx.group(1, 2) == by.group(1, 2)
+                specs.append((x[:-1], x, y, *(bx.group(1, 2) if known else (None, None))))
+    pairs = []
+    for name, x, y, by, on in specs:
+        if x not in names or y not in names:
+            continue
+        joint = _pair(mech, by, on, name)[0] if by is not None else None
+        pairs.append(ForcePair(name, x, y, by, on, joint and joint.name, joint and joint.point))
+    return tuple(pairs)
+
+
+def _find_pair(mech: "Mechanism", force: str | None) -> ForcePair:
+    """The pair named ``force`` (its name or a component's), the first if None."""
+    pairs = force_pairs(mech)
+    if not pairs:
+        raise ValueError(f"{mech.name} has no force output with x and y components")
+    if force is None:
+        return pairs[0]
+    for p in pairs:
+        if force in (p.name, p.x, p.y):
+            return p
+    raise ValueError(f"{mech.name} has no force pair {force!r}; its force pairs are: "
+                     + ", ".join(f"{p.name} ({p.x}, {p.y})" for p in pairs))
+
+
+def _output(mech: "Mechanism", output: str | None) -> str:
+    """``output`` checked against the outputs and diagnostics; the balancing effort if
+    None."""
+    if output is None:
+        return mech.effort.name
+    choices = mech.output_names + mech.diagnostic_names
+    if output not in choices:
+        raise ValueError(f"{mech.name} has no output {output!r}; its outputs are: "
+                         + ", ".join(choices))
+    return output
+
+
+def link_points(mech: "Mechanism") -> dict[str, tuple[str, ...]]:
+    """Moving link -> the points it carries: its joints' points (in joint order), then
+    the points placed on it alone (a coupler point, a lever's tip). Centres of mass are
+    not among them.
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets
+    >>> link_points(presets.get("four_bar"))
+    {'1': ('A', 'B'), '2': ('B', 'C'), '3': ('C', 'D')}
+    >>> link_points(presets.get("slider_crank"))["3"]
+    ('B',)
+    """
+    points: dict[str, list] = {b.name: [] for b in mech.bodies}
+    for j in mech.joints:
+        for body in (j.a, j.b):
+            if body in points and j.point not in points[body]:
+                points[body].append(j.point)
+    for point, link in mech.owner.items():
+        if link in points and point not in points[link]:
+            points[link].append(point)
+    return {k: tuple(v) for k, v in points.items()}
+
+
+# -- inputs ------------------------------------------------------------------------------
+def _angles(theta, theta_deg, scalar: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """``(radians, degrees)`` of the crank angles: ``theta`` [rad] or ``theta_deg``
+    [deg], a revolution of :data:`N_ANGLES` if neither."""
+    if theta is not None and theta_deg is not None:
+        raise TypeError("give the crank angle as theta [rad] or as theta_deg [deg], not both")
+    if theta is None and theta_deg is None:
+        if scalar:
+            raise TypeError("give the crank angle: theta [rad] or theta_deg [deg]")
+        deg = np.linspace(0.0, 360.0, N_ANGLES)
+        return np.radians(deg), deg
+    given = theta if theta is not None else theta_deg
+    if scalar and np.ndim(given) != 0:
+        raise ValueError(f"the crank angle must be one number, got shape {np.shape(given)}")
+    values = np.atleast_1d(np.asarray(given, dtype=float))
+    if values.ndim != 1 or not values.size:
+        raise ValueError(f"the crank angles must be a non-empty 1-D array, got shape "
+                         f"{np.shape(given)}")
+    if not np.isfinite(values).all():
+        raise ValueError("the crank angles must be finite")
+    if theta is not None:
+        return values, np.degrees(values)
+    return np.radians(values), values
+
+
+def _inputs(mech: "Mechanism", omega, alpha, loads: Sequence, named: dict) -> dict:
+    """``{omega, alpha, <load>: value}``: what is given, else the start values."""
+    start = dict(mech.description.inputs) if mech.description is not None else {}
+    values = {"omega": start.get("omega", 0.0) if omega is None else omega,
+              "alpha": start.get("alpha", 0.0) if alpha is None else alpha}
+    names = [load.name for load in mech.loads]
+    if len(loads) > len(names):
+        raise TypeError(f"{mech.name} has {len(names)} load(s) ({', '.join(names)}), got "
+                        f"{len(loads)} positional load values")
+    given = dict(zip(names, loads))
+    for key, value in named.items():
+        if key not in names:
+            raise TypeError(f"{mech.name} has no input {key!r}; its inputs are: "
+                            + ", ".join(mech.input_names))
+        if key in given:
+            raise TypeError(f"load {key} is given twice")
+        given[key] = value
+    for load in mech.loads:
+        values[load.name] = float(given.get(load.name, load.start))
+    return values
+
+
+def _solve(mech: "Mechanism", theta, inputs: dict):
+    """Every output, as ``mech.solve`` gives them by default: the balancing effort from
+    the reactions (``outputs=("Mb",)`` would take it from the power balance, equal to
+    rounding only), so that a plot shows the very numbers of a plain solve."""
+    loads = {k: v for k, v in inputs.items() if k not in ("omega", "alpha")}
+    return mech.solve(theta, inputs["omega"], inputs["alpha"], **loads)
+
+
+def _inputs_text(mech: "Mechanism", inputs: dict) -> str:
+    units = {"omega": "rad/s", "alpha": "rad/s²", **{l.name: l.unit for l in mech.loads}}
+    greek = {"omega": "ω", "alpha": "α"}
+    return ", ".join(f"{greek.get(k, k)} = {v:g} {units[k]}" for k, v in inputs.items())
+
+
+def _greek(name: str) -> str:
+    return "μ" + name[2:] if name.startswith("mu_") else name
+
+
+# -- numbers behind the plots ------------------------------------------------------------
+def revolution_mean(theta: np.ndarray, values: np.ndarray) -> float:
+    """Mean of ``values`` over the crank angle ``theta`` (trapezoidal rule), over the
+    intervals where both ends are finite: over a whole revolution sampled at equal
+    steps, with the last angle the first plus 2 pi, the plain mean of all but the last.
+
+    Examples
+    --------
+    >>> t = np.linspace(0, 2 * np.pi, 5)
+    >>> revolution_mean(t, np.array([1.0, 2.0, 3.0, 2.0, 1.0]))
+    2.0
+    >>> revolution_mean(t, np.array([1.0, 2.0, np.nan, 2.0, 1.0]))  # 0..90 and 270..360
+    1.5
+    """
+    y0, y1 = values[:-1], values[1:]
+    dt = np.diff(theta)
+    ok = np.isfinite(y0) & np.isfinite(y1)
+    if not ok.any():
+        finite = values[np.isfinite(values)]
+        return float(finite.mean()) if finite.size else math.nan
+    return float(np.sum(0.5 * (y0[ok] + y1[ok]) * dt[ok]) / np.sum(dt[ok]))
+
+
+def _peak(values: np.ndarray) -> int:
+    """Index of the largest finite ``|values|`` (the first if several)."""
+    magnitude = np.abs(values)
+    if not np.isfinite(magnitude).any():
+        raise ValueError("no finite value: the linkage cannot be assembled at any of the angles")
+    return int(np.nanargmax(np.where(np.isfinite(magnitude), magnitude, np.nan)))
+
+
+def _finite_or_fail(mech: "Mechanism", values: np.ndarray, deg: np.ndarray) -> None:
+    if not np.isfinite(values).any():
+        raise ValueError(f"{mech.name} cannot be assembled at any of the {deg.size} crank "
+                         f"angles {deg[0]:g}..{deg[-1]:g} deg")
+
+
+def _degree_axis(ax: "Axes", deg: np.ndarray) -> None:
+    ax.set_xlabel("crank angle θ [°]")
+    lo, hi = float(np.min(deg)), float(np.max(deg))
+    if hi > lo:
+        ax.set_xlim(lo, hi)
+        step = 45.0 if hi - lo <= 360.0 else 90.0
+        ax.set_xticks(np.arange(math.ceil(lo / step) * step, hi + 1e-9, step))
+    ax.grid(True, alpha=0.3)
+
+
+# -- 1. torque ---------------------------------------------------------------------------
+def torque(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads,
+           output: str | None = None, theta_deg=None, ax: "Axes | None" = None,
+           **named_loads) -> "Figure":
+    """An output (the balancing effort by default) against the crank angle in degrees,
+    with its mean over the angles and its peak magnitude marked.
+
+    Parameters
+    ----------
+    mech : Mechanism
+    theta : array_like, optional
+        Crank angles [rad]; or ``theta_deg`` [deg]; default 0..360 deg, 721 angles.
+    omega, alpha, *loads, **named_loads : float, optional
+        Crank speed [rad/s], acceleration [rad/s2] and loads, by position or name;
+        the linkage's start values if not given.
+    output : str, optional
+        An output or diagnostic name; default ``mech.effort.name``.
+    theta_deg : array_like, optional
+        Crank angles [deg], instead of ``theta``.
+    ax : matplotlib Axes, optional
+        Where to draw; a new figure if None.
+
+    Returns
+    -------
+    Figure
+        Lines (gid): the output (``output``'s name; NaN where the linkage cannot be
+        assembled, drawn as gaps), ``"mean"`` (horizontal, at
+        :func:`revolution_mean` of the output) and ``"peak"`` (one point at the largest
+        ``|output|``, annotated with its angle and value).
+
+    Raises
+    ------
+    ValueError
+        ``output`` is not an output of ``mech`` (the message lists them), or the
+        linkage cannot be assembled at any angle.
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> from linkage_fmu import plot, presets
+    >>> fig = plot.torque(presets.get("slider_crank"), omega=100.0, load=200.0)
+    >>> ax = fig.axes[0]
+    >>> [line.get_gid() for line in ax.lines]
+    ['Mb', 'mean', 'peak', 'zero']
+    >>> x, y = ax.lines[0].get_data()
+    >>> len(x), float(x[0]), float(x[-1])
+    (721, 0.0, 360.0)
+    >>> abs(float(ax.lines[1].get_ydata()[0])) < 1e-12  # mean Mb: no net work per turn
+    True
+    >>> ax.texts[0].get_text()                          # the peak
+    '-18.92 N.m\\nat θ = 111.0°'
+    """
+    name = _output(mech, output)
+    rad, deg = _angles(theta, theta_deg)
+    inputs = _inputs(mech, omega, alpha, loads, named_loads)
+    values = np.asarray(_solve(mech, rad, inputs)[name], dtype=float)
+    _finite_or_fail(mech, values, deg)
+    unit, description = mech.output_info[name]
+    mean = revolution_mean(rad, values)
+    i = _peak(values)
+
+    fig, ax = _axes(ax)
+    ax.plot(deg, values, color="C0", lw=1.6, label=name, gid=name)
+    ax.axhline(mean, color="C1", ls="--", lw=1.2, label=f"mean {mean:.4g} {unit}", gid="mean")
+    ax.plot([deg[i]], [values[i]], "o", color="C3", ms=7,
+            label=f"peak |{name}| {abs(values[i]):.4g} {unit}", gid="peak")
+    ax.annotate(f"{values[i]:.4g} {unit}\nat θ = {deg[i]:.1f}°", (deg[i], values[i]),
+                xytext=(12, -14 if values[i] > 0 else 14), textcoords="offset points",
+                va="top" if values[i] > 0 else "bottom", fontsize=9, gid="peak label")
+    ax.axhline(0.0, color="0.6", lw=0.8, zorder=0, gid="zero")
+    _degree_axis(ax, deg)
+    ax.set_ylabel(f"{_greek(name)} [{unit}]")
+    ax.set_title(f"{mech.name}: {description}\n{_inputs_text(mech, inputs)}", fontsize=10)
+    ax.legend(loc="best", fontsize=9)
+    return fig
+
+
+# -- 2. polar ----------------------------------------------------------------------------
+def polar(mech: "Mechanism", force: str | None = None, theta=None, omega=None, alpha=None,
+          *loads, theta_deg=None, ax: "Axes | None" = None, **named_loads) -> "Figure":
+    """The polar diagram of a pin force over the crank angles: the curve ``(Fx, Fy)``
+    traced by the force vector (for bearing sizing), the origin, and the largest force.
+
+    Parameters
+    ----------
+    mech : Mechanism
+    force : str, optional
+        A force pair of :func:`force_pairs`, by its name (``"F21"``, the six-bar's
+        ``"O"``) or a component's (``"F21x"``); default the first pair.
+    theta, omega, alpha, *loads, theta_deg, ax, **named_loads
+        As for :func:`torque`.
+
+    Returns
+    -------
+    Figure
+        Lines (gid): the pair's name (x data ``Fx``, y data ``Fy``, equal aspect),
+        ``"origin"`` (the point (0, 0)), ``"start"`` (the first angle),
+        ``"peak"`` (the largest ``|F|``, annotated with it and its angle) and
+        ``"peak vector"`` (origin to peak).
+
+    Raises
+    ------
+    ValueError
+        ``force`` is not a force pair of ``mech`` (the message lists them).
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> from linkage_fmu import plot, presets
+    >>> fig = plot.polar(presets.get("four_bar"), "F21", omega=10.0)
+    >>> ax = fig.axes[0]
+    >>> [line.get_gid() for line in ax.lines]
+    ['x axis', 'y axis', 'F21', 'origin', 'start', 'peak', 'peak vector']
+    >>> plot.polar(presets.get("four_bar"), "F99")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    ValueError: four_bar has no force pair 'F99'; its force pairs are: F21 (F21x, F21y), ...
+    """
+    pair = _find_pair(mech, force)
+    rad, deg = _angles(theta, theta_deg)
+    inputs = _inputs(mech, omega, alpha, loads, named_loads)
+    sol = _solve(mech, rad, inputs)
+    fx, fy = (np.asarray(sol[n], dtype=float) for n in (pair.x, pair.y))
+    _finite_or_fail(mech, fx, deg)
+    i = _peak(np.hypot(fx, fy))
+    magnitude = math.hypot(fx[i], fy[i])
+
+    fig, ax = _axes(ax, figsize=(6.5, 6.5))
+    ax.axhline(0.0, color="0.6", lw=0.8, zorder=0, gid="x axis")
+    ax.axvline(0.0, color="0.6", lw=0.8, zorder=0, gid="y axis")
+    ax.plot(fx, fy, color="C0", lw=1.6, label=f"{pair.name} over θ", gid=pair.name)
+    ax.plot([0.0], [0.0], "+", color="k", ms=12, mew=1.5, label="origin", gid="origin")
+    j = int(np.flatnonzero(np.isfinite(fx) & np.isfinite(fy))[0])
+    ax.plot([fx[j]], [fy[j]], "s", color="C2", ms=6, label=f"θ = {deg[j]:g}°", gid="start")
+    ax.plot([fx[i]], [fy[i]], "o", color="C3", ms=7, label=f"max |{pair.name}| {magnitude:.4g} N",
+            gid="peak")
+    ax.plot([0.0, fx[i]], [0.0, fy[i]], "--", color="C3", lw=1.0, gid="peak vector")
+    ax.annotate(f"|{pair.name}| = {magnitude:.4g} N\nat θ = {deg[i]:.1f}°", (fx[i], fy[i]),
+                xytext=(10, 10), textcoords="offset points", fontsize=9, gid="peak label")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel(f"{pair.x} [N]")
+    ax.set_ylabel(f"{pair.y} [N]")
+    who = f": force of link {pair.by} on link {pair.on}" if pair.by is not None else ""
+    ax.set_title(f"{mech.name}, {pair.name}{who}\n{_inputs_text(mech, inputs)}", fontsize=10)
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="best", fontsize=9)
+    return fig
+
+
+# -- 3. the linkage and its joint forces -------------------------------------------------
+def _size(points: Sequence[tuple[float, float]], fallback: float) -> float:
+    """The larger side of the bounding box of ``points``; ``fallback`` if zero."""
+    xy = np.asarray(points, dtype=float)
+    size = float(np.max(np.ptp(xy, axis=0))) if len(xy) else 0.0
+    return size if size > 0.0 else float(fallback)
+
+
+def _ordered(points: Sequence[str], pos: dict) -> list[str]:
+    """``points`` around their centroid, so that a link of three or more points is
+    drawn as a polygon that does not cross itself."""
+    if len(points) < 3:
+        return list(points)
+    xy = np.array([pos[p] for p in points])
+    c = xy.mean(axis=0)
+    order = np.argsort(np.arctan2(xy[:, 1] - c[1], xy[:, 0] - c[0]), kind="stable")
+    return [points[k] for k in order]
+
+
+def _nice(value: float) -> float:
+    """1, 2 or 5 times a power of ten, at most ``value`` (> 0)."""
+    power = 10.0 ** math.floor(math.log10(value))
+    return max(m for m in (1.0, 2.0, 5.0) if m * power <= value * (1 + 1e-12)) * power
+
+
+def _draw_frame_point(ax, x: float, y: float, s: float, name: str) -> None:
+    from matplotlib.patches import Polygon, Rectangle
+
+    ax.add_patch(Polygon([(x, y), (x - s, y - 1.6 * s), (x + s, y - 1.6 * s)], closed=True,
+                         facecolor="0.85", edgecolor="k", lw=1.0, zorder=1,
+                         gid=f"frame:{name}"))
+    ax.add_patch(Rectangle((x - 1.6 * s, y - 2.2 * s), 3.2 * s, 0.6 * s, facecolor="none",
+                           edgecolor="k", hatch="////", lw=0.0, zorder=1,
+                           gid=f"ground:{name}"))
+
+
+def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta_deg=None,
+            scale: float | None = None, ax: "Axes | None" = None, **named_loads) -> "Figure":
+    """The linkage at one crank angle, with every joint force drawn as an arrow from its
+    joint, all to one scale.
+
+    Links are lines between the points they carry (:func:`link_points`; a polygon for
+    three or more), a slider a square, revolute joints circles, frame points hatched
+    triangles and fixed guides dashed lines. Each :func:`force_pairs` force whose joint is
+    known is an arrow ``F * scale`` [m] starting at its joint's point, labelled with its
+    name at the tip.
+
+    Parameters
+    ----------
+    mech : Mechanism
+    theta : float, optional
+        The crank angle [rad]; or ``theta_deg`` [deg]. One of them is required.
+    omega, alpha, *loads, **named_loads : float, optional
+        As for :func:`torque`.
+    theta_deg : float, optional
+        The crank angle [deg], instead of ``theta``.
+    scale : float, optional
+        Arrow length per force [m/N]; default so that the largest force is
+        :data:`ARROW_FRACTION` (0.4) of the linkage's size (the larger side of the
+        bounding box of its points at this angle).
+    ax : matplotlib Axes, optional
+        Where to draw; a new figure if None.
+
+    Returns
+    -------
+    Figure
+        Its axes hold the quiver ``gid="forces"`` (``X, Y`` the joint points, ``U, V``
+        the forces times ``scale``, in :func:`force_pairs` order), the quiver key
+        ``gid="scale"`` (a round force to scale; the title gives the scale in m/N),
+        lines ``gid="link:<name>"`` (a patch for a slider) and ``gid="joints"``.
+
+    Raises
+    ------
+    AssemblyError
+        The linkage cannot be assembled at ``theta`` (a ``ValueError``).
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> from linkage_fmu import plot, presets
+    >>> mech = presets.get("four_bar")
+    >>> fig = plot.linkage(mech, theta_deg=30.0, omega=10.0, scale=1e-3)
+    >>> ax = fig.axes[0]
+    >>> quiver = next(c for c in ax.collections if c.get_gid() == "forces")
+    >>> sol = mech.solve(np.radians(30.0), omega=10.0)
+    >>> bool(np.isclose(quiver.U[0], 1e-3 * sol["F21x"]))  # F21 at B, in m
+    True
+    """
+    rad, deg = _angles(theta, theta_deg, scalar=True)
+    th, th_deg = float(rad[0]), float(deg[0])
+    inputs = _inputs(mech, omega, alpha, loads, named_loads)
+    st = mech.kinematics(th, order=0)
+    pos = {p: (float(x), float(y)) for p, (x, y) in st.p.items()}
+    pairs = [p for p in force_pairs(mech) if p.point is not None]
+    effort = mech.effort.name if mech.effort.name in mech.output_names else None
+    sol = _solve(mech, th, inputs)
+    forces = np.array([(sol[p.x], sol[p.y]) for p in pairs], dtype=float).reshape(-1, 2)
+    origins = np.array([pos[p.point] for p in pairs], dtype=float).reshape(-1, 2)
+
+    links = link_points(mech)
+    drawn = sorted({p for pts in links.values() for p in pts} | set(mech.frame_points))
+    size = _size([pos[p] for p in drawn], mech.length_scale)
+    largest = float(np.max(np.hypot(forces[:, 0], forces[:, 1]))) if len(forces) else 0.0
+    if scale is None:
+        scale = ARROW_FRACTION * size / largest if largest > 0.0 else 1.0
+    elif not (math.isfinite(scale) and scale > 0.0):
+        raise ValueError(f"scale must be a finite number > 0 [m/N], got {scale!r}")
+
+    fig, ax = _axes(ax, figsize=(8.0, 6.5))
+    from matplotlib.patches import Polygon, Rectangle
+
+    s = 0.025 * size
+    for name in mech.frame_points:
+        _draw_frame_point(ax, *pos[name], s, name)
+    for j in mech.joints:  # fixed guides
+        if j.normal is not None and not isinstance(j.normal, str) and mech.frame in (j.a, j.b):
+            (x, y), (nx, ny) = pos[j.point], j.normal
+            tx, ty = ny, -nx
+            h = 0.35 * size
+            ax.plot([x - h * tx, x + h * tx], [y - h * ty, y + h * ty], ls=(0, (6, 3)),
+                    color="0.4", lw=1.2, zorder=1, gid=f"guide:{j.name}")
+    for k, (link, pts) in enumerate(links.items()):
+        color = _LINK_COLORS[k % len(_LINK_COLORS)]
+        if len(pts) == 1:  # a slider or block: a square along its direction
+            (x, y), (ux, uy) = pos[pts[0]], st.u.get(link, (1.0, 0.0))
+            ax.add_patch(Rectangle((x - 2 * s, y - 1.2 * s), 4 * s, 2.4 * s,
+                                   angle=math.degrees(math.atan2(float(uy), float(ux))),
+                                   rotation_point="center", facecolor=color, alpha=0.35,
+                                   edgecolor=color, lw=1.5, zorder=2, gid=f"link:{link}"))
+            continue
+        ring = _ordered(pts, pos)
+        xy = [pos[p] for p in ring] + ([pos[ring[0]]] if len(ring) > 2 else [])
+        ax.plot(*zip(*xy), "-", color=color, lw=3.0, solid_capstyle="round", zorder=2,
+                label=f"link {link}", gid=f"link:{link}")
+        if len(ring) > 2:
+            ax.add_patch(Polygon(xy, closed=True, facecolor=color, alpha=0.15, lw=0, zorder=1))
+    revolute = [j.point for j in mech.joints if j.normal is None]
+    jx, jy = zip(*[pos[p] for p in revolute]) if revolute else ((), ())
+    ax.plot(jx, jy, "o", ms=7, mfc="white", mec="k", mew=1.3, ls="none", zorder=4,
+            gid="joints")
+    for p in drawn:
+        ax.annotate(p, pos[p], xytext=(-6, 6), textcoords="offset points", ha="right",
+                    fontsize=9, color="0.25", gid=f"point:{p}")
+
+    u, v = forces[:, 0] * scale, forces[:, 1] * scale
+    quiver = ax.quiver(origins[:, 0], origins[:, 1], u, v, angles="xy", scale_units="xy",
+                       scale=1.0, color="crimson", width=0.006, zorder=5, gid="forces")
+    for p, (x, y), du, dv, (fx, fy) in zip(pairs, origins, u, v, forces):
+        right, up = du >= 0.0, dv >= 0.0  # the label beyond the tip
+        ax.annotate(f"{p.name}\n{math.hypot(fx, fy):.3g} N", (x + du, y + dv),
+                    xytext=(4 if right else -4, 4 if up else -4), textcoords="offset points",
+                    ha="left" if right else "right", va="bottom" if up else "top",
+                    fontsize=8, color="crimson", gid=f"force:{p.name}")
+    if largest > 0.0:
+        ref = _nice(0.5 * largest)
+        key = ax.quiverkey(quiver, 0.5, 0.04, ref * scale, f"{ref:g} N", labelpos="E",
+                           coordinates="axes", color="crimson")
+        key.set_gid("scale")
+
+    tips = np.concatenate([np.array([pos[p] for p in drawn]), origins + np.c_[u, v]])
+    lo, hi = tips.min(axis=0) - 0.12 * size, tips.max(axis=0) + 0.12 * size
+    lo[1] -= 2.2 * s + 0.12 * size  # the ground hatching, and a band for the scale
+    ax.set_xlim(lo[0], hi[0])
+    ax.set_ylim(lo[1], hi[1])
+    ax.set_aspect("equal", adjustable="box")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    title = f"{mech.name} at θ = {th_deg:.4g}°, {_inputs_text(mech, inputs)}\n"
+    if effort is not None:
+        title += f"{effort} = {sol[effort]:.4g} {mech.output_info[effort][0]}; "
+    title += f"forces to scale {scale:.4g} m/N (1 N = {1000 * scale:.3g} mm)"
+    ax.set_title(title, fontsize=10)
+    ax.grid(True, alpha=0.2)
+    return fig
+
+
+# -- 4. transmission angles --------------------------------------------------------------
+def _valid_at(mech: "Mechanism", name: str, t: float) -> bool:
+    return bool(mech.solve(np.array([t]), outputs=(name,)).valid[0])
+
+
+def _distance_to_toggle(mech: "Mechanism", name: str, t: float) -> float:
+    mu = float(mech.solve(np.array([t]), outputs=(name,))[name][0])
+    return min(mu, math.pi - mu) if math.isfinite(mu) else math.inf
+
+
+def toggles(mech: "Mechanism", name: str, theta: np.ndarray, mu: np.ndarray,
+            valid: np.ndarray) -> list[float]:
+    """Crank angles [rad] within ``theta`` at which the dyad of the transmission angle
+    ``name`` is at a toggle (``mu`` = 0 or pi): the limits of the ranges where the
+    linkage cannot be assembled (found by bisection to 1e-12 rad, on the side where it
+    can), and, where it can, angles where ``mu`` touches 0 or pi (local minima of
+    ``min(mu, pi - mu)`` refined on the solver, kept if below :data:`TOGGLE_TOL`).
+    ``mu`` and ``valid`` are the solver's at ``theta``.
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets
+    >>> mech = presets.get("slider_crank", l_OA=0.2, l_AB=0.15)   # the rod cannot reach
+    >>> t = np.radians(np.linspace(0, 360, 73))
+    >>> sol = mech.solve(t, outputs=("mu_B",))
+    >>> [round(float(np.degrees(a)), 4) for a in toggles(mech, "mu_B", t, sol["mu_B"], sol.valid)]
+    [48.5904, 131.4096, 228.5904, 311.4096]
+    """
+    found = []
+    for i in np.flatnonzero(valid[:-1] != valid[1:]):
+        good, bad = (theta[i], theta[i + 1]) if valid[i] else (theta[i + 1], theta[i])
+        while abs(bad - good) > 1e-12:
+            mid = 0.5 * (good + bad)
+            if mid in (good, bad):
+                break
+            good, bad = (mid, bad) if _valid_at(mech, name, mid) else (good, mid)
+        found.append(float(good))
+    d = np.minimum(mu, np.pi - mu)
+    inner = np.flatnonzero(valid[1:-1] & valid[:-2] & valid[2:]) + 1
+    for i in inner:
+        if d[i] < d[i - 1] and d[i] <= d[i + 1] and d[i] < math.radians(10.0):
+            from scipy.optimize import minimize_scalar
+
+            lo, hi = sorted((theta[i - 1], theta[i + 1]))
+            res = minimize_scalar(lambda t: _distance_to_toggle(mech, name, t),
+                                  bounds=(lo, hi), method="bounded",
+                                  options={"xatol": 1e-12})
+            if res.fun < TOGGLE_TOL:
+                found.append(float(res.x))
+    return sorted(found)
+
+
+def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
+    """``(first, last)`` index of each run of True in ``mask``.
+
+    Examples
+    --------
+    >>> _runs(np.array([True, True, False, True]))
+    [(0, 1), (3, 3)]
+    """
+    edges = np.diff(np.concatenate([[0], mask.astype(np.int8), [0]]))
+    return [(int(a), int(b) - 1) for a, b in zip(np.flatnonzero(edges == 1),
+                                                  np.flatnonzero(edges == -1))]
+
+
+def transmission(mech: "Mechanism", theta=None, *, theta_deg=None,
+                 ax: "Axes | None" = None) -> "Figure":
+    """Every transmission angle ``mu_<joint>`` in degrees against the crank angle in
+    degrees, with each one's minimum and the toggle positions marked.
+
+    Parameters
+    ----------
+    mech : Mechanism
+    theta : array_like, optional
+        Crank angles [rad]; or ``theta_deg`` [deg]; default 0..360 deg, 721 angles.
+    theta_deg : array_like, optional
+        Crank angles [deg], instead of ``theta``.
+    ax : matplotlib Axes, optional
+        Where to draw; a new figure if None.
+
+    Returns
+    -------
+    Figure
+        Lines (gid): ``mu_<joint>`` (``degrees(mu)``; gaps where the linkage cannot be
+        assembled, shaded ``gid="invalid"``), ``min:mu_<joint>`` (one point at the
+        smallest angle, annotated) and ``toggle:mu_<joint>`` (a vertical line at each
+        :func:`toggles` angle, in degrees).
+
+    Raises
+    ------
+    ValueError
+        ``mech`` has no transmission angle (no dyad), or cannot be assembled at any angle.
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> from linkage_fmu import plot, presets
+    >>> fig = plot.transmission(presets.get("four_bar", l_AB=0.3))  # |BD| reaches BC + CD
+    >>> lines = {line.get_gid(): line for line in fig.axes[0].lines}  # the last of each gid
+    >>> sorted(lines)
+    ['min:mu_C', 'mu_C', 'toggle:mu_C']
+    >>> [round(float(line.get_xdata()[0]), 3) for line in fig.axes[0].lines
+    ...  if line.get_gid() == "toggle:mu_C"]
+    [135.951, 224.049]
+    """
+    names = [n for n in mech.diagnostic_names if n.startswith("mu_")]
+    if not names:
+        raise ValueError(f"{mech.name} has no dyad, so no transmission angle")
+    rad, deg = _angles(theta, theta_deg)
+    sol = mech.solve(rad, outputs=tuple(names))
+    valid = np.broadcast_to(np.asarray(sol.valid, dtype=bool), rad.shape)
+
+    fig, ax = _axes(ax)
+    for lo, hi in _runs(~valid):  # shade the angles where it cannot be assembled
+        a, b = deg[max(lo - 1, 0)], deg[min(hi + 1, deg.size - 1)]
+        ax.axvspan(min(a, b), max(a, b), color="0.9", lw=0, zorder=0, gid="invalid")
+    for k, name in enumerate(names):
+        mu = np.asarray(sol[name], dtype=float)
+        _finite_or_fail(mech, mu, deg)
+        color = f"C{k % 10}"
+        label = _greek(name)
+        ax.plot(deg, np.degrees(mu), color=color, lw=1.6, label=label, gid=name)
+        i = int(np.nanargmin(mu))
+        ax.plot([deg[i]], [np.degrees(mu[i])], "v", color=color, ms=8,
+                label=f"min {label} = {np.degrees(mu[i]):.1f}°", gid=f"min:{name}")
+        ax.annotate(f"min {label} = {np.degrees(mu[i]):.1f}°\nat θ = {deg[i]:.1f}°",
+                    (deg[i], np.degrees(mu[i])), xytext=(8, -18), textcoords="offset points",
+                    fontsize=9, color=color, gid=f"min label:{name}")
+        for j, t in enumerate(toggles(mech, name, rad, mu, valid)):
+            ax.axvline(np.degrees(t), color=color, ls="--", lw=1.0,
+                       label=f"toggle of {label}" if not j else None, gid=f"toggle:{name}")
+    ax.axhspan(40.0, 140.0, color="C2", alpha=0.06, zorder=0, gid="good range")
+    _degree_axis(ax, deg)
+    ax.set_ylim(0.0, 180.0)
+    ax.set_yticks(np.arange(0.0, 181.0, 30.0))
+    ax.set_ylabel("transmission angle μ [°]")
+    ax.set_title(f"{mech.name}: transmission angles (0° or 180°: toggle; "
+                 "shaded 40°-140°)", fontsize=10)
+    ax.legend(loc="best", fontsize=9)
+    return fig

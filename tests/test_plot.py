@@ -1,0 +1,358 @@
+"""linkage_fmu.plot: every figure renders to PNG, and what it draws is the solver's data.
+
+The reference is always ``mech.solve`` (or ``mech.kinematics``) at the same angles and
+inputs; the plotted arrays must equal it to 1e-12 relative (they are the same floats,
+only passed through matplotlib), the derived marks (mean, peak, minimum) must be the
+plain numpy reductions of it, and toggle angles must match the closed-form geometry.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+matplotlib = pytest.importorskip("matplotlib")
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.quiver import Quiver  # noqa: E402
+
+import linkage_fmu  # noqa: E402
+from linkage_fmu import plot, presets  # noqa: E402
+
+EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "coupler_four_bar.toml"
+PNG = b"\x89PNG\r\n\x1a\n"
+RTOL = 1e-12  # plotted data vs the solver: the same floats
+DEG = np.linspace(0.0, 360.0, 721)  # the documented default angles
+#: (preset, parameters, inputs): four-bar and slider-crank with speed, acceleration, load
+CASES = [
+    ("four_bar", {}, dict(omega=12.0, alpha=3.0, load=4.0)),
+    ("slider_crank", {"e": 0.01}, dict(omega=150.0, alpha=-20.0, load=300.0)),
+]
+CASE_IDS = [c[0] for c in CASES]
+
+
+@pytest.fixture(autouse=True)
+def _close_figures():
+    yield
+    plt.close("all")
+
+
+def saved_png(fig, path: Path) -> bytes:
+    fig.savefig(path)
+    data = path.read_bytes()
+    assert data[:8] == PNG, f"{path} is not a PNG"
+    assert len(data) > 5000, f"{path} is suspiciously small ({len(data)} bytes)"
+    return data
+
+
+def by_gid(ax) -> dict:
+    """gid -> list of Line2D."""
+    out: dict = {}
+    for line in ax.lines:
+        out.setdefault(line.get_gid(), []).append(line)
+    return out
+
+
+def solve_deg(mech, deg, **inputs):
+    omega, alpha = inputs.pop("omega", 0.0), inputs.pop("alpha", 0.0)
+    return mech.solve(np.radians(deg), omega, alpha, **inputs)
+
+
+# -- torque --------------------------------------------------------------------------------
+@pytest.mark.parametrize("name, params, inputs", CASES, ids=CASE_IDS)
+def test_torque_is_the_solved_effort_with_its_mean_and_peak(tmp_path, name, params, inputs):
+    mech = presets.get(name, **params)
+    fig = plot.torque(mech, **inputs)
+    saved_png(fig, tmp_path / f"torque_{name}.png")
+    ax = fig.axes[0]
+    lines = by_gid(ax)
+    ref = solve_deg(mech, DEG, **dict(inputs))
+    assert ref.valid.all()
+    mb = ref[mech.effort.name]
+
+    x, y = lines[mech.effort.name][0].get_data()
+    np.testing.assert_array_equal(x, DEG)  # degrees, 0..360 in 0.5 steps
+    np.testing.assert_allclose(y, mb, rtol=RTOL, atol=0)
+
+    # the mean over a revolution: the 721st angle is the first again
+    (mean_line,) = lines["mean"]
+    np.testing.assert_allclose(mean_line.get_ydata(), [np.mean(mb[:-1])] * 2, rtol=1e-9,
+                               atol=1e-12 * np.max(np.abs(mb)))
+    assert f"{np.mean(mb[:-1]):.4g} N.m" in mean_line.get_label()
+
+    i = int(np.argmax(np.abs(mb)))
+    (peak,) = lines["peak"]
+    np.testing.assert_array_equal(peak.get_xdata(), [DEG[i]])
+    np.testing.assert_allclose(peak.get_ydata(), [mb[i]], rtol=RTOL)
+    assert f"at θ = {DEG[i]:.1f}°" in "".join(t.get_text() for t in ax.texts)
+
+
+def test_torque_mean_is_zero_without_net_work():
+    """A slider-crank at constant speed with a constant piston force does no net work
+    per revolution (the force is conservative, inertia returns its energy): mean Mb = 0,
+    a check of the mean that does not use the solver's numbers."""
+    mech = presets.get("slider_crank")
+    fig = plot.torque(mech, omega=100.0, load=500.0)
+    lines = by_gid(fig.axes[0])
+    y = lines["Mb"][0].get_ydata()
+    peak = np.max(np.abs(y))
+    assert peak > 10.0
+    assert abs(lines["mean"][0].get_ydata()[0]) < 1e-12 * peak
+    # the peak is of |Mb|: here a negative value (-32.19 N.m; the largest Mb is 32.07)
+    i = int(np.argmax(np.abs(y)))
+    assert y[i] < 0 < np.max(y) < -y[i]
+    np.testing.assert_array_equal(np.ravel(lines["peak"][0].get_data()), [DEG[i], y[i]])
+
+
+def test_torque_other_output_theta_in_radians_and_an_axes_given(tmp_path):
+    mech = presets.get("four_bar")
+    theta = np.linspace(0.5, 2.0, 50)
+    fig0, ax = plt.subplots()
+    fig = plot.torque(mech, theta, 10.0, 0.0, 2.0, output="F32y", ax=ax)
+    assert fig is fig0
+    saved_png(fig, tmp_path / "torque_f32y.png")
+    x, y = by_gid(ax)["F32y"][0].get_data()
+    np.testing.assert_allclose(x, np.degrees(theta), rtol=RTOL)
+    np.testing.assert_allclose(y, mech.solve(theta, 10.0, 0.0, 2.0)["F32y"], rtol=RTOL)
+    # the mean over a part of a revolution: the trapezoidal mean over the angle
+    trapezoid = np.sum(0.5 * (y[1:] + y[:-1]) * np.diff(theta)) / (theta[-1] - theta[0])
+    np.testing.assert_allclose(by_gid(ax)["mean"][0].get_ydata()[0], trapezoid, rtol=1e-12)
+
+
+def test_torque_defaults_are_the_description_start_values():
+    mech = linkage_fmu.load(EXAMPLE)  # omega = 25, F_P = 80, T4 = 120 in the file
+    fig = plot.torque(mech)
+    y = by_gid(fig.axes[0])["Mb"][0].get_ydata()
+    ref = mech.solve(np.radians(DEG), 25.0, 0.0, F_P=80.0, T4=120.0)["Mb"]
+    np.testing.assert_allclose(y, ref, rtol=RTOL)
+    assert not np.allclose(y, mech.solve(np.radians(DEG), 25.0)["Mb"])  # loads matter
+
+
+def test_torque_shows_gaps_where_the_linkage_cannot_be_assembled(tmp_path):
+    mech = presets.get("four_bar", l_AB=0.3)  # BD reaches BC + CD: 136..224 deg impossible
+    fig = plot.torque(mech, theta_deg=DEG, omega=10.0)
+    saved_png(fig, tmp_path / "torque_gaps.png")
+    lines = by_gid(fig.axes[0])
+    ref = solve_deg(mech, DEG, omega=10.0)
+    y = lines["Mb"][0].get_ydata()
+    assert 100 < np.count_nonzero(~ref.valid) < 721
+    np.testing.assert_array_equal(np.isnan(y), ~ref.valid)  # NaN: matplotlib leaves gaps
+    np.testing.assert_allclose(y[ref.valid], ref["Mb"][ref.valid], rtol=RTOL)
+    # mean over the angles that can be assembled (intervals with both ends valid)
+    total = span = 0.0
+    for k in range(720):
+        if ref.valid[k] and ref.valid[k + 1]:
+            total += 0.5 * (ref["Mb"][k] + ref["Mb"][k + 1]) * 0.5
+            span += 0.5
+    np.testing.assert_allclose(lines["mean"][0].get_ydata()[0], total / span, rtol=1e-12)
+    i = int(np.nanargmax(np.abs(ref["Mb"])))
+    np.testing.assert_array_equal(lines["peak"][0].get_xdata(), [DEG[i]])
+
+
+# -- polar ---------------------------------------------------------------------------------
+@pytest.mark.parametrize("name, params, inputs", CASES, ids=CASE_IDS)
+def test_polar_is_the_pin_force_hodograph(tmp_path, name, params, inputs):
+    mech = presets.get(name, **params)
+    fig = plot.polar(mech, "F21", **inputs)
+    saved_png(fig, tmp_path / f"polar_{name}.png")
+    ax = fig.axes[0]
+    lines = by_gid(ax)
+    ref = solve_deg(mech, DEG, **dict(inputs))
+    fx, fy = ref["F21x"], ref["F21y"]
+    x, y = lines["F21"][0].get_data()
+    np.testing.assert_allclose(x, fx, rtol=RTOL, atol=0)
+    np.testing.assert_allclose(y, fy, rtol=RTOL, atol=0)
+    np.testing.assert_array_equal(np.ravel(lines["origin"][0].get_data()), [0.0, 0.0])
+    i = int(np.argmax(np.hypot(fx, fy)))
+    np.testing.assert_allclose(np.ravel(lines["peak"][0].get_data()), [fx[i], fy[i]],
+                               rtol=RTOL)
+    text = "".join(t.get_text() for t in ax.texts)
+    assert f"{math.hypot(fx[i], fy[i]):.4g} N" in text and f"θ = {DEG[i]:.1f}°" in text
+    assert ax.get_aspect() == 1.0
+
+
+def test_polar_default_pair_and_named_by_component():
+    six = presets.get("six_bar")  # the six-bar's forces are XO/YO, XA/YA, ...
+    for force in ("A", "XA", "YA"):
+        x, y = by_gid(plot.polar(six, force, load=50.0).axes[0])["A"][0].get_data()
+        ref = solve_deg(six, DEG, load=50.0)
+        np.testing.assert_allclose(x, ref["XA"], rtol=RTOL)
+        np.testing.assert_allclose(y, ref["YA"], rtol=RTOL)
+    four = presets.get("four_bar")
+    assert "F21" in by_gid(plot.polar(four).axes[0])  # the first pair
+
+
+# -- the linkage ---------------------------------------------------------------------------
+def test_force_pairs_sit_at_their_joints():
+    assert [(p.name, p.x, p.y, p.point) for p in plot.force_pairs(presets.get("four_bar"))] == [
+        ("F21", "F21x", "F21y", "B"), ("F32", "F32x", "F32y", "C"),
+        ("F43", "F43x", "F43y", "D"), ("F14", "F14x", "F14y", "A")]
+    six = plot.force_pairs(presets.get("six_bar"))  # N4 has one component: not a pair
+    assert [(p.x, p.y, p.point) for p in six] == [
+        ("XO", "YO", "O"), ("XA", "YA", "A"), ("XB", "YB", "B"), ("XO1", "YO1", "O1"),
+        ("XK", "YK", "K"), ("XD", "YD", "D")]
+    assert [p.point for p in plot.force_pairs(linkage_fmu.load(EXAMPLE))] == ["B", "C", "D"]
+
+
+def test_force_pairs_without_a_description_come_from_the_output_names():
+    for name in ("four_bar", "slider_crank", "crank_shaper"):
+        mech = presets.get(name)
+        expected = plot.force_pairs(mech)
+        mech.description = None  # as if built in Python from groups and outputs
+        assert plot.force_pairs(mech) == expected
+    six = presets.get("six_bar")
+    six.description = None  # XO/YO: no common stem ending in x/y
+    assert plot.force_pairs(six) == ()
+
+
+def quiver_of(ax) -> Quiver:
+    (q,) = [c for c in ax.collections if isinstance(c, Quiver) and c.get_gid() == "forces"]
+    return q
+
+
+LINKAGES = [
+    (lambda: presets.get("four_bar"), 0.7, dict(omega=12.0, alpha=3.0, load=4.0)),
+    (lambda: presets.get("slider_crank", e=0.01), 2.0, dict(omega=150.0, load=300.0)),
+    (lambda: presets.get("six_bar"), 1.2, dict(load=200.0)),
+    (lambda: presets.get("six_bar", driver="D"), 4.0, dict(load=200.0)),
+    (lambda: linkage_fmu.load(EXAMPLE), 0.6, dict(omega=25.0, alpha=-40.0, F_P=80.0, T4=120.0)),
+]
+
+
+@pytest.mark.parametrize("make, theta, inputs", LINKAGES,
+                         ids=["four_bar", "slider_crank", "six_bar", "six_bar-D", "coupler"])
+def test_linkage_arrows_are_the_joint_forces_to_scale(tmp_path, make, theta, inputs):
+    mech = make()
+    pairs = plot.force_pairs(mech)
+    st = mech.kinematics(theta, order=0)
+    omega, alpha = inputs.get("omega", 0.0), inputs.get("alpha", 0.0)
+    loads = {k: v for k, v in inputs.items() if k not in ("omega", "alpha")}
+    sol = mech.solve(theta, omega, alpha, **loads)
+    forces = np.array([(sol[p.x], sol[p.y]) for p in pairs])
+    at = np.array([st.p[p.point] for p in pairs], dtype=float)
+
+    # an explicit scale
+    fig = plot.linkage(mech, theta, omega, alpha, scale=2e-4, **loads)
+    saved_png(fig, tmp_path / f"linkage_{mech.name}.png")
+    q = quiver_of(fig.axes[0])
+    np.testing.assert_allclose(np.c_[q.X, q.Y], at, rtol=RTOL, atol=1e-15)
+    np.testing.assert_allclose(np.c_[q.U, q.V], 2e-4 * forces, rtol=RTOL, atol=0)
+
+    # the default scale: the largest arrow is 0.4 of the larger side of the bounding
+    # box of the linkage's points (the centres of mass lie inside it for these)
+    fig = plot.linkage(mech, theta_deg=math.degrees(theta), **inputs)
+    q = quiver_of(fig.axes[0])
+    points = np.array(list(st.p.values()), dtype=float)
+    size = np.max(points.max(axis=0) - points.min(axis=0))
+    arrows = np.c_[q.U, q.V]
+    np.testing.assert_allclose(np.max(np.hypot(arrows[:, 0], arrows[:, 1])), 0.4 * size,
+                               rtol=1e-9)
+    k = arrows[:, 0] / np.where(forces[:, 0] != 0, forces[:, 0], np.nan)
+    assert np.nanmax(k) == pytest.approx(np.nanmin(k), rel=1e-12)  # one scale for all
+    # every moving link is drawn, and every revolute joint
+    gids = {a.get_gid() for a in fig.axes[0].get_children()}
+    assert {f"link:{b.name}" for b in mech.bodies} <= gids
+    (joints,) = by_gid(fig.axes[0])["joints"]
+    revolute = [st.p[j.point] for j in mech.joints if j.normal is None]
+    np.testing.assert_allclose(np.array(joints.get_data(), float).T, np.array(revolute, float),
+                               rtol=RTOL, atol=1e-15)
+
+
+def test_linkage_cannot_be_drawn_where_it_cannot_be_assembled():
+    with pytest.raises(linkage_fmu.AssemblyError):
+        plot.linkage(presets.get("four_bar", l_AB=0.3), theta_deg=180.0)
+
+
+# -- transmission angles -------------------------------------------------------------------
+@pytest.mark.parametrize("name, params", [("four_bar", {}), ("slider_crank", {"e": 0.01}),
+                                          ("six_bar", {})], ids=["four_bar", "slider_crank",
+                                                                  "six_bar"])
+def test_transmission_lines_are_the_solved_angles(tmp_path, name, params):
+    mech = presets.get(name, **params)
+    fig = plot.transmission(mech)
+    saved_png(fig, tmp_path / f"transmission_{name}.png")
+    lines = by_gid(fig.axes[0])
+    ref = solve_deg(mech, DEG)
+    mus = [n for n in mech.diagnostic_names if n.startswith("mu_")]
+    assert mus and all(n in lines for n in mus)
+    for n in mus:
+        x, y = lines[n][0].get_data()
+        np.testing.assert_array_equal(x, DEG)
+        np.testing.assert_allclose(y, np.degrees(ref[n]), rtol=RTOL, atol=0)
+        i = int(np.argmin(ref[n]))
+        np.testing.assert_allclose(np.ravel(lines[f"min:{n}"][0].get_data()),
+                                   [DEG[i], np.degrees(ref[n][i])], rtol=RTOL)
+        assert f"toggle:{n}" not in lines  # these turn fully without a toggle
+
+
+def _rrr_toggles(l_ab, l_bc, l_cd, l_ad):
+    """Crank angles [deg] where |BD| = BC + CD or |BC - CD| (the coupler-rocker dyad
+    stretched or folded), 0..360."""
+    out = []
+    for d in (l_bc + l_cd, abs(l_bc - l_cd)):
+        c = (l_ab ** 2 + l_ad ** 2 - d ** 2) / (2 * l_ab * l_ad)
+        if -1 <= c <= 1:
+            a = math.degrees(math.acos(c))
+            out += [a, 360.0 - a]
+    return sorted(out)
+
+
+@pytest.mark.parametrize("make, expected", [
+    # BD reaches BC + CD = 0.65 at cos(theta) = (0.3^2 + 0.4^2 - 0.65^2) / (2 0.3 0.4)
+    (lambda: presets.get("four_bar", l_AB=0.3), _rrr_toggles(0.3, 0.35, 0.30, 0.40)),
+    # the rod (0.15) cannot reach the guide where 0.2 |sin(theta)| > 0.15
+    (lambda: presets.get("slider_crank", l_OA=0.2, l_AB=0.15),
+     [math.degrees(a) for a in (math.asin(0.75), math.pi - math.asin(0.75),
+                                math.pi + math.asin(0.75), 2 * math.pi - math.asin(0.75))]),
+    # a change-point four-bar (0.1 + 0.4 = 0.35 + 0.15): stretched at 180 deg, yet it turns
+    (lambda: presets.get("four_bar", l_AB=0.1, l_AD=0.4, l_BC=0.35, l_CD=0.15), [180.0]),
+], ids=["four_bar-not-grashof", "slider_crank-short-rod", "four_bar-change-point"])
+@pytest.mark.parametrize("n", [721, 700])  # on the grid and between its angles
+def test_transmission_marks_toggles(tmp_path, make, expected, n):
+    mech = make()
+    (mu,) = [d for d in mech.diagnostic_names if d.startswith("mu_")]
+    deg = np.linspace(0.0, 360.0, n)
+    fig = plot.transmission(mech, theta_deg=deg)
+    saved_png(fig, tmp_path / "toggles.png")
+    lines = by_gid(fig.axes[0])
+    found = sorted(line.get_xdata()[0] for line in lines[f"toggle:{mu}"])
+    np.testing.assert_allclose(found, expected, atol=1e-4)  # degrees
+    for t in found:  # the solver agrees that the dyad is at a toggle there
+        m = float(mech.solve(math.radians(t), outputs=(mu,))[mu])
+        assert min(m, math.pi - m) < 2e-3, (t, m)
+    ref = solve_deg(mech, deg)
+    y = lines[mu][0].get_ydata()
+    np.testing.assert_array_equal(np.isnan(y), ~ref.valid)
+
+
+# -- bad input -----------------------------------------------------------------------------
+def test_bad_input_is_refused_with_the_choices():
+    four = presets.get("four_bar")
+    with pytest.raises(ValueError, match=r"no force pair 'F12'.*F21 \(F21x, F21y\), F32"):
+        plot.polar(four, "F12")
+    with pytest.raises(ValueError, match=r"no force pair 'N43'.*F21 \(F21x, F21y\)"):
+        plot.polar(presets.get("slider_crank"), "N43")  # one component: not a pair
+    with pytest.raises(ValueError, match=r"no output 'Mx'.*F21x, .*Mb, mu_C, cond"):
+        plot.torque(four, output="Mx")
+    with pytest.raises(TypeError, match="not both"):
+        plot.torque(four, theta=[0.0, 1.0], theta_deg=[0.0, 1.0])
+    with pytest.raises(TypeError, match="inputs are: theta, omega, alpha, load"):
+        plot.torque(four, weight=3.0)
+    with pytest.raises(ValueError, match="one number"):
+        plot.linkage(four, [0.1, 0.2])
+    with pytest.raises(TypeError, match="give the crank angle"):
+        plot.linkage(four)
+    with pytest.raises(ValueError, match="scale must be"):
+        plot.linkage(four, 0.3, scale=-1.0)
+    with pytest.raises(ValueError, match="cannot be assembled at any"):
+        plot.torque(presets.get("four_bar", l_AB=0.3), theta_deg=[170.0, 180.0, 190.0])
+
+
+def test_missing_matplotlib_says_how_to_install(monkeypatch):
+    monkeypatch.setitem(sys.modules, "matplotlib.pyplot", None)  # import fails
+    with pytest.raises(ImportError, match=r'pip install "linkage_fmu\[plot\]"'):
+        plot.torque(presets.get("four_bar"))
