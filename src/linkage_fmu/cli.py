@@ -56,6 +56,12 @@ def _parameter(text: str) -> tuple:
         return name, value  # a choice parameter; the linkage checks it
 
 
+def _motion(parser: argparse.ArgumentParser) -> None:
+    for name in ("omega", "alpha"):
+        parser.add_argument(f"--{name}", type=float, default=None,
+                            help=f"{name} (default: the linkage's start value)")
+
+
 def description(source: str) -> Description:
     """The description of a preset name or a description file."""
     if source in presets.NAMES:
@@ -115,9 +121,7 @@ def main(argv: list[str] | None = None) -> int:
     table.add_argument("--deg", action="store_true", help="--theta and the index in degrees")
     table.add_argument("--n", type=int, default=36,
                        help="without --theta: angles linspace(0, 2*pi, N) (default 36)")
-    for name in ("omega", "alpha"):
-        table.add_argument(f"--{name}", type=float, default=None,
-                           help=f"{name} (default: the linkage's start value)")
+    _motion(table)
     table.add_argument("--method", choices=("closed_form", "direct"), default="closed_form")
     table.add_argument("--outputs", nargs="+", default=None)
     table.add_argument("--csv", action="store_true", help="print CSV instead of a table")
@@ -135,9 +139,7 @@ def main(argv: list[str] | None = None) -> int:
     sweep.add_argument("--deg", action="store_true", help="--theta in degrees")
     sweep.add_argument("--n", type=int, default=360,
                        help="without --theta: N angles over a revolution (default 360)")
-    for name in ("omega", "alpha"):
-        sweep.add_argument(f"--{name}", type=float, default=None,
-                           help=f"{name} (default: the linkage's start value)")
+    _motion(sweep)
     sweep.add_argument("--scheduler", help="'local' for a local Dask cluster, or a Dask "
                                            "scheduler's address (tcp://host:8786); default: "
                                            "this process")
@@ -154,9 +156,7 @@ def main(argv: list[str] | None = None) -> int:
     plot.add_argument("--theta-deg", dest="theta_deg",
                       help="angle(s) in degrees: a value (linkage), a list or START:STOP:STEP "
                            "(default a revolution in 0.5 degree steps)")
-    for name in ("omega", "alpha"):
-        plot.add_argument(f"--{name}", type=float, default=None,
-                          help=f"{name} (default: the linkage's start value)")
+    _motion(plot)
     plot.add_argument("-o", "--output", required=True, help="FILE.png, .svg or .pdf")
 
     build = sub.add_parser("build", help="build the linkage's FMU")

@@ -68,7 +68,7 @@ class AngleTable:
         dict
             Output name -> float or ndarray of the broadcast shape.
         """
-        values = (theta, omega, alpha, *self.mech._load_values(loads, named_loads))
+        values = (theta, omega, alpha, *self.mech.load_values(loads, named_loads))
         arrays = np.broadcast_arrays(*(finite_array(n, v) for n, v in zip(
             self.mech.input_names, values)))
         shape = arrays[0].shape

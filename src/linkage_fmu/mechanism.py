@@ -373,7 +373,7 @@ class Mechanism:
         if method not in METHODS:
             raise ValueError(f"method must be one of {METHODS}, got {method!r}")
         wanted = self._wanted(outputs)
-        args = (theta, omega, alpha, *self._load_values(loads, named_loads))
+        args = (theta, omega, alpha, *self.load_values(loads, named_loads))
         names = self.input_names
         if type(theta) is float and type(omega) is float and type(alpha) is float and \
                 all(type(a) is float for a in args[3:]) and math.isfinite(sum(args)):
@@ -435,8 +435,16 @@ class Mechanism:
         return Solution({name: v.reshape(shape) for name, v in zip(wanted, values)},
                         valid.reshape(shape))
 
-    def _load_values(self, positional: tuple, named: dict) -> list:
-        """The load values in :attr:`loads` order from positional and named arguments."""
+    def load_values(self, positional: tuple, named: dict, start: bool = False) -> list:
+        """The load values in :attr:`loads` order from positional and named arguments; a
+        load not given is 0, or with ``start`` its start value.
+
+        Examples
+        --------
+        >>> from linkage_fmu import presets
+        >>> presets.get("four_bar").load_values((), {"load": 2.0})
+        [2.0]
+        """
         if not named and len(positional) == len(self.loads):
             return positional
         names = [load.name for load in self.loads]
@@ -451,7 +459,7 @@ class Mechanism:
             if key in values:
                 raise TypeError(f"load {key} is given twice")
             values[key] = value
-        return [values.get(n, 0.0) for n in names]
+        return [values.get(load.name, load.start if start else 0.0) for load in self.loads]
 
     def table(self, theta, omega=0.0, alpha=0.0, *loads, method: str = "closed_form",
               outputs: Iterable[str] | None = None, **named_loads):

@@ -217,20 +217,8 @@ def _inputs(mech: "Mechanism", omega, alpha, loads: Sequence, named: dict) -> di
     start = dict(mech.description.inputs) if mech.description is not None else {}
     values = {"omega": start.get("omega", 0.0) if omega is None else omega,
               "alpha": start.get("alpha", 0.0) if alpha is None else alpha}
-    names = [load.name for load in mech.loads]
-    if len(loads) > len(names):
-        raise TypeError(f"{mech.name} has {len(names)} load(s) ({', '.join(names)}), got "
-                        f"{len(loads)} positional load values")
-    given = dict(zip(names, loads))
-    for key, value in named.items():
-        if key not in names:
-            raise TypeError(f"{mech.name} has no input {key!r}; its inputs are: "
-                            + ", ".join(mech.input_names))
-        if key in given:
-            raise TypeError(f"load {key} is given twice")
-        given[key] = value
-    for load in mech.loads:
-        values[load.name] = float(given.get(load.name, load.start))
+    for load, value in zip(mech.loads, mech.load_values(tuple(loads), named, start=True)):
+        values[load.name] = float(value)
     return values
 
 

@@ -58,7 +58,7 @@ def reference(mech, theta: float, omega: float = 0.0, alpha: float = 0.0, *loads
     (15.6699, 313.3975)
     """
     with mpmath.workdps(dps):
-        values = (theta, omega, alpha, *mech._load_values(loads, named_loads))
+        values = (theta, omega, alpha, *mech.load_values(loads, named_loads))
         state = [mpmath.mpf(float(v)) for v in values]
         st = mech._kinematics(state[0], MP, 2)
         W = wrenches(mech, st, state[1], state[2], state[3:], static=False)
@@ -84,7 +84,7 @@ def references(mech, theta, omega=0.0, alpha=0.0, *loads, dps: int = 40, **named
     (2,)
     """
     arrays = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in
-                                   (theta, omega, alpha, *mech._load_values(loads, named_loads))))
+                                   (theta, omega, alpha, *mech.load_values(loads, named_loads))))
     rows = [reference(mech, *map(float, s), dps=dps) for s in zip(*(a.ravel() for a in arrays))]
     return {n: np.array([float(r[n]) for r in rows]).reshape(arrays[0].shape)
             for n in mech.output_names}

@@ -110,7 +110,7 @@ def sweep(source, designs: pd.DataFrame | Mapping[str, Sequence], theta=None,
                             + ", ".join(specs))
     theta = np.linspace(0.0, 2.0 * math.pi, 360, endpoint=False) if theta is None else theta
     theta = np.asarray(theta, dtype=np.float64).reshape(-1)
-    values = [omega, alpha, *mech._load_values(loads, named_loads)]
+    values = [omega, alpha, *mech.load_values(loads, named_loads)]
     inputs = [theta] + [np.full(1, float(v)) for v in values]
     for name, a in zip(mech.input_names, inputs):
         if not np.isfinite(a).all():
