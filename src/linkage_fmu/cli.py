@@ -38,6 +38,7 @@ EPILOG = """examples:
   linkage-fmu plot four_bar --what mu --set l_AB=0.3 -o mu.png
   linkage-fmu build four_bar --set l_AB=0.12 --out dist
   linkage-fmu build --native my_linkage.toml --out dist/native
+  linkage-fmu build --native --fmi 3 four_bar
   linkage-fmu check dist/FourBar.fmu
 """
 
@@ -164,10 +165,12 @@ def main(argv: list[str] | None = None) -> int:
     build.add_argument("--set", dest="params", metavar="NAME=VALUE", type=_parameter,
                        action="append", default=[], help="override a parameter (repeatable)")
     build.add_argument("--out", default=None,
-                       help="output folder (default dist, or dist/native with --native)")
+                       help="output folder (default dist, dist/native with --native, dist/native3 with --fmi 3)")
     build.add_argument("--native", action="store_true",
                        help="a native FMU: the linkage's kernels in C, no Python in the "
                             "importing tool (default: the pythonfmu FMU)")
+    build.add_argument("--fmi", type=int, choices=(2, 3), default=2,
+                       help="FMI version of a native FMU (default 2; the pythonfmu FMU is 2)")
 
     check = sub.add_parser("check", help="run an FMU with fmpy against the direct solver")
     check.add_argument("fmu")
@@ -192,10 +195,13 @@ def main(argv: list[str] | None = None) -> int:
             from .ccompiler import CompilerError
             from .fmi import build_fmu, build_native_fmu
 
-            make, out = ((build_native_fmu, "dist/native") if args.native else
-                         (build_fmu, "dist"))
+            if args.fmi == 3 and not args.native:
+                raise UsageError("--fmi 3 needs --native (the pythonfmu FMU is FMI 2.0)")
             try:
-                print(make(d, args.out or out, **dict(args.params)))
+                if args.native:
+                    print(build_native_fmu(d, args.out, args.fmi, **dict(args.params)))
+                else:
+                    print(build_fmu(d, args.out or "dist", **dict(args.params)))
             except CompilerError as err:
                 print(f"linkage-fmu: {err}", file=sys.stderr)
                 return 2

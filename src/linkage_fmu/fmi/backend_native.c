@@ -5,6 +5,9 @@
  * and state step, and the tables this file reads: start values, the rule of each real
  * parameter, the allowed structural values, the names of inputs and parameters.
  *
+ * It is written against fmi2.c's backend interface (fmi2 types and status codes); fmi3.c
+ * maps those names to FMI 3.0's (backend_fmi3.h) and includes it unchanged.
+ *
  * - Parameters are checked and prepared once, at exitInitializationMode (or when an
  *   output is read in initialisation mode): an invalid one is fmi2Error naming it.
  * - Outputs are direct feedthrough, computed when read, once per change of the inputs.
@@ -14,6 +17,20 @@
  *   inputs and the reason. The next valid step works.
  */
 #include "model.c"
+
+/* The calls named in this backend's logs: FMI 2.0's, unless the framework names them
+ * (fmi3.c does, in backend_fmi3.h). */
+#ifndef CALL_GET_REAL
+#define CALL_INSTANTIATE "fmi2Instantiate"
+#define CALL_EXIT_INITIALIZATION "fmi2ExitInitializationMode"
+#define CALL_GET_REAL "fmi2GetReal"
+#define CALL_SET_REAL "fmi2SetReal"
+#define CALL_SET_INTEGER "fmi2SetInteger"
+#define CALL_SET_STRING "fmi2SetString"
+#define CALL_DO_STEP "fmi2DoStep"
+#define CALL_GET_STATE "fmi2GetFMUstate"
+#define CALL_DESERIALIZE "fmi2DeSerializeFMUstate"
+#endif
 
 typedef struct {
     double p[N_P + 1];        /* real parameters */
@@ -49,7 +66,7 @@ static void *backend_instantiate(Instance *in, fmi2String guid, fmi2String resou
     (void)guid, (void)resources, (void)visible;
     Model *m = (Model *)in->host.allocateMemory(1, sizeof *m);
     if (!m) {
-        say(in, fmi2Error, "fmi2Instantiate: out of memory");
+        say(in, fmi2Error, CALL_INSTANTIATE ": out of memory");
         return NULL;
     }
     start_values(m);
@@ -104,7 +121,7 @@ static fmi2Status prepare(Instance *in, const char *call) {
 }
 
 static fmi2Status backend_exit_initialization(Instance *in) {
-    return prepare(in, "fmi2ExitInitializationMode");
+    return prepare(in, CALL_EXIT_INITIALIZATION);
 }
 
 static fmi2Status backend_terminate(Instance *in) {
@@ -165,14 +182,14 @@ static fmi2Status backend_get_real(Instance *in, const fmi2ValueReference vr[], 
         if (v->role == R_INPUT) value[i] = m->x[v->index];
         else if (v->role == R_PARAMETER) value[i] = m->p[v->index];
         else {
-            if (!m->prepared && prepare(in, "fmi2GetReal") != fmi2OK) {
+            if (!m->prepared && prepare(in, CALL_GET_REAL) != fmi2OK) {
                 value[i] = NAN;
                 status = fmi2Warning;
                 continue;
             }
             if (!solve(m)) {
                 if (!m->reported)
-                    say(in, fmi2Warning, "fmi2GetReal: the outputs are NaN: %s", m->why);
+                    say(in, fmi2Warning, CALL_GET_REAL ": the outputs are NaN: %s", m->why);
                 m->reported = 1;
                 status = fmi2Warning;
             }
@@ -216,7 +233,7 @@ static fmi2Status backend_set_real(Instance *in, const fmi2ValueReference vr[], 
             if (m->x[v->index] != value[i] || !isfinite(value[i])) m->fresh = 0;
             m->x[v->index] = value[i];
             if (!isfinite(value[i]))
-                status = say(in, fmi2Discard, "fmi2SetReal: input %s = %g is not finite: the "
+                status = say(in, fmi2Discard, CALL_SET_REAL ": input %s = %g is not finite: the "
                              "outputs are NaN until it is", v->name, value[i]);
         } else {
             m->p[v->index] = value[i];
@@ -234,7 +251,7 @@ static fmi2Status backend_set_integer(Instance *in, const fmi2ValueReference vr[
         int s = 0;
         while (s < N_STRUCTURES && STRUCTURE_INTS[s][k] != value[i]) s++;
         if (s == N_STRUCTURES)
-            return say(in, fmi2Error, "fmi2SetInteger: %s = %d is not a value this FMU was "
+            return say(in, fmi2Error, CALL_SET_INTEGER ": %s = %d is not a value this FMU was "
                        "built for (%s)", VARIABLES[vr[i]].name, (int)value[i], STRUCTURES_BUILT);
     }
     for (size_t i = 0; i < n; i++) m->ints[VARIABLES[vr[i]].index] = value[i];
@@ -261,7 +278,7 @@ static fmi2Status backend_set_string(Instance *in, const fmi2ValueReference vr[]
     for (size_t i = 0; i < n; i++) {
         const Variable *v = &VARIABLES[vr[i]];
         if (option(v, value[i]) < 0)
-            return say(in, fmi2Error, "fmi2SetString: %s = '%s' is not an option of this FMU "
+            return say(in, fmi2Error, CALL_SET_STRING ": %s = '%s' is not an option of this FMU "
                        "(%s)", v->name, value[i],
                        v->role == R_METHOD ? "a native FMU computes the closed form only: "
                                              "'closed_form'; the direct solve is the reference "
@@ -279,16 +296,16 @@ static fmi2Status backend_set_string(Instance *in, const fmi2ValueReference vr[]
 static fmi2Status backend_do_step(Instance *in, fmi2Real t, fmi2Real h, fmi2Boolean no_set) {
     (void)h, (void)no_set;
     Model *m = (Model *)in->model;
-    if (!m->prepared && prepare(in, "fmi2DoStep") != fmi2OK) return fmi2Error;
+    if (!m->prepared && prepare(in, CALL_DO_STEP) != fmi2OK) return fmi2Error;
     if (solve(m)) return fmi2OK;
     m->reported = 1;
-    return say(in, fmi2Discard, "fmi2DoStep at t = %.16g: the outputs are NaN: %s", t, m->why);
+    return say(in, fmi2Discard, CALL_DO_STEP " at t = %.16g: the outputs are NaN: %s", t, m->why);
 }
 
 static fmi2Status backend_get_state(Instance *in, void **state) {
     Model *saved = (Model *)*state;
     if (!saved && !(saved = (Model *)in->host.allocateMemory(1, sizeof *saved)))
-        return say(in, fmi2Error, "fmi2GetFMUstate: out of memory");
+        return say(in, fmi2Error, CALL_GET_STATE ": out of memory");
     *saved = *(Model *)in->model;
     *state = saved;
     return fmi2OK;
@@ -316,14 +333,14 @@ static fmi2Status backend_serialize(Instance *in, void *state, unsigned char *by
 static fmi2Status backend_deserialize(Instance *in, const unsigned char *bytes, size_t n,
                                       void **state) {
     if (n != sizeof(Model))
-        return say(in, fmi2Error, "fmi2DeSerializeFMUstate: %zu payload bytes, a state of this "
+        return say(in, fmi2Error, CALL_DESERIALIZE ": %zu payload bytes, a state of this "
                    "FMU has %zu", n, sizeof(Model));
     Model *m = (Model *)in->host.allocateMemory(1, sizeof *m);
-    if (!m) return say(in, fmi2Error, "fmi2DeSerializeFMUstate: out of memory");
+    if (!m) return say(in, fmi2Error, CALL_DESERIALIZE ": out of memory");
     memcpy(m, bytes, n);
     if (m->structure < 0 || m->structure >= N_STRUCTURES) {
         in->host.freeMemory(m);
-        return say(in, fmi2Error, "fmi2DeSerializeFMUstate: the state's structure is unknown");
+        return say(in, fmi2Error, CALL_DESERIALIZE ": the state's structure is unknown");
     }
     m->why[sizeof m->why - 1] = '\0';
     *state = m;

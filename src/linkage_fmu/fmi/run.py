@@ -16,6 +16,7 @@ Examples
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -64,6 +65,7 @@ def run_fmu(fmu: str | Path, inputs: np.ndarray | None = None, steps: int = 360,
         FMU logged.
     """
     from fmpy import simulate_fmu
+    from fmpy.fmi1 import FMICallException
 
     mech = fmu_linkage(fmu)
     u = revolution(mech, steps) if inputs is None else inputs
@@ -72,17 +74,26 @@ def run_fmu(fmu: str | Path, inputs: np.ndarray | None = None, steps: int = 360,
     h = float(t[1] - t[0])
     messages: list[str] = []
 
-    def logger(env, instance, status, category, message):
+    def logger(*args):  # FMI 2.0: (env, instance, status, category, message); 3.0: no instance
+        status, message = args[-3], args[-1]
         if status >= 1:  # warnings and worse
             text = message.decode("utf-8", "replace") if isinstance(message, bytes) else message
             messages.append(str(text).replace("%%", "%"))
 
-    result = simulate_fmu(str(fmu), start_time=float(t[0]), stop_time=float(t[-1]),
-                          output_interval=h, input=u, output=names,
-                          start_values=start_values or {}, debug_logging=True, logger=logger)
-    if len(result) < len(t) or result["time"][-1] < t[-1]:
-        # fmpy ends with a row at the last successful time: the step from there failed
-        k = int(np.argmin(np.abs(t - result["time"][-1])))
+    try:
+        result = simulate_fmu(str(fmu), start_time=float(t[0]), stop_time=float(t[-1]),
+                              output_interval=h, input=u, output=names,
+                              start_values=start_values or {}, debug_logging=True,
+                              logger=logger)
+        end = float(result["time"][-1])
+    except FMICallException as err:  # fmpy 0.3's FMI 3.0 path raises at a discarded step
+        found = re.search(r"DoStep at t = ([-+0-9.eE]+)", messages[-1] if messages else "")
+        if err.status != 2 or found is None:  # not a discard: fmpy's own error
+            raise
+        result, end = None, float(found.group(1))
+    if result is None or len(result) < len(t) or end < t[-1]:
+        # the step from the last successful time failed
+        k = int(np.argmin(np.abs(t - end)))
         reason = messages[-1] if messages else "no message from the FMU"
         raise FMURunError(f"{Path(fmu).name}: the run ended at step {k} of {len(t) - 1} "
                           f"(t = {float(t[k])!r}): {reason}", k, float(t[k]), messages)
