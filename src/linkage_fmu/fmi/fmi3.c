@@ -56,16 +56,12 @@ typedef struct {
 } Variable;
 
 #include "config.h"
+#include "fmi_common.h"
 
 /* the independent variable, after the variable table */
 #define TIME_VR ((fmi3ValueReference)N_VARIABLES)
 static const Variable TIME_VARIABLE = {T_REAL, K_INDEPENDENT, "time", 0, 0};
 
-/* identity of this model's states in memory: the address is unique to this binary */
-static const char THIS_MODEL[] = MODEL_GUID;
-
-#define STATE_FORMAT 1u
-static const char STATE_MAGIC[8] = {'L', 'K', 'F', 'M', 'U', 'S', 'T', '\0'};
 
 typedef enum { S_INSTANTIATED, S_INIT, S_STEP, S_TERMINATED, S_FAILED } Machine;
 static const char *MACHINE_NAMES[] = {"Instantiated", "InitializationMode", "StepMode",
@@ -97,9 +93,6 @@ typedef struct {
     void *model;
 } SavedState;
 
-static const char *LOG_CATEGORIES[] = {"logStatusWarning", "logStatusDiscard",
-                                       "logStatusError", "logStatusFatal", "logAll"};
-#define N_CATEGORIES (sizeof LOG_CATEGORIES / sizeof *LOG_CATEGORIES)
 
 static int category_enabled(const Instance *in, fmi3Status status, const char *category) {
     if (status >= fmi3Error) return 1; /* errors are always reported */
@@ -137,26 +130,6 @@ static fmi3Status say(const Instance *in, fmi3Status status, const char *fmt, ..
     return status;
 }
 
-/* 1 if `s` is well-formed UTF-8. */
-static int utf8(const unsigned char *s) {
-    while (*s) {
-        unsigned c = *s++, n;
-        uint32_t cp;
-        if (c < 0x80) continue;
-        if (c >= 0xC2 && c <= 0xDF) n = 1, cp = c & 0x1F;
-        else if (c >= 0xE0 && c <= 0xEF) n = 2, cp = c & 0x0F;
-        else if (c >= 0xF0 && c <= 0xF4) n = 3, cp = c & 0x07;
-        else return 0;
-        for (unsigned k = 0; k < n; k++, s++) {
-            if ((*s & 0xC0) != 0x80) return 0;
-            cp = cp << 6 | (*s & 0x3F);
-        }
-        if ((n == 2 && cp < 0x800) || (n == 3 && (cp < 0x10000 || cp > 0x10FFFF)) ||
-            (cp >= 0xD800 && cp <= 0xDFFF))
-            return 0;
-    }
-    return 1;
-}
 
 /* The backend interface, as fmi2.c declares it, in FMI 2.0 names mapped to FMI 3.0's. */
 #include "backend_fmi3.h"
@@ -696,21 +669,7 @@ fmi3Status fmi3FreeFMUState(fmi3Instance instance, fmi3FMUState *state) {
     return fmi3OK;
 }
 
-/* Serialized layout (as fmi2.c's): magic[8] | u32 format | u32 nid | id | u32 nguid | guid |
- * f64 time | u64 n | payload[n] (the backend's) | u32 CRC-32 of all bytes before it. */
-static uint32_t crc32(const unsigned char *p, size_t n) {
-    uint32_t crc = 0xFFFFFFFFu;
-    while (n--) {
-        crc ^= *p++;
-        for (int k = 0; k < 8; k++) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
-    }
-    return ~crc;
-}
-
-static size_t header_size(void) {
-    return 8 + 4 + 4 + strlen(MODEL_IDENTIFIER) + 4 + strlen(MODEL_GUID) + 8 + 8;
-}
-
+/* Serialized states: the layout in fmi_common.h. */
 fmi3Status fmi3SerializedFMUStateSize(fmi3Instance instance, fmi3FMUState state, size_t *size) {
     INSTANCE(instance, "fmi3SerializedFMUStateSize");
     if (!size) return say(in, fmi3Error, "fmi3SerializedFMUStateSize: size is NULL");
@@ -723,10 +682,6 @@ fmi3Status fmi3SerializedFMUStateSize(fmi3Instance instance, fmi3FMUState state,
     return status;
 }
 
-static unsigned char *put(unsigned char *p, const void *v, size_t n) {
-    memcpy(p, v, n);
-    return p + n;
-}
 
 fmi3Status fmi3SerializeFMUState(fmi3Instance instance, fmi3FMUState state,
                                  fmi3Byte serializedState[], size_t size) {

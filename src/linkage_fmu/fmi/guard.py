@@ -22,8 +22,9 @@ from pathlib import Path
 
 from ..ccompiler import compile_shared
 
-#: the framework, and the backend it includes
-SOURCES = (Path(__file__).with_name("fmi2.c"), Path(__file__).with_name("backend_pythonfmu.c"))
+#: the framework, what it shares with fmi3.c, and the backend it includes
+SOURCES = tuple(Path(__file__).with_name(name)
+                for name in ("fmi2.c", "fmi_common.h", "backend_pythonfmu.c"))
 WRAPPED_LIBRARY = "libpythonfmu-export.so"
 PLATFORM = "linux64"
 

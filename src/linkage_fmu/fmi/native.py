@@ -42,7 +42,7 @@ from .variables import variables
 
 HERE = Path(__file__).parent
 #: the framework and the backend, copied into every native FMU's sources/
-FRAMEWORK = ("fmi2.c", "backend_native.c")
+FRAMEWORK = ("fmi2.c", "fmi_common.h", "backend_native.c")
 #: the FMI 2.0 headers (from fmpy), copied beside them
 HEADERS = ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h")
 ROLES = "enum { R_NONE, R_INPUT, R_PARAMETER, R_INTEGER, R_STRING, R_METHOD, R_OUTPUT };"

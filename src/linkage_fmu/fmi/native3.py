@@ -30,7 +30,7 @@ from .model_description import UNITS
 from .variables import variables
 
 #: the framework, its FMI 3.0 names for the backend interface, the backend
-FRAMEWORK = ("fmi3.c", "backend_fmi3.h", "backend_native.c")
+FRAMEWORK = ("fmi3.c", "fmi_common.h", "backend_fmi3.h", "backend_native.c")
 #: the FMI 3.0 headers (from fmpy), copied beside them
 HEADERS = ("fmi3Functions.h", "fmi3FunctionTypes.h", "fmi3PlatformTypes.h")
 #: FMI 3.0 platform tuple (FMI 2.0: linux64)
@@ -134,7 +134,7 @@ def build_description(model: str, sources=("fmi3.c",)) -> bytes:
     replacement of FMI 2.0's ``<SourceFiles>``)."""
     root = ET.Element("fmiBuildDescription", fmiVersion="3.0")
     config = ET.SubElement(root, "BuildConfiguration", modelIdentifier=model,
-                           description="fmi3.c includes config.h, backend_fmi3.h, "
+                           description="fmi3.c includes config.h, fmi_common.h, backend_fmi3.h, "
                                        "backend_native.c and model.c; link with -lm")
     files = ET.SubElement(config, "SourceFileSet", language="C99")
     for name in sources:
