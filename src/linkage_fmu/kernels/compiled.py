@@ -44,7 +44,7 @@ ARRAY_OPTIONS = (
     ((), ["m"]),
 )
 #: compiled kernels kept in the cache folder; the least recently used go beyond this
-#: (parameters are folded into kernels: every parameter set used is one more file)
+#: (one file per plan of a linkage's structure: the parameters are kernel arguments)
 CACHE_FILES = 1000
 
 

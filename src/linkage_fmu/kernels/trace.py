@@ -10,8 +10,11 @@ assembled, it is singular, it takes another branch) is handed back to the interp
 formulas, which raise the exact error or compute the exceptional case. No formula is
 written twice: the tape is what the formulas did.
 
-Parameters are Python floats during tracing, so everything that depends only on them is
-computed once, at trace time, and enters the tape as a constant.
+A linkage's real-valued parameters are inputs of the tape too (``parameter=True``): what
+depends on them alone is the parameter step of the generated code (:func:`program`),
+run once per parameter set, and its order comparisons (a length > 0) are its checks. An
+(in)equality of parameters alone is a shortcut of the formulas (skip the terms of a zero
+mass) and takes the general branch, so that one kernel serves every parameter value.
 
 Examples
 --------
