@@ -17,7 +17,7 @@ ANGLES = [0.0, 0.4, 1.3, 2.2, 3.0, 3.9, 4.8, 5.9]
 
 
 def _mp_positions(mech, theta):
-    return mech._kinematics(mpmath.mpf(theta), MP, 0).p
+    return mech.kinematics(mpmath.mpf(theta), 0, MP).p
 
 
 @pytest.mark.parametrize("theta", ANGLES)

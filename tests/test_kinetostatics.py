@@ -186,10 +186,10 @@ def _virtual_work_effort(mech, theta):
     """Static balancing effort from virtual work with derivatives of mpmath positions:
     effort * dq/dtheta = sum m g dy_S/dtheta + load terms (load = 0 here)."""
     def y(t, point):
-        return mech._kinematics(t, MP, 0).p[point][1]
+        return mech.kinematics(t, 0, MP).p[point][1]
 
     def q(t):
-        st = mech._kinematics(t, MP, 0)
+        st = mech.kinematics(t, 0, MP)
         e = mech.effort
         if e.direction is None:
             c, s = st.u[e.body]

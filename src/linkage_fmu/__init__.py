@@ -42,6 +42,4 @@ def load(path: str | Path, **parameters) -> Mechanism:
     >>> mech.input_names
     ('theta', 'omega', 'alpha', 'load')
     """
-    if str(path) in presets.NAMES:
-        return presets.get(str(path), **parameters)
-    return Description.read(path).build(**parameters)
+    return presets.linkage(str(path), **parameters)

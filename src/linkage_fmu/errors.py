@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import math
 
+from .kernels.trace import Reason
+
 
 def _angle(theta: float) -> str:
     return f"theta = {theta:.6g} rad ({math.degrees(theta):.4g} deg)"
@@ -26,10 +28,12 @@ class AssemblyError(ValueError):
     four_bar cannot be assembled at theta = 3.1 rad (177.6 deg)
     """
 
-    def __init__(self, mechanism: str, theta: float, condition: str):
+    def __init__(self, mechanism: str, theta: float, condition: str, what: str = ""):
         self.mechanism = mechanism
         self.theta = theta
         self.condition = condition
+        #: why, as the FMUs say it (the same words as the kernels' guards, no numbers)
+        self.reason = Reason("assembly", what)
         super().__init__(f"{mechanism} cannot be assembled at {_angle(theta)}: {condition}")
 
 
@@ -41,9 +45,11 @@ class SingularPositionError(ValueError):
     condition estimate of ``inf``.
     """
 
-    def __init__(self, mechanism: str, theta: float, detail: str):
+    def __init__(self, mechanism: str, theta: float, detail: str, what: str = ""):
         self.mechanism = mechanism
         self.theta = theta
+        #: why, as the FMUs say it (the same words as the kernels' guards, no numbers)
+        self.reason = Reason("singular", what)
         super().__init__(f"{mechanism} is singular at {_angle(theta)}: {detail}")
 
 
@@ -64,4 +70,6 @@ class OverflowInputError(ValueError):
 
     def __init__(self, mechanism: str, detail: str):
         self.mechanism = mechanism
+        #: why, as the FMUs say it
+        self.reason = Reason("overflow", "an input is too large in magnitude")
         super().__init__(f"{mechanism}: {detail}")

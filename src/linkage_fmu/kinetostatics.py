@@ -211,26 +211,36 @@ def unknowns(mech, x) -> tuple[dict, object]:
     return R, x[col] * (L if mech.effort.direction is None else 1.0)
 
 
-def direct(mech, st: KinematicState, W: dict, n_states: int = 1):
+def direct(mech, st: KinematicState, W: dict, xp, n_states: int = 1):
     """Reactions and balancing effort by assembling ``A x = b`` and LU-solving it.
 
     The reference solution: the same equations as :func:`closed_form`, solved as one
-    linear system per state (``numpy.linalg.solve``, batched over states), as the
-    source documents do (``X = A \\ B``). A singular state gives NaN/inf, not an error.
+    linear system per state (``numpy.linalg.solve``, batched over states, for floats
+    and arrays), as the source documents do (``X = A \\ B``); a namespace ``xp`` with
+    its own ``lu_solve(n, a, b)`` (:data:`linkage_fmu.precise.MP`) solves it in its own
+    numbers. A singular state gives NaN/inf, not an error.
 
     Examples
     --------
     >>> import math
     >>> from linkage_fmu import presets
     >>> from linkage_fmu.loads import wrenches
+    >>> from linkage_fmu.numerics import SCALAR
     >>> mech = presets.get("scotch_yoke")
     >>> st = mech.kinematics(math.radians(60), order=2)
-    >>> R, Mb = direct(mech, st, wrenches(mech, st, 10.0, 0.0, (400.0,), static=False))
-    >>> round(float(Mb[0]), 4)
+    >>> R, Mb = direct(mech, st, wrenches(mech, st, 10.0, 0.0, (400.0,), static=False), SCALAR)
+    >>> round(Mb, 4)
     15.6699
     """
+    lu_solve = getattr(xp, "lu_solve", None)
+    if lu_solve is not None:
+        return unknowns(mech, lu_solve(*equilibrium_entries(mech, st, W)))
     A, b = equilibrium_system(mech, st, W, n_states)
-    return unknowns(mech, _solve(A, b).T)
+    R, effort = unknowns(mech, _solve(A, b).T)
+    if xp.scalar:
+        R = {k: (float(a[0]), float(b[0])) for k, (a, b) in R.items()}
+        effort = float(effort[0])
+    return R, effort
 
 
 def _solve(A: np.ndarray, b: np.ndarray) -> np.ndarray:

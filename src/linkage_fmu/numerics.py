@@ -48,6 +48,18 @@ cos, sin, tan, asin, acos, atan, atan2, hypot, sqrt, radians, degrees = map(_on_
 minimum, maximum = _on_traced(min), _on_traced(max)
 
 
+def label(value, reason) -> None:
+    """Say why the comparison just made on the traced ``value`` fails (a
+    :class:`~linkage_fmu.kernels.trace.Reason`); nothing for a plain number.
+
+    A kernel returns the code of a guard that fails, and its reason says what failed in
+    words that are the same in every flavour of FMU.
+    """
+    tape = getattr(value, "tape", None)
+    if tape is not None:
+        tape.label(reason)
+
+
 def real(value) -> float:
     """``float(value)``; a traced number stays traced.
 

@@ -14,7 +14,7 @@ from . import numerics
 from .spec.expressions import Expression
 
 
-def _pair(mech, by: str, on: str, output: str):
+def joint_between(mech, by: str, on: str, output: str):
     """The joint between bodies ``by`` and ``on``, and +1 if it is declared as the
     action of ``by`` on ``on``, -1 if the other way round."""
     for j in mech.joints:
@@ -40,7 +40,7 @@ class Force:
 
     def bind(self, mech) -> Callable:
         i = "xy".index(self.axis)
-        j, sign = _pair(mech, self.by, self.on, self.name)
+        j, sign = joint_between(mech, self.by, self.on, self.name)
         if j.normal is None:
             return lambda R, E, st, name=j.name: sign * R[name][i]
         if isinstance(j.normal, str):  # a guide on a moving link
@@ -64,7 +64,7 @@ class Magnitude:
         return self.note or f"magnitude of the force of link {self.by} on link {self.on}"
 
     def bind(self, mech) -> Callable:
-        j, _ = _pair(mech, self.by, self.on, self.name)
+        j, _ = joint_between(mech, self.by, self.on, self.name)
 
         def magnitude(R, E, st, name=j.name):
             a, b = R[name]

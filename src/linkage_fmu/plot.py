@@ -40,7 +40,7 @@ from typing import TYPE_CHECKING, NamedTuple, Sequence
 
 import numpy as np
 
-from .outputs import _pair
+from .outputs import joint_between
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -132,7 +132,7 @@ def force_pairs(mech: "Mechanism") -> tuple[ForcePair, ...]:
     for name, x, y, by, on in specs:
         if x not in names or y not in names:
             continue
-        joint = _pair(mech, by, on, name)[0] if by is not None else None
+        joint = joint_between(mech, by, on, name)[0] if by is not None else None
         pairs.append(ForcePair(name, x, y, by, on, joint and joint.name, joint and joint.point))
     return tuple(pairs)
 

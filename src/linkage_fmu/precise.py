@@ -15,12 +15,22 @@ from types import SimpleNamespace
 import mpmath
 import numpy as np
 
-from . import kinetostatics
-from .loads import wrenches
 
-#: evaluation mode of the formulas on mpmath numbers (see :mod:`linkage_fmu.numerics`)
+def lu_solve(n: int, a: list, b: list):
+    """Solve the ``n`` equations given as nonzero entries ``a`` (row, column, value) and
+    right-hand side ``b`` (row, value) by mpmath's LU with partial pivoting."""
+    A, B = mpmath.zeros(n, n), mpmath.zeros(n, 1)
+    for r, c, v in a:
+        A[r, c] = v
+    for r, v in b:
+        B[r] = v
+    return mpmath.lu_solve(A, B)
+
+
+#: evaluation mode of the formulas on mpmath numbers (see :mod:`linkage_fmu.numerics`);
+#: the direct method solves its linear system with :func:`lu_solve`
 MP = SimpleNamespace(scalar=True, sqrt=mpmath.sqrt, cos=mpmath.cos, sin=mpmath.sin,
-                     atan2=mpmath.atan2, abs=abs, maximum=max)
+                     atan2=mpmath.atan2, abs=abs, maximum=max, lu_solve=lu_solve)
 
 
 def reference(mech, theta: float, omega: float = 0.0, alpha: float = 0.0, *loads: float,
@@ -57,20 +67,12 @@ def reference(mech, theta: float, omega: float = 0.0, alpha: float = 0.0, *loads
     >>> round(float(ref["Mb"]), 4), round(float(ref["F23y"]), 4)  # seed 000 quotes these
     (15.6699, 313.3975)
     """
+    plan = mech.solver.plan(mech.output_names, False, "direct")
     with mpmath.workdps(dps):
         values = (theta, omega, alpha, *mech.load_values(loads, named_loads))
         state = [mpmath.mpf(float(v)) for v in values]
-        st = mech._kinematics(state[0], MP, 2)
-        W = wrenches(mech, st, state[1], state[2], state[3:], static=False)
-        n, a, b = kinetostatics.equilibrium_entries(mech, st, W)
-        A, B = mpmath.zeros(n, n), mpmath.zeros(n, 1)
-        for r, c, v in a:
-            A[r, c] = v
-        for r, v in b:
-            B[r] = v
-        x = mpmath.lu_solve(A, B)
-        R, effort = kinetostatics.unknowns(mech, x)
-        return {name: +fn(R, effort, st) for name, fn in mech._outputs}
+        out, _ = mech.evaluate(plan, state[0], state[1], state[2], state[3:], MP)
+        return {name: +out[name] for name in mech.output_names}
 
 
 def references(mech, theta, omega=0.0, alpha=0.0, *loads, dps: int = 40, **named_loads) -> dict:

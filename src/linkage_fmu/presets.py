@@ -66,3 +66,26 @@ def get(name: str, **parameters) -> Mechanism:
     -14.315
     """
     return preset(name).build(**parameters)
+
+
+def linkage(source, **parameters) -> Mechanism:
+    """The Mechanism of ``source``: a preset's name, a description file's path, a
+    :class:`~linkage_fmu.spec.Description`, or a Mechanism built from a description
+    (then ``parameters`` must be empty), with ``parameters`` overriding the defaults.
+
+    Examples
+    --------
+    >>> linkage("four_bar", l_AB=0.12).parameters["l_AB"]
+    0.12
+    """
+    if isinstance(source, Mechanism):
+        if parameters:
+            raise TypeError("parameters apply to a description, not to a built Mechanism")
+        if source.description is None:
+            raise ValueError(f"{source.name} was not built from a description")
+        return source
+    if isinstance(source, Description):
+        return source.build(**parameters)
+    if str(source) in NAMES:
+        return get(str(source), **parameters)
+    return Description.read(source).build(**parameters)

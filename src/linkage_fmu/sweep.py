@@ -41,8 +41,7 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 import pandas as pd
 
-from .fmi.build import linkage as _linkage
-from .kernels import kernel_parameters
+from .presets import linkage
 from .parameters import resolve
 from .spec import Description
 
@@ -101,7 +100,7 @@ def sweep(source, designs: pd.DataFrame | Mapping[str, Sequence], theta=None,
         finite: naming it. An invalid parameter value is not an error: its design's row
         says why (``problem``).
     """
-    mech = _linkage(source)
+    mech = linkage(source)
     designs = pd.DataFrame(designs).reset_index(drop=True)
     specs = {p.name: p for p in mech.description.parameter_specs()}
     for name in designs.columns:
@@ -218,7 +217,7 @@ def _structure(text: str, structure: tuple):
     if array is None:
         raise RuntimeError("a sweep needs the compiled array kernel, and no C compiler was "
                            "found (cc, gcc or clang, or CC)")
-    assert kernel.parameters == kernel_parameters(mech)
+    assert kernel.parameters == mech.kernel_parameters
     return mech, kernel, array
 
 

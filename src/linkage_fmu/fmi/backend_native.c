@@ -111,7 +111,7 @@ static fmi2Status prepare(Instance *in, const char *call) {
     if (s == N_STRUCTURES)
         return say(in, fmi2Error, "%s: this FMU has no kernel for these branch and choice "
                    "parameters (%s)", call, STRUCTURES_BUILT);
-    if (!PREPARE[s](m->p, m->q))
+    if (PREPARE[s](m->p, m->q))
         return say(in, fmi2Error, "%s: the parameter set is invalid: a length computed from the "
                    "parameters is not positive (or a guide and a slot are parallel)", call);
     m->structure = s;
@@ -153,7 +153,7 @@ static int solve(Model *m) {
                        X_NAMES[k]);
             break;
         }
-    if (!n && !ONE[m->structure](m->q, m->x, m->y))
+    if (!n && ONE[m->structure](m->q, m->x, m->y))
         n = append(m->why, sizeof m->why, (size_t)n,
                    "the linkage cannot be assembled, or is singular, at %s = %.16g", m->x[0],
                    X_NAMES[0]);

@@ -14,9 +14,7 @@ import shutil
 import tempfile
 from pathlib import Path
 
-from .. import presets
-from ..mechanism import Mechanism
-from ..spec import Description
+from ..presets import linkage
 from . import guard
 from .slave import PACKAGE, fingerprint
 
@@ -32,22 +30,6 @@ hold_namespace({module!r})  # balances a reference the wrapper releases per inst
 class {model}(Fmi2Slave):
     DESCRIPTION = {description!r}  # in the FMU's resources
 '''
-
-
-def linkage(source, **parameters) -> Mechanism:
-    """The Mechanism of ``source``: a Mechanism (``parameters`` must be empty), a
-    Description, a preset name or a description file's path."""
-    if isinstance(source, Mechanism):
-        if parameters:
-            raise TypeError("parameters apply to a description, not to a built Mechanism")
-        if source.description is None:
-            raise ValueError(f"{source.name} was not built from a description")
-        return source
-    if isinstance(source, Description):
-        return source.build(**parameters)
-    if str(source) in presets.NAMES:
-        return presets.get(str(source), **parameters)
-    return Description.read(source).build(**parameters)
 
 
 def build_fmu(source, out: str | Path = "dist", **parameters) -> Path:

@@ -95,7 +95,8 @@ def config_header(model_description: bytes) -> str:
     ])
 
 
-def _fmi_headers() -> Path:
+def fmi_headers() -> Path:
+    """The folder of the FMI headers that fmpy ships."""
     import fmpy
 
     return Path(fmpy.__file__).parent / "c-code"
@@ -107,7 +108,7 @@ def compile_guard(model_description: bytes, output: Path) -> Path:
         (Path(tmp) / "config.h").write_text(config_header(model_description))
         for source in SOURCES:
             shutil.copy(source, Path(tmp) / source.name)
-        include = [Path(tmp), _fmi_headers()]
+        include = [Path(tmp), fmi_headers()]
         defines = []
         python_include = Path(sysconfig.get_paths()["include"])
         if (python_include / "Python.h").is_file():

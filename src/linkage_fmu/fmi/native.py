@@ -32,11 +32,10 @@ from xml.etree import ElementTree as ET
 
 from .. import __version__
 from ..ccompiler import compile_shared
-from ..kernels import kernel_parameters
-from ..kernels.c_source import _literal
+from ..kernels.c_source import c_literal
 from . import native3
-from .build import linkage
-from .guard import _fmi_headers, c_string, variable_rows
+from ..presets import linkage
+from .guard import c_string, fmi_headers, variable_rows
 from .model_description import complete
 from .variables import variables
 
@@ -70,7 +69,7 @@ def model_sources(mech) -> tuple[str, list[tuple], list[dict]]:
     ``config.h``), and the structures built (those whose kernel could be traced)."""
     d = mech.description
     table = variables(mech)
-    real = kernel_parameters(mech)
+    real = mech.kernel_parameters
     specs = {p.name: p for p in d.parameter_specs()}
     ints = [p for p in specs.values() if p.kind == "branch"]
     strings = [p for p in specs.values() if p.kind == "choice"]
@@ -112,14 +111,14 @@ def model_sources(mech) -> tuple[str, list[tuple], list[dict]]:
         f"#define N_STRINGS {len(strings)}",
         f"#define N_STRUCTURES {len(kernels)}",
         f"#define STRUCTURES_BUILT {c_string(words or 'one structure')}",
-        _array("double", "P_START", [mech.parameters[n] for n in real], _literal),
-        _array("double", "P_MIN", lows, _literal),
-        _array("double", "P_MAX", highs, _literal),
+        _array("double", "P_START", [mech.parameters[n] for n in real], c_literal),
+        _array("double", "P_MIN", lows, c_literal),
+        _array("double", "P_MAX", highs, c_literal),
         _array("int", "P_POSITIVE", positive),
         _array("int", "P_NONNEGATIVE", nonneg),
         _array("char *const", "P_NAMES", list(real), c_string),
         _array("double", "X_START", [v.start for v in table if v.causality == "input"],
-               _literal),
+               c_literal),
         _array("char *const", "X_NAMES", list(inputs), c_string),
         _array("char *const", "Y_NAMES", list(outputs), c_string),
         _array("int", "CHECKED", [int(i in k0.checked) for i in range(len(outputs))]),
@@ -211,7 +210,7 @@ def build_native_fmu(source, out: str | Path | None = None, fmi_version: int = 2
         for name in framework:
             shutil.copy(HERE / name, sources / name)
         for name in headers:
-            shutil.copy(_fmi_headers() / name, sources / name)
+            shutil.copy(fmi_headers() / name, sources / name)
         (sources / "config.h").write_text(config_header(d, guid, rows))
         (sources / "model.c").write_text(model_c)
         if fmi_version == 3:  # FMI 3.0 lists the sources here, not in the modelDescription

@@ -156,9 +156,7 @@ class LinkageSlave(Fmi2Slave):
         self._inputs = mech.input_names
         self._u = [v.start for v in table if v.causality == "input"]
         self._cache: dict = {}
-        self._assembles = False  # doStep found the linkage assembled at these inputs
         self._unsolvable = ()  # (cause, message) while the cache holds NaN for a reason
-        self._kernels: dict = {}  # (outputs, static) -> the mechanism's kernel
         self._names = mech.output_names + mech.diagnostic_names
         self._depends = {v.name: v.depends for v in table if v.causality == "output"}
         self._time = 0.0
@@ -244,7 +242,7 @@ class LinkageSlave(Fmi2Slave):
     # -- setters and getters: the guard has checked references, types and states ----
     def _invalidate(self) -> None:
         """Forget everything computed from the inputs and parameters."""
-        self._cache, self._assembles, self._unsolvable = {}, False, ()
+        self._cache, self._unsolvable = {}, ()
 
     def _set_input(self, i: int, value: float) -> None:
         self._u[i] = value
@@ -330,7 +328,6 @@ class LinkageSlave(Fmi2Slave):
                 if self._method not in METHODS:
                     raise ValueError(f"method must be one of {METHODS}, got {self._method!r}")
                 self._mech = self._desc.build(**self._params)
-                self._kernels = {}
             except (TypeError, ValueError) as err:
                 self._problem = f"invalid parameter: {err}"
         return self._mech
@@ -359,54 +356,26 @@ class LinkageSlave(Fmi2Slave):
 
     def _solve(self, names) -> dict:
         """Outputs ``names`` at the current inputs; all of them NaN, with a warning, if
-        the inputs cannot be solved."""
+        the inputs cannot be solved. Every output is computed at once, by one call of
+        the solver: all of them share one fate."""
         mech = self._mechanism()
         if mech is None:  # the guard allows no read after a failed initialisation
             return dict.fromkeys(names, math.nan)
         problem = self._input_problem()
         if not problem:
             try:
-                out = self._kernel_outputs(mech, names)
-                if out is None:  # the linkage's own solve decides (and names any error)
-                    out = dict(mech.solve(*self._u, method=self._method, outputs=tuple(names)))
-            except ValueError as err:  # AssemblyError, SingularPositionError, overflow
+                r = mech.solver.attempt(self._u, None, self._method)
+            except (ArithmeticError, ValueError) as err:
                 problem = (type(err).__name__,), str(err)
             else:
-                bad = [n for n, v in out.items() if not math.isfinite(v)]
-                if not bad:
+                if type(r) is tuple:
                     self._end_repeats()
-                    return out
-                inputs = ", ".join(f"{n} = {u!r}" for n, u in zip(self._inputs, self._u))
-                problem = ("overflow",), (f"the arithmetic overflows at {inputs}: "
-                                          f"{bad[0]} = {out[bad[0]]!r}")
+                    self._cache = dict(zip(self._names, r))
+                    return {n: self._cache[n] for n in names}
+                problem = (r.kind, r.what), r.text
         # every output, not only those asked for: none may be read stale or half-valid
         self._unsolved(problem[0], f"outputs are NaN at t = {self._time!r}: {problem[1]}")
         return dict.fromkeys(names, math.nan)
-
-    def _kernel(self, mech, names: tuple, static: bool):
-        """The linkage's kernel of this plan (kept per instance: one lookup a step)."""
-        key = (names, static)
-        kernel = self._kernels.get(key)
-        if kernel is None:
-            kernel = self._kernels[key] = mech.kernel(names, static)
-        return kernel
-
-    def _kernel_outputs(self, mech, names) -> dict | None:
-        """The outputs from the plan's kernel, or None where it does not decide (another
-        method, a guard that fails, a value that is not finite)."""
-        if self._method != "closed_form":
-            return None
-        u = self._u
-        names = tuple(names)
-        try:
-            kernel = self._kernel(mech, names, u[1] == 0.0 and u[2] == 0.0)
-            r = kernel(*u)
-            kernel.count()  # a hot plan is compiled
-        except (ArithmeticError, ValueError):
-            return None
-        if r is None or not math.isfinite(sum(r)):
-            return None
-        return dict(zip(names, r))
 
     # -- life cycle -----------------------------------------------------------------
     def setup_experiment(self, start_time, stop_time=None, tolerance=None):
@@ -441,21 +410,11 @@ class LinkageSlave(Fmi2Slave):
                 self.log(f"doStep: {self._problem}", Fmi2Status.error)
                 return True
             problem = self._input_problem()
-            if not problem and not self._assembles:
-                # can it be assembled? The kernel of the positions alone says yes at once;
-                # where it does not, the linkage's own check names the condition
-                try:
-                    kernel = self._kernel(mech, (), False)
-                    self._assembles = kernel(*self._u) is not None
-                    kernel.count()
-                except (ArithmeticError, ValueError):  # no kernel: the check below decides
-                    self._assembles = False
-                if not self._assembles:
-                    try:
-                        mech.kinematics(self._u[0], order=0)
-                        self._assembles = True  # another guard: the read decides
-                    except ValueError as err:
-                        problem = (type(err).__name__,), str(err)
+            if not problem and not self._cache:
+                self._outputs(self._names)  # one solve per input change
+                problem = self._unsolvable
+            elif self._unsolvable:
+                problem = self._unsolvable
             if problem:
                 self._unsolved(problem[0], f"doStep to t = {self._time!r}: outputs are NaN: "
                                            f"{problem[1]}")

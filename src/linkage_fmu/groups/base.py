@@ -30,6 +30,7 @@ from typing import Callable, ClassVar, NamedTuple
 import numpy as np
 
 from .. import numerics
+from ..kernels.trace import Reason
 from ..numerics import Number
 
 Vec = tuple  # (x, y) of floats or arrays
@@ -52,7 +53,8 @@ class KinematicState:
     invalid : ndarray of bool or None
         For arrays, the states that could not be assembled.
     on_invalid : callable
-        ``on_invalid(condition)`` raises for a scalar state (set by the mechanism).
+        ``on_invalid(condition, what)`` raises for a scalar state (set by the mechanism):
+        ``condition`` says what failed with its numbers, ``what`` without them.
     """
 
     __slots__ = ("theta", "xp", "p", "d1", "d2", "u", "w1", "w2", "invalid", "on_invalid")
@@ -81,11 +83,14 @@ class KinematicState:
         w2 = omega * omega
         return x2 * w2 + x1 * alpha, y2 * w2 + y1 * alpha
 
-    def root(self, value: Number, condition: Callable[[], str]) -> Number:
-        """``sqrt(value)``; a negative value is an assembly failure (raise, or NaN + mask)."""
+    def root(self, value: Number, condition: Callable[[], str], what: str = "") -> Number:
+        """``sqrt(value)``; a negative value is an assembly failure (raise, or NaN + mask).
+        ``condition()`` says what failed with its numbers, ``what`` without them."""
         if self.xp.scalar:
-            if value < 0.0:
-                self.on_invalid(condition())
+            fails = value < 0.0
+            numerics.label(value, Reason("assembly", what))
+            if fails:
+                self.on_invalid(condition(), what)
             return self.xp.sqrt(value)
         bad = value < 0.0
         if bad.any():
@@ -93,11 +98,13 @@ class KinematicState:
             value = np.where(bad, np.nan, value)
         return np.sqrt(value)
 
-    def positive(self, value: Number, condition: Callable[[], str]) -> Number:
+    def positive(self, value: Number, condition: Callable[[], str], what: str = "") -> Number:
         """``value``, which must be > 0 to assemble (raise, or NaN + mask)."""
         if self.xp.scalar:
-            if not value > 0.0:
-                self.on_invalid(condition())
+            fails = not value > 0.0
+            numerics.label(value, Reason("assembly", what))
+            if fails:
+                self.on_invalid(condition(), what)
             return value
         bad = ~(value > 0.0)
         if bad.any():
@@ -144,7 +151,7 @@ def unit_vector(angle: float) -> Vec:
     return numerics.cos(angle), numerics.sin(angle)
 
 
-def _raise_value_error(condition: str) -> None:
+def _raise_value_error(condition: str, what: str = "") -> None:
     raise ValueError(condition)
 
 
@@ -154,14 +161,16 @@ def fmt(x: Number) -> str:
     return f"{float(x):.6g}" if x.ndim == 0 else f"{float(x.flat[0]):.6g}"
 
 
-def angle_and_kappa(xp, sin_mu, cos_mu):
+def angle_and_kappa(xp, sin_mu, cos_mu, what: str = ""):
     """``(mu, kappa)`` from the sine and cosine of a transmission angle: ``mu`` in
     [0, pi] and ``kappa = (1 + |cos mu|) / |sin mu|``, the 2-norm condition number of a
-    dyad's normalised 2x2 core system (infinite at a toggle)."""
+    dyad's normalised 2x2 core system (infinite at a toggle, which ``what`` names)."""
     a = xp.abs(sin_mu)
     mu = xp.atan2(a, cos_mu)
     if xp.scalar:
-        kappa = (1.0 + abs(cos_mu)) / a if a > 0.0 else math.inf
+        apart = a > 0.0
+        numerics.label(a, Reason("singular", what))
+        kappa = (1.0 + abs(cos_mu)) / a if apart else math.inf
     else:
         with np.errstate(divide="ignore", invalid="ignore"):
             kappa = (1.0 + np.abs(cos_mu)) / a

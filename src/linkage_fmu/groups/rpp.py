@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from .. import numerics
+from ..kernels.trace import Reason
 from ..numerics import SCALAR
 from .base import (FRAME, OWNER, Group, Joint, KinematicState, angle_and_kappa, left_normal,
                    moment_about, push, unit_vector)
@@ -36,7 +38,10 @@ class RPP(Group):
         self.t2 = unit_vector(guide_angle)
         self.q = (guide_point[0], guide_point[1])
         self.cross = self.t2[0] * self.t1[1] - self.t2[1] * self.t1[0]
-        if abs(self.cross) < 1e-12:
+        parallel = abs(self.cross) < 1e-12
+        numerics.label(self.cross, Reason("parameter", "slot_angle and guide_angle must not "
+                                                       "be parallel"))
+        if parallel:
             raise ValueError("slot_angle and guide_angle must not be parallel")
         self.slot_joint, self.guide_joint = slot_joint, guide_joint
         self.needs = (E,)
@@ -91,4 +96,5 @@ class RPP(Group):
     def transmission(self, st, scale):
         """Angle between slot and guide, in [0, pi/2] (constant: the design's)."""
         (a, b), (c, d) = self.t1, self.t2
-        return angle_and_kappa(SCALAR, abs(a * d - b * c), abs(a * c + b * d))
+        return angle_and_kappa(SCALAR, abs(a * d - b * c), abs(a * c + b * d),
+                               f"the slot and the guide of the dyad at {self.E} are parallel")

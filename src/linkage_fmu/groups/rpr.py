@@ -44,6 +44,7 @@ class RPR(Group):
                        Joint(pivot, pivot, OWNER, lever))
         self.owners = {}
         self.key = pin
+        self._coincide = f"the lever's direction is undefined: {pin} coincides with {pivot}"
 
     @classmethod
     def from_spec(cls, spec, value):
@@ -55,8 +56,7 @@ class RPR(Group):
 
     def position(self, st: KinematicState) -> None:
         rx, ry = self._arm(st, st.p)
-        s = st.positive(st.xp.sqrt(rx * rx + ry * ry), lambda: (
-            f"the lever's direction is undefined: {self.P} coincides with {self.C}"))
+        s = st.positive(st.xp.sqrt(rx * rx + ry * ry), lambda: self._coincide, self._coincide)
         u = (rx / s, ry / s)
         st.u[self.lever] = st.u[self.block] = u
 

@@ -45,6 +45,8 @@ class RRP(Group):
         self.owners = {}  # B belongs to rod and slider
         self.key = B
         self.lengths = (L,)
+        self._too_far = f"{E} is farther from the guide of {B} than {E}{B}"
+        self._toggle = f"the dyad at {B} is at a toggle"
 
     @classmethod
     def from_spec(cls, spec, value):
@@ -60,7 +62,7 @@ class RRP(Group):
         L = self.L
         root = st.root((L - dn) * (L + dn), lambda: (
             f"{self.E} is {fmt(abs(np.asarray(dn).flat[0]))} m from the guide of {self.B}, "
-            f"more than {self.E}{self.B} = {fmt(L)} m"))
+            f"more than {self.E}{self.B} = {fmt(L)} m"), self._too_far)
         s = -dt + self.branch * root
         bx, by = self.q[0] + s * tx, self.q[1] + s * ty
         st.p[self.B] = (bx, by)
@@ -116,4 +118,4 @@ class RRP(Group):
         ut = c * tx + s * ty
         un = s * tx - c * ty
         xp = st.xp
-        return angle_and_kappa(xp, xp.abs(ut), xp.abs(un))
+        return angle_and_kappa(xp, xp.abs(ut), xp.abs(un), self._toggle)

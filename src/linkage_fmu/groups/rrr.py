@@ -42,6 +42,8 @@ class RRR(Group):
         self.owners = {}  # C belongs to both links
         self.key = C
         self.lengths = (L1, L2)
+        self._cannot_close = f"the dyad {E1}-{C}-{E2} cannot close"
+        self._toggle = f"the dyad at {C} is at a toggle"
 
     @classmethod
     def from_spec(cls, spec, value):
@@ -66,7 +68,7 @@ class RRR(Group):
         d2 = dx * dx + dy * dy
         # (2*d*h)^2 as a product of two factors: no cancellation near a toggle
         hd2 = ((L1 + L2) ** 2 - d2) * (d2 - (L1 - L2) ** 2)
-        hd = st.root(hd2, lambda: self._condition(d2))
+        hd = st.root(hd2, lambda: self._condition(d2), self._cannot_close)
         f = (L1 * L1 - L2 * L2 + d2) / (2.0 * d2)
         g = self.branch * hd / (2.0 * d2)
         cx, cy = x1 + f * dx - g * dy, y1 + f * dy + g * dx
@@ -120,4 +122,4 @@ class RRR(Group):
         """Angle between the two links at ``C``, in [0, pi]; 0 and pi are toggles."""
         (c1, s1), (c2, s2) = st.u[self.link1], st.u[self.link2]
         sin_mu, cos_mu = c1 * s2 - s1 * c2, c1 * c2 + s1 * s2
-        return angle_and_kappa(st.xp, sin_mu, cos_mu)
+        return angle_and_kappa(st.xp, sin_mu, cos_mu, self._toggle)

@@ -1,62 +1,54 @@
-"""Kernels: each linkage traced once into straight-line code, one kernel per plan.
+"""Kernels: formulas traced once into straight-line code, one kernel per plan.
 
-A plan is what a scene asks for: which outputs, and whether it is static (``omega =
-alpha = 0``, no derivative kinematics); the loads present are the linkage's. The kernel
-of a plan is the trace (:mod:`~linkage_fmu.kernels.trace`) of the closed-form formulas
-for exactly that plan, as Python source (:mod:`~linkage_fmu.kernels.python_source`) and
-C (:mod:`~linkage_fmu.kernels.c_source`, compiled by :mod:`~linkage_fmu.kernels.compiled`).
-The real-valued parameters are arguments of a parameter step, run once per parameter
-set; the work per state reads its values. A kernel is made on first use and kept by
-the mechanism, so skipping work costs nothing at run time.
+:func:`trace` runs a function of traced numbers (:mod:`~linkage_fmu.kernels.trace`)
+once and turns what it did into Python source
+(:mod:`~linkage_fmu.kernels.python_source`) and C (:mod:`~linkage_fmu.kernels.c_source`,
+compiled by :mod:`~linkage_fmu.kernels.compiled`). The real-valued parameters are
+arguments of a parameter step, run once per parameter set; the work per state reads its
+values. This package knows nothing of linkages: the solver (:mod:`linkage_fmu.solver`)
+says what to trace, and keeps the kernels.
 
 Examples
 --------
->>> from linkage_fmu import presets
->>> mech = presets.get("four_bar")
->>> k = mech.kernel(("Mb", "F21x"))
->>> k.operations > 0, k(0.3, 10.0, 0.0, 0.0) == (mech.solve(0.3, 10.0, method="interpreted")["Mb"],
-...                                               mech.solve(0.3, 10.0, method="interpreted")["F21x"])
-(True, True)
+>>> k = trace(lambda x, p: [x[0] * p["a"] + 1.0], [2.0], {"a": 3.0}, ("y",), (0,))
+>>> k(2.0), k.frozen
+((7.0,), (3.0,))
 """
 
 from __future__ import annotations
 
-import math
 import time
 from dataclasses import dataclass, field
-from typing import Callable
+from typing import Callable, Mapping, Sequence
 
-from ..numerics import SCALAR
 from . import compiled
 from .c_source import c_source
 from .python_source import compile_source, python_source
-from .trace import TRACE, Tape, program
+from .trace import TRACE, Reason, Tape, program
 
-#: one-state calls of a plan after which it is compiled (the first compilation of a
-#: linkage's plan costs a fraction of a second; later ones, and other parameter sets of
-#: the same linkage, load it from the cache)
-HOT_CALLS = 1000
-#: crank angles tried as the witness state of a trace, until one assembles
-WITNESS_ANGLES = (0.3, 1.1, 2.3, 4.0, 5.5, 0.0, 3.0)
+__all__ = ["Kernel", "Reason", "TRACE", "trace"]
 
 
 @dataclass
 class Kernel:
-    """The kernel of the plan ``outputs`` (static or not) of one linkage.
+    """The kernel of one plan: the traced function of ``n_inputs`` inputs and the
+    parameters :attr:`parameters`.
 
-    Calling it with ``(theta, omega, alpha, *loads)`` (finite floats) returns the outputs
-    as a tuple, or None where a guard fails (the state cannot be assembled, is
-    singular, or takes a branch the trace did not): the interpreted formulas then
-    decide. The linkage's real-valued parameters are arguments of the generated code
-    (:attr:`parameters`), not constants in it: :attr:`frozen` holds what its parameter
-    step computed from this linkage's values, and the same source serves every
-    parameter set that passes the parameter step's checks.
+    Calling it with the inputs (finite floats) returns the outputs as a tuple, or None
+    where a guard fails (the state cannot be assembled, is singular, or takes a branch
+    the trace did not). :attr:`call` is what the solver calls: the Python kernel, or once
+    :meth:`compile` d, the C one; it returns the tuple, or the code of the failed guard
+    (:attr:`reasons` says why), and the C one also None for inputs that are not finite
+    floats and 0 for an output in :attr:`checked` that is not finite. The parameters are
+    arguments of the generated code, not constants in it: :attr:`frozen` holds what its
+    parameter step computed from the values it was traced with, and the same source
+    serves every parameter set that passes the parameter step's checks.
     """
 
     outputs: tuple
     static: bool
     source: str
-    prepare: Callable = field(repr=False)
+    make_prepare: Callable = field(repr=False)
     make: Callable = field(repr=False)
     frozen: tuple = ()
     parameters: tuple = ()  # parameter names, in the order of the parameter step's arguments
@@ -64,6 +56,8 @@ class Kernel:
     seconds: float = 0.0  # tracing and generation
     checked: tuple = ()  # positions of the outputs that must be finite (not diagnostics)
     index: dict = field(default_factory=dict)  # output name -> position in the tuple
+    #: code - 1 -> why that guard fails (the parameter step's checks and the state's)
+    reasons: tuple = ()
     tape: Tape = field(default=None, repr=False)
     results: list = field(default_factory=list, repr=False)
     n_inputs: int = 0
@@ -72,7 +66,7 @@ class Kernel:
     function: Callable = field(default=None, repr=False)
     #: what a one-state solve calls: the Python kernel, or once compiled, the C one
     call: Callable = field(default=None, repr=False)
-    calls: int = 0
+    calls: int = 0  # one-state calls counted by the solver (which decides when to compile)
 
     def __post_init__(self):
         if self.function is None:
@@ -81,19 +75,24 @@ class Kernel:
             self.call = self.function
 
     def __call__(self, *inputs):
-        return self.call(*inputs)
+        r = self.call(*inputs)
+        return r if type(r) is tuple else None
 
-    def count(self) -> None:
-        """Count a one-state call; the :data:`HOT_CALLS`-th compiles the plan."""
-        self.calls += 1
-        if self.calls == HOT_CALLS:
-            self.compile()
+    def prepare(self, *parameters) -> tuple | None:
+        """The parameter step's values for another parameter set (in the order of
+        :attr:`parameters`), or None where one of its checks fails
+        (:meth:`parameter_problem` says which)."""
+        q = self.make_prepare(*parameters)
+        return q if type(q) is tuple else None
+
+    def parameter_problem(self, *parameters) -> str | None:
+        """Why the parameter step refuses ``parameters``, or None if it takes them."""
+        q = self.make_prepare(*parameters)
+        return None if type(q) is tuple else self.reasons[q - 1].text
 
     @property
     def compiled(self) -> bool:
-        """Whether one-state calls go to the compiled kernel, which takes any inputs
-        and returns None unless they are finite floats and every checked output is
-        finite."""
+        """Whether one-state calls go to the compiled kernel."""
         return self.call is not self.function
 
     def compile(self) -> bool:
@@ -125,59 +124,53 @@ class Kernel:
         return self._array
 
 
-def trace_kernel(mech, outputs: tuple, static: bool) -> Kernel:
-    """Trace the closed-form formulas of ``mech`` for the plan ``(outputs, static)``.
+def trace(evaluate: Callable[[list, dict], list], inputs: Sequence[float],
+          parameters: Mapping[str, float], outputs: tuple, checked: tuple = (),
+          static: bool = False, label: str = "kernel") -> Kernel:
+    """Trace ``evaluate(inputs, parameters)`` at the witness ``inputs`` into a kernel.
 
-    A linkage built from a description is traced with its real-valued parameters as
-    inputs (built again from the description on traced numbers); one built in Python
-    has them folded in as constants.
+    Parameters
+    ----------
+    evaluate : callable
+        Takes a list of traced inputs and a dict of traced parameters (name -> traced
+        number) and returns the results (traced numbers or floats), one per name in
+        ``outputs``. Its comparisons take the branch the witness values take, recorded
+        as guards.
+    inputs : sequence of float
+        The witness state: it must be one ``evaluate`` solves on floats.
+    parameters : mapping
+        Parameter name -> value: the arguments of the parameter step, in this order.
+    outputs : tuple of str
+        Names of the results.
+    checked : tuple of int
+        Positions of the results that must be finite.
+    static : bool
+        Recorded on the kernel (a plan without derivative kinematics).
+    label : str
+        Names the kernel in tracebacks.
+
+    Raises
+    ------
+    RuntimeError
+        The parameter step refuses the values it was traced with.
     """
-    from ..spec.build import build
-
     t0 = time.perf_counter()
-    names = [f"x{i}" for i in range(len(mech.input_names))]
-    loads = [1.1 + 0.1 * k for k in range(len(mech.loads))]
-    parameters = kernel_parameters(mech)
-    last = None
-    omega, alpha = (0.0, 0.0) if static else (1.3, 0.7)
-    for theta in WITNESS_ANGLES:
-        try:  # a witness must be solvable: the trace follows what the floats do there
-            mech._compute(theta, omega, alpha, loads, SCALAR, "closed_form", outputs, static)
-        except (ValueError, ZeroDivisionError) as err:
-            last = err
-            continue
-        tape = Tape()
-        syms = [tape.input(n, v) for n, v in zip(names, (theta, omega, alpha, *loads))]
-        symbols = {name: tape.input(f"p{k}", mech.parameters[name], parameter=True)
-                   for k, name in enumerate(parameters)}
-        twin = build(mech.description, mech.parameters, symbols) if parameters else mech
-        out, _ = twin._compute(syms[0], syms[1], syms[2], syms[3:], TRACE, "closed_form",
-                               outputs, static)
-        results = [out[n] for n in outputs]
-        args = tuple(f"p{k}" for k in range(len(parameters)))
-        source = python_source(tape, names, results, args)
-        prepare, make = compile_source(source, label=f"kernel of {mech.name}")
-        frozen = prepare(*(mech.parameters[name] for name in parameters))
-        if frozen is None:
-            raise RuntimeError(f"{mech.name}: the parameter step rejects the parameters it "
-                               "was traced with")
-        checked = tuple(i for i, n in enumerate(outputs) if n in mech.output_names)
-        return Kernel(tuple(outputs), static, source, prepare, make, frozen, parameters,
-                      len(program(tape, results).state), time.perf_counter() - t0,
-                      checked, {name: i for i, name in enumerate(outputs)}, tape, results,
-                      len(names))
-    raise ValueError(f"{mech.name} cannot be assembled at any of the witness angles "
-                     f"{WITNESS_ANGLES}: {last}")
-
-
-def kernel_parameters(mech) -> tuple:
-    """The parameters a kernel of ``mech`` takes as arguments: the real-valued ones of a
-    linkage built from a description (a branch or a choice is structure)."""
-    if mech.description is None:
-        return ()
-    return tuple(name for name, v in mech.parameters.items() if type(v) is float)
-
-
-def finite(values) -> bool:
-    """True when every value is finite (one sum: a finite sum of finite terms)."""
-    return math.isfinite(sum(values)) or all(map(math.isfinite, values))
+    tape = Tape()
+    names = [f"x{i}" for i in range(len(inputs))]
+    syms = [tape.input(n, v) for n, v in zip(names, inputs)]
+    symbols = {name: tape.input(f"p{k}", value, parameter=True)
+               for k, (name, value) in enumerate(parameters.items())}
+    results = list(evaluate(syms, symbols))
+    args = tuple(f"p{k}" for k in range(len(parameters)))
+    source = python_source(tape, names, results, args)
+    make_prepare, make = compile_source(source, label=label)
+    prog = program(tape, results)
+    reasons = tuple(tape.reason(index) for index in prog.guards)
+    frozen = make_prepare(*parameters.values())
+    if type(frozen) is not tuple:
+        raise RuntimeError(f"{label}: the parameter step rejects the parameters it was traced "
+                           f"with: {reasons[frozen - 1].text}")
+    return Kernel(tuple(outputs), static, source, make_prepare, make, frozen,
+                  tuple(parameters), len(prog.state), time.perf_counter() - t0, tuple(checked),
+                  {name: i for i, name in enumerate(outputs)}, reasons, tape, results,
+                  len(names))

@@ -23,7 +23,15 @@ _SCALE = {"radians": math.pi / 180.0, "degrees": 180.0 / math.pi}
 _COMPARE = {"lt", "le", "gt", "ge", "eq", "ne"}
 
 
-def _literal(value: float) -> str:
+def c_literal(value: float) -> str:
+    """``value`` as a C double literal (``NAN``, ``INFINITY`` and negative numbers
+    parenthesised), exact to the bit.
+
+    Examples
+    --------
+    >>> c_literal(-0.1), c_literal(float("inf"))
+    ('(-0.1)', 'INFINITY')
+    """
     if value != value:
         return "NAN"
     if value in (float("inf"), float("-inf")):
@@ -32,15 +40,15 @@ def _literal(value: float) -> str:
     return f"({text})" if text.startswith("-") else text
 
 
-def _statements(tape: Tape, nodes: list, guards: dict, indent: str = "    ",
+def _statements(tape: Tape, nodes: list, guards: dict, codes: dict, indent: str = "    ",
                 simd: bool = False) -> list:
-    """One declaration per operation; a failed guard returns 0, or with ``simd`` marks
-    the state (``bad``) and the computation goes on (NaNs, no traps), and the
+    """One declaration per operation; a failed guard returns its code, or with ``simd``
+    marks the state (``bad``) and the computation goes on (NaNs, no traps), and the
     elementary functions are the vector ones (``lk_*``)."""
     body = []
     for i in nodes:
         node = tape.nodes[i]
-        a = [operand(tape, j, _literal) for j in node.args]
+        a = [operand(tape, j, c_literal) for j in node.args]
         if node.op in _COMPARE:
             body.append(f"{indent}const int t{i} = {a[0]} {_INFIX[node.op]} {a[1]};")
         elif node.op in _INFIX:
@@ -52,7 +60,7 @@ def _statements(tape: Tape, nodes: list, guards: dict, indent: str = "    ",
         elif node.op == "min":  # Python's min(a, b): b only if b < a
             body.append(f"{indent}const double t{i} = {a[1]} < {a[0]} ? {a[1]} : {a[0]};")
         elif node.op in _SCALE:
-            body.append(f"{indent}const double t{i} = {a[0]} * {_literal(_SCALE[node.op])};")
+            body.append(f"{indent}const double t{i} = {a[0]} * {c_literal(_SCALE[node.op])};")
         else:
             name = f"lk_{node.op}" if simd and node.op in _VECTOR else _CALL[node.op]
             body.append(f"{indent}const double t{i} = {name}({', '.join(a)});")
@@ -60,7 +68,7 @@ def _statements(tape: Tape, nodes: list, guards: dict, indent: str = "    ",
             if simd:
                 body.append(f"{indent}bad |= {'!' if guards[i] else ''}t{i};")
             else:
-                body.append(f"{indent}if ({'!' if guards[i] else ''}t{i}) return 0;")
+                body.append(f"{indent}if ({'!' if guards[i] else ''}t{i}) return {codes[i]};")
     return body
 
 
@@ -114,7 +122,7 @@ def _array_source(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
             ]
     xs = ", ".join(f"const double *restrict xb{k}" for k in range(n_inputs))
     ys = ", ".join(f"double *restrict y{k}" for k in range(n_out))
-    outputs = [operand(tape, r.index, _literal) if isinstance(r, Sym) else _literal(r)
+    outputs = [operand(tape, r.index, c_literal) if isinstance(r, Sym) else c_literal(r)
                for r in results]
     block = [
         "LK_CLONES __attribute__((noinline))",
@@ -129,7 +137,7 @@ def _array_source(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
         *(f"        const double {name} = q[{k}];" for k, name in enumerate(frozen)),
         *(f"        const double x{k} = xb{k}[j];" for k in range(n_inputs)),
         *(f"        (void)x{k};" for k in range(n_inputs)),
-        *_statements(tape, prog.state, prog.guards, "        ", simd=True),
+        *_statements(tape, prog.state, prog.guards, prog.codes, "        ", simd=True),
         *(f"        y{k}[j] = {v};" for k, v in enumerate(outputs)),
         "        badb[j] = bad;",
         "    }",
@@ -177,7 +185,7 @@ def _array_source(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
         "    for (size_t i = 0; i < n; i++) {",
         f"        double xi[{max(n_inputs, 1)}], yi[{max(n_out, 1)}];",
         f"        for (int k = 0; k < {n_inputs}; k++) xi[k] = x[k][i * step[k]];",
-        f"        const int good = {prefix}_one(q, xi, yi);",
+        f"        const int good = {prefix}_one(q, xi, yi) == 0;",
         "        ok[i] = (unsigned char)good;",
         f"        for (int k = 0; k < {n_out}; k++) y[k][i] = good ? yi[k] : NAN;",
         "    }",
@@ -194,9 +202,10 @@ def c_source(tape: Tape, n_inputs: int, results: list, parameters: tuple = (),
 
     - ``int <prefix>_prepare(const double *p, double *q)``: the parameter step, from the
       parameters ``p`` (in the order of ``parameters``) to the values ``q`` the state
-      step reads; 0 where a check of the parameters fails;
-    - ``int <prefix>_one(const double *q, const double *x, double *y)``: one state, 1 if
-      it passed every guard;
+      step reads; 0, or the code of the check of the parameters that fails;
+    - ``int <prefix>_one(const double *q, const double *x, double *y)``: one state; 0 if
+      it passed every guard, else the code of the guard that failed (the codes are
+      :attr:`Program.codes <linkage_fmu.kernels.trace.Program.codes>`);
     - with ``array``, ``void <prefix>_array(n, q, x, step, y, ok)`` over ``n`` states:
       input ``k`` of state ``i`` is ``x[k][i * step[k]]`` (step 0 broadcasts one
       value), output ``k`` goes to ``y[k][i]`` (no output array may overlap another or
@@ -213,7 +222,7 @@ def c_source(tape: Tape, n_inputs: int, results: list, parameters: tuple = (),
             if tape.nodes[i].op == "input"}
     used.update(tape.nodes[a].value for i in (*prog.prepare, *prog.state)
                 for a in tape.nodes[i].args if tape.nodes[a].op == "input")
-    frozen = [operand(tape, i, _literal) for i in prog.frozen]
+    frozen = [operand(tape, i, c_literal) for i in prog.frozen]
     n_out, upper = len(results), prefix.upper()
     head = [
         "/* generated by linkage_fmu.kernels.c_source: do not edit */",
@@ -228,20 +237,20 @@ def c_source(tape: Tape, n_inputs: int, results: list, parameters: tuple = (),
         f"int {prefix}_prepare(const double *p, double *q) {{",
         *(f"    const double {name} = p[{k}];" for k, name in enumerate(parameters)
           if name in used),
-        *_statements(tape, prog.prepare, prog.guards),
+        *_statements(tape, prog.prepare, prog.guards, prog.codes),
         *(f"    q[{k}] = {name};" for k, name in enumerate(frozen)),
         "    (void)p; (void)q;",
-        "    return 1;",
+        "    return 0;",
         "}",
         "",
         f"int {prefix}_one(const double *q, const double *x, double *y) {{",
         *(f"    const double {name} = q[{k}];" for k, name in enumerate(frozen)),
         *(f"    const double x{k} = x[{k}];" for k in range(n_inputs) if f"x{k}" in used),
-        *_statements(tape, prog.state, prog.guards),
-        *(f"    y[{k}] = {operand(tape, r.index, _literal) if isinstance(r, Sym) else _literal(r)};"
+        *_statements(tape, prog.state, prog.guards, prog.codes),
+        *(f"    y[{k}] = {operand(tape, r.index, c_literal) if isinstance(r, Sym) else c_literal(r)};"
           for k, r in enumerate(results)),
         "    (void)q; (void)x; (void)y;",
-        "    return 1;",
+        "    return 0;",
         "}",
         "",
     ]

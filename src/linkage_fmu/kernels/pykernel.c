@@ -4,10 +4,10 @@
  * bind(state) returns a builtin function of the LINKAGE_N_X inputs bound to `state`, a
  * bytes object: the LINKAGE_N_Q doubles of the parameter step, then one byte per output,
  * nonzero where the output must be finite. The function returns the outputs as a tuple of
- * floats, or None where it does not take the state: an input that is not a finite float,
- * a failed guard, or a non-finite output that must be finite. The caller then decides
- * with the interpreted formulas, which raise the exact error. Compiled with MODULE_INIT
- * defined as the PyInit_ name of the module. */
+ * floats where it takes the state; None for an input that is not a finite float (the
+ * caller checks and converts); the code of the failed guard (an int >= 1); or 0 where an
+ * output that must be finite is not. The caller then classifies the state. Compiled with
+ * MODULE_INIT defined as the PyInit_ name of the module. */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
 #include <string.h>
@@ -30,10 +30,11 @@ static PyObject *one(PyObject *state, PyObject *const *args, Py_ssize_t nargs) {
         if (!isfinite(x[k])) Py_RETURN_NONE;
     }
     memcpy(q, bytes, LINKAGE_N_Q * sizeof(double));
-    if (!linkage_one(q, x, y)) Py_RETURN_NONE;
+    const int code = linkage_one(q, x, y);
+    if (code) return PyLong_FromLong(code);
     const char *checked = bytes + LINKAGE_N_Q * sizeof(double);
     for (int k = 0; k < LINKAGE_N_Y; k++)
-        if (checked[k] && !isfinite(y[k])) Py_RETURN_NONE;
+        if (checked[k] && !isfinite(y[k])) return PyLong_FromLong(0);
     PyObject *out = PyTuple_New(LINKAGE_N_Y);
     if (out == NULL) return NULL;
     for (int k = 0; k < LINKAGE_N_Y; k++) {
@@ -48,7 +49,7 @@ static PyObject *one(PyObject *state, PyObject *const *args, Py_ssize_t nargs) {
 }
 
 static PyMethodDef one_def = {"kernel", (PyCFunction)(void (*)(void))one, METH_FASTCALL,
-                              "kernel(*inputs): the outputs as a tuple, or None"};
+                              "kernel(*inputs): the outputs as a tuple, None, or a code"};
 
 static PyObject *bind(PyObject *module, PyObject *state) {
     (void)module;

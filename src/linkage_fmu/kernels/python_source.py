@@ -1,9 +1,10 @@
 """Straight-line Python source from a traced tape: the kernel that always works.
 
 One assignment per live operation, in the order the formulas did them (so the results
-are bit-identical to the interpreted formulas on floats), and an early ``return None``
-where a guard does not hold. The work on the parameters alone is a separate function,
-run once per parameter set; its values are closed over by the kernel of a state.
+are bit-identical to the interpreted formulas on floats), and an early return of the
+guard's code (:attr:`Program.codes <linkage_fmu.kernels.trace.Program.codes>`) where a
+guard does not hold. The work on the parameters alone is a separate function, run once
+per parameter set; its values are closed over by the kernel of a state.
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ def _literal(value: float) -> str:
     return f"({text})" if text.startswith("-") else text
 
 
-def _statements(tape: Tape, nodes: list, guards: dict, fail: str, indent: str) -> list:
+def _statements(tape: Tape, nodes: list, guards: dict, codes: dict, indent: str) -> list:
     lines = []
     for i in nodes:
         node = tape.nodes[i]
@@ -39,7 +40,7 @@ def _statements(tape: Tape, nodes: list, guards: dict, fail: str, indent: str) -
             expr = f"{_CALL[node.op]}({', '.join(args)})"
         lines.append(f"{indent}t{i} = {expr}")
         if i in guards:
-            lines.append(f"{indent}if {'not ' if guards[i] else ''}t{i}: return {fail}")
+            lines.append(f"{indent}if {'not ' if guards[i] else ''}t{i}: return {codes[i]}")
     return lines
 
 
@@ -49,10 +50,10 @@ def _tuple(items: list) -> str:
 
 def python_source(tape: Tape, arguments: list[str], results: list,
                   parameters: tuple = ()) -> str:
-    """Two functions: ``prepare(*parameters)``, the parameter step, returning the values
-    the state step reads (or None when a check of the parameters fails), and
-    ``make(*those values)``, returning ``kernel(*arguments)``, which returns the tuple
-    of ``results`` or None when a guard fails.
+    """Two functions: ``prepare(*parameters)``, the parameter step, returning the tuple
+    of values the state step reads (or the code of the check of the parameters that
+    fails, an int), and ``make(*those values)``, returning ``kernel(*arguments)``, which
+    returns the tuple of ``results`` or the code of the guard that fails.
 
     Examples
     --------
@@ -68,23 +69,24 @@ def python_source(tape: Tape, arguments: list[str], results: list,
     def make(t6):
         def kernel(x):
             t3 = x < 0.0
-            if t3: return None
+            if t3: return 1
             t4 = sqrt(x)
             t7 = t4 * t6
             return (t7,)
         return kernel
     """
     prog = program(tape, results)
+    codes = prog.codes
     frozen = [operand(tape, i, _literal) for i in prog.frozen]
     values = [operand(tape, r.index, _literal) if isinstance(r, Sym) else repr(float(r))
               for r in results]
     return "\n".join([
         f"def prepare({', '.join(parameters)}):",
-        *_statements(tape, prog.prepare, prog.guards, "None", "    "),
+        *_statements(tape, prog.prepare, prog.guards, codes, "    "),
         f"    return {_tuple(frozen)}",
         f"def make({', '.join(frozen)}):",
         f"    def kernel({', '.join(arguments)}):",
-        *_statements(tape, prog.state, prog.guards, "None", "        "),
+        *_statements(tape, prog.state, prog.guards, codes, "        "),
         f"        return {_tuple(values)}",
         "    return kernel",
         "",

@@ -44,6 +44,38 @@ class Node:
     value: object = None
 
 
+@dataclass(frozen=True)
+class Reason:
+    """Why a guard fails: ``kind`` is ``'assembly'`` (the state cannot be assembled),
+    ``'singular'`` (the reactions are unbounded), ``'parameter'`` (a check of the
+    parameter step) or ``'branch'`` (the state takes a branch the trace did not), and
+    ``what`` says which condition, without numbers.
+
+    Examples
+    --------
+    >>> Reason("assembly", "the dyad B-C-D cannot close").text
+    'the linkage cannot be assembled: the dyad B-C-D cannot close'
+    """
+
+    kind: str
+    what: str = ""
+
+    @property
+    def text(self) -> str:
+        """The reason as the FMUs log it, the same words in every flavour."""
+        head = {"assembly": "the linkage cannot be assembled",
+                "singular": "the linkage is at a singular position",
+                "parameter": "the parameter set is invalid",
+                "branch": "the state takes another branch than the kernel was traced on",
+                "overflow": "the outputs overflow float64"}[self.kind]
+        return f"{head}: {self.what}" if self.what else head
+
+
+#: the reason of a guard nobody labelled, by the step it is in
+UNLABELLED = {True: Reason("parameter", "a value computed from the parameters is out of range"),
+              False: Reason("branch")}
+
+
 class Tape:
     """The recorded operations, in order, with identical ones stored once."""
 
@@ -51,8 +83,10 @@ class Tape:
         self.nodes: list[Node] = []
         self.witness: list[float] = []
         self.guards: list[tuple[int, bool]] = []  # (comparison node, outcome seen)
+        self.labels: dict[int, Reason] = {}  # comparison node -> why it fails
         self.fixed: set = set()  # nodes of the parameters and constants alone
         self._index: dict = {}
+        self._last = None  # the newest guard's node, None after an unrecorded comparison
 
     def _add(self, node: Node, witness: float, fixed: bool = False) -> "Sym":
         key = (node.op, node.args, _key(node.value))
@@ -88,10 +122,22 @@ class Tape:
         a check of the parameter step."""
         node = self.apply(op, fn, a, b)
         if op in ("eq", "ne") and node.index in self.fixed:
+            self._last = None
             return op == "ne"
         outcome = bool(self.witness[node.index])
         self.guards.append((node.index, outcome))
+        self._last = node.index
         return outcome
+
+    def label(self, reason: Reason) -> None:
+        """Say why the comparison just recorded fails, unless it was said before (a
+        guard recorded twice keeps its first reason)."""
+        if self._last is not None:
+            self.labels.setdefault(self._last, reason)
+
+    def reason(self, index: int) -> Reason:
+        """Why the guard at node ``index`` fails."""
+        return self.labels.get(index) or UNLABELLED[index in self.fixed]
 
 
 @dataclass
@@ -101,13 +147,19 @@ class Program:
     ``prepare`` (once per parameter set): the live operations on the parameters alone,
     then its checks; ``frozen``: the values of the parameter step the state step reads;
     ``state`` (once per state): the other live operations; ``guards``: comparison node
-    -> the outcome the witness took, for both steps.
+    -> the outcome the witness took, for both steps, in the order they were recorded; a
+    failed guard is reported by its code, its position in ``guards`` counted from 1.
     """
 
     prepare: list
     frozen: list
     state: list
     guards: dict
+
+    @property
+    def codes(self) -> dict:
+        """Comparison node -> the code a failed guard returns (1, 2, ...)."""
+        return {index: code for code, index in enumerate(self.guards, 1)}
 
 
 def program(tape: Tape, results: list) -> Program:

@@ -5,9 +5,11 @@ from __future__ import annotations
 import math
 
 from .. import numerics
+from ..bodies import Body, Effort
 from ..groups import Group
+from ..kernels.trace import Reason
 from ..loads import Load
-from ..mechanism import Body, Effort, Mechanism
+from ..mechanism import Mechanism
 from ..outputs import Couple, Derived, EffortOutput, Force, Magnitude, Normal
 from ..parameters import resolve
 from .expressions import Expression
@@ -19,8 +21,10 @@ def build(d, given: dict, symbols: dict | None = None) -> Mechanism:
     With ``symbols`` (parameter name -> traced number, see
     :mod:`~linkage_fmu.kernels.trace`), those parameters enter as the traced numbers:
     everything computed from them is recorded, so a kernel takes them as arguments.
-    Their values were checked as floats (``given``); the rules on computed values
-    (a length must be > 0) are recorded as checks of the kernel's parameter step.
+    Their values were checked as floats (``given``); the rules on computed values (every
+    one finite, a length > 0) are recorded as checks of the kernel's parameter step, so
+    that it refuses exactly the parameter sets this function refuses. The mechanism can
+    build itself again this way (its ``rebuild``).
 
     Raises
     ------
@@ -41,9 +45,12 @@ def build(d, given: dict, symbols: dict | None = None) -> Mechanism:
             x = Expression(source)(numbers)
         except (ValueError, ZeroDivisionError, OverflowError) as err:
             raise ValueError(f"{d.name}: {where} = {source!r}: {err}") from None
-        if hasattr(x, "traced"):
+        if hasattr(x, "traced"):  # recorded as checks of the parameter step
+            abs(x) < math.inf  # noqa: B015 -- false for inf and NaN
+            numerics.label(x, Reason("parameter", f"{where} = {source!r} is not finite"))
             if rule == "length":
-                x > 0.0  # noqa: B015 -- recorded as a check of the parameter step
+                x > 0.0  # noqa: B015
+                numerics.label(x, Reason("parameter", f"{where} = {source!r} must be > 0"))
             return x
         if not math.isfinite(x):
             raise ValueError(f"{d.name}: {where} = {source!r} = {x!r} is not finite")
@@ -128,8 +135,11 @@ def build(d, given: dict, symbols: dict | None = None) -> Mechanism:
                 if unit == "N.m" else "balancing force")))
         else:
             outputs.append(Derived(name, spec["expression"], spec.get("unit", "N"), text))
+    def rebuild(traced: dict) -> Mechanism:
+        return build(d, given, traced)
+
     return Mechanism(d.name, d.frame, frame_points, groups, bodies, effort, outputs, loads,
-                     number("[linkage] gravity", d.gravity), params, d)
+                     number("[linkage] gravity", d.gravity), params, d, rebuild)
 
 
 def _unit(v: tuple) -> tuple:

@@ -1,0 +1,534 @@
+"""Solving a linkage: plans, methods, the kernels and when to compile them, arrays in
+blocks, and why a state has no outputs.
+
+A :class:`Plan` is what a call asks for: which outputs, a static scene or not, which
+method. A :class:`Solver` (one per :class:`~linkage_fmu.mechanism.Mechanism`, its
+``solver``) serves every call with the cheapest path that gives the plan's exact floats:
+
+* one state of finite floats: the plan's traced kernel (Python, then, once the plan has
+  served :data:`HOT_CALLS` calls, C); the interpreted formulas where the kernel does not
+  take the state;
+* many states: the compiled array kernel over all of them, the interpreted formulas for
+  the states it hands back, in blocks that stay in the CPU caches;
+* ``method="interpreted"`` or ``"direct"``: :meth:`Mechanism.evaluate
+  <linkage_fmu.mechanism.Mechanism.evaluate>` on floats or arrays.
+
+A state without outputs has a reason (:class:`~linkage_fmu.kernels.trace.Reason`):
+scalars raise the library's error, which carries it; arrays give NaN and a status per
+state (:attr:`ArraySolution.status`, :attr:`ArraySolution.problems`);
+:meth:`Solver.attempt` answers either for one state without raising (the FMU's call).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from typing import Iterable, NamedTuple
+
+import numpy as np
+
+from .errors import AssemblyError, OverflowInputError, SingularPositionError
+from .kernels import TRACE, Kernel, trace
+from .kernels.trace import Reason
+from .numerics import ARRAY, SCALAR, finite_array, finite_float
+
+#: closed_form: the traced kernel (scalars) or the group formulas (arrays); direct: the
+#: assembled linear system (the reference); interpreted: the group formulas step by step
+METHODS = ("closed_form", "direct", "interpreted")
+#: one-state calls of a plan after which it is compiled (the first compilation of a
+#: linkage's plan costs a fraction of a second; later ones, and other parameter sets of
+#: the same linkage, load it from the cache)
+HOT_CALLS = 1000
+#: crank angles tried as the witness state of a trace, until one assembles
+WITNESS_ANGLES = (0.3, 1.1, 2.3, 4.0, 5.5, 0.0, 3.0)
+#: states per block of an array solve: its temporaries stay in the CPU caches
+CHUNK = 8192
+#: the status of a state in an array solve
+SOLVED, UNASSEMBLED, SINGULAR, OVERFLOW = 0, 1, 2, 3
+STATUS_NAMES = {SOLVED: "solved", UNASSEMBLED: "cannot be assembled", SINGULAR: "singular",
+                OVERFLOW: "overflow"}
+
+
+class Plan(NamedTuple):
+    """What a call asks for: the ``outputs`` (validated names), whether the scene is
+    ``static``, the ``method``, and what they need: the balancing ``effort``, the
+    ``reactions``, the ``diagnostics``; ``checked``: the outputs that must be finite."""
+
+    outputs: tuple
+    static: bool
+    method: str
+    effort: bool
+    reactions: bool
+    diagnostics: bool
+    checked: tuple
+
+
+class Solution(Mapping):
+    """Outputs of :meth:`Solver.solve`: name -> float (scalar inputs) or ndarray.
+
+    Attributes
+    ----------
+    valid : bool or ndarray of bool
+        Which states could be assembled (always True for scalar inputs, which raise
+        :class:`~linkage_fmu.AssemblyError` instead).
+    """
+
+    __slots__ = ("_values", "_index", "valid")
+    #: a scalar solution is solved (a state that is not raises)
+    status = SOLVED
+    problems: dict = {}
+
+    def __init__(self, values, valid, index: dict | None = None):
+        # a dict, or a tuple with the name -> position map its kernel shares
+        if index is None:
+            index = {name: i for i, name in enumerate(values)}
+            values = tuple(values.values())
+        self._values, self._index, self.valid = values, index, valid
+
+    def __getitem__(self, name: str):
+        return self._values[self._index[name]]
+
+    def __iter__(self):
+        return iter(self._index)
+
+    def __len__(self) -> int:
+        return len(self._index)
+
+    def __eq__(self, other):
+        return dict(self) == dict(other) if isinstance(other, Mapping) else NotImplemented
+
+    def __repr__(self) -> str:
+        body = ", ".join(f"{k}={v!r}" for k, v in self.items())
+        return f"Solution({body})"
+
+
+class Problem(NamedTuple):
+    """States of an array solve without outputs, of one status: the ``reason`` (as the
+    FMUs say it), the library's ``message`` at the ``first`` of them (flat index), and
+    how many there are (``count``)."""
+
+    reason: Reason
+    message: str
+    first: int
+    count: int
+
+
+class ArraySolution(Solution):
+    """A :class:`Solution` over arrays of states, which also says why a state has no
+    outputs: :attr:`status` and :attr:`problems`, worked out when first asked for."""
+
+    __slots__ = ("_classify", "_status", "_problems")
+
+    def __init__(self, values, valid, classify):
+        super().__init__(values, valid)
+        self._classify, self._status, self._problems = classify, None, None
+
+    @property
+    def status(self) -> np.ndarray:
+        """Per state: :data:`SOLVED`, :data:`UNASSEMBLED`, :data:`SINGULAR` (the outputs
+        are unbounded) or :data:`OVERFLOW` (an input too large), as int8."""
+        if self._status is None:
+            self._status, self._problems = self._classify(self)
+        return self._status
+
+    @property
+    def problems(self) -> dict[int, Problem]:
+        """Status -> :class:`Problem`, for each status other than :data:`SOLVED` that
+        some state has."""
+        if self._problems is None:
+            self._status, self._problems = self._classify(self)
+        return self._problems
+
+
+class _NoKernel:
+    """The kernel of a plan that could not be traced (no witness state): every state is
+    interpreted. ``error`` says why."""
+
+    compiled = False
+    checked = ()
+    index: dict = {}
+    calls = HOT_CALLS  # never counted, never compiled
+
+    def __init__(self, error: ValueError):
+        self.error = error
+
+    @staticmethod
+    def call(*inputs):
+        return None
+
+    @staticmethod
+    def array():
+        return None
+
+
+def finite(values) -> bool:
+    """True when every value is finite (one sum: a finite sum of finite terms)."""
+    return math.isfinite(sum(values)) or all(map(math.isfinite, values))
+
+
+class Solver:
+    """Solves the linkage ``mech``: plans, kernels and methods (see the module notes)."""
+
+    def __init__(self, mech):
+        self.mech = mech
+        self._all = mech.output_names + mech.diagnostic_names  # one object: fast keys
+        self._plans: dict = {}  # (outputs, static, method) -> Plan
+        self._valid: set = {self._all}  # output tuples validated before
+        self._kernels: dict = {}  # (outputs, static) -> Kernel, or _NoKernel
+        #: (static, moving): the compiled kernel of all outputs and its index, once hot
+        self._fast: list = [None, None]
+
+    # -- plans ------------------------------------------------------------------
+    def wanted(self, outputs: Iterable[str] | None) -> tuple:
+        """``outputs`` as a tuple of the linkage's output names (default: all of them and
+        the diagnostics); an unknown name is a ValueError naming it."""
+        if outputs is None:
+            return self._all
+        if type(outputs) is tuple and outputs in self._valid:
+            return outputs
+        wanted = (outputs,) if isinstance(outputs, str) else tuple(outputs)
+        for name in wanted:
+            if name not in self._all:
+                raise ValueError(f"{self.mech.name} has no output {name!r}; its outputs are: "
+                                 + ", ".join(self._all))
+        self._valid.add(wanted)
+        return wanted
+
+    def plan(self, outputs: tuple, static: bool, method: str) -> Plan:
+        """The :class:`Plan` of the validated ``outputs`` (:meth:`wanted`)."""
+        key = (outputs, static, method)
+        plan = self._plans.get(key)
+        if plan is None:
+            mech = self.mech
+            diag, efforts = set(mech.diagnostic_names), mech.effort_outputs
+            plan = self._plans[key] = Plan(
+                outputs, static, method, any(n in efforts for n in outputs),
+                any(n not in diag and n not in efforts for n in outputs),
+                bool(diag.intersection(outputs)),
+                tuple(n for n in outputs if n in mech.output_info and n not in diag))
+        return plan
+
+    # -- kernels ----------------------------------------------------------------
+    def kernel(self, outputs: Iterable[str] | None = None, static: bool = False) -> Kernel:
+        """The traced kernel of the plan ``(outputs, static)``, made on first use and kept.
+
+        ``kernel(theta, omega, alpha, *loads)`` returns the outputs as a tuple of floats,
+        or None at a state it does not take (see :class:`~linkage_fmu.kernels.Kernel`).
+
+        Raises
+        ------
+        ValueError
+            The linkage assembles at none of the :data:`WITNESS_ANGLES`: there is no
+            state to trace the formulas at (asked again, at once, without tracing).
+        """
+        wanted = self.wanted(outputs)
+        k = self._kernels.get((wanted, static))
+        if k is None:
+            try:
+                k = self._kernels[(wanted, static)] = self._trace(wanted, static)
+            except ValueError as err:
+                self._kernels[(wanted, static)] = _NoKernel(err)
+                raise
+        if isinstance(k, _NoKernel):  # traced before, without a witness: say so at once
+            raise k.error
+        return k
+
+    def _kernel_or_none(self, wanted: tuple, static: bool):
+        try:
+            return self.kernel(wanted, static)
+        except ValueError:  # no witness state: this plan stays interpreted
+            return self._kernels[(wanted, static)]
+
+    def _trace(self, wanted: tuple, static: bool) -> Kernel:
+        """Trace the closed-form formulas of the plan at the first witness angle where
+        the linkage assembles (the trace follows what the floats do there)."""
+        mech = self.mech
+        plan = self.plan(wanted, static, "closed_form")
+        loads = [1.1 + 0.1 * k for k in range(len(mech.loads))]
+        omega, alpha = (0.0, 0.0) if static else (1.3, 0.7)
+        last = None
+        for theta in WITNESS_ANGLES:
+            try:  # a witness must be solvable
+                mech.evaluate(plan, theta, omega, alpha, loads, SCALAR)
+            except (ValueError, ZeroDivisionError) as err:
+                last = err
+                continue
+            parameters = {n: mech.parameters[n] for n in mech.kernel_parameters}
+
+            def evaluate(x: list, symbols: dict) -> list:
+                twin = mech.rebuild(symbols) if symbols else mech
+                out, _ = twin.evaluate(plan, x[0], x[1], x[2], x[3:], TRACE)
+                return [out[n] for n in wanted]
+
+            checked = tuple(i for i, n in enumerate(wanted) if n in plan.checked)
+            return trace(evaluate, (theta, omega, alpha, *loads), parameters, wanted, checked,
+                         static, f"kernel of {mech.name}")
+        raise ValueError(f"{mech.name} cannot be assembled at any of the witness angles "
+                         f"{WITNESS_ANGLES}: {last}")
+
+    def _count(self, k) -> None:
+        """A one-state call of the kernel ``k``: the :data:`HOT_CALLS`-th compiles it."""
+        k.calls += 1
+        if k.calls == HOT_CALLS:
+            k.compile()
+
+    # -- solving ----------------------------------------------------------------
+    def solve(self, theta, omega=0.0, alpha=0.0, *loads, method: str = "closed_form",
+              outputs: Iterable[str] | None = None, **named_loads) -> Solution:
+        """Joint reactions, balancing effort and diagnostics at one or many states.
+
+        Parameters
+        ----------
+        theta, omega, alpha : float or array_like
+            Crank angle [rad], speed [rad/s] and acceleration [rad/s2].
+        *loads, **named_loads : float or array_like
+            The magnitude of each load [N or N.m], in the order of the linkage's
+            ``loads`` or by name (a preset's single load is ``load``); a load not given
+            is zero.
+        method : {'closed_form', 'direct', 'interpreted'}
+            The closed form, group by group from the last group back to the crank (for
+            one state, its traced kernel: :meth:`kernel`); the assembled linear system
+            (the reference); or the closed form's group formulas run step by step (a
+            second reference).
+        outputs : iterable of str, optional
+            Names wanted (default: all outputs and diagnostics). Asking only for the
+            balancing effort skips the reactions; a static scene skips velocities and
+            accelerations.
+
+        Returns
+        -------
+        Solution
+            Floats for scalar inputs; arrays of the broadcast input shape otherwise
+            (an :class:`ArraySolution`, which says why a state has none).
+
+        Raises
+        ------
+        AssemblyError
+            Scalar ``theta`` at which the linkage cannot be assembled.
+        SingularPositionError
+            Scalar state at which the equations are exactly singular.
+        OverflowInputError
+            Scalar finite inputs whose outputs overflow float64.
+        """
+        mech = self.mech
+        if outputs is None and method == "closed_form" and type(omega) is float and \
+                type(alpha) is float and not named_loads and len(loads) == len(mech.loads):
+            fast = self._fast[omega != 0.0 or alpha != 0.0]
+            if fast is not None:  # a compiled kernel that checks its inputs: FMU steps
+                r = fast[0](theta, omega, alpha, *loads)
+                if type(r) is tuple:
+                    return Solution(r, True, fast[1])
+        if method not in METHODS:
+            raise ValueError(f"method must be one of {METHODS}, got {method!r}")
+        wanted = self.wanted(outputs)
+        args = (theta, omega, alpha, *mech.load_values(loads, named_loads))
+        names = mech.input_names
+        if type(theta) is float and type(omega) is float and type(alpha) is float and \
+                all(type(a) is float for a in args[3:]) and math.isfinite(sum(args)):
+            return self._one(args, method, wanted)  # finite floats: FMU steps
+        if all(np.ndim(a) == 0 for a in args):
+            values = [finite_float(n, a.item() if isinstance(a, np.ndarray) else a)
+                      for n, a in zip(names, args)]
+            return self._one(values, method, wanted)
+        given = [finite_array(n, a) for n, a in zip(names, args)]
+        try:
+            arrays = np.broadcast_arrays(*given)
+        except ValueError:
+            raise ValueError(", ".join(names) + " must broadcast to one shape, got "
+                             + ", ".join(str(np.shape(a)) for a in given)) from None
+        shape = arrays[0].shape
+        flat = [a.reshape(-1) for a in arrays]  # views where possible: no scalar copied n times
+        n = flat[0].size
+        out = None
+        if method == "closed_form" and n:
+            out = self._compiled_arrays(given, flat, n, wanted)
+            method = "interpreted"  # without a C compiler: numpy
+        if out is None:
+            out = {name: np.empty(n) for name in wanted}
+            valid = np.empty(n, dtype=bool)
+            self._interpreted_arrays(flat, method, wanted, out, valid, slice(0, n))
+        else:
+            out, valid = out
+
+        def classify(sol: ArraySolution):
+            return self._classify(sol, flat, method, wanted)
+
+        return ArraySolution({k: v.reshape(shape) for k, v in out.items()},
+                             valid.reshape(shape), classify)
+
+    def table(self, theta, omega=0.0, alpha=0.0, *loads, method: str = "closed_form",
+              outputs: Iterable[str] | None = None, **named_loads):
+        """:meth:`solve` over ``theta`` as a pandas DataFrame, one column per output.
+
+        Examples
+        --------
+        >>> from linkage_fmu import presets
+        >>> df = presets.get("scotch_yoke").table([0.0, 1.0], omega=10.0, load=400.0,
+        ...                                       outputs=("Mb",))
+        >>> list(df.columns), df.index.name
+        (['Mb'], 'theta')
+        """
+        import pandas as pd
+
+        theta = np.atleast_1d(np.asarray(theta, dtype=float))
+        sol = self.solve(theta, omega, alpha, *loads, method=method, outputs=outputs,
+                         **named_loads)
+        index = pd.Index(np.broadcast_to(theta, np.shape(next(iter(sol.values())))).ravel(),
+                         name="theta")
+        return pd.DataFrame({k: np.ravel(v) for k, v in sol.items()}, index=index)
+
+    # -- one state ------------------------------------------------------------------
+    def _one(self, values, method: str, wanted: tuple) -> Solution:
+        """One state of finite floats: the kernel's tuple, or the interpreted formulas."""
+        if method == "closed_form":
+            r, k = self._kernel_call(values, wanted)
+            if wanted is self._all and k.compiled:
+                self._fast[values[1] != 0.0 or values[2] != 0.0] = (k.call, k.index)
+            if type(r) is tuple and (math.isfinite(sum(r)) or finite([r[i] for i in k.checked])):
+                return Solution(r, True, k.index)
+            # the interpreted formulas decide: they raise the exact error, or compute
+            # the state the trace did not take
+            method = "interpreted"
+        return Solution(self._interpreted_one(values, method, wanted), True)
+
+    def _kernel_call(self, values, wanted: tuple):
+        """The plan's kernel at one state: its answer (a tuple, a guard's code, or None)
+        and the kernel."""
+        static = values[1] == 0.0 and values[2] == 0.0
+        k = self._kernels.get((wanted, static)) or self._kernel_or_none(wanted, static)
+        try:
+            r = k.call(*values)
+        except (ArithmeticError, ValueError):  # a division by zero, math range error
+            r = None
+        if k.calls < HOT_CALLS:
+            self._count(k)
+        return r, k
+
+    def _interpreted_one(self, values, method: str, wanted: tuple) -> dict:
+        """One state of finite floats ``(theta, omega, alpha, *loads)`` by the formulas;
+        raises the error of a state without outputs."""
+        mech = self.mech
+        static = values[1] == 0.0 and values[2] == 0.0
+        plan = self.plan(wanted, static, method)
+        try:
+            out, _ = mech.evaluate(plan, values[0], values[1], values[2], values[3:], SCALAR)
+            # one finite sum: every term is finite (a sum that overflows is checked term
+            # by term); a non-finite output means singular or overflowing
+            if math.isfinite(sum(out[n] for n in plan.checked)) or \
+                    all(math.isfinite(out[n]) for n in plan.checked):
+                return {n: float(out[n]) for n in wanted}
+        except ZeroDivisionError:
+            pass
+        raise self._unbounded(values)
+
+    def _unbounded(self, values) -> ValueError:
+        """The error of a state that assembles but whose outputs are not finite: an
+        overflow if the position is well conditioned, else a singular position."""
+        mech = self.mech
+        theta = values[0]
+        st = mech.kinematics(theta, 0 if mech.effort_on_crank else 1, SCALAR)
+        try:  # a finite condition: the position is fine, the inputs overflow
+            cond = mech.diagnostics(st)["cond"]
+        except ZeroDivisionError:
+            cond = math.inf
+        if math.isfinite(cond):
+            inputs = ", ".join(f"{n} = {v!r}" for n, v in zip(mech.input_names, values))
+            return OverflowInputError(mech.name, f"the outputs overflow float64 at {inputs}: "
+                                      "an input is too large in magnitude")
+        return SingularPositionError(mech.name, theta, mech.singular_detail(st),
+                                     mech.singular_what(st))
+
+    def attempt(self, values: list, outputs: Iterable[str] | None = None,
+                method: str = "closed_form") -> tuple | Reason:
+        """One state of finite floats ``(theta, omega, alpha, *loads)``: the outputs as a
+        tuple (in the order of ``outputs``, default all), or the
+        :class:`~linkage_fmu.kernels.trace.Reason` the state has none. Never raises for
+        a state; one kernel call where the kernel decides (the FMU's step).
+
+        Examples
+        --------
+        >>> from linkage_fmu import presets
+        >>> solver = presets.get("four_bar", l_AB=0.3).solver
+        >>> solver.attempt([3.1, 10.0, 0.0, 0.0]).text
+        'the linkage cannot be assembled: the dyad B-C-D cannot close'
+        """
+        wanted = self.wanted(outputs)
+        if method == "closed_form":
+            r, k = self._kernel_call(values, wanted)
+            if type(r) is tuple and (math.isfinite(sum(r)) or finite([r[i] for i in k.checked])):
+                return r
+            if type(r) is int and r > 0 and k.reasons[r - 1].kind in ("assembly", "singular"):
+                return k.reasons[r - 1]
+            method = "interpreted"  # the formulas decide what the kernel does not
+        try:
+            out = self._interpreted_one(values, method, wanted)
+        except (AssemblyError, SingularPositionError, OverflowInputError) as err:
+            return err.reason
+        return tuple(out[n] for n in wanted)
+
+    # -- arrays -----------------------------------------------------------------
+    def _interpreted_arrays(self, flat, method, wanted, out, valid, rows) -> None:
+        """The formulas on numpy arrays over the states ``rows`` of ``flat`` (a slice,
+        or an index array), in blocks that stay in the CPU caches (the formulas make
+        many temporaries per state); results into ``out`` and ``valid``."""
+        if isinstance(rows, slice):
+            parts = (slice(i, min(i + CHUNK, rows.stop)) for i in range(rows.start, rows.stop, CHUNK))
+        else:
+            parts = (rows[i:i + CHUNK] for i in range(0, rows.size, CHUNK))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            for part in parts:
+                omega, alpha = flat[1][part], flat[2][part]
+                plan = self.plan(wanted, not (omega.any() or alpha.any()), method)
+                values, st = self.mech.evaluate(plan, flat[0][part], omega, alpha,
+                                                [a[part] for a in flat[3:]], ARRAY)
+                valid[part] = ~st.invalid if st.invalid is not None else True
+                for name in wanted:
+                    out[name][part] = values[name]
+
+    def _compiled_arrays(self, given, flat, n, wanted):
+        """The compiled kernel of the plan over every state, the interpreted formulas for
+        the states it hands back: ``(outputs, valid)``; None without a compiled kernel."""
+        omega, alpha = flat[1], flat[2]
+        static = not (omega.any() or alpha.any())
+        k = self._kernels.get((wanted, static)) or self._kernel_or_none(wanted, static)
+        array = k.array()
+        if array is None:
+            return None
+        # one value, or the whole flat array: a broadcast scalar is never copied n times
+        inputs = [g.reshape(1) if g.size == 1 else f for g, f in zip(given, flat)]
+        values, valid = array(inputs, n)
+        out = dict(zip(wanted, values))
+        back = np.flatnonzero(~valid)
+        if back.size:  # cannot be assembled, singular, or another branch: the formulas decide
+            self._interpreted_arrays(flat, "interpreted", wanted, out, valid, back)
+        return out, valid
+
+    def _classify(self, sol: ArraySolution, flat, method, wanted) -> tuple:
+        """The status of every state of ``sol`` and a :class:`Problem` per status."""
+        mech = self.mech
+        valid = np.asarray(sol.valid).reshape(-1)
+        status = np.where(valid, SOLVED, UNASSEMBLED).astype(np.int8)
+        checked = self.plan(wanted, False, method).checked
+        bad = np.zeros(valid.size, dtype=bool)
+        for name in checked:
+            bad |= ~np.isfinite(np.asarray(sol[name]).reshape(-1))
+        rows = np.flatnonzero(bad & valid)
+        if rows.size:
+            out = {"cond": np.empty(rows.size)}
+            self._interpreted_arrays([a[rows] for a in flat], "interpreted", ("cond",), out,
+                                     np.empty(rows.size, bool), slice(0, rows.size))
+            status[rows] = np.where(np.isfinite(out["cond"]), OVERFLOW, SINGULAR)
+        problems = {}
+        for code in (UNASSEMBLED, SINGULAR, OVERFLOW):
+            where = np.flatnonzero(status == code)
+            if where.size:
+                i = int(where[0])
+                state = [float(a[i]) for a in flat]
+                try:
+                    self._interpreted_one(state, "interpreted", wanted)
+                    error = None
+                except (AssemblyError, SingularPositionError, OverflowInputError) as err:
+                    error = err
+                reason = error.reason if error is not None else Reason("branch")
+                problems[code] = Problem(reason, str(error or reason.text), i, int(where.size))
+        return status.reshape(np.shape(sol.valid)), problems
