@@ -449,7 +449,7 @@ def _check(d: Description) -> list[str]:
                                 f"{', '.join(fields)}")
         optional = set(getattr(cls, "OPTIONAL", ()))
         new_points, new_links, new_joints = [], [], []
-        for key, role in fields.items():
+        for key, role in ((k, f.role) for k, f in fields.items()):
             if key not in spec:
                 if key not in optional:
                     problems.append(f"{where} {key}: missing")
@@ -489,7 +489,7 @@ def _check(d: Description) -> list[str]:
         for link in new_links:
             links[link] = where
         # joint names of the pairs this group closes: points and named pairs
-        pair_names = [spec.get(f) for f, r in fields.items() if r in ("point", "new point")
+        pair_names = [spec.get(f) for f, r in fields.items() if r.role in ("point", "new point")
                       and kind not in ("point",)] + new_joints
         if kind == "crank":
             pair_names = [spec.get("pivot")]
