@@ -251,7 +251,8 @@ class Group(ABC):
     Subclasses state what they need and give, and implement every abstract method; a
     class that misses one cannot be instantiated (``TypeError`` naming it). Each
     concrete class with a ``kind`` is the group type of that name in description files,
-    and must declare its ``FIELDS`` (``TypeError`` naming it when the class is created).
+    and must declare its own ``FIELDS`` (``TypeError`` naming it when the class is
+    created); ``OPTIONAL``, ``DRIVER`` and ``pairs`` have defaults.
 
     Examples
     --------
@@ -379,9 +380,14 @@ class Group(ABC):
 
 def _contract_problem(cls: type) -> str:
     """What a group type with a ``kind`` misses of the description-file contract, or ''."""
-    fields = getattr(cls, "FIELDS", None)
+    fields = cls.__dict__.get("FIELDS")
     if fields is None:
-        return "must declare FIELDS, a dict of field name -> Field; it has none"
+        # a new kind with its parent's fields is explicit, so that a changed from_spec
+        # cannot silently keep fields it no longer reads
+        parent = next((c for c in cls.__mro__[1:] if "FIELDS" in c.__dict__), None)
+        return ("must declare FIELDS, a dict of field name -> Field; it has none" + (
+            "" if parent is None else
+            f" of its own (FIELDS = {parent.__qualname__}.FIELDS keeps its parent's)"))
     if not isinstance(fields, dict) or not fields:
         return f"must declare FIELDS, a dict of field name -> Field; it has {fields!r}"
     for key, f in fields.items():
