@@ -219,3 +219,181 @@ def test_a_group_subclass_works_and_an_incomplete_group_fails_loudly():
     with pytest.raises(TypeError, match="is not a group"):
         linkage_fmu.Mechanism("x", "0", {"A": (0, 0)}, [base.groups[0], object()], [],
                               base.effort, [], [], 0.0)
+
+
+@pytest.fixture
+def registry():
+    """The group types; those a test defines are forgotten after it."""
+    saved = dict(groups.Group.registry)
+    yield groups.Group.registry
+    groups.Group.registry.clear()
+    groups.Group.registry.update(saved)
+
+
+def test_a_group_type_without_its_fields_is_refused(registry):
+    """A class with a kind but no FIELDS of Field fails when it is defined, naming the
+    class and what it misses, and is not a type of description files."""
+    with pytest.raises(TypeError, match=r"NoFields \(kind 'no_fields'\) must declare FIELDS, a "
+                                        "dict of field name -> Field; it has none$"):
+        class NoFields(groups.Group):
+            kind = "no_fields"
+    with pytest.raises(TypeError, match=r"Motor \(kind 'motor'\) must declare FIELDS"
+                                        r".* of its own \(FIELDS = Crank.FIELDS keeps its"):
+        class Motor(groups.Crank):
+            kind = "motor"
+    with pytest.raises(TypeError, match=r"Roles \(kind 'roles'\) FIELDS\['link'\] = 'new link':"
+                                        r" FIELDS must map field names to Field"):
+        class Roles(groups.Crank):
+            kind = "roles"
+            FIELDS = {"link": "new link"}
+    with pytest.raises(TypeError, match=r"Optional \(kind 'optional'\) OPTIONAL = \('size',\) "
+                                        "must be a tuple of names in its FIELDS"):
+        class Optional(groups.Crank):
+            kind = "optional"
+            FIELDS = groups.Crank.FIELDS
+            OPTIONAL = ("size",)
+    assert not {"no_fields", "motor", "roles", "optional"} & set(registry)
+
+
+def define_knee() -> type:
+    """Define (and so register) the group type ``knee``: under the ``registry``
+    fixture only, or every later message listing the types would name it."""
+
+    class Knee(groups.RRR):
+        """A new group type, one class: an RRR dyad with its own field names, which also
+        places the middle ``mark`` of its upper link (a point of that link, no joint)."""
+
+        kind = "knee"
+        FIELDS = {
+            "upper": groups.Field("new link", "the link from hip to knee"),
+            "lower": groups.Field("new link", "the link from foot to knee"),
+            "hip": groups.Field("point", "end of upper, a placed point"),
+            "knee": groups.Field("new point", "joint of upper and lower"),
+            "foot": groups.Field("point", "end of lower, a placed point"),
+            "thigh": groups.Field("length", "length of upper, from hip to knee"),
+            "shin": groups.Field("length", "length of lower, from foot to knee"),
+            "bend": groups.Field("branch", "+1: knee left of the line hip -> foot, -1: right"),
+            "mark": groups.Field("new point", "the middle of upper"),
+        }
+        OPTIONAL = ("bend",)
+
+        def __init__(self, upper, lower, hip, knee, foot, thigh, shin, bend, mark):
+            super().__init__(upper, lower, hip, knee, foot, thigh, shin, bend)
+            self.mark = mark
+            self.places = (knee, mark)
+            self.owners = {mark: upper}
+
+        @classmethod
+        def from_spec(cls, spec, value):
+            return cls(spec["upper"], spec["lower"], spec["hip"], spec["knee"], spec["foot"],
+                       value("thigh"), value("shin"), value("bend") if "bend" in spec else 1,
+                       spec["mark"])
+
+        @classmethod
+        def pairs(cls, spec):
+            return tuple(p for p in super().pairs(spec) if p != spec.get("mark"))
+
+        def _middle(self, d):
+            (x1, y1), (x2, y2) = d[self.E1], d[self.C]
+            d[self.mark] = (0.5 * (x1 + x2), 0.5 * (y1 + y2))
+
+        def position(self, st):
+            super().position(st)
+            self._middle(st.p)
+
+        def first(self, st):
+            super().first(st)
+            self._middle(st.d1)
+
+        def second(self, st):
+            super().second(st)
+            self._middle(st.d2)
+
+    return Knee
+
+
+def reread(d: Description) -> Description:
+    """``d`` written to a description file and read back (and so checked)."""
+    return Description.from_toml(d.to_toml(), "test.toml")
+
+
+def knee_four_bar() -> Description:
+    d = presets.preset("four_bar").copy()
+    d.groups[1] = {"type": "knee", "upper": "2", "lower": "3", "hip": "B", "knee": "C",
+                   "foot": "D", "thigh": "l_BC", "shin": "l_CD", "bend": "branch", "mark": "M"}
+    return d
+
+
+def test_a_new_group_type_is_one_class(registry):
+    """Defined here and nowhere else, a type is read from a description file, checked
+    through its FIELDS and pairs, built and solved: the four-bar with its dyad written
+    as a knee gives the four-bar's numbers."""
+    define_knee()
+    d = reread(knee_four_bar())
+    assert d.groups[1]["type"] == "knee"
+    theta, omega, alpha, load = 0.7, 3.0, 1.0, 20.0
+    assert dict(d.build().solve(theta, omega, alpha, load)) == dict(
+        presets.get("four_bar").solve(theta, omega, alpha, load))
+    st = d.build().kinematics(theta)
+    assert st.p["M"] == pytest.approx(np.add(st.p["B"], st.p["C"]) / 2, abs=1e-15)
+
+    # its fields are checked by role, its pairs with every other group's
+    bad = knee_four_bar()
+    bad.groups[1].update(thigh="l_BCD", shoe=1)
+    del bad.groups[1]["foot"]
+    bad.group("knee", upper="5", lower="6", hip="C", knee="B", foot="A", thigh=0.3,
+              shin=0.3, mark="N")
+    with pytest.raises(DescriptionError) as info:
+        reread(bad)
+    problems = info.value.problems
+    for line in [
+        "[[groups]] #2 (knee) shoe: unknown field; a knee has upper, lower, hip, knee, foot, "
+        "thigh, shin, bend, mark",
+        "[[groups]] #2 (knee) foot: missing",
+        "[[groups]] #2 (knee) thigh: 'l_BCD' uses 'l_BCD', which is not a parameter",
+        "[[groups]] #3 (knee) knee: point 'B' is already placed by [[groups]] #1 (crank)",
+        "[[groups]] #3 (knee): joint 'C' is already a pair of [[groups]] #2 (knee): a point "
+        "may join two links only; name the points apart",
+        "[[groups]] #3 (knee): joint 'A' is already a pair of [[groups]] #1 (crank): a point "
+        "may join two links only; name the points apart",
+    ]:
+        assert line in problems, (line, problems)
+
+    # the mark joins nothing (pairs leaves it out), so a later group may hinge there
+    d = knee_four_bar()
+    d.point("F", 0.6, 0.3).group("RRR", link1="5", link2="6", end1="M", middle="E", end2="F",
+                                 length1=0.3, length2=0.3, branch=1)
+    d.body("5", cg={"from": "M"}).body("6", cg={"from": "F"})
+    assert sorted(j.name for j in reread(d).build().joints) == ["A", "B", "C", "D", "E", "F", "M"]
+
+
+def test_the_first_group_is_the_driver_and_only_the_first(registry):
+    """The rule follows DRIVER, not the name of a kind: a second driver type is a
+    driver too."""
+    d = presets.preset("four_bar").copy()
+    d.groups.reverse()
+    with pytest.raises(DescriptionError) as info:
+        reread(d)
+    assert "[[groups]] #1 (RRR): the first group must be the crank" in info.value.problems
+    assert ("[[groups]] #2 (crank): only one crank (the first group) drives the linkage"
+            in info.value.problems)
+
+    class Motor(groups.Crank):
+        kind = "motor"
+        FIELDS = groups.Crank.FIELDS
+
+    d = presets.preset("four_bar").copy()
+    d.groups[0]["type"] = "motor"
+    four_bar = presets.get("four_bar")
+    assert reread(d).build().solve(0.3, 10.0)["Mb"] == four_bar.solve(0.3, 10.0)["Mb"]
+    d.groups.insert(1, dict(d.groups[0], type="crank", link="7", tip="T"))
+    d.groups[0], d.groups[2] = d.groups[2], d.groups[0]
+    with pytest.raises(DescriptionError) as info:
+        reread(d)
+    problems = info.value.problems
+    assert "[[groups]] #1 (RRR): the first group must be the crank or motor" in problems
+    assert "[[groups]] #2 (crank): only one crank (the first group) drives the linkage" in problems
+    assert "[[groups]] #3 (motor): only one motor (the first group) drives the linkage" in problems
+    with pytest.raises(DescriptionError, match="there are none; the first must be the crank or "
+                                               "motor"):
+        Description("empty", model="Empty").point("A", 0, 0).check()

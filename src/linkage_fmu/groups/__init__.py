@@ -2,8 +2,10 @@
 
 Every type derives from :class:`~linkage_fmu.groups.base.Group`, which states the
 contract (kinematics at three orders, closed-form statics, equilibrium rows through its
-joints, transmission angle, construction from a description file). A new type is one
-class in one module here; importing it registers its ``kind`` for description files.
+joints, transmission angle, construction from a description file: its ``FIELDS``, each a
+:class:`~linkage_fmu.groups.base.Field`, its ``OPTIONAL`` ones, whether it is the
+``DRIVER``, and the ``pairs`` its fields make). A new type is one class in one module
+here; importing it registers its ``kind`` for description files.
 
 Examples
 --------
@@ -12,7 +14,7 @@ Examples
 ['RPP', 'RPR', 'RRP', 'RRR', 'crank', 'point']
 """
 
-from .base import FRAME, OWNER, Group, Joint, KinematicState
+from .base import FRAME, OWNER, ROLES, Field, Group, Joint, KinematicState
 from .crank import Crank
 from .point import LinkPoint
 from .rpp import RPP
@@ -20,5 +22,5 @@ from .rpr import RPR
 from .rrp import RRP
 from .rrr import RRR
 
-__all__ = ["Group", "Joint", "KinematicState", "FRAME", "OWNER", "Crank", "RRR", "RRP", "RPP",
-           "RPR", "LinkPoint"]
+__all__ = ["Group", "Field", "ROLES", "Joint", "KinematicState", "FRAME", "OWNER", "Crank",
+           "RRR", "RRP", "RPP", "RPR", "LinkPoint"]

@@ -25,6 +25,8 @@ from __future__ import annotations
 
 import math
 from abc import ABC, abstractmethod
+from collections.abc import Iterable
+from dataclasses import dataclass
 from typing import Callable, ClassVar, NamedTuple
 
 import numpy as np
@@ -177,17 +179,119 @@ def angle_and_kappa(xp, sin_mu, cos_mu, what: str = ""):
     return mu, kappa
 
 
+#: The roles of a group's fields in description files, and the unit each implies:
+#: ``new link`` a moving link the group adds; ``link`` one an earlier group added;
+#: ``point`` a point placed before the group; ``new point`` a point the group places;
+#: ``new joint`` a pair the group makes that no point names (a prismatic pair);
+#: ``length`` a fixed length (> 0); ``angle`` counter-clockwise; ``coordinate`` a signed
+#: distance; ``vector`` ``[x, y]`` in the frame; ``branch`` +1 or -1.
+ROLES: dict[str, str] = {
+    "new link": "", "link": "", "point": "", "new point": "", "new joint": "",
+    "length": "m", "angle": "rad", "coordinate": "m", "vector": "m", "branch": "",
+}
+NAME_ROLES = ("new link", "link", "point", "new point", "new joint")
+
+
+@dataclass(frozen=True)
+class Field:
+    """One field of a group type in description files: its role, and what it means.
+
+    Parameters
+    ----------
+    role : str
+        One of :data:`ROLES`: what the checker requires of the value (a name that is
+        placed, new, ...; an expression; ``[x, y]``) and the unit of a number.
+    description : str
+        What the field is, in one phrase, for a reference of the format.
+
+    Raises
+    ------
+    ValueError
+        An unknown role.
+
+    Examples
+    --------
+    >>> f = Field("length", "length of link1, from end1 to middle")
+    >>> f.unit, f.is_name
+    ('m', False)
+    >>> Field("new point", "joint of link1 and link2").unit
+    ''
+    >>> Field("mass", "mass of the link")
+    Traceback (most recent call last):
+    ...
+    ValueError: unknown field role 'mass'; the roles are new link, link, point, new point, new joint, length, angle, coordinate, vector, branch
+    """
+
+    role: str
+    description: str
+
+    def __post_init__(self) -> None:
+        if self.role not in ROLES:
+            raise ValueError(f"unknown field role {self.role!r}; the roles are "
+                             f"{', '.join(ROLES)}")
+
+    @property
+    def unit(self) -> str:
+        """Unit of the value: ``'m'``, ``'rad'``, or ``''`` for a name or a branch."""
+        return ROLES[self.role]
+
+    @property
+    def is_name(self) -> bool:
+        """Whether the value is a name (of a link, point or joint), not a number."""
+        return self.role in NAME_ROLES
+
+
+def names_in(spec: dict, keys: Iterable[str]) -> tuple[str, ...]:
+    """The values of ``keys`` in ``spec`` that are names (non-empty strings), in order.
+
+    A missing or malformed field is left out: the description's checker reports it.
+
+    Examples
+    --------
+    >>> names_in({"pivot": "A", "tip": "", "end": 3}, ("pivot", "tip", "end", "link"))
+    ('A',)
+    """
+    return tuple(spec[k] for k in keys if isinstance(spec.get(k), str) and spec[k])
+
+
 class Group(ABC):
     """A driver, an Assur group or a point fixed on a link.
 
     Subclasses state what they need and give, and implement every abstract method; a
     class that misses one cannot be instantiated (``TypeError`` naming it). Each
-    concrete class with a ``kind`` is the group type of that name in description files.
+    concrete class with a ``kind`` is the group type of that name in description files,
+    and must declare its own ``FIELDS`` (``TypeError`` naming it when the class is
+    created); ``OPTIONAL``, ``DRIVER`` and ``pairs`` have defaults.
+
+    Examples
+    --------
+    The contract with description files is on the class:
+
+    >>> from linkage_fmu.groups import RRR, Crank
+    >>> RRR.FIELDS["length1"]
+    Field(role='length', description='length of link1, from end1 to middle')
+    >>> Crank.DRIVER, RRR.DRIVER, RRR.OPTIONAL
+    (True, False, ())
+
+    A type that does not declare its fields is refused when it is defined:
+
+    >>> class NoFields(Group):
+    ...     kind = "no_fields_example"
+    Traceback (most recent call last):
+    ...
+    TypeError: group type NoFields (kind 'no_fields_example') must declare FIELDS, a dict of field name -> Field; it has none
 
     Attributes
     ----------
     kind : str
         Name of the type in description files (``'RRR'``, ...).
+    FIELDS : dict of str to Field
+        The fields of the type's table in description files, in the order messages
+        list them (a class attribute every type declares).
+    OPTIONAL : tuple of str
+        The fields that may be left out.
+    DRIVER : bool
+        True for the driver: the first group of a linkage, and only the first.
     needs : tuple of str
         Points that must be placed before this group.
     places : tuple of str
@@ -205,6 +309,9 @@ class Group(ABC):
 
     kind: ClassVar[str] = ""
     registry: ClassVar[dict] = {}
+    FIELDS: ClassVar[dict[str, Field]]  # no default: every type declares its own
+    OPTIONAL: ClassVar[tuple[str, ...]] = ()
+    DRIVER: ClassVar[bool] = False
 
     needs: tuple = ()
     places: tuple = ()
@@ -220,10 +327,32 @@ class Group(ABC):
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)
         if cls.__dict__.get("kind"):  # a subclass that inherits its kind is no new type
+            problem = _contract_problem(cls)
+            if problem:
+                raise TypeError(f"group type {cls.__qualname__} (kind {cls.kind!r}) {problem}")
             if cls.kind in Group.registry:
                 raise TypeError(f"group kind {cls.kind!r} is defined twice: "
                                 f"{Group.registry[cls.kind].__qualname__} and {cls.__qualname__}")
             Group.registry[cls.kind] = cls
+
+    @classmethod
+    def pairs(cls, spec: dict) -> tuple[str, ...]:
+        """Names of the kinematic pairs (joints) the group of fields ``spec`` makes.
+
+        By default, one revolute pair at each point the group uses or places (named by
+        the point), then one pair per ``new joint`` field; a type whose pairs differ
+        overrides this. The names are those its ``joints`` will have once built; only
+        fields given as names count.
+
+        Examples
+        --------
+        >>> from linkage_fmu.groups import RRR
+        >>> RRR.pairs({"link1": "2", "link2": "3", "end1": "B", "middle": "C", "end2": "D"})
+        ('B', 'C', 'D')
+        """
+        points = [k for k, f in cls.FIELDS.items() if f.role in ("point", "new point")]
+        named = [k for k, f in cls.FIELDS.items() if f.role == "new joint"]
+        return names_in(spec, points + named)
 
     @abstractmethod
     def position(self, st: KinematicState) -> None:
@@ -256,6 +385,32 @@ class Group(ABC):
     def from_spec(cls, spec: dict, value: Callable):
         """Build from the fields ``spec`` of a description file's group table, with
         ``value(field)`` evaluating a field's expression over the parameters."""
+
+
+def _contract_problem(cls: type) -> str:
+    """What a group type with a ``kind`` misses of the description-file contract, or ''."""
+    fields = cls.__dict__.get("FIELDS")
+    if fields is None:
+        # a new kind with its parent's fields is explicit, so that a changed from_spec
+        # cannot silently keep fields it no longer reads
+        parent = next((c for c in cls.__mro__[1:] if "FIELDS" in c.__dict__), None)
+        return ("must declare FIELDS, a dict of field name -> Field; it has none" + (
+            "" if parent is None else
+            f" of its own (FIELDS = {parent.__qualname__}.FIELDS keeps its parent's)"))
+    if not isinstance(fields, dict) or not fields:
+        return f"must declare FIELDS, a dict of field name -> Field; it has {fields!r}"
+    for key, f in fields.items():
+        if not isinstance(key, str) or not isinstance(f, Field):
+            return (f"FIELDS[{key!r}] = {f!r}: FIELDS must map field names to Field "
+                    "(role, description)")
+    if "type" in fields:  # a group's table names its type with this key
+        return "FIELDS has 'type', which names the group's type in a description file"
+    optional = cls.OPTIONAL
+    if not isinstance(optional, tuple) or not set(optional) <= set(fields):
+        return f"OPTIONAL = {optional!r} must be a tuple of names in its FIELDS"
+    if not isinstance(cls.DRIVER, bool):
+        return f"DRIVER = {cls.DRIVER!r} must be True or False"
+    return ""
 
 
 # -- statics helpers shared by the group types ------------------------------------------

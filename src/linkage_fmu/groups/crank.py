@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from .base import FRAME, Group, Joint, KinematicState, moment_about
+from .base import FRAME, Field, Group, Joint, KinematicState, moment_about, names_in
 
 
 class Crank(Group):
@@ -23,7 +23,13 @@ class Crank(Group):
     """
 
     kind = "crank"
-    FIELDS = {"link": "new link", "pivot": "point", "tip": "new point", "length": "length"}
+    DRIVER = True
+    FIELDS = {
+        "link": Field("new link", "the crank, turning about pivot"),
+        "pivot": Field("point", "the placed point the crank turns about"),
+        "tip": Field("new point", "end of the crank, placed at length from pivot"),
+        "length": Field("length", "length of the crank, from pivot to tip"),
+    }
 
     def __init__(self, link: str, pivot: str, tip: str, length: float):
         self.link, self.pivot, self.tip, self.length = link, pivot, tip, length
@@ -37,6 +43,17 @@ class Crank(Group):
     @classmethod
     def from_spec(cls, spec, value):
         return cls(spec["link"], spec["pivot"], spec["tip"], value("length"))
+
+    @classmethod
+    def pairs(cls, spec: dict) -> tuple[str, ...]:
+        """Only the pivot: the tip is a joint of the group that uses it.
+
+        Examples
+        --------
+        >>> Crank.pairs({"link": "1", "pivot": "A", "tip": "B", "length": 0.1})
+        ('A',)
+        """
+        return names_in(spec, ("pivot",))
 
     def position(self, st: KinematicState) -> None:
         xp, L = st.xp, self.length

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from .. import numerics
-from .base import Group, KinematicState
+from .base import Field, Group, KinematicState
 
 
 class LinkPoint(Group):
@@ -23,8 +23,16 @@ class LinkPoint(Group):
     """
 
     kind = "point"
-    FIELDS = {"link": "link", "from": "point", "name": "new point", "along": "coordinate",
-              "across": "coordinate", "distance": "coordinate", "angle": "angle"}
+    FIELDS = {
+        "link": Field("link", "the link the point is fixed on, added by an earlier group"),
+        "from": Field("point", "the link's point the new point is measured from"),
+        "name": Field("new point", "the point fixed on the link"),
+        "along": Field("coordinate", "distance from 'from' along the link's direction"),
+        "across": Field("coordinate", "distance from 'from' to the left of the link"),
+        "distance": Field("coordinate", "distance from 'from' (with angle, instead of "
+                                        "along and across)"),
+        "angle": Field("angle", "direction from 'from', counter-clockwise from the link's"),
+    }
     OPTIONAL = ("along", "across", "distance", "angle")
 
     def __init__(self, link: str, ref: str, name: str, along: float = 0.0, across: float = 0.0,
@@ -45,6 +53,17 @@ class LinkPoint(Group):
         return cls(spec["link"], spec["from"], spec["name"],
                    value("along") if "along" in spec else 0.0,
                    value("across") if "across" in spec else 0.0)
+
+    @classmethod
+    def pairs(cls, spec: dict) -> tuple[str, ...]:
+        """None: the point is fixed on its link, it joins nothing.
+
+        Examples
+        --------
+        >>> LinkPoint.pairs({"link": "2", "from": "B", "name": "P", "along": 0.1})
+        ()
+        """
+        return ()
 
     def _arm(self, st: KinematicState):
         c, s = st.u[self.link]

@@ -5,8 +5,8 @@ from __future__ import annotations
 from .. import numerics
 from ..kernels.trace import Reason
 from ..numerics import SCALAR
-from .base import (FRAME, OWNER, Group, Joint, KinematicState, angle_and_kappa, left_normal,
-                   moment_about, push, unit_vector)
+from .base import (FRAME, OWNER, Field, Group, Joint, KinematicState, angle_and_kappa,
+                   left_normal, moment_about, names_in, push, unit_vector)
 
 
 class RPP(Group):
@@ -27,9 +27,18 @@ class RPP(Group):
     """
 
     kind = "RPP"
-    FIELDS = {"block": "new link", "yoke": "new link", "pin": "point", "ref": "new point",
-              "slot_angle": "angle", "guide_point": "vector", "guide_angle": "angle",
-              "slot": "new joint", "guide": "new joint"}
+    FIELDS = {
+        "block": Field("new link", "the block, turning on pin and sliding in the yoke's slot"),
+        "yoke": Field("new link", "the yoke, sliding on the frame guide"),
+        "pin": Field("point", "the block's pin, a placed point of another link"),
+        "ref": Field("new point", "the yoke's reference point, where the slot's centre line "
+                                  "crosses the guide line"),
+        "slot_angle": Field("angle", "direction of the slot, counter-clockwise from +x"),
+        "guide_point": Field("vector", "a point [x, y] of the frame guide"),
+        "guide_angle": Field("angle", "direction of the frame guide, counter-clockwise from +x"),
+        "slot": Field("new joint", "name of the block's prismatic pair in the slot"),
+        "guide": Field("new joint", "name of the yoke's prismatic pair on the guide"),
+    }
 
     def __init__(self, block: str, yoke: str, E: str, ref: str, slot_angle: float,
                  guide_point: tuple, guide_angle: float, slot_joint: str, guide_joint: str):
@@ -57,6 +66,17 @@ class RPP(Group):
     def from_spec(cls, spec, value):
         return cls(spec["block"], spec["yoke"], spec["pin"], spec["ref"], value("slot_angle"),
                    value("guide_point"), value("guide_angle"), spec["slot"], spec["guide"])
+
+    @classmethod
+    def pairs(cls, spec: dict) -> tuple[str, ...]:
+        """The pin, the slot and the guide: ``ref`` is a point of the yoke, no joint.
+
+        Examples
+        --------
+        >>> RPP.pairs({"pin": "B", "ref": "S3", "slot": "slot", "guide": "guide"})
+        ('B', 'slot', 'guide')
+        """
+        return names_in(spec, ("pin", "slot", "guide"))
 
     def _along(self, x, y):
         return (x * self.t1[1] - y * self.t1[0]) / self.cross

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from .base import OWNER, Group, Joint, KinematicState, moment_about, push
+from .base import OWNER, Field, Group, Joint, KinematicState, moment_about, push
 
 
 class RPR(Group):
@@ -30,8 +30,13 @@ class RPR(Group):
 
     kind = "RPR"
     fixed_size = False  # the pin slides along the lever
-    FIELDS = {"block": "new link", "lever": "new link", "pin": "point", "pivot": "point",
-              "slide": "new joint"}
+    FIELDS = {
+        "block": Field("new link", "the block, turning on pin and sliding along the lever"),
+        "lever": Field("new link", "the lever, turning about pivot, directed from pivot to pin"),
+        "pin": Field("point", "the block's pin, a placed point of another link"),
+        "pivot": Field("point", "the placed point the lever turns about"),
+        "slide": Field("new joint", "name of the block's prismatic pair on the lever"),
+    }
 
     def __init__(self, block: str, lever: str, pin: str, pivot: str, slide_joint: str):
         self.block, self.lever, self.P, self.C = block, lever, pin, pivot

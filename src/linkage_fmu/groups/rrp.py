@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .base import (FRAME, OWNER, Group, Joint, KinematicState, angle_and_kappa, fmt, left_normal,
-                   moment_about, push, unit_vector)
+from .base import (FRAME, OWNER, Field, Group, Joint, KinematicState, angle_and_kappa, fmt,
+                   left_normal, moment_about, push, unit_vector)
 
 
 class RRP(Group):
@@ -26,9 +26,18 @@ class RRP(Group):
     """
 
     kind = "RRP"
-    FIELDS = {"rod": "new link", "slider": "new link", "end": "point", "pin": "new point",
-              "length": "length", "guide_point": "vector", "guide_angle": "angle",
-              "branch": "branch", "guide": "new joint"}
+    FIELDS = {
+        "rod": Field("new link", "the rod, from end to pin"),
+        "slider": Field("new link", "the slider, pinned to the rod at pin, on the frame guide"),
+        "end": Field("point", "end of the rod, a placed point"),
+        "pin": Field("new point", "joint of rod and slider, on the guide"),
+        "length": Field("length", "length of the rod, from end to pin"),
+        "guide_point": Field("vector", "a point [x, y] of the frame guide"),
+        "guide_angle": Field("angle", "direction of the guide, counter-clockwise from +x"),
+        "branch": Field("branch", "+1: pin on the guide_angle side of the foot of the "
+                                  "perpendicular from end to the guide, -1: on the other"),
+        "guide": Field("new joint", "name of the slider's prismatic pair on the guide"),
+    }
 
     def __init__(self, link: str, slider: str, E: str, B: str, L: float,
                  guide_point: tuple, gamma: float, branch: int, guide_joint: str):

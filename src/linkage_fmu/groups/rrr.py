@@ -6,7 +6,8 @@ import math
 
 import numpy as np
 
-from .base import OWNER, Group, Joint, KinematicState, angle_and_kappa, fmt, moment_about, push
+from .base import (OWNER, Field, Group, Joint, KinematicState, angle_and_kappa, fmt, moment_about,
+                   push)
 
 
 class RRR(Group):
@@ -26,8 +27,17 @@ class RRR(Group):
     """
 
     kind = "RRR"
-    FIELDS = {"link1": "new link", "link2": "new link", "end1": "point", "middle": "new point",
-              "end2": "point", "length1": "length", "length2": "length", "branch": "branch"}
+    FIELDS = {
+        "link1": Field("new link", "the link from end1 to middle"),
+        "link2": Field("new link", "the link from end2 to middle"),
+        "end1": Field("point", "end of link1, a placed point"),
+        "middle": Field("new point", "joint of link1 and link2"),
+        "end2": Field("point", "end of link2, a placed point"),
+        "length1": Field("length", "length of link1, from end1 to middle"),
+        "length2": Field("length", "length of link2, from end2 to middle"),
+        "branch": Field("branch", "+1: middle to the left of the line end1 -> end2, "
+                                  "-1: to the right"),
+    }
 
     def __init__(self, link1: str, link2: str, E1: str, C: str, E2: str,
                  L1: float, L2: float, branch: int):

@@ -70,7 +70,7 @@ def build(d, given: dict, symbols: dict | None = None) -> Mechanism:
         where = f"[[groups]] #{k + 1} ({spec['type']})"
 
         def value(key, spec=spec, cls=cls, where=where):
-            role = cls.FIELDS[key]
+            role = cls.FIELDS[key].role
             if role == "vector":
                 return vector(f"{where} {key}", spec[key])
             x = number(f"{where} {key}", spec[key], role)

@@ -51,7 +51,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..groups import Group
+from ..groups import Field, Group
 from ..parameters import KINDS, Parameter
 from .expressions import Expression
 
@@ -208,7 +208,7 @@ class Description:
                 model=str(head.get("model", "")), frame=str(head.get("frame", "0")),
                 gravity=head.get("gravity", 0.0), source=source)
         problems += _read_tables(d, data)
-        problems += _check(d)  # every problem at once, not the reading ones first
+        problems += _Checker(d).problems()  # every problem at once, not the reading ones first
         if problems:
             raise DescriptionError(source, problems)
         d._checked = True
@@ -233,7 +233,7 @@ class Description:
     def check(self) -> "Description":
         """Raise :class:`DescriptionError` listing every problem; return self if none."""
         if not self._checked:
-            problems = _check(self)
+            problems = _Checker(self).problems()
             if problems:
                 raise DescriptionError(self.source, problems)
             self._checked = True
@@ -374,261 +374,335 @@ def _read_tables(d: Description, data: dict) -> list[str]:
 
 
 # -- checking the structure -----------------------------------------------------------
-def _check(d: Description) -> list[str]:
-    """Every problem of ``d``, each naming the table and key."""
-    problems: list[str] = []
-    params = d.parameters
+def _finite(value: Any) -> bool:
+    return not isinstance(value, bool) and isinstance(value, (int, float)) and math.isfinite(value)
 
-    def expr(where: str, value, names=None) -> Expression | None:
+
+def _is_identifier(name: Any) -> bool:
+    return isinstance(name, str) and bool(_IDENTIFIER.match(name))
+
+
+class _Checker:
+    """Every problem of a description, each naming its table and key.
+
+    One method per table, run in the order of the messages; what a table defines for
+    the later ones (points placed, links added, pairs, load names) is kept here. Group
+    types are known only through their contract (``FIELDS``, ``OPTIONAL``, ``DRIVER``,
+    ``pairs``), so a new type is checked like the shipped ones.
+
+    Examples
+    --------
+    >>> d = Description("demo", model="Demo").point("A", 0, 0)
+    >>> for problem in _Checker(d).problems():
+    ...     print(problem)
+    [[groups]]: there are none; the first must be the crank
+    [effort]: missing: where does the balancing effort act?
+    [[outputs]]: there are none
+    """
+
+    def __init__(self, d: Description):
+        self.d = d
+        self.found: list[str] = []
+        self.placed: dict[str, str] = {}  # point -> where it was placed
+        self.links: dict[str, str] = {}  # moving link -> where it was added
+        self.joints: dict[str, str] = {}  # pair -> where it was made
+        self.load_names: list = []
+        self.taken = set(INPUT_NAMES) | set(d.parameters)  # names a load or output cannot take
+
+    def problems(self) -> list[str]:
+        """Check every table (once per checker); the problems, in the order of the tables."""
+        for table in (self.linkage, self.parameters, self.inputs, self.points, self.groups,
+                      self.bodies, self.loads, self.effort, self.outputs):
+            table()
+        return self.found
+
+    # -- helpers ----------------------------------------------------------------------
+    def expr(self, where: str, value: Any, names: set | None = None) -> None:
+        """An expression over the parameters (or over ``names``)."""
         try:
             e = Expression(value)
         except ValueError as err:
-            problems.append(f"{where}: {err}")
-            return None
-        unknown = [n for n in e.names if n not in (names if names is not None else params)]
+            self.found.append(f"{where}: {err}")
+            return
+        known = self.d.parameters if names is None else names
+        unknown = [n for n in e.names if n not in known]
         if unknown:
-            problems.append(f"{where}: {value!r} uses {', '.join(map(repr, unknown))}, which "
-                            f"{'is not a parameter' if len(unknown) == 1 else 'are not parameters'}")
-            return None
-        return e
+            which = "is not a parameter" if len(unknown) == 1 else "are not parameters"
+            self.found.append(f"{where}: {value!r} uses {', '.join(map(repr, unknown))}, which "
+                              f"{which}")
 
-    if not d.model or not _IDENTIFIER.match(d.model):
-        problems.append(f"[linkage] model: {d.model!r} must be a C identifier (the FMU's model "
-                        "identifier)")
-    expr("[linkage] gravity", d.gravity)
-    for name, p in params.items():
-        where = f"[parameters] {name}"
-        if not _IDENTIFIER.match(name):
-            problems.append(f"{where}: not an identifier")
-        if name in INPUT_NAMES:
-            problems.append(f"{where}: {name} is an input, not a parameter")
-        if p["kind"] not in KINDS:
-            problems.append(f"{where}: kind {p['kind']!r} is unknown; the kinds are "
-                            f"{', '.join(KINDS)}")
-            continue
-        try:
-            spec = Parameter(name, p["default"], p["kind"], p["description"], p["choices"],
-                             p["min"], p["max"])
-            spec.validate(p["default"])
-        except (TypeError, ValueError) as err:
-            problems.append(f"{where}: default: {err}")
-    for key, value in d.inputs.items():
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-            problems.append(f"[inputs] {key}: start value {value!r} must be a finite number")
+    def vector(self, where: str, value: Any) -> bool:
+        """``[x, y]`` of expressions; False if it is not a pair."""
+        if not (isinstance(value, (list, tuple)) and len(value) == 2):
+            self.found.append(f"{where}: must be [x, y]")
+            return False
+        self.expr(f"{where} x", value[0])
+        self.expr(f"{where} y", value[1])
+        return True
 
-    placed = {}  # point -> where it was placed
-    for name, xy in d.points.items():
-        where = f"[points] {name}"
-        if not (isinstance(xy, (list, tuple)) and len(xy) == 2):
-            problems.append(f"{where}: must be [x, y]")
-            continue
-        expr(f"{where} x", xy[0])
-        expr(f"{where} y", xy[1])
-        placed[name] = where
-    links: dict = {}
-    joints: dict = {}
-    if not d.groups:
-        problems.append("[[groups]]: there are none; the first must be the crank")
-    for k, spec in enumerate(d.groups):
-        where = f"[[groups]] #{k + 1}"
+    # -- the tables -------------------------------------------------------------------
+    def linkage(self) -> None:
+        if not _is_identifier(self.d.model):
+            self.found.append(f"[linkage] model: {self.d.model!r} must be a C identifier (the "
+                              "FMU's model identifier)")
+        self.expr("[linkage] gravity", self.d.gravity)
+
+    def parameters(self) -> None:
+        for name, p in self.d.parameters.items():
+            where = f"[parameters] {name}"
+            if not _IDENTIFIER.match(name):
+                self.found.append(f"{where}: not an identifier")
+            if name in INPUT_NAMES:
+                self.found.append(f"{where}: {name} is an input, not a parameter")
+            if p["kind"] not in KINDS:
+                self.found.append(f"{where}: kind {p['kind']!r} is unknown; the kinds are "
+                                  f"{', '.join(KINDS)}")
+                continue
+            try:
+                Parameter(name, p["default"], p["kind"], p["description"], p["choices"],
+                          p["min"], p["max"]).validate(p["default"])
+            except (TypeError, ValueError) as err:
+                self.found.append(f"{where}: default: {err}")
+
+    def inputs(self) -> None:
+        for key, value in self.d.inputs.items():
+            if not _finite(value):
+                self.found.append(f"[inputs] {key}: start value {value!r} must be a finite number")
+
+    def points(self) -> None:
+        for name, xy in self.d.points.items():
+            if self.vector(f"[points] {name}", xy):
+                self.placed[name] = f"[points] {name}"
+
+    def groups(self) -> None:
+        if not self.d.groups:
+            self.found.append(f"[[groups]]: there are none; the first must be the "
+                              f"{self.drivers()}")
+        for k, spec in enumerate(self.d.groups):
+            self.group(k, spec)
+
+    def bodies(self) -> None:
+        for link, where in self.links.items():
+            if link not in self.d.bodies:
+                self.found.append(f"[bodies.{link}]: missing: link {link!r} ({where}) needs a "
+                                  "body (mass, inertia, cg)")
+        for link, spec in self.d.bodies.items():
+            self.body(f"[bodies.{link}]", link, spec)
+
+    def loads(self) -> None:
+        for k, spec in enumerate(self.d.loads):
+            self.load(k, spec)
+
+    def effort(self) -> None:
+        if not self.d.efforts:
+            self.found.append("[effort]: missing: where does the balancing effort act?")
+        for when, spec in self.d.efforts.items():
+            self.effort_option(when, spec)
+
+    def outputs(self) -> None:
+        names: list = []
+        for k, spec in enumerate(self.d.outputs):
+            self.output(k, spec, names)
+        if not self.d.outputs:
+            self.found.append("[[outputs]]: there are none")
+
+    # -- groups -----------------------------------------------------------------------
+    @staticmethod
+    def drivers() -> str:
+        """The driver types, for messages."""
+        return " or ".join(sorted(k for k, cls in Group.registry.items() if cls.DRIVER))
+
+    def group(self, k: int, spec: dict) -> None:
         kind = spec.get("type")
         cls = Group.registry.get(kind)
         if cls is None:
-            problems.append(f"{where} type: {kind!r} is not a group type; the types are "
-                            f"{', '.join(sorted(Group.registry))}")
-            continue
-        where = f"{where} ({kind})"
-        if k == 0 and kind != "crank":
-            problems.append(f"{where}: the first group must be the crank")
-        if k > 0 and kind == "crank":
-            problems.append(f"{where}: only one crank (the first group) drives the linkage")
-        fields = cls.FIELDS
+            self.found.append(f"[[groups]] #{k + 1} type: {kind!r} is not a group type; the "
+                              f"types are {', '.join(sorted(Group.registry))}")
+            return
+        where = f"[[groups]] #{k + 1} ({kind})"
+        if k == 0 and not cls.DRIVER:
+            self.found.append(f"{where}: the first group must be the {self.drivers()}")
+        if k > 0 and cls.DRIVER:
+            self.found.append(f"{where}: only one {kind} (the first group) drives the linkage")
         for key in spec:
-            if key != "type" and key not in fields:
-                problems.append(f"{where} {key}: unknown field; a {kind} has "
-                                f"{', '.join(fields)}")
-        optional = set(getattr(cls, "OPTIONAL", ()))
-        new_points, new_links, new_joints = [], [], []
-        for key, role in fields.items():
-            if key not in spec:
-                if key not in optional:
-                    problems.append(f"{where} {key}: missing")
-                continue
-            value = spec[key]
-            w = f"{where} {key}"
-            if role in ("link", "new link", "point", "new point", "new joint"):
-                if not isinstance(value, str) or not value:
-                    problems.append(f"{w}: must be a name")
-                    continue
-            if role == "point" and value not in placed:
-                problems.append(f"{w}: point {value!r} is not placed before this group "
-                                f"(placed so far: {', '.join(placed) or 'none'})")
-            elif role == "new point":
-                if value in placed:
-                    problems.append(f"{w}: point {value!r} is already placed by {placed[value]}")
-                new_points.append(value)
-            elif role == "link" and value not in links:
-                problems.append(f"{w}: link {value!r} is not added by an earlier group")
-            elif role == "new link":
-                if value in links or value == d.frame:
-                    problems.append(f"{w}: link {value!r} is already "
-                                    f"{'the frame' if value == d.frame else 'added by ' + links[value]}")
-                new_links.append(value)
-            elif role == "new joint":
-                new_joints.append(value)
-            elif role == "vector":
-                if not (isinstance(value, (list, tuple)) and len(value) == 2):
-                    problems.append(f"{w}: must be [x, y]")
-                else:
-                    expr(w + " x", value[0])
-                    expr(w + " y", value[1])
-            elif role in ("length", "angle", "coordinate", "branch"):
-                expr(w, value)
-        for p in new_points:
-            placed[p] = where
-        for link in new_links:
-            links[link] = where
-        # joint names of the pairs this group closes: points and named pairs
-        pair_names = [spec.get(f) for f, r in fields.items() if r in ("point", "new point")
-                      and kind not in ("point",)] + new_joints
-        if kind == "crank":
-            pair_names = [spec.get("pivot")]
-        if kind in ("RRP", "RPP"):
-            pair_names = [p for p in pair_names if p != spec.get("ref")]
-        for j in pair_names:
-            if j is None:
-                continue
-            if j in joints:
-                problems.append(f"{where}: joint {j!r} is already a pair of {joints[j]}: a point "
-                                "may join two links only; name the points apart")
-            joints[j] = where
+            if key != "type" and key not in cls.FIELDS:
+                self.found.append(f"{where} {key}: unknown field; a {kind} has "
+                                  f"{', '.join(cls.FIELDS)}")
+        added: dict[str, list] = {"new point": [], "new link": []}
+        for key, f in cls.FIELDS.items():
+            if key in spec:
+                self.field(f"{where} {key}", f, spec[key], added)
+            elif key not in cls.OPTIONAL:
+                self.found.append(f"{where} {key}: missing")
+        # placed and added once the whole group is read: no field uses another's
+        self.placed.update(dict.fromkeys(added["new point"], where))
+        self.links.update(dict.fromkeys(added["new link"], where))
+        for joint in cls.pairs(spec):
+            if joint in self.joints:
+                self.found.append(f"{where}: joint {joint!r} is already a pair of "
+                                  f"{self.joints[joint]}: a point may join two links only; "
+                                  "name the points apart")
+            self.joints[joint] = where
 
-    body_names = set(d.bodies)
-    for link, where in links.items():
-        if link not in body_names:
-            problems.append(f"[bodies.{link}]: missing: link {link!r} ({where}) needs a body "
-                            "(mass, inertia, cg)")
-    for link, spec in d.bodies.items():
-        where = f"[bodies.{link}]"
-        if link not in links:
-            problems.append(f"{where}: no group adds a link {link!r}: a body without a link")
-            continue
-        expr(f"{where} mass", spec["mass"])
-        expr(f"{where} inertia", spec["inertia"])
+    def field(self, where: str, f: Field, value: Any, added: dict[str, list]) -> None:
+        """One field of a group, by its role; new points and links go to ``added``."""
+        role = f.role
+        if f.is_name:
+            if not isinstance(value, str) or not value:
+                self.found.append(f"{where}: must be a name")
+            elif role == "point" and value not in self.placed:
+                self.found.append(f"{where}: point {value!r} is not placed before this group "
+                                  f"(placed so far: {', '.join(self.placed) or 'none'})")
+            elif role == "link" and value not in self.links:
+                self.found.append(f"{where}: link {value!r} is not added by an earlier group")
+            elif role in added:
+                self.new_name(where, role, value)
+                added[role].append(value)
+        elif role == "vector":
+            self.vector(where, value)
+        else:
+            self.expr(where, value)
+
+    def new_name(self, where: str, role: str, value: str) -> None:
+        """A point or link a group adds must not be there yet."""
+        if role == "new point" and value in self.placed:
+            self.found.append(f"{where}: point {value!r} is already placed by "
+                              f"{self.placed[value]}")
+        elif role == "new link" and value == self.d.frame:
+            self.found.append(f"{where}: link {value!r} is already the frame")
+        elif role == "new link" and value in self.links:
+            self.found.append(f"{where}: link {value!r} is already added by "
+                              f"{self.links[value]}")
+
+    # -- bodies, loads, effort ----------------------------------------------------------
+    def body(self, where: str, link: str, spec: dict) -> None:
+        if link not in self.links:
+            self.found.append(f"{where}: no group adds a link {link!r}: a body without a link")
+            return
+        self.expr(f"{where} mass", spec["mass"])
+        self.expr(f"{where} inertia", spec["inertia"])
         cg = spec["cg"]
         if not isinstance(cg, dict) or "from" not in cg:
-            problems.append(f"{where} cg: needs {{ from = POINT, along = ..., across = ... }}")
-            continue
+            self.found.append(f"{where} cg: needs {{ from = POINT, along = ..., across = ... }}")
+            return
         unknown = set(cg) - {"from", "along", "across", "distance", "angle"}
         if unknown:
-            problems.append(f"{where} cg: unknown key(s) {', '.join(sorted(unknown))}; the keys "
-                            "are from, along, across (or distance, angle)")
+            self.found.append(f"{where} cg: unknown key(s) {', '.join(sorted(unknown))}; the "
+                              "keys are from, along, across (or distance, angle)")
         if ({"along", "across"} & set(cg)) and ({"distance", "angle"} & set(cg)):
-            problems.append(f"{where} cg: give along/across or distance/angle, not both")
-        if cg["from"] not in placed:
-            problems.append(f"{where} cg from: point {cg['from']!r} is not placed")
+            self.found.append(f"{where} cg: give along/across or distance/angle, not both")
+        if cg["from"] not in self.placed:
+            self.found.append(f"{where} cg from: point {cg['from']!r} is not placed")
         for key in ("along", "across", "distance", "angle"):
             if key in cg:
-                expr(f"{where} cg {key}", cg[key])
+                self.expr(f"{where} cg {key}", cg[key])
 
-    names_taken = set(INPUT_NAMES) | set(params)
-    load_names = []
-    for k, spec in enumerate(d.loads):
+    def load(self, k: int, spec: dict) -> None:
         name = spec.get("name", "")
         where = f"[[loads]] #{k + 1} ({name or 'no name'})"
         unknown = set(spec) - _LOAD_FIELDS
         if unknown:
-            problems.append(f"{where}: unknown key(s) {', '.join(sorted(unknown))}")
-        if not isinstance(name, str) or not _IDENTIFIER.match(name):
-            problems.append(f"{where} name: {name!r} must be an identifier")
-        elif name in names_taken or name in load_names:
-            problems.append(f"{where} name: {name!r} is already an input or parameter name")
-        load_names.append(name)
-        if spec.get("body") not in links:
-            problems.append(f"{where} body: {spec.get('body')!r} is not a moving link")
+            self.found.append(f"{where}: unknown key(s) {', '.join(sorted(unknown))}")
+        if not _is_identifier(name):
+            self.found.append(f"{where} name: {name!r} must be an identifier")
+        elif name in self.taken or name in self.load_names:
+            self.found.append(f"{where} name: {name!r} is already an input or parameter name")
+        self.load_names.append(name)
+        if spec.get("body") not in self.links:
+            self.found.append(f"{where} body: {spec.get('body')!r} is not a moving link")
         kind = spec.get("kind")
         if kind == "force":
-            if spec.get("at") not in placed:
-                problems.append(f"{where} at: a force needs the placed point it acts at, got "
-                                f"{spec.get('at')!r}")
-            _direction(where, spec.get("direction"), expr, problems)
-            if spec.get("fixed_in") not in ("frame", "link"):
-                problems.append(f"{where} fixed_in: must be 'frame' or 'link'")
+            self.force_load(where, spec)
         elif kind == "moment":
             for key in ("at", "direction"):
                 if key in spec:
-                    problems.append(f"{where} {key}: a moment has no {key}")
+                    self.found.append(f"{where} {key}: a moment has no {key}")
         else:
-            problems.append(f"{where} kind: {kind!r} must be 'force' or 'moment'")
+            self.found.append(f"{where} kind: {kind!r} must be 'force' or 'moment'")
         start = spec.get("start", 0.0)
-        if isinstance(start, bool) or not isinstance(start, (int, float)) or not math.isfinite(start):
-            problems.append(f"{where} start: {start!r} must be a finite number")
+        if not _finite(start):
+            self.found.append(f"{where} start: {start!r} must be a finite number")
 
-    if not d.efforts:
-        problems.append("[effort]: missing: where does the balancing effort act?")
-    for when, spec in d.efforts.items():
+    def force_load(self, where: str, spec: dict) -> None:
+        if spec.get("at") not in self.placed:
+            self.found.append(f"{where} at: a force needs the placed point it acts at, got "
+                              f"{spec.get('at')!r}")
+        self.vector(f"{where} direction", spec.get("direction"))
+        if spec.get("fixed_in") not in ("frame", "link"):
+            self.found.append(f"{where} fixed_in: must be 'frame' or 'link'")
+
+    def effort_option(self, when: tuple | None, spec: Any) -> None:
         where = "[effort]" if when is None else f"[effort] options.{when[1]}"
+        params = self.d.parameters
         if when is not None and (when[0] not in params or params[when[0]]["kind"] != "choice"):
-            problems.append(f"[effort] choose: {when[0]!r} is not a choice parameter")
+            self.found.append(f"[effort] choose: {when[0]!r} is not a choice parameter")
         if not isinstance(spec, dict):
-            problems.append(f"{where}: must be a table")
-            continue
+            self.found.append(f"{where}: must be a table")
+            return
         unknown = set(spec) - _EFFORT_FIELDS
         if unknown:
-            problems.append(f"{where}: unknown key(s) {', '.join(sorted(unknown))}")
-        if spec.get("body") not in links:
-            problems.append(f"{where} body: {spec.get('body')!r} is not a moving link")
+            self.found.append(f"{where}: unknown key(s) {', '.join(sorted(unknown))}")
+        if spec.get("body") not in self.links:
+            self.found.append(f"{where} body: {spec.get('body')!r} is not a moving link")
         if "at" in spec or "direction" in spec:
-            if spec.get("at") not in placed:
-                problems.append(f"{where} at: {spec.get('at')!r} is not a placed point")
-            _direction(where, spec.get("direction"), expr, problems)
+            if spec.get("at") not in self.placed:
+                self.found.append(f"{where} at: {spec.get('at')!r} is not a placed point")
+            self.vector(f"{where} direction", spec.get("direction"))
 
-    output_names = []
-    joint_vars = {f"{v}_{j}" for j in joints for v in ("N", "M", "Fx", "Fy")}
-    efforts = {spec.get("name") for spec in d.efforts.values() if isinstance(spec, dict)}
-    for k, spec in enumerate(d.outputs):
+    # -- outputs ----------------------------------------------------------------------
+    def output(self, k: int, spec: dict, used: list) -> None:
+        """One output; the names it gives must not be in ``used`` (then they are)."""
         kind = spec.get("kind")
         where = f"[[outputs]] #{k + 1} ({spec.get('name', kind)})"
         if kind not in _OUTPUT_FIELDS:
-            problems.append(f"{where} kind: {kind!r} is not one of {', '.join(_OUTPUT_FIELDS)}")
-            continue
+            self.found.append(f"{where} kind: {kind!r} is not one of {', '.join(_OUTPUT_FIELDS)}")
+            return
         unknown = set(spec) - _OUTPUT_FIELDS[kind] - {"kind"}
         if unknown:
-            problems.append(f"{where}: unknown key(s) {', '.join(sorted(unknown))}")
+            self.found.append(f"{where}: unknown key(s) {', '.join(sorted(unknown))}")
         name = spec.get("name")
-        if not isinstance(name, str) or not _IDENTIFIER.match(name):
-            problems.append(f"{where} name: {name!r} must be an identifier")
-            continue
-        if kind == "force":
-            for key in ("by", "on"):
-                if spec.get(key) not in links and spec.get(key) != d.frame:
-                    problems.append(f"{where} {key}: {spec.get(key)!r} is not a body")
-            comps = spec.get("components", ["x", "y"])
-            if not set(comps) <= {"x", "y"} or not comps:
-                problems.append(f"{where} components: must be a list of 'x' and/or 'y'")
-            names = [spec.get(c, name + c) for c in comps]
-            if spec.get("magnitude"):
-                m = spec["magnitude"]
-                names.append(m if isinstance(m, str) else f"{name}_abs")
-        elif kind in ("normal", "couple"):
-            if spec.get("joint") not in joints:
-                problems.append(f"{where} joint: {spec.get('joint')!r} is not a pair")
-            names = [name]
-        elif kind == "effort":
-            if name not in efforts:
-                problems.append(f"{where} name: {name!r} is not the name of an [effort]")
-            names = [name]
-        else:
-            expr(f"{where} expression", spec.get("expression", ""),
-                 set(params) | joint_vars | efforts)
-            names = [name]
+        if not _is_identifier(name):
+            self.found.append(f"{where} name: {name!r} must be an identifier")
+            return
+        names = {"force": self.force_output, "normal": self.pair_output,
+                 "couple": self.pair_output, "effort": self.effort_output,
+                 "expression": self.expression_output}[kind](where, name, spec)
         for n in names:
-            if n in output_names or n in names_taken or n in load_names:
-                problems.append(f"{where}: output name {n!r} is used twice")
-            output_names.append(n)
-    if not d.outputs:
-        problems.append("[[outputs]]: there are none")
-    return problems
+            if n in used or n in self.taken or n in self.load_names:
+                self.found.append(f"{where}: output name {n!r} is used twice")
+            used.append(n)
+
+    def force_output(self, where: str, name: str, spec: dict) -> list:
+        for key in ("by", "on"):
+            if spec.get(key) not in self.links and spec.get(key) != self.d.frame:
+                self.found.append(f"{where} {key}: {spec.get(key)!r} is not a body")
+        comps = spec.get("components", ["x", "y"])
+        if not set(comps) <= {"x", "y"} or not comps:
+            self.found.append(f"{where} components: must be a list of 'x' and/or 'y'")
+        names = [spec.get(c, name + c) for c in comps]
+        if spec.get("magnitude"):
+            m = spec["magnitude"]
+            names.append(m if isinstance(m, str) else f"{name}_abs")
+        return names
+
+    def pair_output(self, where: str, name: str, spec: dict) -> list:
+        if spec.get("joint") not in self.joints:
+            self.found.append(f"{where} joint: {spec.get('joint')!r} is not a pair")
+        return [name]
+
+    def effort_names(self) -> set:
+        return {spec.get("name") for spec in self.d.efforts.values() if isinstance(spec, dict)}
+
+    def effort_output(self, where: str, name: str, spec: dict) -> list:
+        if name not in self.effort_names():
+            self.found.append(f"{where} name: {name!r} is not the name of an [effort]")
+        return [name]
+
+    def expression_output(self, where: str, name: str, spec: dict) -> list:
+        joint_vars = {f"{v}_{j}" for j in self.joints for v in ("N", "M", "Fx", "Fy")}
+        self.expr(f"{where} expression", spec.get("expression", ""),
+                  set(self.d.parameters) | joint_vars | self.effort_names())
+        return [name]
 
 
 def _key(key: str) -> str:
@@ -649,10 +723,3 @@ def _toml(value) -> str:
         return "{ " + ", ".join(f"{_key(k)} = {_toml(v)}" for k, v in value.items()) + " }"
     raise TypeError(f"cannot write {value!r} to a description file")
 
-
-def _direction(where, value, expr, problems) -> None:
-    if not (isinstance(value, (list, tuple)) and len(value) == 2):
-        problems.append(f"{where} direction: must be [x, y]")
-        return
-    expr(f"{where} direction x", value[0])
-    expr(f"{where} direction y", value[1])
