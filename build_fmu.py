@@ -4,11 +4,12 @@
 
 ``DIR/<Model>.fmu`` (default ``dist``) is the pythonfmu FMU, built by
 ``linkage_fmu.fmi.build_fmu``: it bundles the installed ``linkage_fmu`` package, the
-linkage's description file and a small slave script; its binary is the FMI 2.0
-framework (``linkage_fmu/fmi/fmi2.c``) in front of pythonfmu's wrapper.
-``DIR/native/<Model>.fmu`` is the native FMU, built by ``linkage_fmu.fmi.build_native_fmu``:
-the linkage's traced kernels in C behind the same framework, no Python needed by the
-importing tool. Both are compiled with the system C compiler. The check validates the
+linkage's description file and a small slave script; its binary is the project's FMI
+framework (``linkage_fmu/fmi/framework.c`` under ``fmi2.c``) in front of pythonfmu's
+wrapper. ``DIR/native/<Model>.fmu`` is the native FMU, built by
+``linkage_fmu.fmi.build_native_fmu``: the linkage's traced kernels in C behind the same
+framework, no Python needed by the importing tool. Both are compiled with the system C
+compiler. The check validates the
 modelDescription (``fmpy validate``), runs a revolution with time-varying speed and
 load through fmpy, compares every output with the direct solver (within 1e-9 for the
 pythonfmu FMU and 1e-12 for the native one), and writes the FMI cross-check files next
@@ -29,15 +30,16 @@ FLAVOURS = {"pythonfmu": (".", 1e-9), "native": ("native", 1e-12)}
 
 
 def check_in_fresh_process(fmu: Path) -> dict:
-    """Run ``python -m linkage_fmu.fmi.check`` on ``fmu`` in a new process outside the
-    source tree: FMUs are never loaded into the process that built them."""
+    """Run ``linkage-fmu check`` on ``fmu`` in a new process outside the source tree:
+    FMUs are never loaded into the process that built them."""
     with tempfile.TemporaryDirectory(prefix="linkage_fmu_check_") as cwd:
-        run = subprocess.run([sys.executable, "-m", "linkage_fmu.fmi.check", str(fmu)],
+        run = subprocess.run([sys.executable, "-m", "linkage_fmu.cli", "check", str(fmu)],
                              cwd=cwd, capture_output=True, text=True)
-    if run.returncode != 0:
+    try:
+        return json.loads(run.stdout.splitlines()[-1])
+    except (IndexError, ValueError):
         return {"validate": [f"check crashed (exit {run.returncode}): {run.stderr[-2000:]}"],
                 "max_rel_error": float("nan"), "worst_output": "", "steps": 0, "seconds": 0.0}
-    return json.loads(run.stdout.splitlines()[-1])
 
 
 def main(argv: list[str] | None = None) -> int:

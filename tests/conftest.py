@@ -114,5 +114,37 @@ def native_dist(tmp_path_factory) -> Path:
     return out
 
 
+@pytest.fixture(scope="session")
+def native3(tmp_path_factory) -> Path:
+    """The native FMI 3.0 FMUs of the presets and of the README's description file."""
+    from linkage_fmu.fmi import build_native_fmu
+
+    out = tmp_path_factory.mktemp("native3")
+    for source in (*presets.names(), Path(__file__).resolve().parents[1] / "examples" /
+                   "coupler_four_bar.toml"):
+        build_native_fmu(source, out, fmi_version=3)
+    return out
+
+
+@pytest.fixture(scope="session")
+def dist3(tmp_path_factory) -> Path:
+    """The pythonfmu FMI 3.0 FMU of the four-bar."""
+    from linkage_fmu.fmi import build_fmu
+
+    out = tmp_path_factory.mktemp("dist3")
+    build_fmu("four_bar", out, fmi_version=3)
+    return out
+
+
+#: the FMI 2.0 FMUs of both flavours: the same framework, the same answers
+FLAVOURS = ("pythonfmu", "native")
+
+
+@pytest.fixture(params=FLAVOURS)
+def fmu2(request) -> Path:
+    """The folder of the FMI 2.0 FMUs of one flavour (the test runs once per flavour)."""
+    return request.getfixturevalue("dist" if request.param == "pythonfmu" else "native_dist")
+
+
 #: preset -> model identifier of its FMU
 MODELS = {name: presets.preset(name).model for name in presets.names()}

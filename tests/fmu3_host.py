@@ -150,9 +150,9 @@ def slave_checks(fmu: Path) -> None:
         s.instantiate(logMessage=log, loggingOn=True)
         s.enterInitializationMode()
         bad("setString method=direct in init", lambda: s.setString([vr["method"]], ["direct"]),
-            contains="not an option")
+            contains="method must be one of 'closed_form', got 'direct'")
         bad("setInt32 branch=2 in init", lambda: s.setInt32([vr["branch"]], [2]),
-            contains="not a value this FMU was built for")
+            contains="branch must be +1 or -1")
         bad("setString invalid UTF-8", lambda: s.fmi3SetString(
             s.component, (fmi3ValueReference * 1)(vr["method"]), 1,
             (ctypes.c_char_p * 1)(b"\xff"), 1), contains="not valid UTF-8")

@@ -76,6 +76,11 @@ class Host:
             return self.new(name, *a)
         if op == "steps":  # many steps at once: (inputs per step, h, vrs to read)
             return self.steps(name, *a)
+        if op == "cycles":  # instantiate/free cycles: (fmu key, count, a parameter's vr)
+            return self.cycles(*a)
+        if op == "rss":  # resident memory now, KiB
+            with open("/proc/self/statm") as f:
+                return 0, int(f.read().split()[1]) * resource.getpagesize() // 1024
         fmu, component, md = self.instances[name]
         fn = fmu._functions
         if op == "free":
@@ -173,15 +178,43 @@ class Host:
                 fn["fmi2DoStep"](None, 0.0, 0.1, 1),
                 fn["fmi2SetString"](component, None, 1, None),
             ]
-        if op == "rss":  # resident memory now, KiB
-            with open("/proc/self/statm") as f:
-                return 0, int(f.read().split()[1]) * resource.getpagesize() // 1024
         if op == "debugLogging":
             on, categories = a
             arr = (c_char_p * len(categories))(*(c.encode() for c in categories))
             return fn["fmi2SetDebugLogging"](component, int(on), len(categories), arr), None
         raise ValueError(f"unknown op {op!r}")
 
+
+    def cycles(self, key, count, parameter_vr):
+        """``count`` cycles of instantiate, setup, enter, set a parameter, exit, step, read,
+        free of the FMU ``key``, with one set of callbacks and one loaded library; the
+        count of each status."""
+        md, unzip = self.units[key]
+        fmu = FMU2Slave(guid=md.guid, unzipDirectory=unzip,
+                        modelIdentifier=md.coSimulation.modelIdentifier, instanceName="x")
+        fn = fmu._functions
+        callbacks = fmi2CallbackFunctions()
+        callbacks.logger = fmi2CallbackLoggerTYPE(self._logger)
+        callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+        callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+        self._callbacks.append(callbacks)
+        location = pathlib.Path(unzip, "resources").as_uri().encode()
+        outs = [v.valueReference for v in md.modelVariables if v.causality == "output"]
+        vp, _ = self.vrs([parameter_vr])
+        vout, n_out = self.vrs(outs)
+        y, p = (c_double * n_out)(), (c_double * 1)()
+        counts = [0] * 6
+        for k in range(count):
+            c = fn["fmi2Instantiate"](b"x", 1, md.guid.encode(), location, byref(callbacks), 0, 1)
+            p[0] = 0.09 + 1e-6 * (k % 1000)
+            for status in (fn["fmi2SetupExperiment"](c, 0, 0.0, 0.0, 0, 0.0),
+                           fn["fmi2EnterInitializationMode"](c), fn["fmi2SetReal"](c, vp, 1, p),
+                           fn["fmi2ExitInitializationMode"](c),
+                           fn["fmi2DoStep"](c, 0.0, 0.1, 1), fn["fmi2GetReal"](c, vout, n_out, y),
+                           fn["fmi2Terminate"](c)):
+                counts[status] += 1
+            fn["fmi2FreeInstance"](c)
+        return 0, {"counts": counts}
 
     def steps(self, name, rows, h, refs):
         """Set the 4 inputs, doStep, get ``refs`` per row; count statuses and NaN reads.

@@ -85,15 +85,16 @@ def test_several_instances_of_one_fmu_in_one_process(dist, tmp_path):
         assert_matches_direct(out[f"i{k}"], "four_bar", inputs, p)
 
 
-def test_unsolvable_inputs_warn_with_nan_outputs_and_the_next_valid_step_works(dist, tmp_path):
+def test_unsolvable_inputs_discard_with_nan_outputs_and_the_next_valid_step_works(dist,
+                                                                                  tmp_path):
     """l_AB = 0.3 cannot assemble at theta = pi; NaN omega and infinite load cannot be
-    solved: those steps answer fmi2Warning (the run goes on) with every output NaN and a
-    log naming the cause; the valid steps around them match the direct solver."""
+    solved: those steps answer fmi2Discard with every output NaN and a log naming the
+    cause; the valid steps around them match the direct solver."""
     steps = [[0.0, 5.0, 0.0, 1.0], [math.pi, 5.0, 0.0, 1.0], [0.5, 5.0, 0.0, 1.0],
              [1.0, math.nan, 0.0, 1.0], [1.0, 5.0, 0.0, math.inf], [1.5, 5.0, 0.0, 1.0]]
     out = host({"fmus": [{"name": "a", "path": str(dist / "FourBar.fmu"),
                           "params": {"l_AB": 0.3}}], "inputs": steps}, tmp_path)["a"]
-    assert out["status"] == ["ok", "warning", "ok", "warning", "warning", "ok"]
+    assert out["status"] == ["ok", "discard", "ok", "discard", "discard", "ok"]
     ok = [s == "ok" for s in out["status"]]
     for k, good in enumerate(ok):
         assert all((y is not None) == good for y in out["outputs"][k]), k
@@ -106,25 +107,31 @@ def test_unsolvable_inputs_warn_with_nan_outputs_and_the_next_valid_step_works(d
     assert_matches_direct(entry, "four_bar", good[0], {"l_AB": 0.3})
 
 
-@pytest.mark.parametrize("params, message", [
-    ({"l_AB": -0.1}, "l_AB must be > 0 (crank length AB), got -0.1"),
-    ({"branch": 0}, "branch must be +1 or -1"),
-    ({"method": "lu"}, "method must be one of ('closed_form', 'direct', 'interpreted'), got 'lu'"),
+@pytest.mark.parametrize("model, params, call, message", [
+    ("FourBar", {"l_AB": -0.1}, "fmi2ExitInitializationMode",
+     "l_AB must be > 0 (crank length AB), got -0.1"),
+    ("SixBar", {"l_KD": 1e308}, "fmi2ExitInitializationMode",  # its mass rho l_KD: inf
+     "is not finite"),
+    ("FourBar", {"branch": 0}, "fmi2SetInteger", "branch must be +1 or -1"),
+    ("FourBar", {"method": "lu"}, "fmi2SetString",
+     "method must be one of 'closed_form', 'direct', 'interpreted', got 'lu'"),
 ])
-def test_invalid_parameter_fails_exit_initialization_and_names_it(dist, tmp_path, params,
-                                                                   message):
-    """fmpy raises at fmi2ExitInitializationMode (fmi2Error); the log names the problem."""
-    out = host({"fmus": [{"name": "a", "path": str(dist / "FourBar.fmu"), "params": params}],
+def test_an_invalid_parameter_is_an_error_naming_it(dist, tmp_path, model, params, call,
+                                                    message):
+    """fmpy raises where the FMU answers fmi2Error: a value out of its rule or options at
+    the set call, a set the linkage cannot take (a derived mass that is not finite) at
+    fmi2ExitInitializationMode; the log names the problem."""
+    out = host({"fmus": [{"name": "a", "path": str(dist / f"{model}.fmu"), "params": params}],
                 "inputs": [[0.3, 1.0, 0.0, 0.0]] * 2}, tmp_path)["a"]
-    assert "fmi2ExitInitializationMode" in out["instantiate_error"]
+    assert call in out["instantiate_error"]
     assert message in "\n".join(out["log"])
 
 
-def test_simulate_fmu_returns_every_row_through_an_unassemblable_range(dist, tmp_path):
+def test_simulate_fmu_ends_the_run_at_the_first_unassemblable_step(dist, tmp_path):
     """fmpy's simulate_fmu over one revolution of a four-bar whose crank (l_AB = 0.3) is
-    too long to turn fully: every one of the 91 rows comes back (the run is not ended by
-    the first unsolvable step), NaN exactly where the linkage cannot be assembled, and the
-    direct solver's values elsewhere."""
+    too long to turn fully: the FMU discards the first step whose inputs cannot be
+    assembled and says the run should end (fmi2Terminated); fmpy ends it there, quietly,
+    and every row it returns holds the direct solver's values."""
     model = "FourBar"
     write_steps = 90
     u = revolution(presets.get("four_bar", l_AB=0.3), write_steps)
@@ -136,16 +143,17 @@ def test_simulate_fmu_returns_every_row_through_an_unassemblable_range(dist, tmp
     sim = {"fmu": str(dist / f"{model}.fmu"), "input": str(path), "stop": float(u["time"][-1]),
            "h": h, "params": {"l_AB": 0.3}}
     out = host({"fmus": [], "inputs": [], "simulate": [sim]}, tmp_path)["simulate0"]
-    assert len(out["time"]) == write_steps + 1
     mech = presets.get("four_bar", l_AB=0.3)
     ref = mech.solve(u["theta"], u["omega"], u["alpha"], u["load"], method="direct")
-    lagged = np.concatenate([ref["Mb"][:1], ref["Mb"][:-1]])  # row k <- inputs of k-1
+    first = int(np.argmin(ref.valid))
+    assert 0 < first < write_steps  # the range really is partly unassemblable
+    # rows 0 .. first: the outputs of the inputs one row before; then fmpy's row at the
+    # last successful time, NaN
     got = np.array([np.nan if v is None else v for v in out["Mb"]], dtype=float)
-    assert 0 < np.isnan(lagged).sum() < write_steps  # the range really is partly unassemblable
-    np.testing.assert_array_equal(np.isnan(got), np.isnan(lagged))
-    fine = ~np.isnan(lagged)
-    scale = np.max(np.abs(lagged[fine]))
-    assert np.max(np.abs(got[fine] - lagged[fine])) <= 1e-9 * scale
+    assert len(got) == first + 2 and out["time"][-1] == out["time"][-2]
+    lagged = np.concatenate([ref["Mb"][:1], ref["Mb"][:first]])
+    np.testing.assert_allclose(got[:-1], lagged, rtol=0, atol=1e-9 * np.max(np.abs(lagged)))
+    assert np.isnan(got[-1])
 
 
 def test_state_save_restore_and_serialize(dist, tmp_path):

@@ -1,10 +1,12 @@
-"""The FMUs driven through fmpy's raw FMI 2 functions, from fresh host processes: every
-bad call answers fmi2Error (never Fatal, never a crash) and leaves the instance usable,
-the FMI 2.0 state machine is enforced, no output is stale under OK, serialized states are
-checked, and memory stays flat while steps keep failing.
+"""The FMI 2.0 FMUs of both flavours (pythonfmu and native: one C framework) driven
+through fmpy's raw FMI 2 functions, from fresh host processes: every bad call answers
+fmi2Error (never Fatal, never a crash) and leaves the instance usable, the FMI 2.0 state
+machine is enforced, an unsolvable input discards the step and reads NaN with a warning,
+no output is stale under OK, a value read is the value set, serialized states are
+checked, and memory stays flat while steps keep failing and instances come and go.
 
 Each case runs ``fmu_raw_host.py`` in a new process and checks its statuses and values
-against the direct solver computed here.
+against the direct solver computed here; each runs once per flavour (``fmu2``).
 """
 
 from __future__ import annotations
@@ -16,7 +18,6 @@ import sys
 from pathlib import Path
 
 import numpy as np
-import pytest
 from fmpy import read_model_description
 
 from conftest import MODELS
@@ -82,11 +83,12 @@ def close(got, expected, rel=1e-9) -> bool:
     return bool(np.all(np.abs(got[fine] - expected[fine]) <= rel * scale))
 
 
-def test_a_rejected_set_real_changes_nothing_and_no_output_is_stale(dist, tmp_path):
+def test_a_rejected_set_real_changes_nothing_and_no_output_is_stale(fmu2, tmp_path):
     """The fuzzed case: ScotchYoke ``setReal([theta, <output>], [1.2, 5.0])`` used to apply
     theta, return OK and leave the old outputs cached. Now it is fmi2Error and changes
     nothing: the outputs read afterwards are those of the inputs still set (theta = 0.3);
     setting theta = 1.2 alone then gives the outputs at 1.2."""
+    dist = fmu2
     v = variables(dist, "ScotchYoke")
     outs = [vr for vr, kind, c in v.values() if c == "output"]
     names = [n for n, (vr, kind, c) in v.items() if c == "output"]
@@ -106,11 +108,12 @@ def test_a_rejected_set_real_changes_nothing_and_no_output_is_stale(dist, tmp_pa
     assert not close(r[5][1], at12)
 
 
-def test_every_bad_call_is_an_error_and_the_instance_stays_usable(dist, tmp_path):
+def test_every_bad_call_is_an_error_and_the_instance_stays_usable(fmu2, tmp_path):
     """Unknown and wrong-type references, outputs set, strings that are not UTF-8, NULL
     pointers, fixed parameters set after initialisation, bad step sizes and times: each
     is fmi2Error with a log naming the call and the reason, and afterwards a valid step
     gives the direct solver's outputs."""
+    dist = fmu2
     v = variables(dist, "FourBar")
     outs = [vr for vr, kind, c in v.values() if c == "output"]
     names = [n for n, (vr, kind, c) in v.items() if c == "output"]
@@ -164,11 +167,12 @@ def test_every_bad_call_is_an_error_and_the_instance_stays_usable(dist, tmp_path
         assert text in errors, text
 
 
-def test_the_state_machine_is_enforced(dist, tmp_path):
+def test_the_state_machine_is_enforced(fmu2, tmp_path):
     """doStep before initialisation and after terminate, terminate twice, setReal of a
     fixed parameter after exitInitializationMode (it does not take effect), and getReal
     before enterInitializationMode: all fmi2Error. fmi2Terminated is false and
     fmi2LastSuccessfulTime is the end of the last step."""
+    dist = fmu2
     v = variables(dist, "FourBar")
     l_ab = v["l_AB"][0]
     ops = [["a", "new", "FourBar"], ["a", "doStep", 0.0, 0.1], ["a", "getReal", [0]],
@@ -187,9 +191,10 @@ def test_the_state_machine_is_enforced(dist, tmp_path):
     assert r[11][1] == 0 and r[12][1] == 0.25
 
 
-def test_an_invalid_parameter_set_fails_exit_initialization_until_it_is_fixed(dist, tmp_path):
+def test_an_invalid_parameter_set_fails_exit_initialization_until_it_is_fixed(fmu2, tmp_path):
     """exitInitializationMode answers fmi2Error naming every invalid parameter; the
     instance stays in initialisation mode, and once fixed the linkage solves."""
+    dist = fmu2
     v = variables(dist, "FourBar")
     outs = [vr for vr, kind, c in v.values() if c == "output"]
     names = [n for n, (vr, kind, c) in v.items() if c == "output"]
@@ -208,18 +213,21 @@ def test_an_invalid_parameter_set_fails_exit_initialization_until_it_is_fixed(di
     assert "l_AB must be a finite number, got nan" in errors
 
 
-def test_a_foreign_guid_is_refused(dist, tmp_path):
+def test_a_foreign_guid_is_refused(fmu2, tmp_path):
+    dist = fmu2
     out = raw(dist, [["a", "new", "FourBar", "{not-this-fmu}"],
                      ["b", "new", "FourBar"]], tmp_path)
     assert [s for s, _ in out["results"]] == [ERROR, OK]
     assert "GUID {not-this-fmu} does not match" in "\n".join(out["log"]["3"])
 
 
-def test_unsolvable_and_overflowing_inputs_warn_and_read_nan(dist, tmp_path):
-    """Not finite, omega = 1e300, an unassemblable angle (l_AB = 0.3 at theta = pi) and omega =
-    1e160 (finite inputs whose arithmetic overflows): each step or read answers
-    fmi2Warning with every output NaN, never OK with a non-finite output; the next valid
-    step is correct."""
+def test_unsolvable_inputs_discard_the_step_and_read_nan(fmu2, tmp_path):
+    """Not finite, omega = 1e300 or 1e160 (the outputs overflow), an unassemblable angle
+    (l_AB = 0.3 at theta = pi): setting them is OK, the step is fmi2Discard with
+    fmi2Terminated true and fmi2LastSuccessfulTime at the step's start, every output reads
+    NaN with fmi2Warning; the next valid step is OK and right and fmi2Terminated is false
+    again. One log per change of the inputs names them, the step's start and the reason."""
+    dist = fmu2
     v = variables(dist, "FourBar")
     outs = [vr for vr, kind, c in v.values() if c == "output"]
     names = [n for n, (vr, kind, c) in v.items() if c == "output"]
@@ -228,28 +236,43 @@ def test_unsolvable_and_overflowing_inputs_warn_and_read_nan(dist, tmp_path):
     good = [0.4, 5.0, 0.0, 1.0]
     ops = start("a", params={"l_AB": 0.3}, dist=dist)
     n0 = len(ops)
-    for row in rows:
-        ops += [["a", "setReal", [0, 1, 2, 3], row], ["a", "doStep", 0.0, 0.1],
-                ["a", "getReal", outs], ["a", "setReal", [0, 1, 2, 3], good],
-                ["a", "doStep", 0.1, 0.1], ["a", "getReal", outs]]
+    for k, row in enumerate(rows):
+        t = 0.2 * k
+        ops += [["a", "setReal", [0, 1, 2, 3], row], ["a", "doStep", t, 0.1],
+                ["a", "boolStatus", TERMINATED], ["a", "realStatus", LAST_SUCCESSFUL_TIME],
+                ["a", "getReal", outs], ["a", "getReal", outs[:1]],
+                ["a", "setReal", [0, 1, 2, 3], good], ["a", "doStep", t + 0.1, 0.1],
+                ["a", "boolStatus", TERMINATED], ["a", "getReal", outs]]
     out = raw(dist, ops, tmp_path)
     r = out["results"][n0:]
     expected = reference("four_bar", good, {"l_AB": 0.3}, names)
     for k, row in enumerate(rows):
-        step, read = r[6 * k + 1][0], r[6 * k + 2]
-        assert WARNING in (step, read[0]) and max(step, read[0]) == WARNING, (row, step, read[0])
-        assert all(y is None for y in read[1]), row
-        assert [s for s, _ in r[6 * k + 3: 6 * k + 6]] == [OK, OK, OK], row
-        assert close(r[6 * k + 5][1], expected), row
-    warnings = "\n".join(out["log"]["1"])
-    assert "the linkage cannot be assembled: the dyad B-C-D cannot close" in warnings
-    assert "the outputs overflow float64: an input is too large in magnitude" in warnings
+        got = r[10 * k: 10 * k + 10]
+        assert got[0][0] == OK and got[1][0] == DISCARD and got[2] == [OK, True], row
+        # the step from t = 0.2 k was not taken: the last successful time is its start
+        assert got[3][0] == OK and math.isclose(got[3][1], 0.2 * k, abs_tol=1e-12), row
+        for read in got[4:6]:  # all outputs, or one: the same fate
+            assert read[0] == WARNING and all(y is None for y in read[1]), row
+        assert [s for s, _ in got[6:9]] == [OK, OK, OK] and got[8][1] == 0, row
+        assert close(got[9][1], expected), row
+    discards = out["log"]["2"]
+    assert len(discards) == len(rows)  # once per change of the inputs
+    assert discards[0] == (
+        "fmi2DoStep: the inputs theta = 3.141592653589793, omega = 5.0, alpha = 0.0, load = 1.0 "
+        "cannot be solved at t = 0.0: the linkage cannot be assembled: the dyad B-C-D cannot "
+        "close; the outputs are NaN until an input changes")
+    assert "input omega = nan is not a finite number" in discards[1]
+    assert "at t = 0.6000000000000001: the outputs overflow float64: an input is too large " \
+           "in magnitude" in discards[3]
+    assert "1e+160" in discards[4] and "load = 1e+308" in discards[5]
+    assert not out["log"].get("1")  # the reads warn by status; the step said why
 
 
-def test_state_round_trips_are_bit_exact_and_bad_states_are_rejected(dist, tmp_path):
+def test_state_round_trips_are_bit_exact_and_bad_states_are_rejected(fmu2, tmp_path):
     """get/set and serialize/deserialize give back bit-identical outputs. Random bytes, a
     truncated state, every single-byte flip of a serialized state, a state of another
     model (serialized or in memory) are fmi2Error, and the instance keeps working."""
+    dist = fmu2
     v = variables(dist, "FourBar")
     outs = [vr for vr, kind, c in v.values() if c == "output"]
     ops = start("a", params={"l_AB": 0.11}, dist=dist) + start("s", "SliderCrank")
@@ -324,21 +347,23 @@ def check_reads(dist: Path, results: list, reads: list) -> None:
             model, u)
 
 
-def test_many_instances_interleaved_and_instantiate_free_cycles(dist, tmp_path):
+def test_many_instances_interleaved_and_instantiate_free_cycles(fmu2, tmp_path):
     """20 interleaved instances of four FMUs with their own parameters after 100
     instantiate/free cycles: every output matches the direct solver."""
+    dist = fmu2
     models, ops, reads = interleaved(dist, 100, 15)
     r = raw(dist, ops, tmp_path, tuple(models))["results"]
     assert all(s == OK for s, _ in r)
     check_reads(dist, r, reads)
 
 
-def test_memory_is_flat_while_every_step_fails(dist, tmp_path):
+def test_memory_is_flat_while_every_step_fails(fmu2, tmp_path):
     """10^6 steps that cannot be solved (FourBar with l_AB = 0.3, theta = pi), with
     logging on, after 30,000 steps to warm up, alternating with a valid step now and
-    then so that new warnings keep being logged: resident memory grows by less than
-    2 MB (the wrapper's leak of ~211 bytes per log message would be ~140 MB), and every
-    such step and read answers fmi2Warning with NaN outputs."""
+    then so that new reasons keep being logged: resident memory grows by less than 2 MB
+    (pythonfmu's wrapper leaks ~211 bytes per message its slave logs, which would be
+    ~70 MB), and every such step discards and every read warns with NaN outputs."""
+    dist = fmu2
     v = variables(dist, "FourBar")
     outs = [vr for vr, kind, c in v.values() if c == "output"]
     bad, good = [math.pi, 5.0, 0.0, 1.0], [0.3, 5.0, 0.0, 1.0]
@@ -349,8 +374,25 @@ def test_memory_is_flat_while_every_step_fails(dist, tmp_path):
         ["a", "steps", {"pattern": pattern, "repeat": n}, 1e-3, outs], ["a", "rss"]]
     out = raw(dist, ops, tmp_path, keep_log=5)
     (_, warm), (_, before), (_, run), (_, after) = out["results"][-4:]
-    # doStep and getReal both warn at each of the 2 n unsolvable rows
-    assert run["counts"][WARNING] == 2 * 2 * n and run["counts"][ERROR] == 0
+    # at each of the 2 n unsolvable rows, doStep discards and getReal warns
+    assert run["counts"][DISCARD] == 2 * n and run["counts"][WARNING] == 2 * n
+    assert run["counts"][ERROR] == 0
     assert run["nan_rows"] == 2 * n
     print(f"resident memory {before} KiB -> {after} KiB over {3 * n} steps")
     assert after - before < 2048, (before, after)
+
+
+def test_instantiate_free_cycles_keep_no_memory(fmu2, tmp_path):
+    """5,000 cycles of instantiate, initialise with other parameters, step, read and
+    free, after 500 to warm up: resident memory grows by less than 512 KiB (pythonfmu's
+    wrapper keeps about 1 KB per instance it creates, 4.5 KB with the slave script of
+    before), and every answer is OK."""
+    dist = fmu2
+    l_ab = variables(dist, "FourBar")["l_AB"][0]
+    ops = [["x", "cycles", "FourBar", 500, l_ab], ["x", "rss"],
+           ["x", "cycles", "FourBar", 5000, l_ab], ["x", "rss"]]
+    out = raw(dist, ops, tmp_path, keep_log=5)
+    (_, warm), (_, before), (_, run), (_, after) = out["results"]
+    assert run["counts"][OK] == 5000 * 7 and sum(run["counts"]) == 5000 * 7
+    print(f"resident memory {before} KiB -> {after} KiB over 5000 cycles")
+    assert after - before < 512, (before, after)

@@ -14,18 +14,10 @@ import pytest
 from fmpy.validation import validate_fmu
 
 from conftest import MODELS
-from linkage_fmu.fmi import build_native_fmu, check_fmu
+from linkage_fmu.fmi import check_fmu
 
 ROOT = Path(__file__).resolve().parents[1]
 SOURCES = (*MODELS, ROOT / "examples" / "coupler_four_bar.toml")
-
-
-@pytest.fixture(scope="module")
-def native3(tmp_path_factory) -> Path:
-    out = tmp_path_factory.mktemp("native3")
-    for source in SOURCES:
-        build_native_fmu(source, out, fmi_version=3)
-    return out
 
 
 @pytest.mark.parametrize("model", (*MODELS.values(), "CouplerFourBar"))

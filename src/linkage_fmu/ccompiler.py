@@ -46,12 +46,12 @@ def require_compiler(purpose: str) -> str:
     >>> saved = os.environ.get("CC")
     >>> os.environ["CC"] = "no-such-compiler-xyz"
     >>> try:
-    ...     require_compiler("the FMU guard")
+    ...     require_compiler("the FMU framework")
     ... except CompilerError as err:
     ...     print(str(err).split(";")[0])
     ... finally:
     ...     _ = os.environ.pop("CC") if saved is None else os.environ.update(CC=saved)
-    the FMU guard needs a C compiler and none was found (CC = 'no-such-compiler-xyz')
+    the FMU framework needs a C compiler and none was found (CC = 'no-such-compiler-xyz')
     """
     path = find_compiler()
     if path is None:

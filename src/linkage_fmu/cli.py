@@ -165,12 +165,13 @@ def main(argv: list[str] | None = None) -> int:
     build.add_argument("--set", dest="params", metavar="NAME=VALUE", type=_parameter,
                        action="append", default=[], help="override a parameter (repeatable)")
     build.add_argument("--out", default=None,
-                       help="output folder (default dist, dist/native with --native, dist/native3 with --fmi 3)")
+                       help="output folder (default dist, dist/fmi3 with --fmi 3; dist/native "
+                            "and dist/native3 with --native)")
     build.add_argument("--native", action="store_true",
                        help="a native FMU: the linkage's kernels in C, no Python in the "
                             "importing tool (default: the pythonfmu FMU)")
     build.add_argument("--fmi", type=int, choices=(2, 3), default=2,
-                       help="FMI version of a native FMU (default 2; the pythonfmu FMU is 2)")
+                       help="FMI version (default 2)")
 
     check = sub.add_parser("check", help="run an FMU with fmpy against the direct solver")
     check.add_argument("fmu")
@@ -195,13 +196,12 @@ def main(argv: list[str] | None = None) -> int:
             from .ccompiler import CompilerError
             from .fmi import build_fmu, build_native_fmu
 
-            if args.fmi == 3 and not args.native:
-                raise UsageError("--fmi 3 needs --native (the pythonfmu FMU is FMI 2.0)")
             try:
                 if args.native:
                     print(build_native_fmu(d, args.out, args.fmi, **dict(args.params)))
                 else:
-                    print(build_fmu(d, args.out or "dist", **dict(args.params)))
+                    out = args.out or ("dist" if args.fmi == 2 else "dist/fmi3")
+                    print(build_fmu(d, out, args.fmi, **dict(args.params)))
             except CompilerError as err:
                 print(f"linkage-fmu: {err}", file=sys.stderr)
                 return 2

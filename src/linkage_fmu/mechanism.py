@@ -18,7 +18,7 @@ import numpy as np
 from . import kinetostatics, numerics
 from .bodies import Body, Effort
 from .errors import AssemblyError
-from .groups import FRAME, OWNER, Crank, Group, Joint, KinematicState
+from .groups import FRAME, OWNER, Group, Joint, KinematicState
 from .kernels.trace import Reason
 from .loads import Load, wrenches
 from .numerics import ARRAY, SCALAR, finite_array, finite_float
@@ -83,8 +83,8 @@ class Mechanism:
             if not isinstance(grp, Group):
                 raise TypeError(f"{name}: {grp!r} is not a group (a subclass of "
                                 "linkage_fmu.groups.Group)")
-        if not groups or not isinstance(groups[0], Crank):
-            raise ValueError(f"{name}: the first group must be the Crank")
+        if not groups or not groups[0].DRIVER:
+            raise ValueError(f"{name}: the first group must be the driver (a Crank)")
         placed = set(self.frame_points)
         owner = {p: frame for p in self.frame_points}
         for grp in groups:

@@ -1,16 +1,33 @@
-/* Backend of fmi2.c: pythonfmu 0.7's stock wrapper, shipped beside the FMU's binary as
- * WRAPPED_LIBRARY (config.h), which runs the Python slave.
+/* The pythonfmu backend of framework.c: the package's own solver, in the importing
+ * process's Python, through pythonfmu 0.7's stock wrapper (WRAPPED_LIBRARY beside this
+ * binary, an FMI 2.0 library), which runs the Python slave (linkage_fmu.fmi.slave).
  *
- * - The status of a call is the worst status the Python slave logged during it:
- *   pythonfmu's wrapper can only answer OK, Discard or Fatal from Python, so this is how
- *   exitInitializationMode answers fmi2Error for an invalid parameter set and doStep
- *   fmi2Warning for inputs that cannot be solved.
- * - The wrapper frees its Python objects when it raises fmi2Fatal: such an instance is
- *   never handed back to it (not even to be freed).
- * - Python is initialised here with an error status instead of the interpreter's process
- *   exit when the host has none (with Python's headers at build time).
+ * The framework owns the values and the policy; the slave only computes:
+ * - a prepare sets every parameter in the slave and calls ExitInitializationMode, where
+ *   the slave builds the linkage (an invalid set: it logs why, with fmi2Error);
+ * - an evaluation sets the inputs and reads every output with one GetReal: the slave
+ *   solves once (a state it cannot solve: NaN, and it logs why with fmi2Discard).
+ * The slave's logs reach this backend only (their words become the framework's), and the
+ * status of a call is the worst of the wrapper's and what the slave logged: the wrapper
+ * itself answers only OK, Discard or Fatal.
+ *
+ * The wrapper's defects this backend works around: it turns the resource location into a
+ * path by cutting "file://" and decoding "%20" only, and crashes the host on any other
+ * form or on a folder without the slave (the framework decodes the URI; this backend
+ * checks the folder and hands the wrapper a plain path); it frees its Python objects when
+ * it answers Fatal, so such an instance is never handed back to it; it frees its
+ * interpreter state twice at exit (released first here); it starts Python with
+ * Py_Initialize, which exits the process on a bad PYTHONHOME (started here instead); and
+ * every instantiation keeps about a kilobyte the wrapper never frees (it runs the slave
+ * script again and leaks what it makes of it), so a freed instance's slave is kept and
+ * given to the next instance of this binary, which sets every value it uses afresh:
+ * instantiate/free cycles keep no memory. The kept slaves are freed when the binary is
+ * unloaded, while Python runs.
  */
 #include <dlfcn.h>
+#include <pthread.h>
+
+#include "fmi2FunctionTypes.h"
 
 #ifdef GUARD_PYTHON_INIT
 #include <Python.h>
@@ -19,46 +36,44 @@
 typedef struct {
     fmi2InstantiateTYPE *Instantiate;
     fmi2FreeInstanceTYPE *FreeInstance;
-    fmi2SetupExperimentTYPE *SetupExperiment;
-    fmi2EnterInitializationModeTYPE *EnterInitializationMode;
     fmi2ExitInitializationModeTYPE *ExitInitializationMode;
-    fmi2TerminateTYPE *Terminate;
-    fmi2ResetTYPE *Reset;
     fmi2GetRealTYPE *GetReal;
-    fmi2GetIntegerTYPE *GetInteger;
-    fmi2GetBooleanTYPE *GetBoolean;
-    fmi2GetStringTYPE *GetString;
     fmi2SetRealTYPE *SetReal;
     fmi2SetIntegerTYPE *SetInteger;
-    fmi2SetBooleanTYPE *SetBoolean;
     fmi2SetStringTYPE *SetString;
-    fmi2GetFMUstateTYPE *GetFMUstate;
-    fmi2SetFMUstateTYPE *SetFMUstate;
-    fmi2FreeFMUstateTYPE *FreeFMUstate;
-    fmi2SerializedFMUstateSizeTYPE *SerializedFMUstateSize;
-    fmi2SerializeFMUstateTYPE *SerializeFMUstate;
-    fmi2DeSerializeFMUstateTYPE *DeSerializeFMUstate;
-    fmi2DoStepTYPE *DoStep;
     void (*finalize)(void);
 } Wrapped;
 
-static Wrapped wrapped;  /* resolved once per process; the library is never unloaded */
+static Wrapped wrapped; /* resolved once per process; the library is never unloaded */
 static int wrapped_loaded = 0;
-static char wrapped_error[PATH_MAX + 512];
+static char wrapped_error[LK_PATH + 512];
 
-typedef struct {
+typedef struct Slave {
     fmi2CallbackFunctions to_wrapped; /* ours, handed to the wrapper (it keeps the pointer) */
     fmi2Component inner;
-    fmi2Status worst; /* worst status the slave logged in the current call */
-    Instance *in;
-    int failed;
+    Status worst;    /* the worst status the slave logged in the current call */
+    char said[1024]; /* ... and what it said with it */
+    int failed;      /* the wrapper answered Fatal: never call it again for this instance */
+    struct Slave *next; /* in the pool of slaves of freed instances */
 } Slave;
+
+static pthread_mutex_t pool_lock = PTHREAD_MUTEX_INITIALIZER;
+static Slave *pool = NULL; /* slaves of freed instances, for the next instances */
 
 /* The wrapper's interpreter state is a static shared_ptr that the C++ runtime destroys at
  * exit and its own destructor function releases again: a double free. Releasing it first,
  * from a handler registered after the wrapper was loaded (so it runs before the wrapper's
  * own exit-time destructors), leaves both later releases with an empty pointer. */
 static void release_wrapper(void) {
+    int (*running)(void) = (int (*)(void))dlsym(RTLD_DEFAULT, "Py_IsInitialized");
+    pthread_mutex_lock(&pool_lock);
+    while (pool) { /* unloaded while Python runs: free the kept slaves (at exit: not) */
+        Slave *sl = pool;
+        pool = sl->next;
+        if (running && running()) wrapped.FreeInstance(sl->inner);
+        free(sl);
+    }
+    pthread_mutex_unlock(&pool_lock);
     if (wrapped.finalize) wrapped.finalize();
 }
 
@@ -66,10 +81,10 @@ static int load_wrapped(void) {
     if (wrapped_loaded) return 1;
     Dl_info info;
     if (!dladdr((void *)&load_wrapped, &info) || !info.dli_fname) {
-        snprintf(wrapped_error, sizeof wrapped_error, "cannot find this FMU's binary");
+        set_text(wrapped_error, sizeof wrapped_error, "cannot find this FMU's binary");
         return 0;
     }
-    char path[PATH_MAX];
+    char path[LK_PATH];
     const char *slash = strrchr(info.dli_fname, '/');
     size_t dir = slash ? (size_t)(slash - info.dli_fname + 1) : 0;
     if (dir + strlen(WRAPPED_LIBRARY) + 1 > sizeof path) {
@@ -82,8 +97,7 @@ static int load_wrapped(void) {
     if (!lib) {
         snprintf(wrapped_error, sizeof wrapped_error,
                  "cannot load pythonfmu's wrapper (%s); it needs libpython " PYTHON_VERSION
-                 " loaded in the importing process: %s",
-                 path, dlerror());
+                 " loaded in the importing process: %s", path, dlerror());
         return 0;
     }
 #define RESOLVE(name)                                                                      \
@@ -91,13 +105,8 @@ static int load_wrapped(void) {
         snprintf(wrapped_error, sizeof wrapped_error, "%s has no fmi2" #name, path);       \
         return 0;                                                                          \
     }
-    RESOLVE(Instantiate) RESOLVE(FreeInstance) RESOLVE(SetupExperiment)
-    RESOLVE(EnterInitializationMode) RESOLVE(ExitInitializationMode) RESOLVE(Terminate)
-    RESOLVE(Reset) RESOLVE(GetReal) RESOLVE(GetInteger) RESOLVE(GetBoolean) RESOLVE(GetString)
-    RESOLVE(SetReal) RESOLVE(SetInteger) RESOLVE(SetBoolean) RESOLVE(SetString)
-    RESOLVE(GetFMUstate) RESOLVE(SetFMUstate) RESOLVE(FreeFMUstate)
-    RESOLVE(SerializedFMUstateSize) RESOLVE(SerializeFMUstate) RESOLVE(DeSerializeFMUstate)
-    RESOLVE(DoStep)
+    RESOLVE(Instantiate) RESOLVE(FreeInstance) RESOLVE(ExitInitializationMode)
+    RESOLVE(GetReal) RESOLVE(SetReal) RESOLVE(SetInteger) RESOLVE(SetString)
 #undef RESOLVE
     wrapped.finalize = (void (*)(void))dlsym(lib, "finalizePythonInterpreter");
     atexit(release_wrapper);
@@ -144,45 +153,68 @@ static int python_ready(char *why, size_t size) {
 
 static int backend_ready(char *why, size_t size) {
     if (!load_wrapped()) {
-        snprintf(why, size, "%s", wrapped_error);
+        set_text(why, size, wrapped_error);
         return 0;
     }
     return python_ready(why, size);
 }
 
-/* The wrapper's logger: note the worst status of the call, forward what is not empty.
- * The wrapper passes the text as the format without arguments; the slave escapes '%'. */
+/* The wrapper's logger: keep the worst status of the call and what the slave said with
+ * it; nothing reaches the host from here (the framework says it, in its own words). */
 static void from_wrapped(fmi2ComponentEnvironment env, fmi2String instance, fmi2Status status,
                          fmi2String category, fmi2String message, ...) {
-    (void)instance;
+    (void)instance, (void)category;
     Slave *sl = (Slave *)env;
     if (!sl) return;
-    if (status > sl->worst) sl->worst = status;
-    if (!message || !*message) return; /* a status without a message (a counted repeat) */
-    if (status == fmi2Fatal) status = fmi2Error; /* the guard's answer, not the wrapper's */
-    const Instance *in = sl->in;
-    if (in->host.logger && category_enabled(in, status, category))
-        in->host.logger(in->host.componentEnvironment, in->name, status, category, message);
+    if ((Status)status >= sl->worst && message && *message)
+        set_text(sl->said, sizeof sl->said, message);
+    if ((Status)status > sl->worst) sl->worst = (Status)status;
 }
 
-static void *backend_instantiate(Instance *in, fmi2String guid, fmi2String resources,
-                                 fmi2Boolean visible) {
-    Slave *sl = (Slave *)in->host.allocateMemory(1, sizeof *sl);
-    if (!sl) {
-        say(in, fmi2Error, "fmi2Instantiate: out of memory");
+/* 1 if `path/name` can be opened for reading. */
+static int readable(const char *path, const char *name) {
+    char file[LK_PATH + 64];
+    if ((size_t)snprintf(file, sizeof file, "%s/%s", path, name) >= sizeof file) return 0;
+    FILE *f = fopen(file, "rb");
+    if (f) fclose(f);
+    return f != NULL;
+}
+
+static void *backend_instantiate(Instance *in, const char *resources, const char *location) {
+    if (!resources) {
+        say(in, LK_ERROR, "the resource location %s is not a file URI (file:///path, file:/path "
+            "or file://localhost/path)", location ? location : "(null)");
         return NULL;
     }
-    sl->in = in;
-    sl->to_wrapped = in->host;
+    /* the wrapper rewrites these in a path; and it crashes on a folder without the slave */
+    if (strstr(resources, "%20") || strstr(resources, "file://") ||
+        !readable(resources, "slavemodule.txt") || !readable(resources, SLAVE_MODULE ".py")) {
+        say(in, LK_ERROR, "the resource location %s is not the resources folder of "
+            MODEL_IDENTIFIER " (no readable slavemodule.txt and " SLAVE_MODULE ".py in %s)",
+            location, resources);
+        return NULL;
+    }
+    pthread_mutex_lock(&pool_lock);
+    Slave *sl = pool;
+    if (sl) pool = sl->next;
+    pthread_mutex_unlock(&pool_lock);
+    if (sl) return sl; /* a freed instance's: the framework sets every value it uses */
+    /* the wrapper keeps a pointer to the callbacks: memory of this binary's, not the host's */
+    if (!(sl = (Slave *)calloc(1, sizeof *sl))) {
+        say(in, LK_ERROR, "out of memory");
+        return NULL;
+    }
     sl->to_wrapped.logger = from_wrapped;
+    sl->to_wrapped.allocateMemory = calloc;
+    sl->to_wrapped.freeMemory = free;
     sl->to_wrapped.componentEnvironment = sl;
-    /* the wrapper logs nothing unless logging is on: it is always on towards the guard,
-     * which filters by the host's settings */
-    sl->inner = wrapped.Instantiate(in->name, fmi2CoSimulation, guid, resources,
-                                    &sl->to_wrapped, visible, fmi2True);
+    /* the wrapper logs nothing unless logging is on: on towards this backend */
+    sl->inner = wrapped.Instantiate(in->name, fmi2CoSimulation, MODEL_GUID, resources,
+                                    &sl->to_wrapped, fmi2False, fmi2True);
     if (!sl->inner) {
-        say(in, fmi2Error, "fmi2Instantiate: pythonfmu's wrapper could not create the slave");
-        in->host.freeMemory(sl);
+        say(in, LK_ERROR, "pythonfmu's wrapper could not create the slave: %s",
+            sl->said[0] ? sl->said : "no reason given");
+        free(sl);
         return NULL;
     }
     return sl;
@@ -190,111 +222,60 @@ static void *backend_instantiate(Instance *in, fmi2String guid, fmi2String resou
 
 static void backend_free(Instance *in) {
     Slave *sl = (Slave *)in->model;
-    /* a failed instance is left to the wrapper's freed objects: freeing it would free them
-     * again */
-    if (!sl->failed) wrapped.FreeInstance(sl->inner);
-    in->host.freeMemory(sl);
+    if (sl->failed) { /* left to the wrapper's freed objects: freeing it would free them again */
+        free(sl);
+        return;
+    }
+    pthread_mutex_lock(&pool_lock);
+    sl->next = pool;
+    pool = sl;
+    pthread_mutex_unlock(&pool_lock);
 }
 
-/* Around a call of the wrapper: its answer is the worst of its status and what the slave
- * logged meanwhile. A wrapper Fatal (a Python exception) fails the instance for good. */
+/* Around a call of the wrapper: the worst of its status and what the slave logged; a
+ * Fatal (a Python exception) fails the slave for good. */
 static Slave *begin(Instance *in) {
     Slave *sl = (Slave *)in->model;
-    sl->worst = fmi2OK;
+    sl->worst = LK_OK;
+    sl->said[0] = '\0';
     return sl;
 }
 
-static fmi2Status finish(Instance *in, fmi2Status status) {
-    Slave *sl = (Slave *)in->model;
-    if (status == fmi2Fatal || sl->worst == fmi2Fatal) {
-        sl->failed = 1;
-        say(in, fmi2Error, "the Python slave raised");
-        return fmi2Fatal;
-    }
-    return sl->worst > status ? sl->worst : status;
-}
-
-static fmi2Status backend_setup_experiment(Instance *in, fmi2Boolean tolerance_defined,
-                                           fmi2Real tolerance, fmi2Real start,
-                                           fmi2Boolean stop_defined, fmi2Real stop) {
-    Slave *sl = begin(in);
-    return finish(in, wrapped.SetupExperiment(sl->inner, tolerance_defined, tolerance, start,
-                                              stop_defined, stop));
-}
-static fmi2Status backend_enter_initialization(Instance *in) {
-    Slave *sl = begin(in);
-    return finish(in, wrapped.EnterInitializationMode(sl->inner));
-}
-static fmi2Status backend_exit_initialization(Instance *in) {
-    Slave *sl = begin(in);
-    return finish(in, wrapped.ExitInitializationMode(sl->inner));
-}
-static fmi2Status backend_terminate(Instance *in) {
-    Slave *sl = begin(in);
-    return finish(in, wrapped.Terminate(sl->inner));
-}
-static fmi2Status backend_reset(Instance *in) {
-    Slave *sl = begin(in);
-    return finish(in, wrapped.Reset(sl->inner));
-}
-
-#define ACCESS(name, Name, ctype)                                                          \
-    static fmi2Status backend_get_##name(Instance *in, const fmi2ValueReference vr[],      \
-                                         size_t n, ctype value[]) {                        \
-        Slave *sl = begin(in);                                                             \
-        return finish(in, wrapped.Get##Name(sl->inner, vr, n, value));                     \
-    }                                                                                      \
-    static fmi2Status backend_set_##name(Instance *in, const fmi2ValueReference vr[],      \
-                                         size_t n, const ctype value[]) {                  \
-        Slave *sl = begin(in);                                                             \
-        return finish(in, wrapped.Set##Name(sl->inner, vr, n, value));                     \
-    }
-ACCESS(real, Real, fmi2Real)
-ACCESS(integer, Integer, fmi2Integer)
-ACCESS(boolean, Boolean, fmi2Boolean)
-ACCESS(string, String, fmi2String)
-
-static fmi2Status backend_do_step(Instance *in, fmi2Real t, fmi2Real h, fmi2Boolean no_set) {
-    Slave *sl = begin(in);
-    return finish(in, wrapped.DoStep(sl->inner, t, h, no_set));
-}
-
-static fmi2Status backend_get_state(Instance *in, void **state) {
-    Slave *sl = begin(in);
-    fmi2FMUstate inner = NULL;
-    fmi2Status s = finish(in, wrapped.GetFMUstate(sl->inner, &inner));
-    if (s > fmi2Warning || !inner) return s;
-    if (*state) wrapped.FreeFMUstate(sl->inner, state);
-    *state = inner;
+static Status finish(Slave *sl, fmi2Status status, char *why, size_t size) {
+    Status s = (Status)status > sl->worst ? (Status)status : sl->worst;
+    if (s > LK_OK) set_text(why, size, sl->said[0] ? sl->said : "the Python slave failed");
+    if (s == LK_FATAL) sl->failed = 1;
     return s;
 }
 
-static fmi2Status backend_set_state(Instance *in, void *state) {
+static Status backend_prepare(Instance *in, const Values *v, char *why, size_t size) {
     Slave *sl = begin(in);
-    return finish(in, wrapped.SetFMUstate(sl->inner, state));
+    fmi2ValueReference reals[N_VARIABLES], integers[N_VARIABLES], strings[N_VARIABLES];
+    fmi2Real real[N_VARIABLES];
+    fmi2Integer integer[N_VARIABLES];
+    fmi2String string[N_VARIABLES];
+    size_t nr = 0, ni = 0, ns = 0;
+    for (unsigned vr = 0; vr < N_VARIABLES; vr++) {
+        const Variable *var = &VARIABLES[vr];
+        if (!var->name || var->kind != K_FIXED) continue;
+        if (var->type == T_REAL) reals[nr] = vr, real[nr++] = v->real[vr];
+        else if (var->type == T_INTEGER) integers[ni] = vr, integer[ni++] = v->integer[vr];
+        else if (var->type == T_STRING) strings[ns] = vr, string[ns++] = v->string[vr];
+    }
+    fmi2Status s = wrapped.SetReal(sl->inner, reals, nr, real);
+    if (s == fmi2OK) s = wrapped.SetInteger(sl->inner, integers, ni, integer);
+    if (s == fmi2OK) s = wrapped.SetString(sl->inner, strings, ns, string);
+    if (s == fmi2OK && sl->worst == LK_OK) s = wrapped.ExitInitializationMode(sl->inner);
+    return finish(sl, s, why, size);
 }
 
-static void backend_free_state(Instance *in, void *state) {
-    Slave *sl = (Slave *)in->model;
-    if (!sl->failed) wrapped.FreeFMUstate(sl->inner, &state);
-}
-
-static fmi2Status backend_state_size(Instance *in, void *state, size_t *size) {
+static Status backend_evaluate(Instance *in, const Values *v, double *y, char *why,
+                               size_t size) {
     Slave *sl = begin(in);
-    return finish(in, wrapped.SerializedFMUstateSize(sl->inner, state, size));
-}
-
-static fmi2Status backend_serialize(Instance *in, void *state, unsigned char *bytes, size_t n) {
-    Slave *sl = begin(in);
-    return finish(in, wrapped.SerializeFMUstate(sl->inner, state, (fmi2Byte *)bytes, n));
-}
-
-static fmi2Status backend_deserialize(Instance *in, const unsigned char *bytes, size_t n,
-                                      void **state) {
-    Slave *sl = begin(in);
-    fmi2FMUstate inner = NULL;
-    fmi2Status s = finish(in, wrapped.DeSerializeFMUstate(sl->inner, (const fmi2Byte *)bytes, n,
-                                                          &inner));
-    *state = inner;
-    return s;
+    fmi2Real x[N_INPUTS + 1];
+    for (int k = 0; k < N_INPUTS; k++) x[k] = v->real[INPUTS[k]];
+    fmi2Status s = wrapped.SetReal(sl->inner, INPUTS, N_INPUTS, x);
+    if (s == fmi2OK && sl->worst == LK_OK) s = wrapped.GetReal(sl->inner, OUTPUTS, N_OUTPUTS, y);
+    Status status = finish(sl, s, why, size);
+    return status == LK_WARNING ? LK_OK : status;
 }

@@ -141,25 +141,3 @@ def write_crosscheck(out: str | Path, mech: Mechanism, steps: int = 360) -> list
     (out / f"{model}_ref.opt").write_text(
         f"StartTime,0.0\nStopTime,{float(u['time'][-1])!r}\nStepSize,{h!r}\nRelTol,1e-9\n")
     return [out / f"{model}{s}" for s in ("_in.csv", "_ref.csv", "_ref.opt")]
-
-
-def main(argv: list[str] | None = None) -> int:
-    """``python -m linkage_fmu.fmi.check FMU``: print the check result as JSON."""
-    import argparse
-    import json
-
-    parser = argparse.ArgumentParser(description="check a linkage FMU against the direct solver")
-    parser.add_argument("fmu")
-    parser.add_argument("--steps", type=int, default=360)
-    args = parser.parse_args(argv)
-    from fmpy.validation import validate_fmu
-
-    result = check_fmu(args.fmu, args.steps)
-    print(json.dumps({**result.__dict__, "validate": validate_fmu(args.fmu)}))
-    return 0
-
-
-if __name__ == "__main__":
-    import sys
-
-    sys.exit(main())

@@ -87,7 +87,8 @@ def run_fmu(fmu: str | Path, inputs: np.ndarray | None = None, steps: int = 360,
                               logger=logger)
         end = float(result["time"][-1])
     except FMICallException as err:  # fmpy 0.3's FMI 3.0 path raises at a discarded step
-        found = re.search(r"DoStep at t = ([-+0-9.eE]+)", messages[-1] if messages else "")
+        found = re.search(r"DoStep: the inputs .* cannot be solved at t = ([-+0-9.eE]+)",
+                          messages[-1] if messages else "")
         if err.status != 2 or found is None:  # not a discard: fmpy's own error
             raise
         result, end = None, float(found.group(1))

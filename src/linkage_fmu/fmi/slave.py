@@ -1,26 +1,23 @@
-"""The FMI 2.0 co-simulation slave of a linkage, built with pythonfmu.
+"""The Python slave of a pythonfmu FMU: what the C framework asks of the package.
 
-One generic :class:`LinkageSlave`; each FMU's script subclasses it with ``DESCRIPTION``
-set to the linkage's description file, bundled beside it (:mod:`linkage_fmu.fmi.build`
-writes those scripts). The slave has no state of its own: outputs are
-a direct feedthrough of the latest inputs, computed when a getReal call asks for them,
-only the ones asked for, at most once per change of inputs.
+The FMU's binary is the C framework (``framework.c`` with ``backend_pythonfmu.c``) in
+front of pythonfmu's wrapper, which calls this slave. The framework owns the variables'
+values, the state machine, the checks, the status policy, the logs and the states; the
+slave only computes, and says why it cannot:
 
-The FMU's binary is the guard of :mod:`linkage_fmu.fmi.guard` in front of pythonfmu's
-wrapper: it enforces the FMI state machine and checks every argument, so the slave only
-sees valid calls. The status of a call is the worst status the slave logs during it:
+* ``set_real`` / ``set_integer`` / ``set_string``: the framework hands over parameters
+  (before a prepare) and inputs (before an evaluation), by value reference;
+* ``exit_initialization_mode``: build the linkage from the parameters; an invalid set is
+  logged with fmi2Error and the reason;
+* ``get_real`` of the outputs: one call of the solver
+  (:meth:`Solver.attempt <linkage_fmu.solver.Solver.attempt>`) at the inputs, every output
+  at once; a state without outputs gives NaN and its reason, logged with fmi2Discard,
+  in the words the native kernels use.
 
-* inputs that cannot be solved (not finite, an angle at which the linkage cannot be
-  assembled, a singular position, arithmetic that overflows): fmi2Warning from doStep or
-  getReal, every output NaN until the inputs change, a log naming the variable, value and
-  reason. The step itself succeeds (the slave has no state to lose), so a master's run
-  goes on and returns every row; Discard, which fmpy answers by ending the run or by
-  retrying the same inputs forever, is never used;
-* an invalid parameter set: fmi2Error from exitInitializationMode, naming each problem;
-  the instance stays in initialisation mode until the parameters are fixed.
-
-Nothing escapes to the host: a Python exception in a pythonfmu callback is fmi2Fatal
-there, so every callback catches, logs with fmi2Error and answers NaN.
+Nothing escapes to the wrapper: a Python exception in a callback would be its fmi2Fatal,
+after which it cannot be called again; every callback logs it with fmi2Error instead.
+The generated slave script (:func:`~linkage_fmu.fmi.writers.slave_script`) subclasses
+:class:`LinkageSlave` with the description file bundled beside it.
 """
 
 from __future__ import annotations
@@ -30,21 +27,18 @@ import functools
 import hashlib
 import math
 import sys
-import weakref
 from pathlib import Path
 
-from pythonfmu import (DefaultExperiment, Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer,
-                       String)
+from pythonfmu import Fmi2Slave
 from pythonfmu.enums import Fmi2Status
 
 from .. import __version__
-from ..mechanism import METHODS
 from ..spec import Description
-from .model_description import RealWithUnit, complete
 from .variables import variables
 
 #: the linkage_fmu package this module belongs to
 PACKAGE = Path(__file__).parents[1]
+
 
 def fingerprint(package_dir: str | Path) -> str:
     """SHA-256 of the package's Python sources (relative names and contents).
@@ -68,19 +62,18 @@ def _loaded_fingerprint() -> str:
     return fingerprint(PACKAGE)
 
 
-def check_bundle(expected: str, script: str | Path) -> None:
+def check_bundle(expected: str, resources: str | Path) -> None:
     """Refuse to run a ``linkage_fmu`` other than the one this FMU bundles.
 
     The host process may have imported ``linkage_fmu`` before loading the FMU; Python
     then hands the FMU the host's copy instead of the bundled one. Or the copy bundled
-    in the FMU (beside the slave ``script``, in ``resources/``) was edited after the
-    build. The message says which.
+    in the FMU (in ``resources``) was edited after the build. The message says which.
     """
     found = _loaded_fingerprint()
     if found == expected:
         return
     loaded = PACKAGE.resolve()
-    if loaded.parent == Path(script).resolve().parent:
+    if loaded.parent == Path(resources).resolve():
         raise ImportError(
             f"the linkage_fmu bundled in this FMU ({loaded}) was changed after the FMU was "
             f"built (source fingerprint {found[:12]}, built as {expected[:12]}); rebuild the "
@@ -96,14 +89,10 @@ def hold_namespace(module_name: str) -> None:
     """Take one reference to a slave script module's namespace, for pythonfmu 0.7's wrapper.
 
     The generated slave script calls this at module level. The wrapper releases one
-    reference to the script's ``__dict__`` per ``fmi2Instantiate`` that it never took,
-    and runs the script's code once per instantiation to find the slave class (measured
-    with pythonfmu 0.7.0). Left alone, the very first instantiation frees the namespace
-    of a module that is still in use: the next instance fails with ``module has no
-    attribute 'FourBar'`` or Python's heap is corrupted and the host crashes later, at
-    exit at the latest. One reference per run of the script balances each release; a
-    wrapper that does not release merely leaves a module that lives until exit anyway
-    with a few references more.
+    reference to the script's ``__dict__`` per ``fmi2Instantiate`` that it never took
+    (it runs the script's code once per instantiation to find the slave class). Left
+    alone, an early instantiation frees the namespace of a module that is still in use,
+    and the host crashes. One reference per run of the script balances each release.
 
     Examples
     --------
@@ -116,82 +105,55 @@ def hold_namespace(module_name: str) -> None:
     ctypes.pythonapi.Py_IncRef(ctypes.py_object(vars(sys.modules[module_name])))
 
 
-class LinkageSlave(Fmi2Slave):
-    """Co-simulation slave for the linkage described by the file named ``DESCRIPTION`` (a
-    subclass attribute: the description file bundled in the FMU's resources).
+def drop_wrapper_path(module_name: str) -> None:
+    """Remove the ``sys.path`` entry pythonfmu 0.7's wrapper inserts per instantiation
+    (the FMU's resources folder, where ``slavemodule.txt`` names ``module_name``), and the
+    reference to it the wrapper keeps: without this, ``sys.path`` grows by one entry per
+    instance and every later import searches them all."""
+    if not sys.path or not isinstance(sys.path[0], str):
+        return
+    try:
+        ours = Path(sys.path[0], "slavemodule.txt").read_text().strip() == module_name
+    except OSError:
+        ours = False
+    if ours:
+        entry = sys.path.pop(0)
+        if sys.getrefcount(entry) == 3:  # entry, the argument, the wrapper's own reference
+            ctypes.pythonapi.Py_DecRef(ctypes.py_object(entry))
 
-    Variables: :func:`~linkage_fmu.fmi.variables.variables` of the linkage, whose
-    parameter defaults in the file are the FMU's start values.
+
+class LinkageSlave(Fmi2Slave):
+    """The slave of the linkage described by the file named ``DESCRIPTION`` (a subclass
+    attribute: the description file bundled in the FMU's resources), whose bundled
+    package has the fingerprint ``FINGERPRINT``.
+
+    Its variables are :func:`~linkage_fmu.fmi.variables.variables` of the linkage, by
+    value reference; the framework sets them, and reads the outputs.
     """
 
     DESCRIPTION = ""
+    FINGERPRINT = ""
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         self._logged: list = []  # attributes of queued log messages (see log)
-        self._cause = None  # cause of the latest warning, while it repeats
-        self._repeats = 0
         # An instance finds the file in its own resources folder: the script module stays
         # imported from the folder the first instance was extracted to, which the host
-        # may have deleted since (fmpy does after simulate_fmu). At build time there is
-        # no resources folder, and the file is beside the script.
-        folder = (Path(self.resources) if self.resources else
-                  Path(sys.modules[type(self).__module__].__file__).parent)
-        self._desc = Description.read(folder / self.DESCRIPTION)
-        mech = self._desc.build()
+        # may have deleted since (fmpy does after simulate_fmu).
+        folder = Path(self.resources)
+        check_bundle(self.FINGERPRINT, folder)
+        self._description = Description.read(folder / self.DESCRIPTION)
+        mech = self._description.build()
         table = variables(mech)
-        self.author = "linkage_fmu"
-        self.version = __version__
-        self.description = (f"{self._desc.title or self._desc.name}: joint reactions and "
-                            "balancing effort (kinetostatics)")
-        w0 = abs(self._desc.inputs.get("omega", 0.0))
-        stop = 2.0 * math.pi / w0 if w0 else 1.0
-        self.default_experiment = DefaultExperiment(0.0, stop, stop / 360.0)
+        self._values = {vr: v.start for vr, v in enumerate(table) if v.causality != "output"}
+        self._parameters = {vr: v.name for vr, v in enumerate(table)
+                            if v.causality == "parameter"}
+        self._inputs = [vr for vr, v in enumerate(table) if v.causality == "input"]
+        self._outputs = {vr: k for k, vr in enumerate(
+            vr for vr, v in enumerate(table) if v.causality == "output")}
+        self._mech, self._method = None, "closed_form"
 
-        self._params = {v.name: v.start for v in table
-                        if v.causality == "parameter" and v.name != "method"}
-        self._method = "closed_form"
-        self._mech = mech
-        self._problem = ""  # why the parameters are unusable ('' = fine)
-        self._inputs = mech.input_names
-        self._u = [v.start for v in table if v.causality == "input"]
-        self._cache: dict = {}
-        self._unsolvable = ()  # (cause, message) while the cache holds NaN for a reason
-        self._names = mech.output_names + mech.diagnostic_names
-        self._depends = {v.name: v.depends for v in table if v.causality == "output"}
-        self._time = 0.0
-
-        # The variables' getters and setters reach the slave through a weak proxy: a
-        # reference cycle would keep the slave alive until a later garbage collection,
-        # after fmpy may have unloaded pythonfmu's wrapper library, and crash the host.
-        me = weakref.proxy(self)
-        self._vr_input, self._vr_output = {}, {}
-        kinds = {"Real": RealWithUnit, "Integer": Integer, "String": String}
-        for v in table:
-            common = dict(description=v.description, causality=Fmi2Causality[v.causality],
-                          variability=Fmi2Variability[v.variability])
-            if v.type == "Real":
-                common.update(unit=v.unit, display_unit=v.display_unit)
-            if v.causality == "input":
-                i = len(self._vr_input)
-                common.update(start=v.start, getter=lambda i=i: me._u[i],
-                              setter=lambda x, i=i: me._set_input(i, x))
-            elif v.causality == "parameter":
-                common.update(start=v.start, getter=lambda n=v.name: me._parameter(n),
-                              setter=lambda x, n=v.name: me._set_param(n, x))
-            else:
-                common.update(getter=lambda n=v.name: me._outputs((n,))[0])
-            self.register_variable(kinds[v.type](v.name, **common))
-            if v.causality == "input":
-                self._vr_input[len(self.vars) - 1] = len(self._vr_input)
-            elif v.causality == "output":
-                self._vr_output[len(self.vars) - 1] = v.name
-
-    # -- model description (build time) ---------------------------------------------
-    def to_xml(self, model_options=dict()):
-        return complete(super().to_xml(model_options), self._depends)
-
-    # -- logging: statuses for the guard, no leak, repeated warnings counted ---------
+    # -- logging: no leak ---------------------------------------------------------------
     def log(self, msg, status=Fmi2Status.ok, category=None, debug=None):
         # the host's logger takes the message as a printf format string
         super().log(str(msg).replace("%", "%%"), status, category)
@@ -203,10 +165,9 @@ class LinkageSlave(Fmi2Slave):
 
         When the wrapper passes the queued messages to the logger, it reads each one's
         ``msg``, ``category`` and ``status`` with ``PyObject_GetAttr`` and never releases
-        what it got (measured: about 211 bytes per message, kept until exit). Once the
-        wrapper has emptied the queue, every object listed in ``_logged`` holds exactly
-        one such reference, which is released here. Called at the start of every
-        callback; nothing is released while a message is still queued.
+        what it got. Once the wrapper has emptied the queue, every object listed in
+        ``_logged`` holds exactly one such reference, which is released here. Called at
+        the start of every callback; nothing is released while a message is queued.
         """
         if self._logged and not self.log_queue:
             for obj in self._logged:
@@ -219,237 +180,57 @@ class LinkageSlave(Fmi2Slave):
         except Exception:  # pragma: no cover - interpreter shutting down
             pass
 
-    def _warn(self, cause: tuple, message: str) -> None:
-        """Log ``message`` as a warning, or, while the same ``cause`` repeats, only the
-        status (the guard turns it into the call's fmi2Warning; the host sees nothing)."""
-        if cause == self._cause:
-            self._repeats += 1
-            self.log("", Fmi2Status.warning)  # a status the guard does not pass on
-            return
-        self._end_repeats()
-        self._cause = cause
-        self.log(message, Fmi2Status.warning)
-
-    def _end_repeats(self) -> None:
-        if self._repeats:
-            self.log(f"the warning above repeated {self._repeats} more times, the last at "
-                     f"t = {self._time!r}", Fmi2Status.ok, "logAll")
-        self._cause, self._repeats = None, 0
-
-    def _error(self, call: str, err: BaseException) -> None:
+    def _failed(self, call: str, err: BaseException) -> None:
         self.log(f"{call} failed: {err!r}", Fmi2Status.error)
 
-    # -- setters and getters: the guard has checked references, types and states ----
-    def _invalidate(self) -> None:
-        """Forget everything computed from the inputs and parameters."""
-        self._cache, self._unsolvable = {}, ()
-
-    def _set_input(self, i: int, value: float) -> None:
-        self._u[i] = value
-        self._invalidate()
-
-    def _parameter(self, name: str):
-        return self._method if name == "method" else self._params[name]
-
-    def _set_param(self, name: str, value) -> None:
-        if name == "method":
-            self._method = value
-        else:
-            self._params[name] = value
-        self._invalidate()
-        self._mech, self._problem = None, ""
+    # -- what the framework asks ----------------------------------------------------------
+    def _set(self, call: str, vrs, values) -> None:
+        self._release_logged()
+        try:
+            for vr, value in zip(vrs, values):
+                self._values[vr] = value
+        except Exception as err:
+            self._failed(call, err)
 
     def set_real(self, vrs, values):
-        self._release_logged()
-        self._invalidate()  # whatever happens below
-        try:
-            for vr, value in zip(vrs, values):
-                i = self._vr_input.get(vr)
-                if i is None:
-                    self.vars[vr].setter(value)
-                else:
-                    self._u[i] = value
-        except Exception as err:
-            self._error("setReal", err)
-
-    def _set_other(self, call: str, vrs, values) -> None:
-        self._release_logged()
-        self._invalidate()
-        try:
-            for vr, value in zip(vrs, values):
-                self.vars[vr].setter(value)
-        except Exception as err:
-            self._error(call, err)
+        self._set("setReal", vrs, values)
 
     def set_integer(self, vrs, values):
-        self._set_other("setInteger", vrs, values)
-
-    def set_boolean(self, vrs, values):
-        self._set_other("setBoolean", vrs, values)
+        self._set("setInteger", vrs, values)
 
     def set_string(self, vrs, values):
-        self._set_other("setString", vrs, values)
-
-    def get_real(self, vrs):
-        self._release_logged()
-        try:
-            names = [self._vr_output.get(vr) for vr in vrs]
-            if None not in names:
-                return self._outputs(names)
-            out = []
-            for vr, name in zip(vrs, names):
-                out.append(self._outputs((name,))[0] if name else float(self.vars[vr].getter()))
-            return out
-        except Exception as err:
-            self._error("getReal", err)
-            return [math.nan] * len(vrs)
-
-    def _get_other(self, call: str, vrs, convert, default) -> list:
-        self._release_logged()
-        try:
-            return [convert(self.vars[vr].getter()) for vr in vrs]
-        except Exception as err:
-            self._error(call, err)
-            return [default] * len(vrs)
-
-    def get_integer(self, vrs):
-        return self._get_other("getInteger", vrs, int, 0)
-
-    def get_boolean(self, vrs):
-        return self._get_other("getBoolean", vrs, bool, False)
-
-    def get_string(self, vrs):
-        return self._get_other("getString", vrs, str, "")
-
-    def _mechanism(self):
-        """The mechanism for the current parameters, or None (reason in _problem)."""
-        if self._mech is None and not self._problem:
-            try:
-                if self._method not in METHODS:
-                    raise ValueError(f"method must be one of {METHODS}, got {self._method!r}")
-                self._mech = self._desc.build(**self._params)
-            except (TypeError, ValueError) as err:
-                self._problem = f"invalid parameter: {err}"
-        return self._mech
-
-    def _input_problem(self) -> tuple:
-        """``(cause, message)`` if the inputs are not all finite, else ``()``."""
-        for name, value in zip(self._inputs, self._u):
-            if not math.isfinite(value):
-                return ("input", name), f"input {name} = {value!r} is not a finite number"
-        return ()
-
-    def _outputs(self, names) -> list:
-        cache = self._cache
-        missing = [n for n in names if n not in cache]
-        if missing:
-            cache.update(self._solve(missing))
-        elif self._unsolvable:  # NaN from an earlier call: this read warns too
-            self._warn(*self._unsolvable)
-        return [cache[n] for n in names]
-
-    def _unsolved(self, cause: tuple, message: str) -> None:
-        """The inputs cannot be solved: every output NaN until they change, and a warning."""
-        self._cache = dict.fromkeys(self._names, math.nan)
-        self._unsolvable = cause, message
-        self._warn(cause, message)
-
-    def _solve(self, names) -> dict:
-        """Outputs ``names`` at the current inputs; all of them NaN, with a warning, if
-        the inputs cannot be solved. Every output is computed at once, by one call of
-        the solver: all of them share one fate."""
-        mech = self._mechanism()
-        if mech is None:  # the guard allows no read after a failed initialisation
-            return dict.fromkeys(names, math.nan)
-        problem = self._input_problem()
-        if not problem:
-            try:
-                r = mech.solver.attempt(self._u, None, self._method)
-            except (ArithmeticError, ValueError) as err:
-                problem = (type(err).__name__,), str(err)
-            else:
-                if type(r) is tuple:
-                    self._end_repeats()
-                    self._cache = dict(zip(self._names, r))
-                    return {n: self._cache[n] for n in names}
-                problem = (r.kind, r.what), r.text
-        # every output, not only those asked for: none may be read stale or half-valid
-        self._unsolved(problem[0], f"outputs are NaN at t = {self._time!r}: {problem[1]}")
-        return dict.fromkeys(names, math.nan)
-
-    # -- life cycle -----------------------------------------------------------------
-    def setup_experiment(self, start_time, stop_time=None, tolerance=None):
-        self._release_logged()
-        self._time = start_time
-
-    def enter_initialization_mode(self):
-        self._release_logged()
+        self._set("setString", vrs, values)
 
     def exit_initialization_mode(self):
-        """Check the parameter set; an invalid one is an fmi2Error (through the guard)."""
+        """Build the linkage of the parameters set; an invalid set is an fmi2Error with
+        its reason."""
+        self._release_logged()
+        self._mech = None
+        try:
+            params = {self._parameters[vr]: self._values[vr] for vr in self._parameters}
+            self._method = params.pop("method")
+            self._mech = self._description.build(**params)
+        except (TypeError, ValueError, ArithmeticError) as err:
+            self.log(str(err), Fmi2Status.error)
+        except Exception as err:
+            self._failed("exitInitializationMode", err)
+
+    def get_real(self, vrs):
+        """The outputs ``vrs`` at the inputs set: one solve of every output; NaN and the
+        reason (logged with fmi2Discard) where the state has none."""
         self._release_logged()
         try:
-            self._mech, self._problem = None, ""
-            if self._mechanism() is None:
-                self.log(f"exitInitializationMode: {self._problem}", Fmi2Status.error)
+            if self._mech is None:
+                raise RuntimeError("the outputs are read before a parameter set was taken")
+            r = self._mech.solver.attempt([self._values[vr] for vr in self._inputs], None,
+                                          self._method)
+            if type(r) is not tuple:
+                self.log(r.text, Fmi2Status.discard)
+                return [math.nan] * len(vrs)
+            return [r[self._outputs[vr]] for vr in vrs]
         except Exception as err:
-            self._error("exitInitializationMode", err)
-
-    def terminate(self):
-        self._release_logged()
-        self._end_repeats()
+            self._failed("getReal", err)
+            return [math.nan] * len(vrs)
 
     def do_step(self, current_time, step_size):
-        """Check that the inputs can be solved (finite, and the linkage assembles at
-        theta); the outputs are computed when read. Always True: see the module notes."""
-        self._release_logged()
-        try:
-            self._time = current_time + step_size
-            mech = self._mechanism()
-            if mech is None:  # not after a successful exitInitializationMode
-                self.log(f"doStep: {self._problem}", Fmi2Status.error)
-                return True
-            problem = self._input_problem()
-            if not problem and not self._cache:
-                self._outputs(self._names)  # one solve per input change
-                problem = self._unsolvable
-            elif self._unsolvable:
-                problem = self._unsolvable
-            if problem:
-                self._unsolved(problem[0], f"doStep to t = {self._time!r}: outputs are NaN: "
-                                           f"{problem[1]}")
-            return True
-        except Exception as err:
-            self._error("doStep", err)
-            return True
-
-    # -- FMU state: inputs, parameters and time (the cache is rebuilt on demand) -----
-    def _get_fmu_state(self):
-        self._release_logged()
-        return {"u": list(self._u), "params": dict(self._params), "method": self._method,
-                "time": self._time}
-
-    def _set_fmu_state(self, state):
-        self._release_logged()
-        try:
-            u, params = state["u"], state["params"]
-            if len(u) != len(self._u) or set(params) != set(self._params):
-                raise ValueError("the state does not hold this model's inputs and parameters")
-            self._u = [float(v) for v in u]
-            self._params = dict(params)
-            self._method = str(state["method"])
-            self._time = float(state["time"])
-        except Exception as err:
-            self._error("setFMUstate", err)
-        self._invalidate()
-        self._mech, self._problem = None, ""
-        self._mechanism()
-
-    @staticmethod
-    def _fmu_state_from_bytes(state: bytes):
-        # the guard has checked the header and checksum; a state it lets through that
-        # still fails here reaches _set_fmu_state as a dict it rejects with an error
-        try:
-            return Fmi2Slave._fmu_state_from_bytes(state)
-        except Exception:
-            return {}
+        return True  # the framework steps; the slave has no state of its own

@@ -1,8 +1,10 @@
-"""The FMU variables of a linkage: one table for every FMU flavour.
+"""The FMU variables of a linkage: one table for every FMU flavour and FMI version.
 
 Inputs first (``theta``, ``omega``, ``alpha``, then each load), then every parameter of
 the linkage's description, then ``method``, then the outputs and diagnostics; value
-references follow this order from 0.
+references follow this order from 0. Everything generated for an FMU (its
+modelDescription, ``config.h``, the native kernels' tables) is written from this table
+(:mod:`~linkage_fmu.fmi.writers`).
 
 Examples
 --------
@@ -12,10 +14,13 @@ Examples
 [('theta', 'input', 'rad'), ('omega', 'input', 'rad/s'), ('alpha', 'input', 'rad/s2'), ('load', 'input', 'N.m')]
 >>> table[-1].name, table[-1].depends
 ('cond', ('theta',))
+>>> [v.options for v in variables(presets.get("four_bar"), "native") if v.name == "method"]
+[('closed_form',)]
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -26,13 +31,23 @@ _MOTION_INFO = {
     "omega": ("rad/s", "", "crank angular speed"),
     "alpha": ("rad/s2", "", "crank angular acceleration"),
 }
+#: the solvers of each flavour's ``method`` parameter, and what it says of them
+FLAVOURS = {
+    "pythonfmu": (METHODS, "solver: one of closed_form, direct, interpreted (closed form, or "
+                           "the assembled reference LU)"),
+    "native": (("closed_form",), "solver: closed_form (a native FMU computes the closed form; "
+                                 "its check runs it against the direct solver)"),
+}
 
 
 @dataclass(frozen=True)
 class Variable:
     """One FMU variable: FMI type (Real, Integer, String), causality (input, parameter,
-    output), variability (continuous, fixed), units, meaning, start value, and for an
-    output the inputs it depends on."""
+    output), variability (continuous, fixed), units, meaning, start value, for an output
+    the inputs it depends on; for a parameter the rule its value meets (``rule``: a
+    Real's ``> 0``, ``>= 0`` or ``finite``, with ``minimum`` and ``maximum``; in words
+    for an Integer, whose values are ``allowed``, and a String, whose are ``options``);
+    ``index``: its position among the variables of its causality."""
 
     name: str
     type: str
@@ -43,41 +58,58 @@ class Variable:
     description: str = ""
     start: Any = None
     depends: tuple = ()
+    index: int = 0
+    rule: str = "finite"
+    minimum: float = -math.inf
+    maximum: float = math.inf
+    allowed: tuple = ()
+    options: tuple = ()
 
 
-def variables(mech) -> list[Variable]:
-    """The variable table of the linkage ``mech`` (built from a description)."""
+def _one_of(options) -> str:
+    return "one of " + ", ".join(repr(str(o)) for o in options)
+
+
+def variables(mech, flavour: str = "pythonfmu") -> list[Variable]:
+    """The variable table of the linkage ``mech`` (built from a description) in the FMU
+    ``flavour`` (``pythonfmu`` or ``native``: they differ in the solvers ``method``
+    offers)."""
+    methods, method_text = FLAVOURS[flavour]
     d = mech.description
     start = dict(d.inputs)
     table = []
-    for name in MOTION:
+    for k, name in enumerate(MOTION):
         unit, display, text = _MOTION_INFO[name]
         table.append(Variable(name, "Real", "input", "continuous", unit, display, text,
-                              float(start.get(name, 0.0))))
-    for load in mech.loads:
+                              float(start.get(name, 0.0)), index=k))
+    for k, load in enumerate(mech.loads, len(MOTION)):
         text = load.description or f"{load.kind} on link {load.body}"
         table.append(Variable(load.name, "Real", "input", "continuous", load.unit, "", text,
-                              float(load.start)))
-    for p in d.parameter_specs():
+                              float(load.start), index=k))
+    for k, p in enumerate(d.parameter_specs()):
         value = mech.parameters[p.name]
         if p.kind == "branch":
-            table.append(Variable(p.name, "Integer", "parameter", "fixed", "", "",
-                                  p.description, int(value)))
+            table.append(Variable(p.name, "Integer", "parameter", "fixed", "", "", p.description,
+                                  int(value), index=k, rule="+1 or -1", allowed=(1, -1)))
         elif p.kind == "choice":
             table.append(Variable(p.name, "String", "parameter", "fixed", "", "",
                                   f"{p.description} (one of {', '.join(map(str, p.choices))})",
-                                  str(value)))
+                                  str(value), index=k, rule=_one_of(p.choices),
+                                  options=tuple(map(str, p.choices))))
         else:
-            table.append(Variable(p.name, "Real", "parameter", "fixed", p.unit,
-                                  "deg" if p.unit == "rad" else "", p.description, float(value)))
-    table.append(Variable("method", "String", "parameter", "fixed", "", "",
-                          f"solver: one of {', '.join(METHODS)} (closed form, or the "
-                          "assembled reference LU)", "closed_form"))
+            table.append(Variable(
+                p.name, "Real", "parameter", "fixed", p.unit, "deg" if p.unit == "rad" else "",
+                p.description, float(value), index=k, rule=p.rule,
+                minimum=-math.inf if p.minimum is None else float(p.minimum),
+                maximum=math.inf if p.maximum is None else float(p.maximum)))
+    table.append(Variable("method", "String", "parameter", "fixed", "", "", method_text,
+                          "closed_form", index=len(d.parameters), rule=_one_of(methods),
+                          options=tuple(methods)))
     inputs = mech.input_names
-    for name in mech.output_names + mech.diagnostic_names:
+    for k, name in enumerate(mech.output_names + mech.diagnostic_names):
         unit, text = mech.output_info[name]
         # a diagnostic is a function of the position only
         depends = ("theta",) if name in mech.diagnostic_names else inputs
         table.append(Variable(name, "Real", "output", "continuous", unit,
-                              "deg" if unit == "rad" else "", text, None, depends))
+                              "deg" if unit == "rad" else "", text, None, depends, index=k))
     return table
