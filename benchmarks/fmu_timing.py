@@ -48,7 +48,7 @@ BUILD_SCRIPT = Path(__file__).resolve().parents[1] / "build_fmu.py"
 
 # A plain pythonfmu slave. Inputs use pythonfmu's default attribute getters and setters;
 # each output has a getter returning theta + k. The two module-level statements and the
-# block in __init__ are what linkage_fmu.fmi.slave.hold_namespace and the guard's exit handler
+# block in __init__ are what linkage_fmu.fmi.slave.hold_namespace and the framework's exit handler
 # do, inlined so that the FMU bundles nothing but pythonfmu: without them a second
 # instance or the process exit can crash (pythonfmu 0.7 wrapper defects). The class
 # derives from a name spelled Fmi2Slave: the wrapper looks for it in the script text.
@@ -167,7 +167,7 @@ def build_trivial_native(native: Path, out: Path) -> Path:
     import zipfile
 
     from linkage_fmu.ccompiler import compile_shared
-    from linkage_fmu.fmi.native import FLAGS
+    from linkage_fmu.fmi.build import FLAGS
 
     with tempfile.TemporaryDirectory(prefix="fmu_timing_native_") as tmp:
         root = Path(tmp) / "fmu"
@@ -175,14 +175,14 @@ def build_trivial_native(native: Path, out: Path) -> Path:
             archive.extractall(root)
         model_c = root / "sources" / "model.c"
         text = model_c.read_text()
-        table = text[text.index("static int (*const ONE[])"):]
+        table = text[text.index("static int (*const ONE[N_STRUCTURES])"):]
         table = table[:table.index("};") + 2]
         trivial = ("static int trivial_one(const double *q, const double *x, double *y) {\n"
-                   "    (void)q;\n    for (int k = 0; k < N_Y; k++) y[k] = x[0];\n"
-                   "    return 1;\n}\n")
+                   "    (void)q;\n    for (int k = 0; k < N_OUTPUTS; k++) y[k] = x[0];\n"
+                   "    return 0;\n}\n")
         n = table.count("_one")
-        model_c.write_text(text.replace(table, trivial + "static int (*const ONE[])(const "
-                                        "double *, const double *, double *) = {"
+        model_c.write_text(text.replace(table, trivial + "static int (*const ONE[N_STRUCTURES])"
+                                        "(const double *, const double *, double *) = {"
                                         + ", ".join(["trivial_one"] * n) + "};"))
         binary = next((root / "binaries" / "linux64").glob("*.so"))
         compile_shared([root / "sources" / "fmi2.c"], binary, include=[root / "sources"],

@@ -23,6 +23,7 @@ import sys
 import numpy as np
 
 from . import __version__, presets
+from .solver import frame
 from .spec import Description, DescriptionError
 
 EPILOG = """examples:
@@ -57,10 +58,39 @@ def _parameter(text: str) -> tuple:
         return name, value  # a choice parameter; the linkage checks it
 
 
+def _linkage(parser: argparse.ArgumentParser, help: str, parameters: bool = True) -> None:
+    """The linkage argument, and ``--set NAME=VALUE`` to override its parameters."""
+    parser.add_argument("linkage", help=help)
+    if parameters:
+        parser.add_argument("--set", dest="params", metavar="NAME=VALUE", type=_parameter,
+                            action="append", default=[],
+                            help="override a parameter (repeatable)")
+
+
 def _motion(parser: argparse.ArgumentParser) -> None:
+    """``--omega`` and ``--alpha``; unset: the linkage's start values (:func:`speeds`)."""
     for name in ("omega", "alpha"):
         parser.add_argument(f"--{name}", type=float, default=None,
                             help=f"{name} (default: the linkage's start value)")
+
+
+def speeds(d: Description, args) -> tuple[float, float]:
+    """omega and alpha from the command line, or the linkage's start values."""
+    return tuple(d.inputs[n] if getattr(args, n) is None else getattr(args, n)
+                 for n in ("omega", "alpha"))
+
+
+def loads(mech, args, rest: list[str], start: bool = True) -> dict:
+    """The value of each load of ``mech`` from the options ``--NAME VALUE`` left in
+    ``rest`` (each the load's start value if not given, or with ``start=False`` left
+    out); an option that is not a load of the linkage is an error naming it."""
+    parser = argparse.ArgumentParser(prog=f"linkage-fmu {args.command} {args.linkage}")
+    for load in mech.loads:
+        parser.add_argument(f"--{load.name}", type=float,
+                            default=load.start if start else None,
+                            help=f"{load.description} [{load.unit}] (default {load.start!r})")
+    given = vars(parser.parse_args(rest))
+    return {k: v for k, v in given.items() if v is not None}
 
 
 def description(source: str) -> Description:
@@ -111,13 +141,11 @@ def main(argv: list[str] | None = None) -> int:
     linkage_help = "a description file (.toml) or a preset: " + ", ".join(presets.NAMES)
 
     info = sub.add_parser("info", help="parameters, inputs (and where each load acts), outputs")
-    info.add_argument("linkage", help=linkage_help)
+    _linkage(info, linkage_help, parameters=False)
 
     table = sub.add_parser("table", help="outputs over crank angles", epilog=EPILOG,
                            formatter_class=argparse.RawDescriptionHelpFormatter)
-    table.add_argument("linkage", help=linkage_help)
-    table.add_argument("--set", dest="params", metavar="NAME=VALUE", type=_parameter,
-                       action="append", default=[], help="override a parameter (repeatable)")
+    _linkage(table, linkage_help)
     table.add_argument("--theta", help="angle(s): a value, a list a,b,c or START:STOP:STEP")
     table.add_argument("--deg", action="store_true", help="--theta and the index in degrees")
     table.add_argument("--n", type=int, default=36,
@@ -130,7 +158,7 @@ def main(argv: list[str] | None = None) -> int:
 
     sweep = sub.add_parser("sweep", help="many designs over a revolution, summarised",
                            epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
-    sweep.add_argument("linkage", help=linkage_help)
+    _linkage(sweep, linkage_help, parameters=False)
     sweep.add_argument("--grid", metavar="NAME=VALUES", action="append", default=[],
                        help="a parameter's values: a,b,c or START:STOP:STEP (repeatable; "
                             "the designs are every combination)")
@@ -149,11 +177,9 @@ def main(argv: list[str] | None = None) -> int:
     plot = sub.add_parser("plot", help="a picture: torque curve, force polar, the linkage "
                                        "with its forces, transmission angles",
                           epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
-    plot.add_argument("linkage", help=linkage_help)
+    _linkage(plot, linkage_help)
     plot.add_argument("--what", nargs="+", required=True, metavar="KIND [NAME]",
                       help="torque [OUTPUT] | polar [FORCE] | linkage | mu")
-    plot.add_argument("--set", dest="params", metavar="NAME=VALUE", type=_parameter,
-                      action="append", default=[], help="override a parameter (repeatable)")
     plot.add_argument("--theta-deg", dest="theta_deg",
                       help="angle(s) in degrees: a value (linkage), a list or START:STOP:STEP "
                            "(default a revolution in 0.5 degree steps)")
@@ -161,9 +187,7 @@ def main(argv: list[str] | None = None) -> int:
     plot.add_argument("-o", "--output", required=True, help="FILE.png, .svg or .pdf")
 
     build = sub.add_parser("build", help="build the linkage's FMU")
-    build.add_argument("linkage", help=linkage_help)
-    build.add_argument("--set", dest="params", metavar="NAME=VALUE", type=_parameter,
-                       action="append", default=[], help="override a parameter (repeatable)")
+    _linkage(build, linkage_help)
     build.add_argument("--out", default=None,
                        help="output folder (default dist, dist/fmi3 with --fmi 3; dist/native "
                             "and dist/native3 with --native)")
@@ -257,31 +281,21 @@ def _info(d: Description) -> int:
 
 def _table(d: Description, args, rest: list[str]) -> int:
     mech = d.build(**dict(args.params))
-    loads = argparse.ArgumentParser(prog=f"linkage-fmu table {args.linkage}")
-    for load in mech.loads:
-        loads.add_argument(f"--{load.name}", type=float, default=load.start,
-                           help=f"{load.description} [{load.unit}] (default {load.start!r})")
-    values = vars(loads.parse_args(rest))
     theta = angles(args.theta, args.n, args.deg)
-    omega = d.inputs["omega"] if args.omega is None else args.omega
-    alpha = d.inputs["alpha"] if args.alpha is None else args.alpha
-    df = mech.table(theta, omega, alpha, method=args.method, outputs=args.outputs,
-                    **{load.name: values[load.name] for load in mech.loads})
-    sol_valid = ~df.isna().any(axis=1).to_numpy()
+    omega, alpha = speeds(d, args)
+    sol = mech.solve(theta, omega, alpha, method=args.method, outputs=args.outputs,
+                     **loads(mech, args, rest))
+    df = frame(sol, theta)
     if args.deg:
         df.index = np.degrees(df.index.to_numpy())
         df.index.name = "theta_deg"
-    if not sol_valid.all():
-        bad = theta[~sol_valid]
-        shown = ", ".join(f"{np.degrees(t):.6g} deg" for t in bad[:5])
+    if sol.problems:
+        bad = np.flatnonzero(sol.status)
+        shown = ", ".join(f"{np.degrees(t):.6g} deg" for t in theta[bad[:5]])
         more = f" and {bad.size - 5} more" if bad.size > 5 else ""
-        try:
-            mech.solve(float(bad[0]), omega, alpha, outputs=args.outputs)
-            reason = ""
-        except ValueError as err:
-            reason = f": {err}"
+        first = min(sol.problems.values(), key=lambda p: p.first)
         raise UsageError(f"{mech.name} cannot be solved at {bad.size} of {theta.size} angles "
-                         f"({shown}{more}){reason}")
+                         f"({shown}{more}): {first.message}")
     if args.output:
         write_table(df, args.output)
     elif args.csv:
@@ -342,11 +356,7 @@ def _plot(d: Description, args, rest: list[str]) -> int:
     from . import plot
 
     mech = d.build(**dict(args.params))
-    loads = argparse.ArgumentParser(prog=f"linkage-fmu plot {args.linkage}")
-    for load in mech.loads:
-        loads.add_argument(f"--{load.name}", type=float, default=None,
-                           help=f"{load.description} [{load.unit}] (default {load.start!r})")
-    given = {k: v for k, v in vars(loads.parse_args(rest)).items() if v is not None}
+    given = loads(mech, args, rest, start=False)
     kind, names = args.what[0], args.what[1:]
     if kind not in ("torque", "polar", "linkage", "mu") or len(names) > 1 or (
             names and kind in ("linkage", "mu")):
@@ -379,11 +389,7 @@ def _sweep(d: Description, args, rest: list[str]) -> int:
     from .sweep import grid, sweep
 
     mech = d.build()
-    loads = argparse.ArgumentParser(prog=f"linkage-fmu sweep {args.linkage}")
-    for load in mech.loads:
-        loads.add_argument(f"--{load.name}", type=float, default=load.start,
-                           help=f"{load.description} [{load.unit}] (default {load.start!r})")
-    values = vars(loads.parse_args(rest))
+    values = loads(mech, args, rest)
     if bool(args.grid) == bool(args.samples):
         raise UsageError("give the designs as --grid NAME=VALUES (repeatable) or --samples FILE")
     if args.samples:
@@ -393,11 +399,9 @@ def _sweep(d: Description, args, rest: list[str]) -> int:
         designs = grid(**dict(map(_values, args.grid)))
     theta = (np.linspace(0.0, 2.0 * np.pi, args.n, endpoint=False) if args.theta is None
              else angles(args.theta, 0, args.deg))
-    omega = d.inputs["omega"] if args.omega is None else args.omega
-    alpha = d.inputs["alpha"] if args.alpha is None else args.alpha
+    omega, alpha = speeds(d, args)
     table = sweep(mech, designs, theta, omega, alpha, scheduler=args.scheduler,
-                  progress=args.scheduler is None and sys.stderr.isatty(),
-                  **{load.name: values[load.name] for load in mech.loads})
+                  progress=args.scheduler is None and sys.stderr.isatty(), **values)
     if args.output:
         write_table(table, args.output)
     else:

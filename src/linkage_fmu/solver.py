@@ -161,6 +161,16 @@ class _NoKernel:
         return None
 
 
+def frame(sol: Solution, theta):
+    """The array solution ``sol`` at the angles ``theta`` as a pandas DataFrame, one column
+    per output, indexed by ``theta`` (broadcast to the solution's shape)."""
+    import pandas as pd
+
+    index = pd.Index(np.broadcast_to(theta, np.shape(next(iter(sol.values())))).ravel(),
+                     name="theta")
+    return pd.DataFrame({k: np.ravel(v) for k, v in sol.items()}, index=index)
+
+
 def finite(values) -> bool:
     """True when every value is finite (one sum: a finite sum of finite terms)."""
     return math.isfinite(sum(values)) or all(map(math.isfinite, values))
@@ -368,14 +378,9 @@ class Solver:
         >>> list(df.columns), df.index.name
         (['Mb'], 'theta')
         """
-        import pandas as pd
-
         theta = np.atleast_1d(np.asarray(theta, dtype=float))
-        sol = self.solve(theta, omega, alpha, *loads, method=method, outputs=outputs,
-                         **named_loads)
-        index = pd.Index(np.broadcast_to(theta, np.shape(next(iter(sol.values())))).ravel(),
-                         name="theta")
-        return pd.DataFrame({k: np.ravel(v) for k, v in sol.items()}, index=index)
+        return frame(self.solve(theta, omega, alpha, *loads, method=method, outputs=outputs,
+                                **named_loads), theta)
 
     # -- one state ------------------------------------------------------------------
     def _one(self, values, method: str, wanted: tuple) -> Solution:

@@ -190,7 +190,9 @@ def model_source(mech, rebuild) -> tuple[str, list[dict]]:
         integers=[vr_of[n] for n in integers], strings=[vr_of[n] for n in strings],
         checked=[int(i in kernels[0].checked) for i in range(len(outputs))],
         structures=[{"integers": [c[n] for n in integers], "strings": [str(c[n]) for n in strings],
-                     "reasons": [r.text for r in k.reasons]} for c, k in zip(built, kernels)])
+                     # the framework says "the parameter set is invalid" itself
+                     "reasons": [r.what if r.kind == "parameter" else r.text
+                                 for r in k.reasons]} for c, k in zip(built, kernels)])
     return source, built
 
 

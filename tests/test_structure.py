@@ -1,0 +1,121 @@
+"""The package's structure, read from its source: no module uses another module's private
+names, the imports (function-level ones included) form no cycle, and the kernels import
+nothing of the package above them."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+SRC = Path(__file__).resolve().parents[1] / "src"
+PACKAGE = "linkage_fmu"
+#: names with a leading underscore that are public by convention (namedtuple's API)
+CONVENTIONAL = {"_replace", "_asdict", "_fields", "_make"}
+
+
+def modules() -> dict[str, Path]:
+    """Dotted module name -> file, for every module of the package."""
+    out = {}
+    for path in sorted((SRC / PACKAGE).rglob("*.py")):
+        parts = path.relative_to(SRC).with_suffix("").parts
+        name = ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+        out[name] = path
+    return out
+
+
+def imports(name: str, path: Path, known: dict) -> set[str]:
+    """The package's modules that module ``name`` imports, at any level of its code."""
+    tree = ast.parse(path.read_text())
+    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+    found = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                parts = package.split(".")
+                parts = parts[:len(parts) - node.level + 1]
+                base = ".".join(parts + ([base] if base else []))
+            # a submodule, or a name the module ``base`` defines
+            targets = [f"{base}.{a.name}" if f"{base}.{a.name}" in known else base
+                       for a in node.names]
+        elif isinstance(node, ast.Import):
+            targets = [a.name for a in node.names]
+        else:
+            continue
+        found.update(t for t in targets if t in known and t != name)
+    return found
+
+
+def graph() -> dict[str, set[str]]:
+    known = modules()
+    return {name: imports(name, path, known) for name, path in known.items()}
+
+
+def test_the_imports_have_no_cycle():
+    g = graph()
+    state: dict[str, int] = {}
+
+    def visit(node, path):
+        if state.get(node) == 1:
+            cycle = path[path.index(node):] + [node]
+            pytest.fail("import cycle: " + " -> ".join(cycle))
+        if state.get(node) == 2:
+            return
+        state[node] = 1
+        for nxt in sorted(g[node]):
+            visit(nxt, path + [node])
+        state[node] = 2
+
+    for node in sorted(g):
+        visit(node, [])
+
+
+def test_the_kernels_import_nothing_above_them():
+    """linkage_fmu.kernels and its modules import only themselves and the compiler
+    finder (a leaf that imports nothing of the package)."""
+    g = graph()
+    assert g[f"{PACKAGE}.ccompiler"] == set()
+    for name, targets in g.items():
+        if name.startswith(f"{PACKAGE}.kernels"):
+            outside = {t for t in targets if not t.startswith(f"{PACKAGE}.kernels")}
+            assert outside <= {f"{PACKAGE}.ccompiler"}, (name, outside)
+
+
+def own_names(tree: ast.Module) -> set[str]:
+    """The private names a module defines: functions, classes, their methods and
+    attributes, and module-level assignments."""
+    names = set()
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+            names.add(node.name)
+        elif isinstance(node, ast.Attribute) and isinstance(node.ctx, ast.Store):
+            names.add(node.attr)
+        elif isinstance(node, ast.Name) and isinstance(node.ctx, ast.Store):
+            names.add(node.id)
+        elif isinstance(node, (ast.AnnAssign,)) and isinstance(node.target, ast.Name):
+            names.add(node.target.id)
+    slots = [n for n in ast.walk(tree) if isinstance(n, ast.Assign) and
+             any(isinstance(t, ast.Name) and t.id == "__slots__" for t in n.targets)]
+    for node in slots:
+        for elt in getattr(node.value, "elts", []):
+            if isinstance(elt, ast.Constant):
+                names.add(elt.value)
+    return names
+
+
+def test_no_module_uses_another_modules_private_names():
+    for name, path in modules().items():
+        tree = ast.parse(path.read_text())
+        own = own_names(tree)
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom):
+                private = [a.name for a in node.names if a.name.startswith("_")
+                           and not a.name.startswith("__")]
+                assert not private, (name, node.lineno, private)
+            elif isinstance(node, ast.Attribute):
+                attr = node.attr
+                if attr.startswith("_") and not attr.startswith("__") and \
+                        attr not in CONVENTIONAL:
+                    assert attr in own, (name, node.lineno, attr)
