@@ -111,7 +111,9 @@ def test_exactly_singular_scalar_state_raises_with_angle():
 @pytest.mark.parametrize("kwargs, error, pattern", [
     ({"theta": math.nan}, ValueError, "theta must be a finite number, got nan"),
     ({"omega": math.inf}, ValueError, "omega must be a finite number, got inf"),
-    ({"load": "1"}, TypeError, "load must be a real number"),
+    ({"load": "1 m"}, ValueError, r"load = '1 m' must be a moment \(N.m\), but it is a length \(m\)"),
+    ({"load": "fast"}, ValueError, "load = 'fast': unknown name 'fast'"),
+    ({"omega": [1.0, "2 rpm"]}, TypeError, "omega must be an array of real numbers"),
     ({"alpha": np.array([0.0, np.nan])}, ValueError, r"alpha must be finite: entry \(1,\) is nan"),
     ({"method": "lu"}, ValueError, "method must be one of"),
     ({"outputs": ("Mb", "M_b")}, ValueError, "has no output 'M_b'"),
@@ -130,7 +132,8 @@ def test_bad_solve_input_is_named(kwargs, error, pattern):
     ("four_bar", {"lAB": 0.1}, TypeError, "four_bar has no parameter 'lAB'"),
     ("six_bar", {"driver": "BC"}, ValueError, "driver must be one of 'OA', 'AB', 'O1B', 'KD', 'D'"),
     ("scotch_yoke", {"g": -9.81}, ValueError, "g must be >= 0"),
-    ("slider_crank", {"J2": "x"}, TypeError, "J2 must be a real number"),
+    ("slider_crank", {"J2": "x"}, ValueError, "J2 = 'x': unknown name 'x'"),
+    ("slider_crank", {"J2": "4 kg"}, ValueError, r"J2 = '4 kg' must be a moment of inertia"),
     ("pendulum", {}, ValueError, "no preset 'pendulum'"),
 ])
 def test_bad_parameters_are_named(preset, params, error, pattern):

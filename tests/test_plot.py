@@ -129,7 +129,7 @@ def test_torque_defaults_are_the_description_start_values():
     y = by_gid(fig.axes[0])["Mb"][0].get_ydata()
     ref = mech.solve(np.radians(DEG), 25.0, 0.0, F_P=80.0, T4=120.0)["Mb"]
     np.testing.assert_allclose(y, ref, rtol=RTOL)
-    assert not np.allclose(y, mech.solve(np.radians(DEG), 25.0)["Mb"])  # loads matter
+    assert not np.allclose(y, mech.solve(np.radians(DEG), 25.0, 0.0, F_P=0.0, T4=0.0)["Mb"])
 
 
 def test_torque_shows_gaps_where_the_linkage_cannot_be_assembled(tmp_path):
@@ -336,7 +336,7 @@ def test_bad_input_is_refused_with_the_choices():
         plot.polar(four, "F12")
     with pytest.raises(ValueError, match=r"no force pair 'N43'.*F21 \(F21x, F21y\)"):
         plot.polar(presets.get("slider_crank"), "N43")  # one component: not a pair
-    with pytest.raises(ValueError, match=r"no output 'Mx'.*F21x, .*Mb, mu_C, cond"):
+    with pytest.raises(ValueError, match=r"no output 'Mx'.*F21x, .*Mb, shake_x, shake_y, shake_M, mu_C, cond"):
         plot.torque(four, output="Mx")
     with pytest.raises(TypeError, match="not both"):
         plot.torque(four, theta=[0.0, 1.0], theta_deg=[0.0, 1.0])

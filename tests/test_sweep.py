@@ -31,7 +31,7 @@ def expected(preset: str, params: dict, omega: float, load: float) -> dict:
         out[f"{mech.effort.name}_rms"] = np.sqrt(np.mean(e * e))
         for name in mech.output_names:
             if name.endswith("x") and name[:-1] + "y" in mech.output_names:
-                out[name[:-1] + "_peak"] = np.max(np.hypot(sol[name][ok],
+                out[name[:-1].rstrip("_") + "_peak"] = np.max(np.hypot(sol[name][ok],
                                                            sol[name[:-1] + "y"][ok]))
         for name in mech.diagnostic_names:
             if name.startswith("mu_"):

@@ -4,7 +4,9 @@ At a given crank angle every output is linear in ``omega**2``, ``alpha`` and eac
 (inertia is ``m (x'' omega**2 + x' alpha)``, a load enters once), plus a part from
 gravity. :class:`AngleTable` solves the mechanism once on a uniform grid of crank
 angles for each of these parts, and then evaluates any state by cubic
-(4-point Lagrange) interpolation in the angle. Its error falls like ``size**-4`` for
+(4-point Lagrange) interpolation in the angle. A load over the cycle is a part of
+unit magnitude too, times its exact value at the state (a table's spline, or its
+expression), so that a load of any period is exact. Its error falls like ``size**-4`` for
 smooth outputs and grows near toggles, where the outputs vary fast; measure it with
 :mod:`linkage_fmu.precise` before trusting a size.
 """
@@ -15,7 +17,7 @@ import math
 
 import numpy as np
 
-from .numerics import finite_array
+from .numerics import ARRAY, finite_array
 
 
 class AngleTable:
@@ -48,29 +50,36 @@ class AngleTable:
         self.names = mech.output_names
         self.size = size
         theta = np.arange(size) * (2.0 * math.pi / size)
-        n_loads = len(mech.loads)
+        names = [load.name for load in mech.input_loads + mech.computed_loads]
 
         def part(omega, alpha, which=None):
-            loads = [1.0 if k == which else 0.0 for k in range(n_loads)]
-            sol = mech.solve(theta, omega, alpha, *loads, method=method, outputs=self.names)
+            loads = {n: 1.0 if n == which else 0.0 for n in names}
+            sol = mech.solve(theta, omega, alpha, method=method, outputs=self.names, **loads)
             return np.array([sol[n] for n in self.names])
 
         base = part(0.0, 0.0)  # gravity
-        #: (3 + loads, outputs, size): gravity, per omega**2, per alpha, per unit of each load
+        #: (3 + loads, outputs, size): gravity, per omega**2, per alpha, per unit of each
+        #: load (the input loads, then the loads over the cycle)
         self.parts = np.stack([base, part(1.0, 0.0) - base, part(0.0, 1.0) - base]
-                              + [part(0.0, 0.0, k) - base for k in range(n_loads)])
+                              + [part(0.0, 0.0, n) - base for n in names])
 
-    def __call__(self, theta, omega=0.0, alpha=0.0, *loads, **named_loads) -> dict:
-        """Interpolated outputs at the given states (floats or arrays, broadcast).
+    def __call__(self, theta, omega=None, alpha=None, *loads, **named_loads) -> dict:
+        """Interpolated outputs at the given states (floats or arrays, broadcast); an
+        input not given takes its start value, as in :meth:`~linkage_fmu.Mechanism.solve`.
 
         Returns
         -------
         dict
             Output name -> float or ndarray of the broadcast shape.
         """
-        values = (theta, omega, alpha, *self.mech.load_values(loads, named_loads))
-        arrays = np.broadcast_arrays(*(finite_array(n, v) for n, v in zip(
-            self.mech.input_names, values)))
+        mech = self.mech
+        values, given = mech.inputs(omega, alpha, loads, named_loads)
+        values = [theta, *values]
+        if mech.computed_loads:  # each at its value over the cycle, unless given
+            values = values[:len(mech.input_names)] + self._over_cycle(
+                theta, dict(zip(given, values[len(mech.input_names):])))
+        names = mech.input_names + tuple(ld.name for ld in mech.computed_loads)
+        arrays = np.broadcast_arrays(*(finite_array(n, v) for n, v in zip(names, values)))
         shape = arrays[0].shape
         one_scene = all(np.ptp(a) == 0.0 for a in arrays[1:]) if arrays[0].size else True
         if one_scene:
@@ -104,3 +113,18 @@ class AngleTable:
         if not shape:
             return {n: float(out[0, k]) for k, n in enumerate(self.names)}
         return {n: out[:, k].reshape(shape) for k, n in enumerate(self.names)}
+
+    def _over_cycle(self, theta, given: dict) -> list:
+        """The magnitude of each load over the cycle at ``theta``: as ``given``, or
+        computed (the positions it uses exact, not interpolated)."""
+        mech = self.mech
+        theta = finite_array("theta", theta)
+        st, out = None, []
+        for load in mech.computed_loads:
+            if load.name in given:
+                out.append(given[load.name])
+                continue
+            if load.positions and st is None:
+                st = mech.kinematics(theta, order=0)
+            out.append(load.magnitude(theta, ARRAY, st.p if st else None))
+        return out

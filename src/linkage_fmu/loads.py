@@ -1,4 +1,9 @@
-"""Known loads on every moving body: d'Alembert inertia, weight and the input loads.
+"""Known loads on every moving body: d'Alembert inertia, weight and the named loads.
+
+A named load is an input (its magnitude given at each state, an FMU input), or a load
+over the cycle, computed at each state: an expression of the crank angle ``theta``, the
+parameters and the positions ``x_P``, ``y_P`` of the linkage's points, or a periodic
+table of the crank angle (:class:`~linkage_fmu.tables.PeriodicTable`) times a factor.
 
 Each body's loads are reduced to a wrench ``[Fx, Fy, M]`` at its centre of mass. Terms a
 scene does not have are not computed: no inertia in a static scene or for a massless
@@ -8,20 +13,26 @@ body, no weight when ``g = 0``, no moment of a force acting at the centre of mas
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Sequence
 
-from .groups import KinematicState
 from . import numerics
+from .expressions import Expression
+from .groups import KinematicState
 from .numerics import Number
+from .tables import PeriodicTable
 
 
 @dataclass(frozen=True)
 class Load:
-    """An input load of a linkage: a force on ``body`` at its point ``at`` along the
+    """A named load of a linkage: a force on ``body`` at its point ``at`` along the
     unit vector ``direction`` (fixed in the frame, or in the body when ``fixed_in =
     'link'``: then ``direction`` is in the body's own frame, x along its direction), or
     a moment on ``body`` (``kind = 'moment'``, counter-clockwise positive).
+
+    Its magnitude is an input with the ``start`` value, or, over the cycle, ``value``
+    (an expression of ``theta``, the ``parameters`` it names and ``x_P``/``y_P``) or
+    ``table`` times ``scale``: then it is computed at each state (:meth:`at_state`).
 
     Examples
     --------
@@ -42,6 +53,10 @@ class Load:
     unit: str = ""
     description: str = ""
     start: float = 0.0
+    value: Expression | None = None
+    table: PeriodicTable | None = None
+    scale: float = 1.0
+    parameters: dict = field(default_factory=dict, compare=False, repr=False)
 
     def __post_init__(self):
         if self.kind not in ("force", "moment"):
@@ -58,6 +73,37 @@ class Load:
                 raise ValueError(f"load {self.name}: fixed_in must be 'frame' or 'link'")
         if not self.unit:
             object.__setattr__(self, "unit", "N" if self.kind == "force" else "N.m")
+        if self.value is not None and self.table is not None:
+            raise ValueError(f"load {self.name}: give a value or a table, not both")
+
+    @property
+    def computed(self) -> bool:
+        """Whether the load is computed at each state (given over the cycle), not an
+        input."""
+        return self.value is not None or self.table is not None
+
+    @property
+    def positions(self) -> tuple:
+        """The points whose positions its value uses (``x_P``, ``y_P``)."""
+        if self.value is None:
+            return ()
+        return tuple(sorted({n[2:] for n in self.value.names if n[:2] in ("x_", "y_")
+                             and n not in self.parameters}))
+
+    def at_state(self, st: KinematicState):
+        """The load's magnitude at the state ``st`` (floats, arrays, traced or mpmath
+        numbers, as ``st`` holds them)."""
+        return self.magnitude(st.theta, st.xp, st.p)
+
+    def magnitude(self, theta, xp, p: dict | None = None):
+        """The load's magnitude at the crank angle ``theta`` (numbers of the namespace
+        ``xp``), with ``p`` the positions of the points it uses (:attr:`positions`)."""
+        if self.table is not None:
+            return self.table(theta) * self.scale
+        names = dict(self.parameters, theta=theta)
+        for point in self.positions:
+            names["x_" + point], names["y_" + point] = p[point]
+        return self.value(names, numerics.functions(xp))
 
 
 def wrenches(mech, st: KinematicState, omega: Number, alpha: Number, loads: Sequence[Number],
@@ -72,8 +118,9 @@ def wrenches(mech, st: KinematicState, omega: Number, alpha: Number, loads: Sequ
         Positions, and for a dynamic scene the first and second derivative coefficients.
     omega, alpha : float or ndarray
         Crank speed and acceleration.
-    loads : sequence of float or ndarray
-        The magnitude of each of ``mech.loads``, in that order.
+    loads : sequence of float or ndarray or None
+        The magnitude of each of ``mech.loads``, in that order; None for a load over the
+        cycle that is computed here.
     static : bool
         True when ``omega = alpha = 0`` everywhere: inertia terms are skipped.
 
@@ -107,6 +154,8 @@ def wrenches(mech, st: KinematicState, omega: Number, alpha: Number, loads: Sequ
             m = -body.inertia * (st.w2[body.name] * w2 + st.w1[body.name] * alpha)
         out[body.name] = [fx, fy, m]
     for load, value in zip(mech.loads, loads):
+        if value is None:
+            value = load.at_state(st)
         w = out[load.body]
         if load.kind == "moment":
             w[2] = w[2] + value

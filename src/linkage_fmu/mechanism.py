@@ -10,19 +10,18 @@ built from a :class:`~linkage_fmu.spec.Description` (a description file, or a pr
 
 from __future__ import annotations
 
-import math
 from typing import Callable, Iterable, Sequence
 
 import numpy as np
 
-from . import kinetostatics, numerics
+from . import diagnostics, kinetostatics, numerics
+from .expressions import evaluate
 from .bodies import Body, Effort
 from .errors import AssemblyError
 from .groups import FRAME, OWNER, Group, Joint, KinematicState
-from .kernels.trace import Reason
 from .loads import Load, wrenches
 from .numerics import ARRAY, SCALAR, finite_array, finite_float
-from .outputs import EffortOutput
+from .outputs import SHAKING, EffortOutput, Shaking
 from .solver import METHODS, Solution, Solver
 
 __all__ = ["Mechanism", "Body", "Effort", "Solution", "METHODS", "MOTION"]
@@ -50,7 +49,8 @@ class Mechanism:
     effort : Effort
         Where the balancing effort acts.
     outputs : sequence
-        Output declarations (:mod:`linkage_fmu.outputs`), in output order.
+        Output declarations (:mod:`linkage_fmu.outputs`), in output order; the shaking
+        force and moment (:data:`~linkage_fmu.outputs.SHAKING`) follow them.
     loads : sequence of Load
         The input loads, each an input of :meth:`solve` by its name.
     g : float
@@ -63,12 +63,15 @@ class Mechanism:
         ``rebuild(symbols)``: this linkage built again with the parameters named in
         ``symbols`` as the traced numbers there, so that its kernels take them as
         arguments (:mod:`~linkage_fmu.kernels`); None: the parameters are constants.
+    start : dict, optional
+        Input name -> start value: what an input not given takes (default 0).
     """
 
     def __init__(self, name: str, frame: str, frame_points: dict, groups: Sequence,
                  bodies: Sequence[Body], effort: Effort, outputs: Sequence,
                  loads: Sequence[Load], g: float, parameters: dict | None = None,
-                 description=None, rebuild: Callable[[dict], "Mechanism"] | None = None):
+                 description=None, rebuild: Callable[[dict], "Mechanism"] | None = None,
+                 start: dict | None = None):
         self.name, self.frame = name, frame
         self.g = numerics.real(g)
         self.frame_points = {k: (numerics.real(x), numerics.real(y))
@@ -126,8 +129,19 @@ class Mechanism:
         self.offset_scale = numerics.largest([1.0] + [b.offset / self.length_scale
                                                       for b in self.bodies])
         self.dyads = tuple(grp for grp in groups if grp.key)
-        #: the inputs of :meth:`solve`: theta, omega, alpha, then each load by name
-        self.input_names = MOTION + tuple(load.name for load in self.loads)
+        #: the loads that are inputs (the others are computed over the cycle)
+        self.input_loads = tuple(load for load in self.loads if not load.computed)
+        self.computed_loads = tuple(load for load in self.loads if load.computed)
+        #: the inputs of :meth:`solve`: theta, omega, alpha, then each input load by name
+        self.input_names = MOTION + tuple(load.name for load in self.input_loads)
+        #: input name -> the value it takes where none is given
+        self.start = {**dict.fromkeys(MOTION, 0.0), **{ld.name: ld.start for ld in self.loads},
+                      **(start or {})}
+        #: input name -> its unit (the loads over the cycle included)
+        self.input_units = {"theta": "rad", "omega": "rad/s", "alpha": "rad/s2",
+                            **{load.name: load.unit for load in self.loads}}
+        # every linkage reports what its moving links put on the frame
+        outputs = tuple(outputs) + tuple(Shaking(n, c) for n, c in zip(SHAKING, "xyM"))
         #: (name, fn(R, effort, st)) of every output, in output order
         self.output_functions = tuple((o.name, o.bind(self)) for o in outputs)
         #: output name -> (unit, description), diagnostics included
@@ -222,6 +236,11 @@ class Mechanism:
         st = self.kinematics(theta, order, xp)
         R, effort = {}, 0.0
         if plan.reactions or plan.effort:
+            if self.computed_loads:  # each computed load: given, or None (computed)
+                given = dict(zip(plan.given, loads[len(self.input_loads):]))
+                inputs = iter(loads)
+                loads = [given.get(ld.name) if ld.computed else next(inputs)
+                         for ld in self.loads]
             W = wrenches(self, st, omega, alpha, loads, plan.static)
             if plan.reactions and plan.method == "direct":
                 R, effort = kinetostatics.direct(self, st, W, xp, 1 if xp.scalar else theta.size)
@@ -234,87 +253,63 @@ class Mechanism:
             if name in plan.outputs:
                 out[name] = fn(R, effort, st)
         if plan.diagnostics:
-            out.update(self.diagnostics(st, plan.outputs))
+            out.update(diagnostics.values(self, st, plan.outputs))
         return out, st
 
-    def diagnostics(self, st: KinematicState, wanted: Iterable[str] = ("cond",)) -> dict:
-        """The transmission angles ``mu_<joint>`` and the condition estimate ``cond``
-        named in ``wanted``, at the kinematic state ``st`` (positions; ``cond`` of a
-        linkage whose effort is not on the crank needs first-order coefficients)."""
-        out = {}
-        cond = self.offset_scale  # 1.0 unless a centre of mass lies beyond length_scale
-        for d in self.dyads:
-            mu, kappa = d.transmission(st, self.length_scale)
-            out[f"mu_{d.key}"] = mu
-            # kappa twice: the dyad's position amplifies rounding by kappa, and its
-            # equilibrium (whose forces grow like kappa) amplifies that angle error again
-            cond = cond * kappa * kappa
-        if not self.effort_on_crank and "cond" in wanted:
-            # effort on another link/slider: its own motion q' divides the power balance
-            q = st.xp.abs(kinetostatics.effort_coefficient(self, st))
-            scale = 1.0 if self.effort.direction is None else self.crank.length
-            if st.xp.scalar:
-                moves = bool(q)
-                numerics.label(q, Reason("singular", "the link of the balancing effort does "
-                                                     "not move"))
-                cond = cond * scale / q if moves else math.inf
-            else:
-                cond = cond * scale / q
-        if not st.xp.scalar and st.invalid is not None:
-            cond = np.where(st.invalid, np.nan, cond)
-        out["cond"] = cond
-        return {k: v for k, v in out.items() if k in wanted}
-
-    def singular_what(self, st: KinematicState) -> str:
-        """Why the equations are singular at the position ``st`` (one state), in the
-        words of the kernels' guards: the first dyad at a toggle, a balancing effort
-        that cannot move, or no unique solution."""
-        for d in self.dyads:
-            if math.isinf(d.transmission(st, self.length_scale)[1]):
-                return f"the dyad at {d.key} is at a toggle"
-        if not self.effort_on_crank and not kinetostatics.effort_coefficient(self, st):
-            return "the link of the balancing effort does not move"
-        return "the equations have no unique solution"
-
-    def singular_detail(self, st: KinematicState) -> str:
-        """The transmission angles at a singular position ``st``, for a message."""
-        parts = [f"mu_{d.key} = {d.transmission(st, self.length_scale)[0]:.3g} rad"
-                 for d in self.dyads]
-        return ("the equations have no unique solution (transmission angles: "
-                + ", ".join(parts) + "); the balancing effort or reactions are unbounded")
-
     # -- inputs -----------------------------------------------------------------
-    def load_values(self, positional: tuple, named: dict, start: bool = False) -> list:
-        """The load values in :attr:`loads` order from positional and named arguments; a
-        load not given is 0, or with ``start`` its start value.
+    def inputs(self, omega=None, alpha=None, loads: Sequence = (),
+               named: dict | None = None) -> tuple[list, tuple]:
+        """``[omega, alpha, *input loads, *given computed loads]`` from the values given
+        (the input loads positionally in :attr:`input_loads` order, or by name; a load
+        over the cycle by name to override it), each input not given taking its start
+        value (:attr:`start`), text (a number with a unit, an expression: ``"1800 rpm"``,
+        ``"2 * pi * 30 rad/s"``) taken in SI (:func:`~.expressions.evaluate`); and the
+        names of the computed loads given.
 
         Examples
         --------
         >>> from linkage_fmu import presets
-        >>> presets.get("four_bar").load_values((), {"load": 2.0})
-        [2.0]
+        >>> presets.get("four_bar").inputs(alpha=2.0, named={"load": 3.0})
+        ([10.0, 2.0, 3.0], ())
         """
-        if not named and len(positional) == len(self.loads):
-            return positional
-        names = [load.name for load in self.loads]
-        if len(positional) > len(names):
-            raise TypeError(f"{self.name} has {len(names)} load(s) ({', '.join(names)}), got "
-                            f"{len(positional)} positional load values")
-        values = dict(zip(names, positional))
+        if not named and len(loads) == len(self.input_loads) and omega is not None and \
+                alpha is not None:
+            out, given = [omega, alpha, *loads], ()
+        else:
+            out, given = self._named(omega, alpha, loads, named or {})
+        for k, value in enumerate(out):
+            if isinstance(value, str):  # a number with a unit, an expression
+                name = (self.input_names[1:] + given)[k]
+                out[k] = evaluate(value, self.input_units[name], name)
+        return out, given
+
+    def _named(self, omega, alpha, loads: Sequence, named: dict) -> tuple[list, tuple]:
+        names = [load.name for load in self.input_loads]
+        if len(loads) > len(names):
+            raise TypeError(f"{self.name} has {len(names)} input load(s) ({', '.join(names)}), "
+                            f"got {len(loads)} positional load values")
+        values = dict(zip(names, loads))
+        known = {load.name for load in self.loads}
         for key, value in named.items():
-            if key not in names:
+            if key not in known:
                 raise TypeError(f"{self.name} has no input {key!r}; its inputs are: "
-                                + ", ".join(self.input_names))
+                                + ", ".join(self.input_names + tuple(
+                                    ld.name for ld in self.computed_loads)))
             if key in values:
                 raise TypeError(f"load {key} is given twice")
             values[key] = value
-        return [values.get(load.name, load.start if start else 0.0) for load in self.loads]
+        given = tuple(ld.name for ld in self.computed_loads if ld.name in values)
+        return [self.start["omega"] if omega is None else omega,
+                self.start["alpha"] if alpha is None else alpha,
+                *(values.get(n, self.start[n]) for n in names),
+                *(values[n] for n in given)], given
 
     # -- solving (the solver's public interface, here for convenience) -----------
-    def solve(self, theta, omega=0.0, alpha=0.0, *loads, method: str = "closed_form",
+    def solve(self, theta, omega=None, alpha=None, *loads, method: str = "closed_form",
               outputs: Iterable[str] | None = None, **named_loads) -> Solution:
         """Joint reactions, balancing effort and diagnostics at one or many states:
-        :meth:`Solver.solve <linkage_fmu.solver.Solver.solve>`.
+        :meth:`Solver.solve <linkage_fmu.solver.Solver.solve>`. An input not given takes
+        its start value (:attr:`start`).
 
         Examples
         --------
@@ -330,7 +325,7 @@ class Mechanism:
         return self.solver.solve(theta, omega, alpha, *loads, method=method, outputs=outputs,
                                  **named_loads)
 
-    def table(self, theta, omega=0.0, alpha=0.0, *loads, method: str = "closed_form",
+    def table(self, theta, omega=None, alpha=None, *loads, method: str = "closed_form",
               outputs: Iterable[str] | None = None, **named_loads):
         """:meth:`solve` over ``theta`` as a pandas DataFrame, one column per output:
         :meth:`Solver.table <linkage_fmu.solver.Solver.table>`."""

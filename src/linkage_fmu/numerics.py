@@ -48,6 +48,25 @@ cos, sin, tan, asin, acos, atan, atan2, hypot, sqrt, radians, degrees = map(_on_
 minimum, maximum = _on_traced(min), _on_traced(max)
 
 
+#: the functions an expression may call, on floats or traced numbers
+FUNCTIONS = {"sqrt": sqrt, "sin": sin, "cos": cos, "tan": tan, "asin": asin, "acos": acos,
+             "atan": atan, "atan2": atan2, "hypot": hypot, "radians": radians,
+             "degrees": degrees, "abs": abs, "min": minimum, "max": maximum}
+#: the same on numpy arrays (element by element)
+ARRAY_FUNCTIONS = {"sqrt": np.sqrt, "sin": np.sin, "cos": np.cos, "tan": np.tan,
+                   "asin": np.arcsin, "acos": np.arccos, "atan": np.arctan,
+                   "atan2": np.arctan2, "hypot": np.hypot, "radians": np.radians,
+                   "degrees": np.degrees, "abs": np.abs, "min": np.minimum, "max": np.maximum}
+
+
+def functions(xp) -> dict:
+    """The functions an expression calls on the numbers of the namespace ``xp``: its own
+    (``xp.functions``, mpmath's), or :data:`FUNCTIONS` for one state (floats, traced),
+    :data:`ARRAY_FUNCTIONS` for arrays."""
+    own = getattr(xp, "functions", None)
+    return own if own is not None else FUNCTIONS if xp.scalar else ARRAY_FUNCTIONS
+
+
 def label(value, reason) -> None:
     """Say why the comparison just made on the traced ``value`` fails (a
     :class:`~linkage_fmu.kernels.trace.Reason`); nothing for a plain number.

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 from typing import Callable
 
 from . import numerics
-from .spec.expressions import Expression
+from .expressions import Expression
 
 
 def joint_between(mech, by: str, on: str, output: str):
@@ -146,3 +146,77 @@ class Derived:
             return lambda R, E, st: 0.0  # another effort's name: not this linkage's effort
 
         return Expression(self.expression).bind(resolve)
+
+
+#: the names of the shaking outputs every linkage has
+SHAKING = ("shake_x", "shake_y", "shake_M")
+
+
+@dataclass(frozen=True)
+class Shaking:
+    """Output: the shaking force (``component`` 'x' or 'y') or moment ('M'): the
+    resultant of what the moving links exert on the frame, through its joints and
+    through the driver (the reaction of the balancing effort, which the frame applies),
+    the moment about the crank's pivot, counter-clockwise positive. It equals the
+    external loads, weights and d'Alembert forces of the moving links together (their
+    momentum balance); a load whose reaction also acts on the frame (gas pressure on a
+    cylinder head) is not subtracted."""
+
+    name: str
+    component: str
+
+    @property
+    def unit(self) -> str:
+        return "N.m" if self.component == "M" else "N"
+
+    @property
+    def description(self) -> str:
+        if self.component == "M":
+            return ("shaking moment: moment about the crank pivot of what the moving links "
+                    "exert on the frame (joints and driver), counter-clockwise positive")
+        return (f"shaking force: resultant force the moving links exert on the frame "
+                f"(joints and driver), {self.component} component")
+
+    def bind(self, mech) -> Callable:
+        # each frame joint: +1 where the reaction is declared as the link's action on
+        # the frame, -1 where it is the frame's on the link
+        joints = [(j, 1.0 if j.b == mech.frame else -1.0) for j in mech.joints
+                  if mech.frame in (j.a, j.b)]
+        pivot, effort = mech.crank.pivot, mech.effort
+
+        def forces(R, E, st):
+            """(fx, fy, point or None, couple) of each action on the frame."""
+            for j, sign in joints:
+                if j.normal is None:
+                    yield sign * R[j.name][0], sign * R[j.name][1], j.point, 0.0
+                else:
+                    nx, ny = j.normal_at(st)
+                    n = sign * R[j.name][0]
+                    yield n * nx, n * ny, j.point, sign * R[j.name][1]
+            if effort.direction is None:  # the driver's reaction: a couple
+                yield 0.0, 0.0, None, -E
+            else:
+                yield -E * effort.direction[0], -E * effort.direction[1], effort.point, 0.0
+
+        if self.component in "xy":
+            i = "xy".index(self.component)
+
+            def resultant(R, E, st):
+                total = 0.0
+                for f in forces(R, E, st):
+                    total = total + f[i]
+                return total
+
+            return resultant
+
+        def moment(R, E, st):
+            x0, y0 = st.p[pivot]
+            total = 0.0
+            for fx, fy, point, couple in forces(R, E, st):
+                if point is not None:
+                    x, y = st.p[point]
+                    total = total + (x - x0) * fy - (y - y0) * fx
+                total = total + couple
+            return total
+
+        return moment

@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, Mapping
 
+from .expressions import evaluate
 from .numerics import finite_float
 
 #: kind -> (unit, check description, predicate) for the real-valued kinds
@@ -32,7 +33,9 @@ class Parameter:
     ``kind`` is one of ``length, distance, coordinate, angle, mass, inertia, density,
     gravity, force, moment, number`` (real numbers with a unit and a rule),
     ``branch`` (+1 or -1) or ``choice`` (one of ``choices``). ``minimum`` and
-    ``maximum``, when given, bound a real value (inclusive).
+    ``maximum``, when given, bound a real value (inclusive). A real value may be given
+    as text: a number with a unit of its kind (``"120 mm"``), or an expression of
+    numbers (``"pi / 2"``); it is taken in SI.
 
     Examples
     --------
@@ -43,6 +46,8 @@ class Parameter:
     Traceback (most recent call last):
     ...
     ValueError: l_AB must be > 0 (crank length), got -1.0
+    >>> p.validate("120 mm")
+    0.12
     """
 
     name: str
@@ -76,6 +81,8 @@ class Parameter:
                 )
             return value
         unit, rule, ok = _REAL_KINDS[self.kind]
+        if isinstance(value, str):  # a number with a unit, or an expression of numbers
+            value = evaluate(value, unit, self.name)
         x = finite_float(self.name, value)
         if not ok(x):
             raise ValueError(f"{self.name} must be {rule} ({self.description}), got {x!r}")

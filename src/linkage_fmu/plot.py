@@ -40,7 +40,7 @@ from typing import TYPE_CHECKING, NamedTuple, Sequence
 
 import numpy as np
 
-from .outputs import joint_between
+from .outputs import SHAKING, joint_between
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -104,7 +104,8 @@ def force_pairs(mech: "Mechanism") -> tuple[ForcePair, ...]:
     They come from the linkage's description (its ``force`` outputs, whatever their
     component names, e.g. the six-bar's ``XO``/``YO``); for a mechanism built without
     one, from output names ``<stem>x``/``<stem>y`` (the joint is known when the
-    outputs keep their default descriptions).
+    outputs keep their default descriptions). The shaking force is not a joint's: see
+    :func:`shaking`.
 
     Examples
     --------
@@ -124,7 +125,7 @@ def force_pairs(mech: "Mechanism") -> tuple[ForcePair, ...]:
     else:
         for x in mech.output_names:
             y = x[:-1] + "y"
-            if x.endswith("x") and y in names:
+            if x.endswith("x") and y in names and x not in SHAKING:
                 bx, by = (_DEFAULT_FORCE.match(mech.output_info[n][1]) for n in (x, y))
                 known = bx and by and bx.group(1, 2) == by.group(1, 2)
                 specs.append((x[:-1], x, y, *(bx.group(1, 2) if known else (None, None))))
@@ -213,13 +214,10 @@ def _angles(theta, theta_deg, scalar: bool = False) -> tuple[np.ndarray, np.ndar
 
 
 def _inputs(mech: "Mechanism", omega, alpha, loads: Sequence, named: dict) -> dict:
-    """``{omega, alpha, <load>: value}``: what is given, else the start values."""
-    start = dict(mech.description.inputs) if mech.description is not None else {}
-    values = {"omega": start.get("omega", 0.0) if omega is None else omega,
-              "alpha": start.get("alpha", 0.0) if alpha is None else alpha}
-    for load, value in zip(mech.loads, mech.load_values(tuple(loads), named, start=True)):
-        values[load.name] = float(value)
-    return values
+    """``{omega, alpha, <input load>: value}``: what is given, else the start values
+    (a load over the cycle given by name too)."""
+    values, given = mech.inputs(omega, alpha, tuple(loads), named)
+    return dict(zip(mech.input_names[1:] + given, map(float, values)))
 
 
 def _solve(mech: "Mechanism", theta, inputs: dict):

@@ -30,10 +30,17 @@ def lu_solve(n: int, a: list, b: list):
 #: evaluation mode of the formulas on mpmath numbers (see :mod:`linkage_fmu.numerics`);
 #: the direct method solves its linear system with :func:`lu_solve`
 MP = SimpleNamespace(scalar=True, sqrt=mpmath.sqrt, cos=mpmath.cos, sin=mpmath.sin,
-                     atan2=mpmath.atan2, abs=abs, maximum=max, lu_solve=lu_solve)
+                     atan2=mpmath.atan2, abs=abs, maximum=max, lu_solve=lu_solve,
+                     functions={"sqrt": mpmath.sqrt, "sin": mpmath.sin, "cos": mpmath.cos,
+                                "tan": mpmath.tan, "asin": mpmath.asin, "acos": mpmath.acos,
+                                "atan": mpmath.atan, "atan2": mpmath.atan2,
+                                "hypot": mpmath.hypot, "radians": mpmath.radians,
+                                "degrees": mpmath.degrees, "abs": abs, "min": min,
+                                "max": max})
 
 
-def reference(mech, theta: float, omega: float = 0.0, alpha: float = 0.0, *loads: float,
+def reference(mech, theta: float, omega: float | None = None, alpha: float | None = None,
+              *loads: float,
               dps: int = 40, **named_loads: float) -> dict:
     """Outputs of ``mech`` at one state, computed with ``dps`` significant digits.
 
@@ -67,15 +74,16 @@ def reference(mech, theta: float, omega: float = 0.0, alpha: float = 0.0, *loads
     >>> round(float(ref["Mb"]), 4), round(float(ref["F23y"]), 4)  # seed 000 quotes these
     (15.6699, 313.3975)
     """
-    plan = mech.solver.plan(mech.output_names, False, "direct")
+    values, given = mech.inputs(omega, alpha, loads, named_loads)
+    plan = mech.solver.plan(mech.output_names, False, "direct", given)
     with mpmath.workdps(dps):
-        values = (theta, omega, alpha, *mech.load_values(loads, named_loads))
-        state = [mpmath.mpf(float(v)) for v in values]
+        state = [mpmath.mpf(float(v)) for v in (theta, *values)]
         out, _ = mech.evaluate(plan, state[0], state[1], state[2], state[3:], MP)
         return {name: +out[name] for name in mech.output_names}
 
 
-def references(mech, theta, omega=0.0, alpha=0.0, *loads, dps: int = 40, **named_loads) -> dict:
+def references(mech, theta, omega=None, alpha=None, *loads, dps: int = 40,
+               **named_loads) -> dict:
     """:func:`reference` over arrays of states, rounded to float64 arrays.
 
     Examples
@@ -85,9 +93,11 @@ def references(mech, theta, omega=0.0, alpha=0.0, *loads, dps: int = 40, **named
     >>> ref["Mb"].shape
     (2,)
     """
-    arrays = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in
-                                   (theta, omega, alpha, *mech.load_values(loads, named_loads))))
-    rows = [reference(mech, *map(float, s), dps=dps) for s in zip(*(a.ravel() for a in arrays))]
+    values, given = mech.inputs(omega, alpha, loads, named_loads)
+    arrays = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (theta, *values)))
+    n = 3 + len(mech.input_loads)
+    rows = [reference(mech, *map(float, s[:n]), dps=dps, **dict(zip(given, map(float, s[n:]))))
+            for s in zip(*(a.ravel() for a in arrays))]
     return {n: np.array([float(r[n]) for r in rows]).reshape(arrays[0].shape)
             for n in mech.output_names}
 

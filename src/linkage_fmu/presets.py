@@ -11,7 +11,7 @@ Examples
 ('scotch_yoke', 'four_bar', 'six_bar', 'slider_crank', 'slotted_lever', 'crank_shaper')
 >>> mech = presets.get("four_bar", l_AB=0.12)
 >>> mech.output_names
-('F21x', 'F21y', 'F32x', 'F32y', 'F43x', 'F43y', 'F14x', 'F14y', 'Mb')
+('F21x', 'F21y', 'F32x', 'F32y', 'F43x', 'F43y', 'F14x', 'F14y', 'Mb', 'shake_x', 'shake_y', 'shake_M')
 >>> presets.get("four_bar", l_ab=0.12)
 Traceback (most recent call last):
 ...

@@ -27,6 +27,8 @@ from typing import Iterable, NamedTuple
 
 import numpy as np
 
+from . import diagnostics
+from .expressions import evaluate
 from .errors import AssemblyError, OverflowInputError, SingularPositionError
 from .kernels import TRACE, Kernel, trace
 from .kernels.trace import Reason
@@ -52,7 +54,8 @@ STATUS_NAMES = {SOLVED: "solved", UNASSEMBLED: "cannot be assembled", SINGULAR: 
 class Plan(NamedTuple):
     """What a call asks for: the ``outputs`` (validated names), whether the scene is
     ``static``, the ``method``, and what they need: the balancing ``effort``, the
-    ``reactions``, the ``diagnostics``; ``checked``: the outputs that must be finite."""
+    ``reactions``, the ``diagnostics``; ``checked``: the outputs that must be finite;
+    ``given``: the loads over the cycle given as inputs (after the input loads)."""
 
     outputs: tuple
     static: bool
@@ -61,6 +64,7 @@ class Plan(NamedTuple):
     reactions: bool
     diagnostics: bool
     checked: tuple
+    given: tuple = ()
 
 
 class Solution(Mapping):
@@ -204,9 +208,9 @@ class Solver:
         self._valid.add(wanted)
         return wanted
 
-    def plan(self, outputs: tuple, static: bool, method: str) -> Plan:
+    def plan(self, outputs: tuple, static: bool, method: str, given: tuple = ()) -> Plan:
         """The :class:`Plan` of the validated ``outputs`` (:meth:`wanted`)."""
-        key = (outputs, static, method)
+        key = (outputs, static, method, given)
         plan = self._plans.get(key)
         if plan is None:
             mech = self.mech
@@ -215,15 +219,17 @@ class Solver:
                 outputs, static, method, any(n in efforts for n in outputs),
                 any(n not in diag and n not in efforts for n in outputs),
                 bool(diag.intersection(outputs)),
-                tuple(n for n in outputs if n in mech.output_info and n not in diag))
+                tuple(n for n in outputs if n in mech.output_info and n not in diag), given)
         return plan
 
     # -- kernels ----------------------------------------------------------------
-    def kernel(self, outputs: Iterable[str] | None = None, static: bool = False) -> Kernel:
+    def kernel(self, outputs: Iterable[str] | None = None, static: bool = False,
+               given: tuple = ()) -> Kernel:
         """The traced kernel of the plan ``(outputs, static)``, made on first use and kept.
 
         ``kernel(theta, omega, alpha, *loads)`` returns the outputs as a tuple of floats,
-        or None at a state it does not take (see :class:`~linkage_fmu.kernels.Kernel`).
+        or None at a state it does not take (see :class:`~linkage_fmu.kernels.Kernel`);
+        ``loads`` are the input loads, then the loads over the cycle named in ``given``.
 
         Raises
         ------
@@ -232,29 +238,30 @@ class Solver:
             state to trace the formulas at (asked again, at once, without tracing).
         """
         wanted = self.wanted(outputs)
-        k = self._kernels.get((wanted, static))
+        key = (wanted, static, given)
+        k = self._kernels.get(key)
         if k is None:
             try:
-                k = self._kernels[(wanted, static)] = self._trace(wanted, static)
+                k = self._kernels[key] = self._trace(wanted, static, given)
             except ValueError as err:
-                self._kernels[(wanted, static)] = _NoKernel(err)
+                self._kernels[key] = _NoKernel(err)
                 raise
         if isinstance(k, _NoKernel):  # traced before, without a witness: say so at once
             raise k.error
         return k
 
-    def _kernel_or_none(self, wanted: tuple, static: bool):
+    def _kernel_or_none(self, wanted: tuple, static: bool, given: tuple = ()):
         try:
-            return self.kernel(wanted, static)
+            return self.kernel(wanted, static, given)
         except ValueError:  # no witness state: this plan stays interpreted
-            return self._kernels[(wanted, static)]
+            return self._kernels[(wanted, static, given)]
 
-    def _trace(self, wanted: tuple, static: bool) -> Kernel:
+    def _trace(self, wanted: tuple, static: bool, given: tuple) -> Kernel:
         """Trace the closed-form formulas of the plan at the first witness angle where
         the linkage assembles (the trace follows what the floats do there)."""
         mech = self.mech
-        plan = self.plan(wanted, static, "closed_form")
-        loads = [1.1 + 0.1 * k for k in range(len(mech.loads))]
+        plan = self.plan(wanted, static, "closed_form", given)
+        loads = [1.1 + 0.1 * k for k in range(len(mech.input_loads) + len(given))]
         omega, alpha = (0.0, 0.0) if static else (1.3, 0.7)
         last = None
         for theta in WITNESS_ANGLES:
@@ -265,13 +272,13 @@ class Solver:
                 continue
             parameters = {n: mech.parameters[n] for n in mech.kernel_parameters}
 
-            def evaluate(x: list, symbols: dict) -> list:
+            def outputs(x: list, symbols: dict) -> list:
                 twin = mech.rebuild(symbols) if symbols else mech
                 out, _ = twin.evaluate(plan, x[0], x[1], x[2], x[3:], TRACE)
                 return [out[n] for n in wanted]
 
             checked = tuple(i for i, n in enumerate(wanted) if n in plan.checked)
-            return trace(evaluate, (theta, omega, alpha, *loads), parameters, wanted, checked,
+            return trace(outputs, (theta, omega, alpha, *loads), parameters, wanted, checked,
                          static, f"kernel of {mech.name}")
         raise ValueError(f"{mech.name} cannot be assembled at any of the witness angles "
                          f"{WITNESS_ANGLES}: {last}")
@@ -283,7 +290,7 @@ class Solver:
             k.compile()
 
     # -- solving ----------------------------------------------------------------
-    def solve(self, theta, omega=0.0, alpha=0.0, *loads, method: str = "closed_form",
+    def solve(self, theta, omega=None, alpha=None, *loads, method: str = "closed_form",
               outputs: Iterable[str] | None = None, **named_loads) -> Solution:
         """Joint reactions, balancing effort and diagnostics at one or many states.
 
@@ -292,9 +299,12 @@ class Solver:
         theta, omega, alpha : float or array_like
             Crank angle [rad], speed [rad/s] and acceleration [rad/s2].
         *loads, **named_loads : float or array_like
-            The magnitude of each load [N or N.m], in the order of the linkage's
-            ``loads`` or by name (a preset's single load is ``load``); a load not given
-            is zero.
+            The magnitude of each input load [N or N.m], in the order of the linkage's
+            ``input_loads`` or by name (a preset's single load is ``load``); a load over
+            the cycle by name overrides what it computes. An input not given (omega,
+            alpha and each load) takes the linkage's start value (``start``). A single
+            value may be text with a unit (``"1800 rpm"``, ``"30 deg"``, ``"4 kN"``,
+            see :mod:`~linkage_fmu.units`).
         method : {'closed_form', 'direct', 'interpreted'}
             The closed form, group by group from the last group back to the crank (for
             one state, its traced kernel: :meth:`kernel`); the assembled linear system
@@ -322,7 +332,7 @@ class Solver:
         """
         mech = self.mech
         if outputs is None and method == "closed_form" and type(omega) is float and \
-                type(alpha) is float and not named_loads and len(loads) == len(mech.loads):
+                type(alpha) is float and not named_loads and len(loads) == len(mech.input_loads):
             fast = self._fast[omega != 0.0 or alpha != 0.0]
             if fast is not None:  # a compiled kernel that checks its inputs: FMU steps
                 r = fast[0](theta, omega, alpha, *loads)
@@ -331,42 +341,45 @@ class Solver:
         if method not in METHODS:
             raise ValueError(f"method must be one of {METHODS}, got {method!r}")
         wanted = self.wanted(outputs)
-        args = (theta, omega, alpha, *mech.load_values(loads, named_loads))
-        names = mech.input_names
-        if type(theta) is float and type(omega) is float and type(alpha) is float and \
-                all(type(a) is float for a in args[3:]) and math.isfinite(sum(args)):
-            return self._one(args, method, wanted)  # finite floats: FMU steps
+        values, given = mech.inputs(omega, alpha, loads, named_loads)
+        if isinstance(theta, str):  # a number with a unit, an expression
+            theta = evaluate(theta, "rad", "theta")
+        args = (theta, *values)
+        names = mech.input_names + given
+        if type(theta) is float and all(type(a) is float for a in values) and \
+                math.isfinite(sum(args)):
+            return self._one(args, method, wanted, given)  # finite floats: FMU steps
         if all(np.ndim(a) == 0 for a in args):
             values = [finite_float(n, a.item() if isinstance(a, np.ndarray) else a)
                       for n, a in zip(names, args)]
-            return self._one(values, method, wanted)
-        given = [finite_array(n, a) for n, a in zip(names, args)]
+            return self._one(values, method, wanted, given)
+        arrays_given = [finite_array(n, a) for n, a in zip(names, args)]
         try:
-            arrays = np.broadcast_arrays(*given)
+            arrays = np.broadcast_arrays(*arrays_given)
         except ValueError:
             raise ValueError(", ".join(names) + " must broadcast to one shape, got "
-                             + ", ".join(str(np.shape(a)) for a in given)) from None
+                             + ", ".join(str(np.shape(a)) for a in arrays_given)) from None
         shape = arrays[0].shape
         flat = [a.reshape(-1) for a in arrays]  # views where possible: no scalar copied n times
         n = flat[0].size
         out = None
         if method == "closed_form" and n:
-            out = self._compiled_arrays(given, flat, n, wanted)
+            out = self._compiled_arrays(arrays_given, flat, n, wanted, given)
             method = "interpreted"  # without a C compiler: numpy
         if out is None:
             out = {name: np.empty(n) for name in wanted}
             valid = np.empty(n, dtype=bool)
-            self._interpreted_arrays(flat, method, wanted, out, valid, slice(0, n))
+            self._interpreted_arrays(flat, method, wanted, out, valid, slice(0, n), given)
         else:
             out, valid = out
 
         def classify(sol: ArraySolution):
-            return self._classify(sol, flat, method, wanted)
+            return self._classify(sol, flat, method, wanted, given)
 
         return ArraySolution({k: v.reshape(shape) for k, v in out.items()},
                              valid.reshape(shape), classify)
 
-    def table(self, theta, omega=0.0, alpha=0.0, *loads, method: str = "closed_form",
+    def table(self, theta, omega=None, alpha=None, *loads, method: str = "closed_form",
               outputs: Iterable[str] | None = None, **named_loads):
         """:meth:`solve` over ``theta`` as a pandas DataFrame, one column per output.
 
@@ -383,10 +396,10 @@ class Solver:
                                 **named_loads), theta)
 
     # -- one state ------------------------------------------------------------------
-    def _one(self, values, method: str, wanted: tuple) -> Solution:
+    def _one(self, values, method: str, wanted: tuple, given: tuple = ()) -> Solution:
         """One state of finite floats: the kernel's tuple, or the interpreted formulas."""
         if method == "closed_form":
-            r, k = self._kernel_call(values, wanted)
+            r, k = self._kernel_call(values, wanted, given)
             if wanted is self._all and k.compiled:
                 self._fast[values[1] != 0.0 or values[2] != 0.0] = (k.call, k.index)
             if type(r) is tuple and (math.isfinite(sum(r)) or finite([r[i] for i in k.checked])):
@@ -394,13 +407,14 @@ class Solver:
             # the interpreted formulas decide: they raise the exact error, or compute
             # the state the trace did not take
             method = "interpreted"
-        return Solution(self._interpreted_one(values, method, wanted), True)
+        return Solution(self._interpreted_one(values, method, wanted, given), True)
 
-    def _kernel_call(self, values, wanted: tuple):
+    def _kernel_call(self, values, wanted: tuple, given: tuple = ()):
         """The plan's kernel at one state: its answer (a tuple, a guard's code, or None)
         and the kernel."""
         static = values[1] == 0.0 and values[2] == 0.0
-        k = self._kernels.get((wanted, static)) or self._kernel_or_none(wanted, static)
+        k = self._kernels.get((wanted, static, given)) or self._kernel_or_none(
+            wanted, static, given)
         try:
             r = k.call(*values)
         except (ArithmeticError, ValueError):  # a division by zero, math range error
@@ -409,12 +423,12 @@ class Solver:
             self._count(k)
         return r, k
 
-    def _interpreted_one(self, values, method: str, wanted: tuple) -> dict:
+    def _interpreted_one(self, values, method: str, wanted: tuple, given: tuple = ()) -> dict:
         """One state of finite floats ``(theta, omega, alpha, *loads)`` by the formulas;
         raises the error of a state without outputs."""
         mech = self.mech
         static = values[1] == 0.0 and values[2] == 0.0
-        plan = self.plan(wanted, static, method)
+        plan = self.plan(wanted, static, method, given)
         try:
             out, _ = mech.evaluate(plan, values[0], values[1], values[2], values[3:], SCALAR)
             # one finite sum: every term is finite (a sum that overflows is checked term
@@ -424,24 +438,24 @@ class Solver:
                 return {n: float(out[n]) for n in wanted}
         except ZeroDivisionError:
             pass
-        raise self._unbounded(values)
+        raise self._unbounded(values, given)
 
-    def _unbounded(self, values) -> ValueError:
+    def _unbounded(self, values, given: tuple = ()) -> ValueError:
         """The error of a state that assembles but whose outputs are not finite: an
         overflow if the position is well conditioned, else a singular position."""
         mech = self.mech
         theta = values[0]
         st = mech.kinematics(theta, 0 if mech.effort_on_crank else 1, SCALAR)
         try:  # a finite condition: the position is fine, the inputs overflow
-            cond = mech.diagnostics(st)["cond"]
+            cond = diagnostics.values(mech, st)["cond"]
         except ZeroDivisionError:
             cond = math.inf
         if math.isfinite(cond):
-            inputs = ", ".join(f"{n} = {v!r}" for n, v in zip(mech.input_names, values))
+            inputs = ", ".join(f"{n} = {v!r}" for n, v in zip(mech.input_names + given, values))
             return OverflowInputError(mech.name, f"the outputs overflow float64 at {inputs}: "
                                       "an input is too large in magnitude")
-        return SingularPositionError(mech.name, theta, mech.singular_detail(st),
-                                     mech.singular_what(st))
+        return SingularPositionError(mech.name, theta, diagnostics.singular_detail(mech, st),
+                                     diagnostics.singular_what(mech, st))
 
     def attempt(self, values: list, outputs: Iterable[str] | None = None,
                 method: str = "closed_form") -> tuple | Reason:
@@ -472,7 +486,7 @@ class Solver:
         return tuple(out[n] for n in wanted)
 
     # -- arrays -----------------------------------------------------------------
-    def _interpreted_arrays(self, flat, method, wanted, out, valid, rows) -> None:
+    def _interpreted_arrays(self, flat, method, wanted, out, valid, rows, given=()) -> None:
         """The formulas on numpy arrays over the states ``rows`` of ``flat`` (a slice,
         or an index array), in blocks that stay in the CPU caches (the formulas make
         many temporaries per state); results into ``out`` and ``valid``."""
@@ -483,37 +497,37 @@ class Solver:
         with np.errstate(divide="ignore", invalid="ignore"):
             for part in parts:
                 omega, alpha = flat[1][part], flat[2][part]
-                plan = self.plan(wanted, not (omega.any() or alpha.any()), method)
+                plan = self.plan(wanted, not (omega.any() or alpha.any()), method, given)
                 values, st = self.mech.evaluate(plan, flat[0][part], omega, alpha,
                                                 [a[part] for a in flat[3:]], ARRAY)
                 valid[part] = ~st.invalid if st.invalid is not None else True
                 for name in wanted:
                     out[name][part] = values[name]
 
-    def _compiled_arrays(self, given, flat, n, wanted):
+    def _compiled_arrays(self, arrays, flat, n, wanted, given=()):
         """The compiled kernel of the plan over every state, the interpreted formulas for
         the states it hands back: ``(outputs, valid)``; None without a compiled kernel."""
         omega, alpha = flat[1], flat[2]
         static = not (omega.any() or alpha.any())
-        k = self._kernels.get((wanted, static)) or self._kernel_or_none(wanted, static)
+        k = self._kernels.get((wanted, static, given)) or self._kernel_or_none(
+            wanted, static, given)
         array = k.array()
         if array is None:
             return None
         # one value, or the whole flat array: a broadcast scalar is never copied n times
-        inputs = [g.reshape(1) if g.size == 1 else f for g, f in zip(given, flat)]
+        inputs = [g.reshape(1) if g.size == 1 else f for g, f in zip(arrays, flat)]
         values, valid = array(inputs, n)
         out = dict(zip(wanted, values))
         back = np.flatnonzero(~valid)
         if back.size:  # cannot be assembled, singular, or another branch: the formulas decide
-            self._interpreted_arrays(flat, "interpreted", wanted, out, valid, back)
+            self._interpreted_arrays(flat, "interpreted", wanted, out, valid, back, given)
         return out, valid
 
-    def _classify(self, sol: ArraySolution, flat, method, wanted) -> tuple:
+    def _classify(self, sol: ArraySolution, flat, method, wanted, given=()) -> tuple:
         """The status of every state of ``sol`` and a :class:`Problem` per status."""
-        mech = self.mech
         valid = np.asarray(sol.valid).reshape(-1)
         status = np.where(valid, SOLVED, UNASSEMBLED).astype(np.int8)
-        checked = self.plan(wanted, False, method).checked
+        checked = self.plan(wanted, False, method, given).checked
         bad = np.zeros(valid.size, dtype=bool)
         for name in checked:
             bad |= ~np.isfinite(np.asarray(sol[name]).reshape(-1))
@@ -521,7 +535,7 @@ class Solver:
         if rows.size:
             out = {"cond": np.empty(rows.size)}
             self._interpreted_arrays([a[rows] for a in flat], "interpreted", ("cond",), out,
-                                     np.empty(rows.size, bool), slice(0, rows.size))
+                                     np.empty(rows.size, bool), slice(0, rows.size), given)
             status[rows] = np.where(np.isfinite(out["cond"]), OVERFLOW, SINGULAR)
         problems = {}
         for code in (UNASSEMBLED, SINGULAR, OVERFLOW):
@@ -530,7 +544,7 @@ class Solver:
                 i = int(where[0])
                 state = [float(a[i]) for a in flat]
                 try:
-                    self._interpreted_one(state, "interpreted", wanted)
+                    self._interpreted_one(state, "interpreted", wanted, given)
                     error = None
                 except (AssemblyError, SingularPositionError, OverflowInputError) as err:
                     error = err

@@ -16,7 +16,8 @@ Each design's row holds its parameter values and:
 - ``<effort>_peak`` and ``<effort>_rms``: the balancing effort's largest magnitude and
   root mean square over the angles that assemble;
 - ``<force>_peak``: each pin force's largest magnitude (``F21_peak`` from ``F21x``,
-  ``F21y``), and the largest magnitude of every other output (``<name>_peak``);
+  ``F21y``; ``shake_peak``, the shaking force's, from ``shake_x``, ``shake_y``), and the
+  largest magnitude of every other output (``<name>_peak``: ``shake_M_peak``, ...);
 - ``mu_<joint>_min_deg``: each transmission angle's minimum distance from a toggle,
   ``min(mu, 180 - mu)`` in degrees.
 
@@ -36,7 +37,7 @@ import functools
 import itertools
 import math
 import warnings
-from typing import Any, Mapping, Sequence
+from typing import Mapping, Sequence
 
 import numpy as np
 import pandas as pd
@@ -63,7 +64,7 @@ def grid(**axes: Sequence) -> pd.DataFrame:
 
 
 def sweep(source, designs: pd.DataFrame | Mapping[str, Sequence], theta=None,
-          omega: float = 0.0, alpha: float = 0.0, *loads: float, scheduler=None,
+          omega: float | None = None, alpha: float | None = None, *loads: float, scheduler=None,
           states_per_task: int = STATES_PER_TASK, progress: bool = False,
           **named_loads: float) -> pd.DataFrame:
     """Summaries of the linkage ``source`` (preset, description file, Description or a
@@ -78,7 +79,9 @@ def sweep(source, designs: pd.DataFrame | Mapping[str, Sequence], theta=None,
     theta : array_like, optional
         Crank angles [rad]; default 360 over a revolution.
     omega, alpha, *loads, **named_loads : float
-        The same speed, acceleration and loads for every design and angle.
+        The same speed, acceleration and loads for every design and angle; one not
+        given takes its start value (:attr:`~linkage_fmu.Mechanism.start`). A load over
+        the cycle is computed at each angle unless given by name.
     scheduler : None, "local", a Dask ``Client`` or a scheduler address
         None solves in this process; "local" starts a local Dask cluster (one worker
         per core); a Client or an address (``tcp://host:8786``) uses that cluster.
@@ -109,15 +112,15 @@ def sweep(source, designs: pd.DataFrame | Mapping[str, Sequence], theta=None,
                             + ", ".join(specs))
     theta = np.linspace(0.0, 2.0 * math.pi, 360, endpoint=False) if theta is None else theta
     theta = np.asarray(theta, dtype=np.float64).reshape(-1)
-    values = [omega, alpha, *mech.load_values(loads, named_loads)]
+    values, given = mech.inputs(omega, alpha, loads, named_loads)
     inputs = [theta] + [np.full(1, float(v)) for v in values]
-    for name, a in zip(mech.input_names, inputs):
+    for name, a in zip(mech.input_names + given, inputs):
         if not np.isfinite(a).all():
             raise ValueError(f"{name} must be finite")
     text = mech.description.with_defaults(mech.parameters).to_toml()
     per = max(1, -(-states_per_task // max(theta.size, 1)))
     chunks = [designs.iloc[i:i + per] for i in range(0, len(designs), per)] or [designs]
-    args = [(text, chunk.to_dict("list"), inputs) for chunk in chunks]
+    args = [(text, chunk.to_dict("list"), inputs, given) for chunk in chunks]
     if scheduler is None:
         parts = []
         iterator = args
@@ -157,11 +160,13 @@ def _on_dask(scheduler, args: list) -> list:
             cluster.close()
 
 
-def solve_chunk(text: str, columns: Mapping[str, list], inputs: list) -> pd.DataFrame:
+def solve_chunk(text: str, columns: Mapping[str, list], inputs: list,
+                over_cycle: tuple = ()) -> pd.DataFrame:
     """The summaries of the designs ``columns`` (parameter -> values) of the linkage
     described by ``text`` (a description file's text, its defaults the base
-    parameters), at the flat ``inputs`` (theta, omega, alpha, loads; arrays of the
-    angles' length or of one): one task of :func:`sweep`."""
+    parameters), at the flat ``inputs`` (theta, omega, alpha, the input loads, then the
+    loads over the cycle named in ``over_cycle``; arrays of the angles' length or of one):
+    one task of :func:`sweep`."""
     d = Description.from_toml(text, "<sweep>")
     specs = {p.name: p for p in d.parameter_specs()}
     names = list(columns)
@@ -186,7 +191,7 @@ def solve_chunk(text: str, columns: Mapping[str, list], inputs: list) -> pd.Data
             groups.setdefault(tuple(params[k] for k in structural), []).append(i)
     theta = inputs[0]
     for key, members in groups.items():
-        mech, kernel, array = _structure(text, tuple(zip(structural, key)))
+        mech, kernel, array = _structure(text, tuple(zip(structural, key)), over_cycle)
         outputs = kernel.outputs
         block = np.full((len(outputs), len(members), theta.size), np.nan)
         valid = np.zeros((len(members), theta.size), dtype=bool)
@@ -207,12 +212,13 @@ def solve_chunk(text: str, columns: Mapping[str, list], inputs: list) -> pd.Data
 
 
 @functools.lru_cache(maxsize=64)
-def _structure(text: str, structure: tuple):
-    """The mechanism, kernel (all outputs, moving) and array kernel of one structure of
-    a linkage; kept per process, so a worker traces and loads each once."""
+def _structure(text: str, structure: tuple, given: tuple = ()):
+    """The mechanism, kernel (all outputs, moving; the loads over the cycle ``given``
+    as inputs) and array kernel of one structure of a linkage; kept per process, so a
+    worker traces and loads each once."""
     d = Description.from_toml(text, "<sweep>")
     mech = d.build(**dict(structure))
-    kernel = mech.kernel(None, False)
+    kernel = mech.solver.kernel(None, False, given)
     array = kernel.array()
     if array is None:
         raise RuntimeError("a sweep needs the compiled array kernel, and no C compiler was "
@@ -243,9 +249,8 @@ def _summaries(mech, outputs: tuple, block: np.ndarray, valid: np.ndarray,
         table[f"{effort}_peak"] = np.nanmax(np.abs(e), axis=1)
         table[f"{effort}_rms"] = np.sqrt(np.nanmean(e * e, axis=1))
         for p in pairs:
-            table[f"{p}_peak"] = np.nanmax(np.where(ok, np.hypot(block[index[p + "x"]],
-                                                                 block[index[p + "y"]]), np.nan),
-                                           axis=1)
+            size = np.hypot(block[index[p + "x"]], block[index[p + "y"]])
+            table[f"{p.rstrip('_')}_peak"] = np.nanmax(np.where(ok, size, np.nan), axis=1)
         for name in mech.output_names:
             if name not in paired and name != effort:
                 table[f"{name}_peak"] = np.nanmax(np.where(ok, np.abs(block[index[name]]),

@@ -76,13 +76,13 @@ def variables(mech, flavour: str = "pythonfmu") -> list[Variable]:
     offers)."""
     methods, method_text = FLAVOURS[flavour]
     d = mech.description
-    start = dict(d.inputs)
     table = []
     for k, name in enumerate(MOTION):
         unit, display, text = _MOTION_INFO[name]
         table.append(Variable(name, "Real", "input", "continuous", unit, display, text,
-                              float(start.get(name, 0.0)), index=k))
-    for k, load in enumerate(mech.loads, len(MOTION)):
+                              float(mech.start[name]), index=k))
+    # a load over the cycle is computed inside: no input
+    for k, load in enumerate(mech.input_loads, len(MOTION)):
         text = load.description or f"{load.kind} on link {load.body}"
         table.append(Variable(load.name, "Real", "input", "continuous", load.unit, "", text,
                               float(load.start), index=k))

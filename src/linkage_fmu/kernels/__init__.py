@@ -163,7 +163,7 @@ def trace(evaluate: Callable[[list, dict], list], inputs: Sequence[float],
     results = list(evaluate(syms, symbols))
     args = tuple(f"p{k}" for k in range(len(parameters)))
     source = python_source(tape, names, results, args)
-    make_prepare, make = compile_source(source, label=label)
+    make_prepare, make = compile_source(source, label=label, externs=tape.externs)
     prog = program(tape, results)
     reasons = tuple(tape.reason(index) for index in prog.guards)
     frozen = make_prepare(*parameters.values())

@@ -36,6 +36,8 @@ def _statements(tape: Tape, nodes: list, guards: dict, codes: dict, indent: str)
             expr = f"{args[0]} {_INFIX[node.op]} {args[1]}"
         elif node.op == "neg":
             expr = f"-{args[0]}"
+        elif node.op == "extern":
+            expr = f"{node.value}({', '.join(args)})"
         else:
             expr = f"{_CALL[node.op]}({', '.join(args)})"
         lines.append(f"{indent}t{i} = {expr}")
@@ -93,9 +95,10 @@ def python_source(tape: Tape, arguments: list[str], results: list,
     ])
 
 
-def compile_source(source: str, label: str = "kernel"):
+def compile_source(source: str, label: str = "kernel", externs: dict | None = None):
     """The functions ``prepare`` and ``make`` defined by the generated ``source`` (our
-    own code, never a file's)."""
-    namespace = dict(NAMESPACE)
+    own code, never a file's), which calls the functions ``externs`` (name -> function)
+    besides :data:`NAMESPACE`."""
+    namespace = {**NAMESPACE, **(externs or {})}
     exec(compile(source, f"<linkage_fmu {label}>", "exec"), namespace)
     return namespace["prepare"], namespace["make"]

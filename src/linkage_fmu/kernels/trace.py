@@ -84,6 +84,8 @@ class Tape:
         self.witness: list[float] = []
         self.guards: list[tuple[int, bool]] = []  # (comparison node, outcome seen)
         self.labels: dict[int, Reason] = {}  # comparison node -> why it fails
+        #: name -> an outside function a node calls (see :meth:`extern`)
+        self.externs: dict = {}
         self.fixed: set = set()  # nodes of the parameters and constants alone
         self._index: dict = {}
         self._last = None  # the newest guard's node, None after an unrecorded comparison
@@ -111,6 +113,17 @@ class Tape:
         syms = [o if isinstance(o, Sym) else self.const(o) for o in operands]
         witness = fn(*(self.witness[s.index] for s in syms))
         return self._add(Node(op, tuple(s.index for s in syms)), witness)
+
+    def extern(self, function, *operands) -> "Sym":
+        """Record a call of ``function``, a function of floats the package defines (a
+        table's spline), with a C identifier ``function.name`` and its C definition
+        ``function.c_definition()`` for the generated code."""
+        name = function.name
+        if self.externs.setdefault(name, function) is not function:
+            raise ValueError(f"two functions named {name!r} in one trace")
+        syms = [o if isinstance(o, Sym) else self.const(o) for o in operands]
+        witness = function(*(self.witness[s.index] for s in syms))
+        return self._add(Node("extern", tuple(s.index for s in syms), name), witness)
 
     def guard(self, op: str, fn, a, b) -> bool:
         """Record the comparison ``a op b`` and return its outcome at the witness.

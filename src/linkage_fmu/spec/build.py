@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import math
 
 from .. import numerics
@@ -11,8 +12,9 @@ from ..kernels.trace import Reason
 from ..loads import Load
 from ..mechanism import Mechanism
 from ..outputs import Couple, Derived, EffortOutput, Force, Magnitude, Normal
+from ..expressions import Expression
 from ..parameters import resolve
-from .expressions import Expression
+from ..tables import PeriodicTable
 
 
 def build(d, given: dict, symbols: dict | None = None) -> Mechanism:
@@ -36,6 +38,7 @@ def build(d, given: dict, symbols: dict | None = None) -> Mechanism:
     """
     params = resolve(d.parameter_specs(), given, d.name)
     numbers = {k: v for k, v in params.items() if isinstance(v, (int, float))}
+    floats = dict(numbers)
     if symbols:
         numbers.update(symbols)
         params = {**params, **symbols}
@@ -59,6 +62,13 @@ def build(d, given: dict, symbols: dict | None = None) -> Mechanism:
         if rule == "branch" and x not in (1.0, -1.0):
             raise ValueError(f"{d.name}: {where} = {source!r} = {x!r} must be +1 or -1")
         return x
+
+    def start(where: str, source) -> float:
+        """A start value: of the parameters' values, never traced."""
+        try:
+            return Expression(source)(floats)
+        except (ValueError, ZeroDivisionError, OverflowError) as err:
+            raise ValueError(f"{d.name}: {where} = {source!r}: {err}") from None
 
     def vector(where: str, xy) -> tuple:
         return number(where + " x", xy[0]), number(where + " y", xy[1])
@@ -95,9 +105,20 @@ def build(d, given: dict, symbols: dict | None = None) -> Mechanism:
         where = f"[[loads]] {spec['name']}"
         direction = (vector(f"{where} direction", spec["direction"])
                      if spec["kind"] == "force" else (0.0, 0.0))
+        over_cycle = {}
+        if "value" in spec:
+            over_cycle = dict(value=Expression(spec["value"]), parameters=numbers)
+        elif "table" in spec:
+            rows = tuple(tuple(map(float, r)) for r in spec["table"])
+            scale = spec.get("scale", 1.0)
+            if spec.get("table_unit"):
+                scale = f"1 {spec['table_unit']} * ({scale})"
+            over_cycle = dict(table=_table(rows, float(spec["period_deg"]), where),
+                              scale=number(f"{where} scale", scale))
         loads.append(Load(spec["name"], spec["body"], spec["kind"], spec.get("at", ""),
                           direction, spec.get("fixed_in", "frame"), spec.get("unit", ""),
-                          spec.get("description", ""), float(spec.get("start", 0.0))))
+                          spec.get("description", ""),
+                          start(f"{where} start", spec.get("start", 0.0)), **over_cycle))
 
     chosen = None
     for when, spec in d.efforts.items():
@@ -139,7 +160,15 @@ def build(d, given: dict, symbols: dict | None = None) -> Mechanism:
         return build(d, given, traced)
 
     return Mechanism(d.name, d.frame, frame_points, groups, bodies, effort, outputs, loads,
-                     number("[linkage] gravity", d.gravity), params, d, rebuild)
+                     number("[linkage] gravity", d.gravity), params, d, rebuild,
+                     {k: start(f"[inputs] {k}", v) for k, v in d.inputs.items()})
+
+
+@functools.lru_cache(maxsize=32)
+def _table(rows: tuple, period_deg: float, where: str) -> PeriodicTable:
+    """The spline of a load's table, made once per table (descriptions are built again
+    for every parameter set)."""
+    return PeriodicTable([r[0] for r in rows], [r[1] for r in rows], period_deg, where)
 
 
 def _unit(v: tuple) -> tuple:

@@ -15,13 +15,19 @@ one TOML table per builder call::
                  cg = { from, distance, angle }: ``angle`` counter-clockwise from the
                  link's direction
     [[loads]]    name, body, kind = "force" | "moment", at, direction = [x, y],
-                 fixed_in = "frame" | "link", unit, description, start
+                 fixed_in = "frame" | "link", unit, description, and its magnitude:
+                 start (an input), or value = EXPR (of theta, the parameters, x_P,
+                 y_P), or table = "FILE.csv" | [[theta_deg, value], ...] with
+                 period_deg, table_unit, scale (loads over the cycle)
     [effort]     name, body (a moment on a link), or at + direction (a force), or
                  choose = PARAMETER with options = { VALUE = {...} }
     [[outputs]]  kind = "force" | "normal" | "couple" | "effort" | "expression", ...
     [inputs]     start values of theta, omega, alpha
 
-Numbers may be given as expressions of the parameters (:mod:`~.expressions`).
+Numbers may be given as expressions of the parameters (:mod:`~.expressions`) and with
+units (``"240 mm"``, ``"1800 rpm"``, :mod:`~linkage_fmu.units`); a plain number is SI,
+an angle in radians. ``docs/description.md`` is the full reference
+(:mod:`~linkage_fmu.spec.reference` writes it).
 :meth:`Description.build` checks everything, reporting every problem at once with the
 file, table and key, and returns a :class:`~linkage_fmu.mechanism.Mechanism`.
 
@@ -52,8 +58,9 @@ from pathlib import Path
 from typing import Any
 
 from ..groups import Field, Group
+from ..expressions import Expression, check_units
+from ..outputs import SHAKING
 from ..parameters import KINDS, Parameter
-from .expressions import Expression
 
 INPUT_NAMES = ("theta", "omega", "alpha")
 TABLES = ("linkage", "parameters", "points", "groups", "bodies", "loads", "effort", "outputs",
@@ -67,7 +74,11 @@ _OUTPUT_FIELDS = {
     "expression": {"name", "expression", "unit", "description"},
 }
 _LOAD_FIELDS = {"name", "body", "kind", "at", "direction", "fixed_in", "unit", "description",
-                "start"}
+                "start", "value", "table", "period_deg", "table_unit", "scale"}
+#: the keys of a load given by a table, and their defaults
+_TABLE_DEFAULTS = {"period_deg": 360.0, "table_unit": "", "scale": 1.0}
+#: the units of the inputs
+INPUT_UNITS = {"theta": "rad", "omega": "rad/s", "alpha": "rad/s2"}
 _EFFORT_FIELDS = {"name", "body", "at", "direction"}
 
 
@@ -145,15 +156,30 @@ class Description:
 
     def load(self, name: str, body: str, kind: str, at: str = "", direction: Any = None,
              fixed_in: str = "frame", unit: str = "", description: str = "",
-             start: float = 0.0) -> "Description":
-        """An input load: a force on ``body`` at its point ``at`` along ``direction``
-        (fixed in the frame or in the link), or a moment on ``body``."""
+             start: Any = 0.0, value: Any = None, table: Any = None,
+             period_deg: float = 360.0, table_unit: str = "", scale: Any = 1.0
+             ) -> "Description":
+        """A load: a force on ``body`` at its point ``at`` along ``direction`` (fixed in
+        the frame or in the link), or a moment on ``body``. Its magnitude is an input
+        (``start``: its start value), or given over the cycle: ``value``, an expression
+        of ``theta``, the parameters and the points' positions ``x_P``, ``y_P``; or
+        ``table``, a CSV file (columns ``theta_deg`` and ``value``, read now; a
+        ValueError if it cannot be) or a list of ``[theta_deg, value]`` points of period
+        ``period_deg``, its values in ``table_unit`` (default the load's), times
+        ``scale``."""
         spec = {"name": name, "body": body, "kind": kind, "fixed_in": fixed_in, "unit": unit,
                 "description": description, "start": start}
         if at:
             spec["at"] = at
         if direction is not None:
             spec["direction"] = direction
+        if value is not None:
+            spec["value"] = value
+        if table is not None:
+            spec.update(table=table, period_deg=period_deg, table_unit=table_unit, scale=scale)
+            problem = _read_table(spec, Path.cwd())
+            if problem:
+                raise ValueError(f"load {name} table: {problem}")
         self.loads.append(spec)
         return self._changed()
 
@@ -347,8 +373,14 @@ def _read_tables(d: Description, data: dict) -> list[str]:
         if not isinstance(spec, dict):
             problems.append(f"[[loads]] #{k + 1}: must be a table")
             continue
-        d.loads.append({"fixed_in": "frame", "unit": "", "description": "", "start": 0.0,
-                        **spec})
+        spec = {"fixed_in": "frame", "unit": "", "description": "", "start": 0.0, **spec}
+        if "table" in spec:
+            spec = {**spec, **{k: v for k, v in _TABLE_DEFAULTS.items() if k not in spec}}
+            base = Path(d.source).parent if Path(d.source).is_file() else Path.cwd()
+            problem = _read_table(spec, base)
+            if problem:
+                problems.append(f"[[loads]] #{k + 1} ({spec.get('name')}) table: {problem}")
+        d.loads.append(spec)
     effort = table("effort")
     if "choose" in effort:
         options = effort.get("options", {})
@@ -371,6 +403,19 @@ def _read_tables(d: Description, data: dict) -> list[str]:
                             "are theta, omega, alpha (a load's start value is in its table)")
         d.inputs[key] = value
     return problems
+
+
+def _read_table(spec: dict, base: Path) -> str:
+    """Replace a load's ``table = "FILE.csv"`` (relative to ``base``) by its points;
+    what is wrong with the file, or ''."""
+    from ..tables import read_rows
+
+    if isinstance(spec.get("table"), (str, Path)):
+        try:
+            spec["table"] = read_rows(base / spec["table"])
+        except ValueError as err:
+            return str(err)
+    return ""
 
 
 # -- checking the structure -----------------------------------------------------------
@@ -407,7 +452,13 @@ class _Checker:
         self.links: dict[str, str] = {}  # moving link -> where it was added
         self.joints: dict[str, str] = {}  # pair -> where it was made
         self.load_names: list = []
-        self.taken = set(INPUT_NAMES) | set(d.parameters)  # names a load or output cannot take
+        # names a load or output cannot take: inputs, parameters, the outputs every
+        # linkage has
+        self.taken = set(INPUT_NAMES) | set(d.parameters) | set(SHAKING) | {"cond"}
+        #: name -> (value, unit) of each parameter, to check the units of expressions
+        self.measures: dict[str, tuple] = {}
+        #: what is allowed but probably not meant (a plain angle above 2 pi)
+        self.notes: list[str] = []
 
     def problems(self) -> list[str]:
         """Check every table (once per checker); the problems, in the order of the tables."""
@@ -417,8 +468,11 @@ class _Checker:
         return self.found
 
     # -- helpers ----------------------------------------------------------------------
-    def expr(self, where: str, value: Any, names: set | None = None) -> None:
-        """An expression over the parameters (or over ``names``)."""
+    def expr(self, where: str, value: Any, names: set | None = None, unit: str = "",
+             measures: dict | None = None) -> None:
+        """An expression over the parameters (or over ``names``); with numbers that carry
+        units, it must measure what ``unit`` does (its names measured by ``measures``,
+        default the parameters'). A plain angle beyond 2 pi is noted."""
         try:
             e = Expression(value)
         except ValueError as err:
@@ -430,14 +484,23 @@ class _Checker:
             which = "is not a parameter" if len(unknown) == 1 else "are not parameters"
             self.found.append(f"{where}: {value!r} uses {', '.join(map(repr, unknown))}, which "
                               f"{which}")
+            return
+        if unit and e.has_units:
+            try:
+                check_units(e, unit, where, {**self.measures, **(measures or {})})
+            except ValueError as err:
+                self.found.append(str(err))
+        elif unit == "rad" and _finite(value) and abs(value) > 2.0 * math.pi:
+            self.notes.append(f"{where} = {value!r} is taken in radians ({math.degrees(value):g}"
+                              f" deg); write \"{value!r} deg\" for degrees")
 
-    def vector(self, where: str, value: Any) -> bool:
-        """``[x, y]`` of expressions; False if it is not a pair."""
+    def vector(self, where: str, value: Any, unit: str = "") -> bool:
+        """``[x, y]`` of expressions (of ``unit``); False if it is not a pair."""
         if not (isinstance(value, (list, tuple)) and len(value) == 2):
             self.found.append(f"{where}: must be [x, y]")
             return False
-        self.expr(f"{where} x", value[0])
-        self.expr(f"{where} y", value[1])
+        self.expr(f"{where} x", value[0], unit=unit)
+        self.expr(f"{where} y", value[1], unit=unit)
         return True
 
     # -- the tables -------------------------------------------------------------------
@@ -445,7 +508,7 @@ class _Checker:
         if not _is_identifier(self.d.model):
             self.found.append(f"[linkage] model: {self.d.model!r} must be a C identifier (the "
                               "FMU's model identifier)")
-        self.expr("[linkage] gravity", self.d.gravity)
+        self.expr("[linkage] gravity", self.d.gravity, unit="m/s2")
 
     def parameters(self) -> None:
         for name, p in self.d.parameters.items():
@@ -458,20 +521,24 @@ class _Checker:
                 self.found.append(f"{where}: kind {p['kind']!r} is unknown; the kinds are "
                                   f"{', '.join(KINDS)}")
                 continue
+            spec = Parameter(name, p["default"], p["kind"], p["description"], p["choices"],
+                             p["min"], p["max"])
             try:
-                Parameter(name, p["default"], p["kind"], p["description"], p["choices"],
-                          p["min"], p["max"]).validate(p["default"])
+                value = spec.validate(p["default"])
             except (TypeError, ValueError) as err:
                 self.found.append(f"{where}: default: {err}")
+                continue
+            if spec.unit:
+                self.measures[name] = (float(value), spec.unit)
 
     def inputs(self) -> None:
         for key, value in self.d.inputs.items():
-            if not _finite(value):
-                self.found.append(f"[inputs] {key}: start value {value!r} must be a finite number")
+            if key in INPUT_UNITS:
+                self.expr(f"[inputs] {key}", value, unit=INPUT_UNITS[key])
 
     def points(self) -> None:
         for name, xy in self.d.points.items():
-            if self.vector(f"[points] {name}", xy):
+            if self.vector(f"[points] {name}", xy, "m"):
                 self.placed[name] = f"[points] {name}"
 
     def groups(self) -> None:
@@ -559,9 +626,9 @@ class _Checker:
                 self.new_name(where, role, value)
                 added[role].append(value)
         elif role == "vector":
-            self.vector(where, value)
+            self.vector(where, value, f.unit)
         else:
-            self.expr(where, value)
+            self.expr(where, value, unit=f.unit)
 
     def new_name(self, where: str, role: str, value: str) -> None:
         """A point or link a group adds must not be there yet."""
@@ -579,8 +646,8 @@ class _Checker:
         if link not in self.links:
             self.found.append(f"{where}: no group adds a link {link!r}: a body without a link")
             return
-        self.expr(f"{where} mass", spec["mass"])
-        self.expr(f"{where} inertia", spec["inertia"])
+        self.expr(f"{where} mass", spec["mass"], unit="kg")
+        self.expr(f"{where} inertia", spec["inertia"], unit="kg.m2")
         cg = spec["cg"]
         if not isinstance(cg, dict) or "from" not in cg:
             self.found.append(f"{where} cg: needs {{ from = POINT, along = ..., across = ... }}")
@@ -595,7 +662,7 @@ class _Checker:
             self.found.append(f"{where} cg from: point {cg['from']!r} is not placed")
         for key in ("along", "across", "distance", "angle"):
             if key in cg:
-                self.expr(f"{where} cg {key}", cg[key])
+                self.expr(f"{where} cg {key}", cg[key], unit="rad" if key == "angle" else "m")
 
     def load(self, k: int, spec: dict) -> None:
         name = spec.get("name", "")
@@ -619,9 +686,58 @@ class _Checker:
                     self.found.append(f"{where} {key}: a moment has no {key}")
         else:
             self.found.append(f"{where} kind: {kind!r} must be 'force' or 'moment'")
-        start = spec.get("start", 0.0)
-        if not _finite(start):
-            self.found.append(f"{where} start: {start!r} must be a finite number")
+        unit = {"force": "N", "moment": "N.m"}.get(kind, "")
+        if spec.get("unit", "") not in ("", unit):
+            self.found.append(f"{where} unit: {spec['unit']!r}: a load is in SI, "
+                              f"{unit or 'N or N.m'}; a value with a unit is converted")
+        if "value" in spec or "table" in spec:
+            self.cycle_load(where, spec, unit)
+        else:
+            for key in _TABLE_DEFAULTS:
+                if key in spec:
+                    self.found.append(f"{where} {key}: only a load given by a table has it")
+            self.expr(f"{where} start", spec.get("start", 0.0), unit=unit)
+
+    def cycle_load(self, where: str, spec: dict, unit: str) -> None:
+        """A load over the cycle: ``value`` = EXPR, or ``table`` with its keys."""
+        if spec.get("start", 0.0) != 0.0:
+            self.found.append(f"{where} start: a load over the cycle is computed, it has no "
+                              "start value")
+        if "value" in spec and "table" in spec:
+            self.found.append(f"{where}: give value or table, not both")
+            return
+        if "value" in spec:
+            for key in _TABLE_DEFAULTS:
+                if key in spec:
+                    self.found.append(f"{where} {key}: only a load given by a table has it")
+            points = [p for p in self.placed]
+            positions = {f"{a}_{p}": (0.1, "m") for p in points for a in "xy"}
+            self.expr(f"{where} value", spec["value"],
+                      set(self.d.parameters) | {"theta"} | set(positions), unit,
+                      {"theta": (0.3, "rad"), **positions})
+            return
+        from ..tables import PeriodicTable
+
+        rows, period = spec["table"], spec.get("period_deg", 360.0)
+        if not _finite(period) or not period > 0:
+            self.found.append(f"{where} period_deg: {period!r} must be a number > 0 (degrees)")
+        elif not isinstance(rows, list) or not all(
+                isinstance(r, (list, tuple)) and len(r) == 2 and all(map(_finite, r))
+                for r in rows):
+            self.found.append(f"{where} table: must be a CSV file (columns theta_deg, value) or "
+                              "a list of [theta_deg, value] pairs of numbers")
+        else:
+            try:
+                PeriodicTable([r[0] for r in rows], [r[1] for r in rows], period)
+            except ValueError as err:
+                self.found.append(f"{where} table: {err}")
+        table_unit = spec.get("table_unit", "")
+        self.expr(f"{where} scale", spec.get("scale", 1.0), unit="" if table_unit else "1")
+        if not isinstance(table_unit, str):
+            self.found.append(f"{where} table_unit: must be a unit, such as \"bar\" or \"kN\"")
+        elif table_unit:
+            self.expr(f"{where} table_unit and scale", f"1 {table_unit} * ({spec.get('scale', 1.0)})",
+                      unit=unit)
 
     def force_load(self, where: str, spec: dict) -> None:
         if spec.get("at") not in self.placed:

@@ -2,9 +2,10 @@
 
 An expression is a number, or text such as ``"rho * l_OA"`` or ``"-l_AS1 * sin(beta1)"``
 over names (parameters, and in output expressions the joint reactions), the operators
-``+ - * / **``, parentheses, the constant ``pi`` and the functions in :data:`FUNCTIONS`.
-The text is parsed with :mod:`ast` and only those node types are accepted; it is never
-passed to ``eval``.
+``+ - * / **``, parentheses, the constant ``pi`` and the functions in :data:`FUNCTIONS`;
+a number may carry a unit (``"240 mm"``, ``"800 kPa * pi * bore**2 / 4"``, see
+:mod:`~linkage_fmu.units`), which is taken in SI. The text is parsed with
+:mod:`ast` and only those node types are accepted; it is never passed to ``eval``.
 
 Examples
 --------
@@ -24,16 +25,12 @@ import math
 import operator
 from typing import Callable, Mapping
 
-from .. import numerics
+from . import numerics
+from . import units
 
 #: functions an expression may call
 #: (those of :mod:`~linkage_fmu.numerics`: on floats, or on traced parameters)
-FUNCTIONS = {
-    "sqrt": numerics.sqrt, "sin": numerics.sin, "cos": numerics.cos, "tan": numerics.tan,
-    "asin": numerics.asin, "acos": numerics.acos, "atan": numerics.atan,
-    "atan2": numerics.atan2, "hypot": numerics.hypot, "radians": numerics.radians,
-    "degrees": numerics.degrees, "abs": abs, "min": numerics.minimum, "max": numerics.maximum,
-}
+FUNCTIONS = numerics.FUNCTIONS
 CONSTANTS = {"pi": math.pi}
 _BINARY = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul,
            ast.Div: operator.truediv, ast.Pow: operator.pow}
@@ -51,18 +48,54 @@ class Expression:
         if isinstance(source, bool) or not isinstance(source, (str, int, float)):
             raise ValueError(f"expected a number or an expression, got {source!r}")
         self.source = source
+        #: the numbers with units in the text (pint quantities), in order
+        self.quantities: list = []
         if isinstance(source, (int, float)):
             if not math.isfinite(source):
                 raise ValueError(f"{source!r} is not a finite number")
             self._tree = ast.Constant(float(source))
         else:
+            text = source.strip()
+            if units.has_units(text):
+                text, self.quantities = units.substitute(text)
             try:
-                self._tree = ast.parse(source.strip(), mode="eval").body
+                self._tree = ast.parse(text, mode="eval").body
             except SyntaxError as err:
                 raise ValueError(f"{source!r} is not an expression: {err.msg}") from None
+        #: the SI value of each quantity, by its name in the parsed text
+        self._si = {f"__q{k}__": float(q.to_base_units().magnitude)
+                    for k, q in enumerate(self.quantities)}
         names: set = set()
         self._check(self._tree, names)
         self.names = tuple(sorted(names))
+
+    @property
+    def has_units(self) -> bool:
+        """Whether a number of the expression carries a unit."""
+        return bool(self.quantities)
+
+    def measure(self, units_of: Mapping[str, tuple]):
+        """The expression over pint quantities: each name as ``units_of[name]``, a
+        ``(value, unit)`` pair (the package's unit names, see
+        :data:`~linkage_fmu.units.PINT`). What it measures checks its units.
+
+        Examples
+        --------
+        >>> q = Expression("800 kPa * pi * bore**2 / 4").measure({"bore": (0.086, "m")})
+        >>> f"{q.to('N'):.1f~}"
+        '4647.0 N'
+        """
+        import numpy as np
+
+        ureg = units.registry()
+        values = {name: ureg.Quantity(value, units.PINT.get(unit, unit))
+                  for name, (value, unit) in units_of.items()}
+        values.update({f"__q{k}__": q for k, q in enumerate(self.quantities)})
+        functions = {"sqrt": np.sqrt, "sin": np.sin, "cos": np.cos, "tan": np.tan,
+                     "asin": np.arcsin, "acos": np.arccos, "atan": np.arctan,
+                     "atan2": np.arctan2, "hypot": np.hypot, "abs": abs, "min": min,
+                     "max": max, "radians": np.radians, "degrees": np.degrees}
+        return self._eval(self._tree, values, functions)
 
     def _check(self, node, names: set) -> None:
         if isinstance(node, ast.Constant):
@@ -71,7 +104,7 @@ class Expression:
         elif isinstance(node, ast.Name):
             if node.id in FUNCTIONS:
                 raise ValueError(f"{node.id!r} in {self.source!r} is a function: call it")
-            if node.id not in CONSTANTS:
+            if node.id not in CONSTANTS and node.id not in self._si:
                 names.add(node.id)
         elif isinstance(node, ast.BinOp) and type(node.op) in _BINARY:
             self._check(node.left, names)
@@ -92,8 +125,10 @@ class Expression:
                              "expression (numbers, names, + - * / **, parentheses and "
                              "function calls only)")
 
-    def __call__(self, values: Mapping[str, float]) -> float:
-        return self._eval(self._tree, values)
+    def __call__(self, values: Mapping[str, float], functions: Mapping | None = None) -> float:
+        """The value over ``values`` (name -> number: floats, arrays, traced or mpmath
+        numbers, with ``functions`` of that kind; default :data:`FUNCTIONS`)."""
+        return self._eval(self._tree, values, functions or FUNCTIONS)
 
     def bind(self, resolve) -> "Callable":
         """A function of ``*args`` that evaluates the expression, each name bound once
@@ -114,7 +149,8 @@ class Expression:
             value = float(node.value)
             return lambda *args: value
         if isinstance(node, ast.Name):
-            target = CONSTANTS[node.id] if node.id in CONSTANTS else resolve(node.id)
+            target = (CONSTANTS.get(node.id) if node.id in CONSTANTS else
+                      self._si[node.id] if node.id in self._si else resolve(node.id))
             if callable(target):
                 return target
             return lambda *args: target
@@ -128,22 +164,60 @@ class Expression:
         fn, parts = FUNCTIONS[node.func.id], [self._bind(a, resolve) for a in node.args]
         return lambda *args: fn(*(p(*args) for p in parts))
 
-    def _eval(self, node, values):
+    def _eval(self, node, values, functions):
         if isinstance(node, ast.Constant):
             return float(node.value)
         if isinstance(node, ast.Name):
             if node.id in CONSTANTS:
                 return CONSTANTS[node.id]
             try:
-                return values[node.id]
+                return values[node.id] if node.id in values else self._si[node.id]
             except KeyError:
                 raise ValueError(f"unknown name {node.id!r} in {self.source!r}") from None
         if isinstance(node, ast.BinOp):
-            return _BINARY[type(node.op)](self._eval(node.left, values),
-                                          self._eval(node.right, values))
+            return _BINARY[type(node.op)](self._eval(node.left, values, functions),
+                                          self._eval(node.right, values, functions))
         if isinstance(node, ast.UnaryOp):
-            return _UNARY[type(node.op)](self._eval(node.operand, values))
-        return FUNCTIONS[node.func.id](*(self._eval(a, values) for a in node.args))
+            return _UNARY[type(node.op)](self._eval(node.operand, values, functions))
+        return functions[node.func.id](*(self._eval(a, values, functions) for a in node.args))
 
     def __repr__(self) -> str:
         return f"Expression({self.source!r})"
+
+
+def evaluate(source, unit: str, where: str, values: Mapping | None = None,
+             units_of: Mapping | None = None) -> float:
+    """The value of ``source`` (a number, or the text of an expression, with units or
+    not) over ``values`` (name -> number), in SI; an expression with units must measure
+    what ``unit`` does, its names measured by ``units_of`` (name -> (value, unit)).
+    A ValueError names ``where`` and says why.
+
+    Examples
+    --------
+    >>> evaluate("pi / 2", "rad", "gamma")
+    1.5707963267948966
+    >>> evaluate("120 mm + 2 * l_OA", "m", "l_AB", {"l_OA": 0.015}, {"l_OA": (0.015, "m")})
+    0.15
+    >>> evaluate("4 kN", "N.m", "T")
+    Traceback (most recent call last):
+    ...
+    ValueError: T = '4 kN' must be a moment (N.m), but it is a force (N)
+    """
+    try:
+        expr = Expression(source)
+        x = expr(values or {})
+    except (ValueError, ZeroDivisionError, OverflowError, TypeError) as err:
+        raise ValueError(f"{where} = {source!r}: {err}") from None
+    if expr.has_units:
+        check_units(expr, unit, where, units_of or {})
+    return x
+
+
+def check_units(expr: Expression, unit: str, where: str, units_of: Mapping) -> None:
+    """A ValueError naming ``where`` unless ``expr``, its names measured by ``units_of``
+    (name -> (value, unit)), measures what ``unit`` does, its units agreeing."""
+    try:
+        measured = expr.measure(units_of)
+    except (TypeError, ValueError, ArithmeticError, AttributeError) as err:  # 1 m + 1 s
+        raise ValueError(f"{where} = {expr.source!r}: its units do not agree: {err}") from None
+    units.check(measured, unit, where, expr.source)

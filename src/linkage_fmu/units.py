@@ -1,0 +1,142 @@
+"""Numbers with units where people type them: ``"240 mm"``, ``"1800 rpm"``, ``"30 deg"``,
+``"800 kPa * pi * bore**2 / 4"``, through pint.
+
+Everything the package computes is SI with angles in radians; a plain number is taken
+as that. A number followed by a unit (a space between them is optional; a unit is one
+word of pint's, such as ``mm``, ``kN``, ``rpm``, ``deg``, ``kg*m**2``, ``m/s**2``; put
+spaces around an operator after it: ``800 kPa * A``, since ``kPa*A`` is kilopascal
+ampere) is converted to SI, and the whole value is checked against the unit of what it
+gives: a length given in rpm is an error. pint is imported only for text with a unit.
+
+Examples
+--------
+>>> to_si("240 mm", "m", "l_AB")
+0.24
+>>> round(to_si("1800 rpm", "rad/s", "omega"), 6)
+188.495559
+>>> to_si("1800 rpm", "m", "l_AB")
+Traceback (most recent call last):
+...
+ValueError: l_AB = '1800 rpm' must be a length (m), but it is an angular speed (rad/s)
+"""
+
+from __future__ import annotations
+
+import functools
+import re
+
+#: the package's units (as in the FMUs' modelDescription) -> pint's spelling
+PINT = {"m": "m", "rad": "rad", "rad/s": "rad/s", "rad/s2": "rad/s**2", "kg": "kg",
+        "kg.m2": "kg*m**2", "kg/m": "kg/m", "m/s2": "m/s**2", "N": "N", "N.m": "N*m",
+        "1": "dimensionless", "s": "s", "Pa": "Pa", "m2": "m**2", "J": "J", "W": "W"}
+#: what a unit measures, for messages
+NAMES = {"m": "a length", "rad": "an angle", "rad/s": "an angular speed",
+         "rad/s2": "an angular acceleration", "kg": "a mass", "kg.m2": "a moment of inertia",
+         "kg/m": "a mass per length", "m/s2": "an acceleration", "N": "a force",
+         "N.m": "a moment", "1": "a number", "s": "a time", "Pa": "a pressure",
+         "m2": "an area", "J": "an energy", "W": "a power"}
+#: a number, then a unit: a word that starts with a letter (letters, digits, _ * / ^ .)
+_QUANTITY = re.compile(r"(?<![\w.])((?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)[ \t]*"
+                       r"([A-Za-z_°µΩ][\w°µΩ*/^.]*)")
+
+
+@functools.lru_cache(maxsize=1)
+def registry():
+    """pint's unit registry (imported on first use)."""
+    import pint
+
+    return pint.UnitRegistry()
+
+
+def has_units(text) -> bool:
+    """Whether ``text`` holds a number with a unit.
+
+    Examples
+    --------
+    >>> has_units("2 * l_AB"), has_units("30 deg"), has_units(3.0)
+    (False, True, False)
+    """
+    return isinstance(text, str) and _QUANTITY.search(text) is not None
+
+
+def quantity(number: str, unit: str):
+    """The pint quantity ``number unit``, the unit cut at its longest prefix pint knows
+    that ends before a ``*`` or ``/`` (``kPa*A`` is ``kPa`` times ``A``); the quantity
+    and the length of the unit's text used. A ValueError if pint knows no prefix."""
+    import pint
+
+    ureg = registry()
+    cuts = [len(unit)] + [i for i in range(len(unit) - 1, 0, -1) if unit[i] in "*/"]
+    last = None
+    for cut in cuts:
+        try:
+            return ureg.Quantity(float(number), ureg.parse_units(unit[:cut])), cut
+        except (pint.errors.PintError, ValueError, TypeError, AttributeError) as err:
+            last = err
+    raise ValueError(f"{unit!r} after {number} is not a unit ({last})")
+
+
+def substitute(text: str) -> tuple[str, list]:
+    """``text`` with each number-with-unit replaced by a name ``__q<k>__``, and the list
+    of the quantities (pint) in order.
+
+    Examples
+    --------
+    >>> source, qs = substitute("800 kPa*area + 2 mm")
+    >>> source, [f"{q:~}" for q in qs]
+    ('__q0__*area + __q1__', ['800.0 kPa', '2.0 mm'])
+    """
+    out, quantities, pos = [], [], 0
+    for match in _QUANTITY.finditer(text):
+        q, cut = quantity(match.group(1), match.group(2))
+        out += [text[pos:match.start()], f"__q{len(quantities)}__"]
+        quantities.append(q)
+        pos = match.start(2) + cut
+    out.append(text[pos:])
+    return "".join(out), quantities
+
+
+def dimension(unit: str):
+    """pint's dimensionality of the package's ``unit`` (``"m"``, ``"rad/s"``, ...)."""
+    return registry().parse_units(PINT.get(unit, unit)).dimensionality
+
+
+def check(value, unit: str, where: str, source) -> float:
+    """The SI magnitude of the pint quantity ``value``, which must measure what ``unit``
+    measures (a ValueError naming ``where`` and ``source`` if not)."""
+    ureg = registry()
+    target = ureg.parse_units(PINT.get(unit, unit))
+    if not isinstance(value, ureg.Quantity):
+        value = ureg.Quantity(value, "dimensionless")
+    if value.dimensionality != target.dimensionality:
+        raise ValueError(f"{where} = {source!r} must be {NAMES.get(unit, unit)} ({unit}), but "
+                         f"it is {measures(value.dimensionality)}")
+    return float(value.to(target).magnitude)
+
+
+def measures(dimensionality) -> str:
+    """What a pint dimensionality measures, in words where it is one of :data:`NAMES`
+    (the first that fits: an energy is called a moment)."""
+    for unit, name in NAMES.items():
+        if unit != "1" and dimension(unit) == dimensionality:
+            return f"{name} ({unit})"
+    return "a number" if not dimensionality else str(dimensionality)
+
+
+def to_si(text, unit: str, where: str) -> float:
+    """A number, or the text of a number with a unit, in SI (``unit``), checked.
+
+    Examples
+    --------
+    >>> to_si("30 deg", "rad", "angle") == 3.141592653589793 / 6
+    True
+    """
+    if not isinstance(text, str):
+        return float(text)
+    match = _QUANTITY.fullmatch(text.strip())
+    if match is None:
+        return float(text)  # a plain number in text: SI
+    q, cut = quantity(match.group(1), match.group(2))
+    if cut != len(match.group(2)):
+        raise ValueError(f"{where} = {text!r}: {match.group(2)!r} is not a unit")
+    return check(q, unit, where, text)

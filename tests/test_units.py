@@ -1,0 +1,94 @@
+"""Numbers with units (``linkage_fmu.units``, through pint) against the stated factors of
+the definitions: 1 in = 0.0254 m, 1 lbf = 4.4482216152605 N, 1 bar = 1e5 Pa, 1 rpm =
+2 pi / 60 rad/s, 1 deg = pi / 180 rad; and a wrong kind named with its key."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from linkage_fmu import presets
+from linkage_fmu.expressions import evaluate
+from linkage_fmu.parameters import Parameter
+from linkage_fmu.units import has_units, to_si
+
+FACTORS = [
+    ("240 mm", "m", 0.240),
+    ("9.5 in", "m", 9.5 * 0.0254),
+    ("1800 rpm", "rad/s", 1800 * 2 * math.pi / 60),
+    ("30 deg", "rad", math.pi / 6),
+    ("30deg", "rad", math.pi / 6),
+    ("4 kN", "N", 4000.0),
+    ("12 lbf", "N", 12 * 4.4482216152605),
+    ("2.5 kN*m", "N.m", 2500.0),
+    ("1.2 kg*m**2", "kg.m2", 1.2),
+    ("350 g", "kg", 0.350),
+    ("1 ft", "m", 0.3048),
+    ("32.174 ft/s**2", "m/s2", 32.174 * 0.3048),
+    ("600 deg/s**2", "rad/s2", 600 * math.pi / 180),
+    ("1e3 mm", "m", 1.0),
+]
+
+
+@pytest.mark.parametrize("text, unit, si", FACTORS)
+def test_a_number_with_a_unit_is_taken_in_si(text, unit, si):
+    """To 1e-15 relative: the factor is the definition's."""
+    assert to_si(text, unit, "x") == pytest.approx(si, rel=1e-15)
+    assert evaluate(text, unit, "x") == pytest.approx(si, rel=1e-15)
+
+
+def test_an_expression_of_quantities_and_parameters():
+    """A piston force from a pressure and a bore: 8 bar * pi * (86 mm)^2 / 4 =
+    4647.0434... N (8e5 Pa * 0.005808804... m^2)."""
+    area = math.pi * 0.086 ** 2 / 4
+    assert evaluate("8 bar * pi * (86 mm)**2 / 4", "N", "F") == pytest.approx(8e5 * area,
+                                                                              rel=1e-15)
+    assert evaluate("800 kPa * pi * bore**2 / 4", "N", "F", {"bore": 0.086},
+                    {"bore": (0.086, "m")}) == pytest.approx(8e5 * area, rel=1e-15)
+    assert evaluate("2 * pi * 30 rad/s", "rad/s", "omega") == pytest.approx(60 * math.pi)
+
+
+@pytest.mark.parametrize("text, unit, message", [
+    ("1800 rpm", "m", r"l_AB = '1800 rpm' must be a length \(m\), but it is an angular speed"),
+    ("4 kN", "N.m", r"l_AB = '4 kN' must be a moment \(N.m\), but it is a force \(N\)"),
+    ("3 kg", "kg.m2", r"must be a moment of inertia \(kg.m2\), but it is a mass \(kg\)"),
+    ("2 m + 3 s", "m", r"l_AB = '2 m \+ 3 s'"),
+    ("3 furlongs_per_fortnight", "m", "is not a unit"),
+    ("sin(3 m)", "rad", r"l_AB = 'sin\(3 m\)'"),
+])
+def test_a_number_of_the_wrong_kind_is_an_error_naming_the_key(text, unit, message):
+    with pytest.raises(ValueError, match=message):
+        evaluate(text, unit, "l_AB")
+
+
+def test_plain_numbers_stay_si():
+    assert not has_units("2 * l_AB") and not has_units(3.0) and has_units("3 mm")
+    assert evaluate("pi / 2", "rad", "gamma") == math.pi / 2
+    assert evaluate(0.2, "m", "l") == 0.2
+
+
+def test_a_parameter_takes_a_unit_of_its_kind():
+    """``Parameter.validate`` converts and checks: 120 mm is 0.12 m; an angle in degrees;
+    a length in kg is refused, naming the parameter."""
+    assert Parameter("l_AB", 0.1, "length", "crank").validate("120 mm") == pytest.approx(0.12, rel=1e-15)
+    assert Parameter("gamma", 0.0, "angle", "guide").validate("90 deg") == pytest.approx(math.pi / 2,
+                                                                                 rel=1e-15)
+    with pytest.raises(ValueError, match=r"l_AB = '2 kg' must be a length"):
+        Parameter("l_AB", 0.1, "length", "crank").validate("2 kg")
+    with pytest.raises(ValueError, match="l_AB must be > 0"):
+        Parameter("l_AB", 0.1, "length", "crank").validate("-5 mm")
+
+
+def test_solve_takes_inputs_and_parameters_with_units():
+    """The scotch yoke at 60 deg, 95.4929... rpm (10 rad/s) and 0.4 kN gives seed 000's
+    quoted Mb = 15.6699 N m and F23 = 313.3975 N; with l_AB = "100 mm" the same."""
+    yoke = presets.get("scotch_yoke", l_AB="100 mm")
+    rpm = 10.0 * 60 / (2 * math.pi)
+    sol = yoke.solve("60 deg", f"{rpm!r} rpm", "0 rad/s**2", "0.4 kN")
+    assert sol["Mb"] == pytest.approx(15.6699, abs=5e-5)
+    assert sol["F23y"] == pytest.approx(313.3975, abs=5e-5)
+    with pytest.raises(ValueError, match=r"omega = '1800 mm' must be an angular speed"):
+        yoke.solve(0.0, "1800 mm")
+    with pytest.raises(ValueError, match=r"theta = '3 N' must be an angle"):
+        yoke.solve("3 N")
