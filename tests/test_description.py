@@ -5,6 +5,7 @@ safely; group types fail loudly when incomplete; loads are inputs by name."""
 from __future__ import annotations
 
 import math
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -397,3 +398,24 @@ def test_the_first_group_is_the_driver_and_only_the_first(registry):
     with pytest.raises(DescriptionError, match="there are none; the first must be the crank or "
                                                "motor"):
         Description("empty", model="Empty").point("A", 0, 0).check()
+
+
+def test_a_plain_angle_beyond_two_pi_is_noted_and_units_are_checked(tmp_path):
+    """``angle = 30`` is 30 rad (a warning says so, with the degrees it is); ``"30 deg"``
+    is pi / 6; a centre-of-mass distance given in kg is a problem naming its key."""
+    d = presets.preset("four_bar").copy()
+    d.bodies["2"]["cg"]["angle"] = 30
+    with pytest.warns(UserWarning, match=r"\[bodies.2\] cg angle = 30 is taken in radians "
+                                         r"\(1718.87 deg\); write \"30 deg\" for degrees"):
+        d._changed().check()
+    d.bodies["2"]["cg"]["angle"] = "30 deg"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        mech = d._changed().build()
+    sol = mech.solve(0.4)
+    d.bodies["2"]["cg"]["angle"] = math.pi / 6
+    assert d._changed().build().solve(0.4)["Mb"] == pytest.approx(sol["Mb"], rel=1e-15)
+    d.bodies["2"]["cg"]["distance"] = "0.2 kg"
+    with pytest.raises(DescriptionError, match=r"\[bodies.2\] cg distance = '0.2 kg' must be "
+                                               r"a length \(m\), but it is a mass \(kg\)"):
+        d._changed().check()

@@ -16,7 +16,7 @@ import pytest
 
 from conftest import MODELS
 from linkage_fmu import presets
-from linkage_fmu.fmi.check import revolution
+from linkage_fmu.fmi.run import revolution
 
 ROOT = Path(__file__).resolve().parents[1]
 HOST = Path(__file__).with_name("fmu_host.py")

@@ -240,20 +240,25 @@ def test_without_a_compiler_a_plan_stays_python(monkeypatch, tmp_path):
     assert kernel.call is kernel.function
 
 
-def test_a_plan_without_a_witness_is_traced_once():
+def test_a_narrow_range_is_a_witness_and_no_range_is_said_once():
     """A slider-crank whose rod is so short that it assembles only within 0.003 rad of
-    0.7 and pi - 0.7 has no witness state among the trace's: kernel() says so, once;
-    the next call raises the same error without tracing again, and solve stays on the
-    interpreted formulas."""
+    0.7 and pi - 0.7 misses every fixed witness angle: its kernel is traced in the
+    middle of a range where it assembles, and gives the interpreted formulas' numbers.
+    One that assembles nowhere has no kernel: kernel() says so once; the next call
+    raises the same error without tracing again, and solve stays interpreted."""
     mech = presets.get("slider_crank", l_OA=1.0, l_AB=0.002, e=math.sin(0.7))
-    with pytest.raises(ValueError, match="cannot be assembled at any of the witness angles"):
-        mech.kernel()
-    t0 = time.perf_counter()
-    with pytest.raises(ValueError, match="witness"):
-        mech.kernel()
-    assert time.perf_counter() - t0 < 1e-3
+    k = mech.kernel()
     ref = mech.solve(0.7, 5.0, 0.0, 1.0, method="interpreted")
-    assert mech.solve(0.7, 5.0, 0.0, 1.0) == ref
+    assert k(0.7, 5.0, 0.0, 1.0) == pytest.approx(tuple(ref.values()), rel=1e-12)
+    never = presets.get("slider_crank", l_OA=1.0, l_AB=0.002, e=1.5)
+    with pytest.raises(ValueError, match="cannot be assembled at any crank angle"):
+        never.kernel()
+    t0 = time.perf_counter()
+    with pytest.raises(ValueError, match="at any crank angle"):
+        never.kernel()
+    assert time.perf_counter() - t0 < 1e-3
+    with pytest.raises(AssemblyError):
+        never.solve(0.7)
 
 
 def test_the_kernel_cache_keeps_the_most_recently_used(monkeypatch, tmp_path):

@@ -22,7 +22,7 @@ import sys
 
 import numpy as np
 
-from . import __version__, presets
+from . import __version__, presets, ranges
 from .solver import frame
 from .spec import Description, DescriptionError
 
@@ -154,6 +154,9 @@ def main(argv: list[str] | None = None) -> int:
     table.add_argument("--method", choices=("closed_form", "direct"), default="closed_form")
     table.add_argument("--outputs", nargs="+", default=None)
     table.add_argument("--csv", action="store_true", help="print CSV instead of a table")
+    table.add_argument("--strict", action="store_true",
+                       help="exit with status 2 if an angle cannot be solved (default: its "
+                            "row is NaN, with a warning)")
     table.add_argument("-o", "--output", help="write the table to FILE.csv or FILE.parquet")
 
     sweep = sub.add_parser("sweep", help="many designs over a revolution, summarised",
@@ -222,13 +225,18 @@ def main(argv: list[str] | None = None) -> int:
 
             try:
                 if args.native:
-                    print(build_native_fmu(d, args.out, args.fmi, **dict(args.params)))
+                    path = build_native_fmu(d, args.out, args.fmi, **dict(args.params))
                 else:
                     out = args.out or ("dist" if args.fmi == 2 else "dist/fmi3")
-                    print(build_fmu(d, out, args.fmi, **dict(args.params)))
+                    path = build_fmu(d, out, args.fmi, **dict(args.params))
             except CompilerError as err:
                 print(f"linkage-fmu: {err}", file=sys.stderr)
                 return 2
+            where = ranges.assembles(d.build(**dict(args.params)))
+            if where != [(0.0, 360.0)]:
+                print(f"linkage-fmu: {d.name} assembles over theta = {ranges.text(where)} "
+                      "only; the FMU discards the steps at other angles", file=sys.stderr)
+            print(path)
             return 0
         return _table(d, args, rest)
     except (DescriptionError, UsageError, TypeError, ValueError) as err:
@@ -250,6 +258,13 @@ def _check(parser, args, rest) -> int:
         parser.error(f"unrecognized arguments: {' '.join(rest)}")
     result = check_fmu(args.fmu, args.steps)
     problems = validate_fmu(args.fmu)
+    if result.unsolved_deg:
+        print(f"linkage-fmu: {result.model} assembles over part of the revolution: the FMU "
+              f"discarded the steps at theta = {ranges.text(result.unsolved_deg, digits=4)}, "
+              "where the linkage cannot be solved; the others were checked", file=sys.stderr)
+    if result.mismatched:
+        print(f"linkage-fmu: at {result.mismatched} steps the FMU and the direct solver "
+              "disagree on whether there is a solution", file=sys.stderr)
     print(json.dumps({**result.__dict__, "validate": problems}))
     return 0 if result.passed() and not problems else 1
 
@@ -290,12 +305,14 @@ def _table(d: Description, args, rest: list[str]) -> int:
         df.index = np.degrees(df.index.to_numpy())
         df.index.name = "theta_deg"
     if sol.problems:
-        bad = np.flatnonzero(sol.status)
-        shown = ", ".join(f"{np.degrees(t):.6g} deg" for t in theta[bad[:5]])
-        more = f" and {bad.size - 5} more" if bad.size > 5 else ""
+        bad = sol.status.reshape(-1) != 0
         first = min(sol.problems.values(), key=lambda p: p.first)
-        raise UsageError(f"{mech.name} cannot be solved at {bad.size} of {theta.size} angles "
-                         f"({shown}{more}): {first.message}")
+        where = ranges.text(ranges.runs(np.degrees(theta), bad), digits=6)
+        message = (f"{mech.name} cannot be solved at {int(bad.sum())} of {theta.size} angles "
+                   f"(theta = {where}): {first.message}")
+        if args.strict:
+            raise UsageError(message)
+        print(f"linkage-fmu: {message}; their rows are NaN", file=sys.stderr)
     if args.output:
         write_table(df, args.output)
     elif args.csv:

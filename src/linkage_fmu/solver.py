@@ -27,7 +27,7 @@ from typing import Iterable, NamedTuple
 
 import numpy as np
 
-from . import diagnostics
+from . import diagnostics, ranges
 from .expressions import evaluate
 from .errors import AssemblyError, OverflowInputError, SingularPositionError
 from .kernels import TRACE, Kernel, trace
@@ -258,13 +258,20 @@ class Solver:
 
     def _trace(self, wanted: tuple, static: bool, given: tuple) -> Kernel:
         """Trace the closed-form formulas of the plan at the first witness angle where
-        the linkage assembles (the trace follows what the floats do there)."""
+        the linkage assembles (the trace follows what the floats do there); failing
+        those, the middle of each range where it does."""
         mech = self.mech
         plan = self.plan(wanted, static, "closed_form", given)
         loads = [1.1 + 0.1 * k for k in range(len(mech.input_loads) + len(given))]
         omega, alpha = (0.0, 0.0) if static else (1.3, 0.7)
         last = None
-        for theta in WITNESS_ANGLES:
+
+        def witnesses():
+            yield from WITNESS_ANGLES
+            for a, b in ranges.assembles(mech):  # a linkage that turns part of a revolution
+                yield math.radians(0.5 * (a + b))
+
+        for theta in witnesses():
             try:  # a witness must be solvable
                 mech.evaluate(plan, theta, omega, alpha, loads, SCALAR)
             except (ValueError, ZeroDivisionError) as err:
@@ -280,8 +287,7 @@ class Solver:
             checked = tuple(i for i, n in enumerate(wanted) if n in plan.checked)
             return trace(outputs, (theta, omega, alpha, *loads), parameters, wanted, checked,
                          static, f"kernel of {mech.name}")
-        raise ValueError(f"{mech.name} cannot be assembled at any of the witness angles "
-                         f"{WITNESS_ANGLES}: {last}")
+        raise ValueError(f"{mech.name} cannot be assembled at any crank angle: {last}")
 
     def _count(self, k) -> None:
         """A one-state call of the kernel ``k``: the :data:`HOT_CALLS`-th compiles it."""

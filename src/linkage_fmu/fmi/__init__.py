@@ -4,6 +4,8 @@ the Python slave, or the linkage's native C kernels), building, running and chec
 fmpy against the direct solver."""
 
 from .build import build_fmu, build_native_fmu
-from .check import check_fmu, fmu_linkage, write_crosscheck
+from .check import check_fmu, write_crosscheck
+from .run import fmu_linkage, run_fmu
 
-__all__ = ["build_fmu", "build_native_fmu", "check_fmu", "fmu_linkage", "write_crosscheck"]
+__all__ = ["build_fmu", "build_native_fmu", "check_fmu", "fmu_linkage", "run_fmu",
+           "write_crosscheck"]

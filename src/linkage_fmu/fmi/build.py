@@ -29,7 +29,9 @@ import uuid
 import zipfile
 from pathlib import Path
 
+from .. import ranges
 from ..ccompiler import compile_shared
+from ..errors import AssemblyError
 from ..presets import linkage
 from . import writers
 from .slave import PACKAGE, fingerprint
@@ -90,6 +92,23 @@ def _archive(root: Path, target: Path) -> Path:
     return Path(shutil.move(staged, target))
 
 
+def _assembling(source, parameters: dict):
+    """The description (its defaults the parameters given) and linkage of an FMU; a
+    ValueError, saying why at theta = 0, if the linkage assembles at no crank angle."""
+    mech = linkage(source, **parameters)
+    d = mech.description.with_defaults(mech.parameters)
+    mech = d.build()
+    if not ranges.assembles(mech):
+        try:
+            mech.kinematics(0.0, order=0)
+            why = ""
+        except AssemblyError as err:
+            why = f" ({err.condition} at theta = 0)"
+        raise ValueError(f"{d.name} cannot be assembled at any crank angle{why}, so it has no "
+                         "FMU; change its lengths")
+    return d, mech
+
+
 def build_fmu(source, out: str | Path = "dist", fmi_version: int = 2, **parameters) -> Path:
     """Build ``out/<model>.fmu``, the pythonfmu FMU of the linkage ``source`` (see
     :func:`~linkage_fmu.presets.linkage`), and return its path; the model identifier is
@@ -98,16 +117,16 @@ def build_fmu(source, out: str | Path = "dist", fmi_version: int = 2, **paramete
     Raises
     ------
     DescriptionError, TypeError, ValueError
-        The description or a parameter is invalid.
+        The description or a parameter is invalid, or the linkage assembles at no crank
+        angle (one that assembles over part of a revolution is built: its FMU discards
+        the steps at the other angles; :func:`~linkage_fmu.ranges.assembles` says where).
     CompilerError
         No C compiler for the framework (nothing is written to ``out`` then).
     """
     import pythonfmu
 
     _check_version(fmi_version)
-    mech = linkage(source, **parameters)
-    d = mech.description.with_defaults(mech.parameters)
-    mech = d.build()
+    d, mech = _assembling(source, parameters)
     guid = str(uuid.uuid4())
     # a module name of its own: the host's Python keeps one module per name
     module = f"linkage_fmu_{d.model}_{hashlib.sha256(guid.encode()).hexdigest()[:12]}"
@@ -160,15 +179,14 @@ def build_native_fmu(source, out: str | Path | None = None, fmi_version: int = 2
     Raises
     ------
     DescriptionError, TypeError, ValueError
-        The description or a parameter is invalid, or the linkage cannot be assembled
-        in any structure.
+        The description or a parameter is invalid, or the linkage assembles at no crank
+        angle (one that assembles over part of a revolution is built, as by
+        :func:`build_fmu`).
     CompilerError
         No C compiler (nothing is written to ``out`` then).
     """
     _check_version(fmi_version)
-    mech = linkage(source, **parameters)
-    d = mech.description.with_defaults(mech.parameters)
-    mech = d.build()
+    d, mech = _assembling(source, parameters)
     model_c, _ = writers.model_source(mech, d.build)
     guid = str(uuid.uuid4())
     out = Path(out or ("dist/native" if fmi_version == 2 else "dist/native3"))

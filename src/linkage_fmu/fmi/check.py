@@ -1,98 +1,60 @@
 """Run a linkage FMU with fmpy and compare every output with the direct solver.
 
-The inputs cover one revolution with time-varying speed and load. fmpy's
-co-simulation loop sets the inputs at ``t``, calls doStep and samples the outputs at
-``t + h``; for a direct-feedthrough model the row at ``t_k`` (``k >= 1``) therefore
-holds the outputs for the inputs of ``t_(k-1)``. :func:`compare` accounts for that.
+The inputs cover a revolution (or the longest period of its loads over the cycle) with
+time-varying speed and loads (:func:`~linkage_fmu.fmi.run.revolution`); the run goes
+step by step (:func:`~linkage_fmu.fmi.run.step_fmu`), so each row holds the outputs of
+its own inputs. A linkage that assembles over part of a revolution is checked where it
+does; the FMU must discard the other steps.
 """
 
 from __future__ import annotations
 
-import math
 import time
-import xml.etree.ElementTree as ET
-import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from .. import ranges
 from ..mechanism import Mechanism
-from ..spec import Description
-
-_NOMINAL_LOAD = {"N": 100.0, "N.m": 10.0}
+from .run import fmu_linkage, revolution, step_fmu
 
 
 @dataclass(frozen=True)
 class CheckResult:
-    """Outcome of :func:`check_fmu`: worst relative error, steps run, wall time [s]."""
+    """Outcome of :func:`check_fmu`: worst relative error and its output, steps run,
+    wall time [s], the ranges of the crank angle [deg] where the FMU discarded the
+    steps (the linkage does not assemble there), and the steps where the FMU and the
+    direct solver disagree on whether there is a solution."""
 
     model: str
     max_rel_error: float
     worst_output: str
     steps: int
     seconds: float
+    unsolved_deg: tuple = ()
+    mismatched: int = 0
 
     def passed(self, tol: float = 1e-9) -> bool:
-        return self.max_rel_error <= tol
+        return self.max_rel_error <= tol and self.mismatched == 0
 
 
-def fmu_linkage(fmu: str | Path) -> Mechanism:
-    """The linkage an FMU built by :func:`~linkage_fmu.fmi.build.build_fmu` computes: its
-    bundled description file, with the FMU's parameter start values."""
-    with zipfile.ZipFile(fmu) as archive:
-        root = ET.fromstring(archive.read("modelDescription.xml"))
-        model = root.find("CoSimulation").get("modelIdentifier")
-        name = f"resources/{model}.toml"
-        text = archive.read(name).decode("utf-8")
-    return Description.from_toml(text, f"{fmu}:{name}").build()
+def reference(mech: Mechanism, inputs: np.ndarray):
+    """The direct (LU) solver's outputs at every row of ``inputs`` (an
+    :class:`~linkage_fmu.solver.ArraySolution`: NaN and ``valid = False`` where the
+    linkage cannot be assembled)."""
+    return mech.solve(*(inputs[n] for n in mech.input_names), method="direct")
 
 
-def revolution(mech: Mechanism, steps: int = 360) -> np.ndarray:
-    """Inputs over one revolution: speed +-20 %, each load +-50 % around the start values
-    (a load whose start value is zero varies around 100 N or 10 N.m).
-
-    Returns a structured array with fields ``time`` and the linkage's inputs, one row
-    per communication point (``steps + 1`` rows), as fmpy's ``simulate_fmu`` takes it.
-
-    Examples
-    --------
-    >>> from linkage_fmu import presets
-    >>> u = revolution(presets.get("four_bar"), steps=4)
-    >>> u.dtype.names, round(float(u["theta"][-1]), 12) == round(2 * math.pi, 12)
-    (('time', 'theta', 'omega', 'alpha', 'load'), True)
-    """
-    start = mech.description.inputs
-    w0 = start.get("omega", 0.0) or 2.0 * math.pi
-    period = 2.0 * math.pi / abs(w0)
-    t = np.linspace(0.0, period, steps + 1)
-    k = 2.0 * math.pi / period
-    u = np.zeros(steps + 1, dtype=[(n, np.float64) for n in ("time",) + mech.input_names])
-    u["time"] = t
-    u["theta"] = start.get("theta", 0.0) + w0 * (t - 0.2 / k * (np.cos(k * t) - 1.0))
-    u["omega"] = w0 * (1.0 + 0.2 * np.sin(k * t))
-    u["alpha"] = w0 * 0.2 * k * np.cos(k * t)
-    for j, load in enumerate(mech.loads):
-        load0 = load.start or _NOMINAL_LOAD.get(load.unit, 1.0)
-        u[load.name] = load0 * (1.0 + 0.5 * np.sin((2.0 + j) * k * t))
-    return u
-
-
-def reference(mech: Mechanism, inputs: np.ndarray) -> dict:
-    """The direct (LU) solver's outputs at every row of ``inputs``."""
-    return dict(mech.solve(*(inputs[n] for n in mech.input_names), method="direct"))
-
-
-def compare(result: np.ndarray, ref: dict, names) -> tuple[float, str]:
-    """Worst relative error of fmpy ``result`` rows against ``ref`` (one-step lag handled).
-
-    Each output's error is scaled by its largest magnitude over the run.
-    """
+def compare(rows, ref, names) -> tuple[float, str]:
+    """Worst relative error of the FMU's ``rows`` against ``ref`` (the same rows), and
+    the output where it is; each output's error is scaled by its largest magnitude over
+    the rows."""
     worst, where = 0.0, ""
     for name in names:
-        expected = np.concatenate([ref[name][:1], ref[name][:-1]])  # row k <- inputs of k-1
-        scale = np.max(np.abs(expected))
-        diff = np.max(np.abs(result[name] - expected))
+        expected = np.asarray(ref[name], dtype=float)
+        scale = np.max(np.abs(expected), initial=0.0)
+        diff = np.max(np.abs(np.asarray(rows[name], dtype=float) - expected), initial=0.0)
         err = diff / scale if scale > 0 else diff
         if not err <= worst:  # also catches NaN
             worst, where = err, name
@@ -100,20 +62,35 @@ def compare(result: np.ndarray, ref: dict, names) -> tuple[float, str]:
 
 
 def check_fmu(fmu: str | Path, steps: int = 360) -> CheckResult:
-    """Simulate ``fmu`` with fmpy over :func:`revolution` of its own linkage and compare
-    every output with the direct solver."""
-    from fmpy import simulate_fmu
+    """Run ``fmu`` with fmpy over :func:`~linkage_fmu.fmi.run.revolution` of its own
+    linkage, step by step, and compare every output with the direct solver where the
+    linkage assembles; where it does not, the FMU must discard the step (the result
+    says over which angles, ``unsolved_deg``, and counts the rows where the FMU and the
+    solver disagree on it, ``mismatched``).
 
+    Raises
+    ------
+    ValueError
+        The linkage assembles at none of the angles of the run.
+    """
     mech = fmu_linkage(fmu)
     u = revolution(mech, steps)
     names = list(mech.output_names + mech.diagnostic_names)
-    h = float(u["time"][1] - u["time"][0])
     t0 = time.perf_counter()
-    result = simulate_fmu(str(fmu), start_time=0.0, stop_time=float(u["time"][-1]),
-                          output_interval=h, input=u, output=names)
+    rows, _ = step_fmu(fmu, u, None, names)
     seconds = time.perf_counter() - t0
-    err, where = compare(result, reference(mech, u), names)
-    return CheckResult(mech.description.model, float(err), where, len(result) - 1, seconds)
+    ref = reference(mech, u[:-1])
+    valid = np.asarray(ref.valid)
+    if not valid.any():
+        raise ValueError(f"{Path(fmu).name}: {mech.name} assembles at none of the {len(valid)} "
+                         "crank angles of the check")
+    solved = rows["solved"].to_numpy()
+    both = solved & valid
+    err, where = compare({n: rows[n].to_numpy()[both] for n in names},
+                         {n: np.asarray(ref[n])[both] for n in names}, names)
+    unsolved = ranges.runs(np.degrees(u["theta"][:-1]), ~solved)
+    return CheckResult(mech.description.model, float(err), where, len(rows), seconds,
+                       tuple(unsolved), int(np.sum(solved != valid)))
 
 
 def write_crosscheck(out: str | Path, mech: Mechanism, steps: int = 360) -> list[Path]:

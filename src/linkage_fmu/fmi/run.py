@@ -1,11 +1,12 @@
 """Run an FMU of a linkage with fmpy and get rows that cannot mislead: each row holds
-inputs and the outputs computed from exactly those inputs, and a run that stops early
-raises, naming the step and the FMU's reason.
+inputs and the outputs computed from exactly those inputs, and a discarded step is said.
 
-fmpy's ``simulate_fmu`` sets the inputs at ``t``, calls doStep and samples at ``t + h``:
-its row at ``t_k`` holds the outputs for the inputs of ``t_(k-1)``, and it ends a run at
-the first discarded step without a message unless logging is on. :func:`run_fmu` pairs
-the rows and checks the length.
+The run goes step by step through fmpy's FMI 2.0 and 3.0 classes: at each input row it
+sets the inputs, calls doStep from that row's time and reads the outputs, so a row holds
+the outputs of its own inputs (fmpy's ``simulate_fmu`` samples them one row later, and
+ends a run at the first discarded step). A discarded step (inputs the linkage cannot
+take: an angle where it does not assemble) leaves the FMU at its last time; the next
+row's inputs go on from there, as the FMUs allow.
 
 Examples
 --------
@@ -16,13 +17,66 @@ Examples
 
 from __future__ import annotations
 
-import re
+import math
+import shutil
+import xml.etree.ElementTree as ET
+import zipfile
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-from .check import fmu_linkage, revolution
+from ..mechanism import Mechanism
+from ..spec import Description
+
+#: fmpy's status of a discarded step (fmi2Discard, fmi3Discard)
+DISCARD = 2
+#: the middle of the range of a load whose start value is zero, by its unit
+_NOMINAL_LOAD = {"N": 100.0, "N.m": 10.0}
+
+
+def fmu_linkage(fmu: str | Path) -> Mechanism:
+    """The linkage an FMU built by :func:`~linkage_fmu.fmi.build.build_fmu` computes: its
+    bundled description file, with the FMU's parameter start values."""
+    with zipfile.ZipFile(fmu) as archive:
+        root = ET.fromstring(archive.read("modelDescription.xml"))
+        model = root.find("CoSimulation").get("modelIdentifier")
+        name = f"resources/{model}.toml"
+        text = archive.read(name).decode("utf-8")
+    return Description.from_toml(text, f"{fmu}:{name}").build()
+
+
+def revolution(mech: Mechanism, steps: int = 360) -> np.ndarray:
+    """Inputs over a revolution, or over as many as the longest period of the linkage's
+    loads given by a table (two for a four-stroke engine's 720 deg): speed +-20 %, each
+    input load +-50 % around its start value (a load whose start value is zero varies
+    around 100 N or 10 N.m), ``steps`` steps per revolution.
+
+    Returns a structured array with fields ``time`` and the linkage's inputs, one row
+    per communication point, as fmpy's ``simulate_fmu`` takes it.
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets
+    >>> u = revolution(presets.get("four_bar"), steps=4)
+    >>> u.dtype.names, round(float(u["theta"][-1]), 12) == round(2 * math.pi, 12)
+    (('time', 'theta', 'omega', 'alpha', 'load'), True)
+    """
+    turns = max([1] + [math.ceil(ld.table.period_deg / 360.0 - 1e-9)
+                       for ld in mech.computed_loads if ld.table is not None])
+    w0 = mech.start["omega"] or 2.0 * math.pi
+    period = 2.0 * math.pi / abs(w0)
+    t = np.linspace(0.0, turns * period, turns * steps + 1)
+    k = 2.0 * math.pi / period
+    u = np.zeros(t.size, dtype=[(n, np.float64) for n in ("time",) + mech.input_names])
+    u["time"] = t
+    u["theta"] = mech.start["theta"] + w0 * (t - 0.2 / k * (np.cos(k * t) - 1.0))
+    u["omega"] = w0 * (1.0 + 0.2 * np.sin(k * t))
+    u["alpha"] = w0 * 0.2 * k * np.cos(k * t)
+    for j, load in enumerate(mech.input_loads):
+        load0 = load.start or _NOMINAL_LOAD.get(load.unit, 1.0)
+        u[load.name] = load0 * (1.0 + 0.5 * np.sin((2.0 + j) * k * t))
+    return u
 
 
 class FMURunError(RuntimeError):
@@ -34,43 +88,29 @@ class FMURunError(RuntimeError):
         self.step, self.time, self.messages = step, time, messages
 
 
-def run_fmu(fmu: str | Path, inputs: np.ndarray | None = None, steps: int = 360,
-            start_values: dict | None = None, outputs=None) -> pd.DataFrame:
-    """Run ``fmu`` through ``inputs`` with fmpy and return one row per input row: the
-    inputs and the outputs they give.
-
-    Parameters
-    ----------
-    fmu : path
-        An FMU built by this package (either flavour).
-    inputs : structured array, optional
-        Fields ``time`` (equally spaced) and the linkage's inputs; default
-        :func:`~linkage_fmu.fmi.check.revolution` with ``steps`` steps (speed and loads
-        varying).
-    start_values : dict, optional
-        Parameter values for the FMU.
-    outputs : list of str, optional
-        Outputs to record (default all).
+def step_fmu(fmu: str | Path, inputs: np.ndarray, start_values: dict | None = None,
+             outputs=None) -> tuple[pd.DataFrame, list[str]]:
+    """Run ``fmu`` through the rows of ``inputs`` (fields ``time``, equally spaced, and
+    the FMU's inputs), one doStep per row but the last.
 
     Returns
     -------
-    DataFrame
-        Columns ``time``, the inputs, the outputs; the last input row has no answer
-        (the run ends there) and is not included.
-
-    Raises
-    ------
-    FMURunError
-        The run ended early (a discarded step): which step, at what time, and what the
-        FMU logged.
+    rows : DataFrame
+        Per row but the last: ``time``, the inputs, ``solved`` (False where the FMU
+        discarded the step: its outputs are NaN there) and the ``outputs`` (default
+        every output of the FMU).
+    messages : list of str
+        What the FMU logged with status Warning or worse.
     """
-    from fmpy import simulate_fmu
+    from fmpy import extract, instantiate_fmu, read_model_description
     from fmpy.fmi1 import FMICallException
+    from fmpy.simulation import apply_start_values
 
-    mech = fmu_linkage(fmu)
-    u = revolution(mech, steps) if inputs is None else inputs
-    names = list(outputs or (mech.output_names + mech.diagnostic_names))
-    t = np.asarray(u["time"], dtype=float)
+    md = read_model_description(str(fmu))
+    refs = {v.name: v.valueReference for v in md.modelVariables}
+    names = list(outputs or [v.name for v in md.modelVariables if v.causality == "output"])
+    given = [n for n in inputs.dtype.names if n != "time"]
+    t = np.asarray(inputs["time"], dtype=float)
     h = float(t[1] - t[0])
     messages: list[str] = []
 
@@ -80,25 +120,87 @@ def run_fmu(fmu: str | Path, inputs: np.ndarray | None = None, steps: int = 360,
             text = message.decode("utf-8", "replace") if isinstance(message, bytes) else message
             messages.append(str(text).replace("%%", "%"))
 
+    unzipped = extract(str(fmu))
+    fmi3 = md.fmiVersion.startswith("3")
+    slave = instantiate_fmu(unzipped, md, "CoSimulation", debug_logging=True, logger=logger)
     try:
-        result = simulate_fmu(str(fmu), start_time=float(t[0]), stop_time=float(t[-1]),
-                              output_interval=h, input=u, output=names,
-                              start_values=start_values or {}, debug_logging=True,
-                              logger=logger)
-        end = float(result["time"][-1])
-    except FMICallException as err:  # fmpy 0.3's FMI 3.0 path raises at a discarded step
-        found = re.search(r"DoStep: the inputs .* cannot be solved at t = ([-+0-9.eE]+)",
-                          messages[-1] if messages else "")
-        if err.status != 2 or found is None:  # not a discard: fmpy's own error
-            raise
-        result, end = None, float(found.group(1))
-    if result is None or len(result) < len(t) or end < t[-1]:
-        # the step from the last successful time failed
-        k = int(np.argmin(np.abs(t - end)))
-        reason = messages[-1] if messages else "no message from the FMU"
-        raise FMURunError(f"{Path(fmu).name}: the run ended at step {k} of {len(t) - 1} "
-                          f"(t = {float(t[k])!r}): {reason}", k, float(t[k]), messages)
-    rows = pd.DataFrame({n: u[n][:-1] for n in u.dtype.names})
-    for name in names:
-        rows[name] = result[name][1:]
+        if fmi3:
+            slave.enterInitializationMode(startTime=float(t[0]))
+            set_inputs, get_outputs = slave.setFloat64, slave.getFloat64
+        else:
+            slave.setupExperiment(startTime=float(t[0]))
+            slave.enterInitializationMode()
+            set_inputs, get_outputs = slave.setReal, slave.getReal
+        apply_start_values(slave, md, start_values or {})
+        slave.exitInitializationMode()
+        in_refs = [refs[n] for n in given]
+        out_refs = [refs[n] for n in names]
+        values = np.column_stack([np.asarray(inputs[n], dtype=float) for n in given])
+        solved = np.ones(len(t) - 1, dtype=bool)
+        result = np.full((len(t) - 1, len(names)), np.nan)
+        for k in range(len(t) - 1):
+            set_inputs(in_refs, list(values[k]))
+            try:
+                slave.doStep(currentCommunicationPoint=float(t[k]), communicationStepSize=h)
+            except FMICallException as err:
+                if err.status != DISCARD:
+                    raise
+                solved[k] = False
+            result[k] = get_outputs(out_refs, len(out_refs)) if fmi3 else get_outputs(out_refs)
+        slave.terminate()
+    finally:
+        slave.freeInstance()
+        shutil.rmtree(unzipped, ignore_errors=True)
+    rows = pd.DataFrame({n: inputs[n][:-1] for n in inputs.dtype.names})
+    rows["solved"] = solved
+    for j, name in enumerate(names):
+        rows[name] = result[:, j]
+    return rows, messages
+
+
+def run_fmu(fmu: str | Path, inputs: np.ndarray | None = None, steps: int = 360,
+            start_values: dict | None = None, outputs=None, strict: bool = True
+            ) -> pd.DataFrame:
+    """Run ``fmu`` through ``inputs`` with fmpy and return one row per input row: the
+    inputs and the outputs they give.
+
+    Parameters
+    ----------
+    fmu : path
+        An FMU built by this package (either flavour).
+    inputs : structured array, optional
+        Fields ``time`` (equally spaced) and the linkage's inputs; default
+        :func:`revolution` with ``steps`` steps (speed and loads
+        varying).
+    start_values : dict, optional
+        Parameter values for the FMU.
+    outputs : list of str, optional
+        Outputs to record (default all).
+    strict : bool
+        True: a discarded step ends the run with :class:`FMURunError`; False: its row
+        has ``solved = False`` and NaN outputs, and the run goes on.
+
+    Returns
+    -------
+    DataFrame
+        Columns ``time``, the inputs, ``solved``, the outputs; the last input row has no
+        answer (the run ends there) and is not included.
+
+    Raises
+    ------
+    FMURunError
+        With ``strict``, the first discarded step: which, at what time, and what the
+        FMU logged.
+    """
+    mech = fmu_linkage(fmu)
+    u = revolution(mech, steps) if inputs is None else inputs
+    rows, messages = step_fmu(fmu, u, start_values,
+                              outputs or list(mech.output_names + mech.diagnostic_names))
+    if strict and not rows["solved"].all():
+        k = int(np.argmin(rows["solved"].to_numpy()))
+        t = float(rows["time"][k])
+        reason = next((m for m in messages if "cannot be solved" in m),
+                      messages[-1] if messages else "no message from the FMU")
+        raise FMURunError(f"{Path(fmu).name}: the run ended at step {k} of {len(u) - 1} "
+                          f"(t = {t!r}): {reason}", k, t, messages)
     return rows

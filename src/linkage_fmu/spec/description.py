@@ -53,6 +53,7 @@ import json
 import math
 import re
 import tomllib
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -234,7 +235,9 @@ class Description:
                 model=str(head.get("model", "")), frame=str(head.get("frame", "0")),
                 gravity=head.get("gravity", 0.0), source=source)
         problems += _read_tables(d, data)
-        problems += _Checker(d).problems()  # every problem at once, not the reading ones first
+        checker = _Checker(d)
+        problems += checker.problems()  # every problem at once, not the reading ones first
+        checker.warn()
         if problems:
             raise DescriptionError(source, problems)
         d._checked = True
@@ -259,7 +262,9 @@ class Description:
     def check(self) -> "Description":
         """Raise :class:`DescriptionError` listing every problem; return self if none."""
         if not self._checked:
-            problems = _Checker(self).problems()
+            checker = _Checker(self)
+            problems = checker.problems()
+            checker.warn()
             if problems:
                 raise DescriptionError(self.source, problems)
             self._checked = True
@@ -466,6 +471,11 @@ class _Checker:
                       self.bodies, self.loads, self.effort, self.outputs):
             table()
         return self.found
+
+    def warn(self) -> None:
+        """A warning for each value that is allowed but probably not meant."""
+        for note in self.notes:
+            warnings.warn(f"{self.d.source}: {note}", UserWarning, stacklevel=4)
 
     # -- helpers ----------------------------------------------------------------------
     def expr(self, where: str, value: Any, names: set | None = None, unit: str = "",
