@@ -94,3 +94,100 @@ def test_plot_command_writes_each_picture(tmp_path):
     for name in ("t.png", "m.png", "l.png"):
         assert (tmp_path / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert b"<svg" in (tmp_path / "p.svg").read_bytes()[:400]
+
+
+def run(argv: list[str]) -> tuple[int, str, str]:
+    """Exit status, standard output and standard error of the command line."""
+    out, err = io.StringIO(), io.StringIO()
+    with redirect_stdout(out), redirect_stderr(err):
+        status = main(argv)
+    return status, out.getvalue(), err.getvalue()
+
+
+def test_values_with_units_and_expressions_on_the_command_line():
+    """--set, --omega and a load take units and expressions, as a description file does:
+    the slider-crank with gamma = pi/2, l_AB = 200 mm at 1800 rpm and a load of 0.2 kN
+    equals the library's solve with those values in SI (to the last digit of the CSV)."""
+    from linkage_fmu import presets
+
+    status, out, _ = run(["table", "slider_crank", "--set", "gamma=pi/2", "--set",
+                          "l_AB=200mm", "--theta", "0.5,1.5", "--omega", "1800 rpm",
+                          "--load", "0.2 kN", "--csv", "--outputs", "Mb", "F32x"])
+    assert status == 0
+    df = pd.read_csv(io.StringIO(out), index_col="theta")
+    ref = presets.get("slider_crank", gamma=np.pi / 2, l_AB=0.2).solve(
+        np.array([0.5, 1.5]), 1800 * 2 * np.pi / 60, None, 200.0)
+    np.testing.assert_array_equal(df["Mb"].to_numpy(), ref["Mb"])
+    np.testing.assert_array_equal(df["F32x"].to_numpy(), ref["F32x"])
+    status, _, err = run(["table", "slider_crank", "--set", "l_AB=3rpm"])
+    assert status == 2 and "l_AB = '3rpm' must be a length (m), but it is an angular" in err
+    status, _, err = run(["table", "slider_crank", "--omega", "5 m"])
+    assert status == 2 and "--omega = '5 m' must be an angular speed" in err
+
+
+def test_theta_in_degrees_by_a_unit_and_a_warning_for_large_radians():
+    """--theta "0:360:15 deg" equals --theta 0:360:15 --deg, its index exactly the
+    degrees typed (60.0, not 59.99999999999999); --theta 60 is 60 rad, with one warning
+    saying so."""
+    a = run(["table", "four_bar", "--theta", "0:360:15 deg", "--csv", "--outputs", "Mb"])
+    b = run(["table", "four_bar", "--theta", "0:360:15", "--deg", "--csv", "--outputs", "Mb"])
+    assert a[0] == b[0] == 0 and a[1] == b[1]
+    index = pd.read_csv(io.StringIO(a[1]))["theta_deg"].to_numpy()
+    np.testing.assert_array_equal(index, 15.0 * np.arange(25))
+    assert "60.0," in a[1] and "59.99" not in a[1]
+    status, _, err = run(["table", "four_bar", "--theta", "60,70", "--outputs", "Mb"])
+    assert status == 0 and err.count("is in radians (70 rad = 4010.7 deg)") == 1
+
+
+def test_loads_are_options_listed_in_help():
+    """The loads of the named linkage are options of table, with their unit and start
+    value in --help; a load the linkage does not have is an unrecognised option."""
+    import pytest
+
+    out, err = io.StringIO(), io.StringIO()
+    with redirect_stdout(out), pytest.raises(SystemExit):
+        main(["table", "examples/coupler_four_bar.toml", "--help"])
+    text = out.getvalue()
+    assert "loads of coupler_four_bar" in text
+    assert "--F_P VALUE" in text and "[N] (start 80.0)" in text and "--T4 VALUE" in text
+    with redirect_stderr(err), pytest.raises(SystemExit) as exit_:
+        main(["table", "four_bar", "--F_P", "3"])
+    assert exit_.value.code == 2 and "unrecognized arguments: --F_P 3" in err.getvalue()
+
+
+def test_table_writes_nan_rows_where_the_linkage_does_not_assemble():
+    """four_bar with l_AB = 0.3 assembles for cos(theta) >= -0.71875 (|BD| <= BC + CD):
+    at 140..220 deg the rows are NaN and a warning gives the range; --strict exits 2."""
+    status, out, err = run(["table", "four_bar", "--set", "l_AB=0.3", "--theta", "120:240:20",
+                            "--deg", "--csv", "--outputs", "Mb"])
+    assert status == 0
+    df = pd.read_csv(io.StringIO(out), index_col="theta_deg")
+    bad = np.cos(np.radians(df.index.to_numpy())) < -0.71875
+    assert df["Mb"].isna().to_numpy().tolist() == bad.tolist() and bad.sum() == 5
+    assert "cannot be solved at 5 of 7 angles (theta = 140 to 220 deg)" in err
+    assert "their rows are NaN" in err
+    status, out, err = run(["table", "four_bar", "--set", "l_AB=0.3", "--theta", "120:240:20",
+                            "--deg", "--strict"])
+    assert status == 2 and out == "" and "cannot be solved at 5 of 7 angles" in err
+
+
+def test_sweep_csv_has_no_unnamed_index_column(tmp_path):
+    status, _, _ = run(["sweep", "four_bar", "--grid", "l_AB=0.08,0.1", "--n", "12",
+                        "-o", str(tmp_path / "s.csv")])
+    assert status == 0
+    header = (tmp_path / "s.csv").read_text().splitlines()[0].split(",")
+    assert header[:3] == ["l_AB", "valid", "problem"] and "" not in header
+
+
+def test_build_refuses_a_linkage_that_assembles_nowhere_and_says_where_one_does(tmp_path):
+    """l_AD = 2 m: |BD| >= 1.9 m > BC + CD = 0.65 m at every angle: no FMU, the reason
+    named. l_AB = 0.3: an FMU, and the range where it assembles, arccos(-0.71875) =
+    135.95 deg."""
+    status, out, err = run(["build", "--native", "four_bar", "--set", "l_AD=2", "--out",
+                            str(tmp_path)])
+    assert status == 2 and out == "" and not list(tmp_path.iterdir())
+    assert "four_bar cannot be assembled at any crank angle (the dyad B-C-D cannot close" in err
+    assert "Traceback" not in err
+    status, out, err = run(["build", "four_bar", "--set", "l_AB=0.3", "--out", str(tmp_path)])
+    assert status == 0 and out.strip().endswith("FourBar.fmu")
+    assert "assembles over theta = 0 to 135.95 and 224.05 to 360 deg only" in err

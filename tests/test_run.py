@@ -40,3 +40,33 @@ def test_a_discarded_step_raises_naming_it(dist, native_dist, flavour):
         run_fmu(fmu, u, start_values={"l_AB": 0.3})
     assert err.value.step == first and math.isclose(err.value.time, float(u["time"][first]))
     assert "the linkage cannot be assembled: the dyad B-C-D cannot close" in str(err.value)
+
+
+@pytest.mark.parametrize("flavour", ["pythonfmu", "native", "native3"])
+def test_a_linkage_that_turns_part_of_a_revolution_is_checked_where_it_assembles(
+        tmp_path, flavour):
+    """FourBar built with l_AB = 0.3 assembles where cos(theta) >= -0.71875: check_fmu
+    compares every other step with the direct solver (to 1e-12) and reports the angles
+    of the discarded steps, exactly the run's angles beyond that limit; run_fmu with
+    strict=False gives NaN rows there and the solver's numbers elsewhere."""
+    from linkage_fmu.fmi import build_fmu, build_native_fmu, check_fmu
+
+    if flavour == "pythonfmu":
+        fmu = build_fmu("four_bar", tmp_path, l_AB=0.3)
+    else:
+        fmu = build_native_fmu("four_bar", tmp_path, 3 if flavour == "native3" else 2,
+                               l_AB=0.3)
+    result = check_fmu(fmu, steps=72)
+    mech = presets.get("four_bar", l_AB=0.3)
+    u = revolution(mech, 72)[:-1]
+    bad = np.cos(u["theta"]) < -0.71875
+    assert result.passed(1e-12) and result.mismatched == 0 and result.steps == 72
+    assert len(result.unsolved_deg) == 1
+    first, last = result.unsolved_deg[0]
+    assert first == np.degrees(u["theta"][bad][0]) and last == np.degrees(u["theta"][bad][-1])
+    rows = run_fmu(fmu, steps=72, strict=False)
+    assert rows["solved"].to_numpy().tolist() == (~bad).tolist()
+    assert rows["Mb"][bad].isna().all()
+    ref = mech.solve(*(u[n] for n in mech.input_names), method="direct")
+    np.testing.assert_allclose(rows["Mb"][~bad], ref["Mb"][~bad], rtol=1e-12,
+                               atol=1e-12 * np.nanmax(np.abs(ref["Mb"])))

@@ -1,7 +1,11 @@
 """One command line over the library: ``linkage-fmu info|table|sweep|plot|build|check``.
 
 Every command takes a description file or a preset name; ``--set NAME=VALUE`` overrides
-a parameter, and each load of the linkage is an option ``--NAME VALUE`` of ``table``.
+a parameter, and each load of the linkage is an option ``--NAME VALUE`` of ``table``,
+``sweep`` and ``plot`` (listed by their ``--help`` once the linkage is named). Values may
+carry units and be expressions, as in a description file: ``--set l_AB=120mm``, ``--set
+gamma=pi/2``, ``--omega "1800 rpm"``, ``--F_P "0.2 kN"``, ``--theta "0:360:15 deg"``;
+plain numbers are SI, angles in radians.
 
 Examples
 --------
@@ -18,11 +22,13 @@ from __future__ import annotations
 
 import argparse
 import math
+import re
 import sys
 
 import numpy as np
 
 from . import __version__, presets, ranges
+from .expressions import evaluate
 from .solver import frame
 from .spec import Description, DescriptionError
 
@@ -55,7 +61,7 @@ def _parameter(text: str) -> tuple:
     try:
         return name, int(value) if value.lstrip("+-").isdigit() else float(value)
     except ValueError:
-        return name, value  # a choice parameter; the linkage checks it
+        return name, value  # a number with a unit, an expression or a choice: checked later
 
 
 def _linkage(parser: argparse.ArgumentParser, help: str, parameters: bool = True) -> None:
@@ -64,33 +70,74 @@ def _linkage(parser: argparse.ArgumentParser, help: str, parameters: bool = True
     if parameters:
         parser.add_argument("--set", dest="params", metavar="NAME=VALUE", type=_parameter,
                             action="append", default=[],
-                            help="override a parameter (repeatable)")
+                            help="override a parameter (repeatable); a value may have a "
+                                 "unit or be an expression: l_AB=120mm, gamma=pi/2")
 
 
 def _motion(parser: argparse.ArgumentParser) -> None:
     """``--omega`` and ``--alpha``; unset: the linkage's start values (:func:`speeds`)."""
-    for name in ("omega", "alpha"):
-        parser.add_argument(f"--{name}", type=float, default=None,
-                            help=f"{name} (default: the linkage's start value)")
+    for name, unit in (("omega", "rad/s"), ("alpha", "rad/s2")):
+        parser.add_argument(f"--{name}", default=None, metavar="VALUE",
+                            help=f"{name} [{unit}], or with a unit (\"1800 rpm\"); default "
+                                 "the linkage's start value")
 
 
-def speeds(d: Description, args) -> tuple[float, float]:
-    """omega and alpha from the command line, or the linkage's start values."""
-    return tuple(d.inputs[n] if getattr(args, n) is None else getattr(args, n)
-                 for n in ("omega", "alpha"))
+def speeds(args) -> tuple:
+    """omega and alpha from the command line in SI (None where not given: the
+    linkage's start value)."""
+    return tuple(None if getattr(args, n) is None else
+                 evaluate(getattr(args, n), unit, f"--{n}")
+                 for n, unit in (("omega", "rad/s"), ("alpha", "rad/s2")))
 
 
-def loads(mech, args, rest: list[str], start: bool = True) -> dict:
-    """The value of each load of ``mech`` from the options ``--NAME VALUE`` left in
-    ``rest`` (each the load's start value if not given, or with ``start=False`` left
-    out); an option that is not a load of the linkage is an error naming it."""
-    parser = argparse.ArgumentParser(prog=f"linkage-fmu {args.command} {args.linkage}")
-    for load in mech.loads:
-        parser.add_argument(f"--{load.name}", type=float,
-                            default=load.start if start else None,
-                            help=f"{load.description} [{load.unit}] (default {load.start!r})")
-    given = vars(parser.parse_args(rest))
-    return {k: v for k, v in given.items() if v is not None}
+#: the commands that take the loads of the linkage as options
+LOAD_COMMANDS = ("table", "sweep", "plot")
+
+
+def _load_options(parser: argparse.ArgumentParser, d: Description) -> None:
+    """Each load of the linkage ``d`` as an option ``--NAME VALUE`` of ``parser``, so
+    that its ``--help`` lists them."""
+    group = parser.add_argument_group(
+        f"loads of {d.name} (default: the start value; a number in SI or with a unit)")
+    for spec in d.loads:
+        unit = spec.get("unit") or ("N" if spec.get("kind") == "force" else "N.m")
+        text = spec.get("description") or f"{spec.get('kind')} on link {spec.get('body')}"
+        if "value" in spec or "table" in spec:
+            how = (f"= {spec['value']}" if "value" in spec else
+                   f"from a table over {spec.get('period_deg', 360.0):g} deg")
+            default = f"over the cycle, {how}; a value here replaces it"
+        else:
+            default = f"start {spec.get('start', 0.0)}"
+        try:
+            group.add_argument(f"--{spec['name']}", dest=f"load:{spec['name']}", default=None,
+                               metavar="VALUE", help=f"{text} [{unit}] ({default})")
+        except argparse.ArgumentError:
+            raise UsageError(f"the load {spec['name']} of {d.name} has the name of an option of "
+                             f"this command; rename the load to use it here") from None
+
+
+def loads(args) -> dict:
+    """The loads given as options (name -> value as typed; the linkage converts units)."""
+    return {k.partition(":")[2]: v for k, v in vars(args).items()
+            if k.startswith("load:") and v is not None}
+
+
+def _named_linkage(argv: list[str]) -> tuple[str | None, Description | None]:
+    """The command, and the description of the linkage it names if it takes loads and
+    the linkage can be read (else None: the error comes with the command)."""
+    for i, word in enumerate(argv):
+        if word in LOAD_COMMANDS:
+            for candidate in argv[i + 1:]:
+                if candidate.startswith("-"):
+                    continue
+                try:
+                    return word, description(candidate)
+                except (DescriptionError, ValueError, OSError):
+                    continue
+            return word, None
+        if not word.startswith("-"):
+            return word, None
+    return None, None
 
 
 def description(source: str) -> Description:
@@ -100,9 +147,40 @@ def description(source: str) -> Description:
     return Description.read(source)
 
 
+def typed(spec: str) -> tuple[np.ndarray, str]:
+    """The numbers of an angle option as typed: a value, a comma list, or
+    START:STOP:STEP (STOP included when a step lands on it), and the unit written after
+    them ('' if none).
+
+    Examples
+    --------
+    >>> typed("0:90:45 deg")
+    (array([ 0., 45., 90.]), 'deg')
+    >>> typed("0.1,0.2")
+    (array([0.1, 0.2]), '')
+    """
+    text, unit = spec.strip(), ""
+    found = re.fullmatch(r"(.*?[\d.])\s*([A-Za-z°][\w°]*)", text)
+    if found:
+        text, unit = found.groups()
+    try:
+        if ":" in text:
+            start, stop, step = (float(v) for v in text.split(":"))
+            if not step > 0 or not stop >= start:
+                raise UsageError(f"{spec}: need START <= STOP and STEP > 0")
+            count = math.floor((stop - start) / step * (1 + 1e-12)) + 1
+            return start + step * np.arange(count), unit
+        return np.array([float(v) for v in text.split(",")]), unit
+    except ValueError:
+        raise UsageError(f"{spec!r}: expected a number, a list a,b,c or START:STOP:STEP, "
+                         "optionally with a unit") from None
+
+
 def angles(spec: str | None, n: int, degrees: bool) -> np.ndarray:
-    """Crank angles [rad] from ``--theta``: a value, a comma list, or START:STOP:STEP
-    (STOP included when a step lands on it); without ``--theta``, ``linspace(0, 2 pi, n)``.
+    """Crank angles [rad] from ``--theta``: a value, a comma list, or START:STOP:STEP,
+    in radians, or in degrees with ``degrees`` or a unit (``"0:360:15 deg"``); without
+    ``--theta``, ``linspace(0, 2 pi, n)``. Plain values beyond 2 pi warn once (60 is 60
+    rad).
 
     Examples
     --------
@@ -110,24 +188,36 @@ def angles(spec: str | None, n: int, degrees: bool) -> np.ndarray:
     [0.0, 0.785398, 1.570796]
     >>> angles("0.1,0.2", 0, degrees=False).tolist()
     [0.1, 0.2]
+    >>> angles("90 deg", 0, degrees=False).round(6).tolist()
+    [1.570796]
     """
     if spec is None:
         if n < 1:
             raise UsageError(f"--n must be >= 1, got {n}")
         return np.linspace(0.0, 2.0 * np.pi, n)
-    try:
-        if ":" in spec:
-            start, stop, step = (float(v) for v in spec.split(":"))
-            if not step > 0 or not stop >= start:
-                raise UsageError(f"--theta {spec}: need START <= STOP and STEP > 0")
-            count = math.floor((stop - start) / step * (1 + 1e-12)) + 1
-            values = start + step * np.arange(count)
-        else:
-            values = np.array([float(v) for v in spec.split(",")])
-    except ValueError:
-        raise UsageError(f"--theta {spec!r}: expected a number, a list a,b,c or "
-                         "START:STOP:STEP") from None
-    return np.radians(values) if degrees else values
+    values, unit = typed(spec)
+    if unit:
+        if degrees:
+            raise UsageError(f"--theta {spec!r} has a unit: leave out --deg")
+        return values * evaluate(f"1 {unit}", "rad", "--theta")
+    if degrees:
+        return np.radians(values)
+    if np.any(np.abs(values) > 2.0 * math.pi):
+        big = values[np.argmax(np.abs(values))]
+        print(f"linkage-fmu: --theta {spec} is in radians ({big:g} rad = "
+              f"{math.degrees(big):.6g} deg); add --deg, or a unit ({big:g}deg), for "
+              "degrees", file=sys.stderr)
+    return values
+
+
+def _index(spec: str | None, theta: np.ndarray, degrees: bool) -> tuple[np.ndarray, str]:
+    """The index of a table: the angles as typed in degrees (``--deg`` or a degree
+    unit: no rounding through radians), else in radians."""
+    if spec is not None:
+        values, unit = typed(spec)
+        if degrees or (unit and evaluate(f"1 {unit}", "rad", "--theta") == math.pi / 180):
+            return values, "theta_deg"
+    return theta, "theta"
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -178,11 +268,13 @@ def main(argv: list[str] | None = None) -> int:
     sweep.add_argument("-o", "--output", help="write the table to FILE.csv or FILE.parquet")
 
     plot = sub.add_parser("plot", help="a picture: torque curve, force polar, the linkage "
-                                       "with its forces, transmission angles",
+                                       "with its forces, transmission angles, shaking force",
+                          usage="linkage-fmu plot LINKAGE --what KIND [NAME] -o FILE [options]",
                           epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     _linkage(plot, linkage_help)
-    plot.add_argument("--what", nargs="+", required=True, metavar="KIND [NAME]",
-                      help="torque [OUTPUT] | polar [FORCE] | linkage | mu")
+    plot.add_argument("--what", nargs="+", required=True, metavar="KIND",
+                      help="what to draw, one of: torque [OUTPUT] | polar [FORCE] | linkage | "
+                           "mu | shaking")
     plot.add_argument("--theta-deg", dest="theta_deg",
                       help="angle(s) in degrees: a value (linkage), a list or START:STOP:STEP "
                            "(default a revolution in 0.5 degree steps)")
@@ -204,22 +296,22 @@ def main(argv: list[str] | None = None) -> int:
     check.add_argument("fmu")
     check.add_argument("--steps", type=int, default=360)
 
-    args, rest = parser.parse_known_args(argv)
+    argv = sys.argv[1:] if argv is None else list(argv)
     try:
+        command, named = _named_linkage(argv)
+        if named is not None:  # its loads are options of the command, in its --help
+            _load_options({"table": table, "sweep": sweep, "plot": plot}[command], named)
+        args = parser.parse_args(argv)
         if args.command == "check":
-            return _check(parser, args, rest)
+            return _check(args)
         d = description(args.linkage)
         if args.command == "info":
-            if rest:
-                parser.error(f"unrecognized arguments: {' '.join(rest)}")
             return _info(d)
         if args.command == "sweep":
-            return _sweep(d, args, rest)
+            return _sweep(d, args)
         if args.command == "plot":
-            return _plot(d, args, rest)
+            return _plot(d, args)
         if args.command == "build":
-            if rest:
-                parser.error(f"unrecognized arguments: {' '.join(rest)}")
             from .ccompiler import CompilerError
             from .fmi import build_fmu, build_native_fmu
 
@@ -238,7 +330,7 @@ def main(argv: list[str] | None = None) -> int:
                       "only; the FMU discards the steps at other angles", file=sys.stderr)
             print(path)
             return 0
-        return _table(d, args, rest)
+        return _table(d, args)
     except (DescriptionError, UsageError, TypeError, ValueError) as err:
         print(f"linkage-fmu: {err}", file=sys.stderr)
         return 2
@@ -247,15 +339,13 @@ def main(argv: list[str] | None = None) -> int:
         return 0
 
 
-def _check(parser, args, rest) -> int:
+def _check(args) -> int:
     import json
 
     from fmpy.validation import validate_fmu
 
     from .fmi import check_fmu
 
-    if rest:
-        parser.error(f"unrecognized arguments: {' '.join(rest)}")
     result = check_fmu(args.fmu, args.steps)
     problems = validate_fmu(args.fmu)
     if result.unsolved_deg:
@@ -274,19 +364,22 @@ def _info(d: Description) -> int:
     print(f"{d.name}: {d.title}" + (f" (FMU model {d.model})" if d.model else ""))
     print("parameters:")
     for p in d.parameter_specs():
-        print(f"  {p.name:8s} = {p.default!r:8} {p.unit:6s} {p.description}")
-    print("inputs:")
-    print("  theta    [rad]    crank angle from +x, counter-clockwise "
-          f"(start {d.inputs['theta']!r})")
-    print(f"  omega    [rad/s]  crank speed (start {d.inputs['omega']!r})")
-    print(f"  alpha    [rad/s2] crank acceleration (start {d.inputs['alpha']!r})")
+        print(f"  {p.name:8s} = {mech.parameters[p.name]!r:8} {p.unit:6s} {p.description}")
+    print("inputs (angles in rad):")
+    start = mech.start
+    print(f"  theta    [rad]    crank angle from +x, counter-clockwise (start {start['theta']!r})")
+    print(f"  omega    [rad/s]  crank speed (start {start['omega']!r})")
+    print(f"  alpha    [rad/s2] crank acceleration (start {start['alpha']!r})")
     for load in mech.loads:
         where = (f"moment on link {load.body}" if load.kind == "moment" else
                  f"force on link {load.body} at {load.at}, direction "
                  f"({load.direction[0]:.6g}, {load.direction[1]:.6g}) fixed in the "
                  f"{load.fixed_in}")
-        print(f"  {load.name:8s} [{load.unit}] {where}: {load.description} "
-              f"(start {load.start!r})")
+        value = (f"start {load.start!r}" if not load.computed else
+                 f"over the cycle: {load.value.source}" if load.value is not None else
+                 f"over the cycle: a table of {len(load.table.values)} points over "
+                 f"{load.table.period_deg:g} deg, times {load.scale!r}")
+        print(f"  {load.name:8s} [{load.unit}] {where}: {load.description} ({value})")
     print("outputs:")
     for name in mech.output_names + mech.diagnostic_names:
         unit, text = mech.output_info[name]
@@ -294,16 +387,17 @@ def _info(d: Description) -> int:
     return 0
 
 
-def _table(d: Description, args, rest: list[str]) -> int:
+def _table(d: Description, args) -> int:
     mech = d.build(**dict(args.params))
     theta = angles(args.theta, args.n, args.deg)
-    omega, alpha = speeds(d, args)
+    omega, alpha = speeds(args)
     sol = mech.solve(theta, omega, alpha, method=args.method, outputs=args.outputs,
-                     **loads(mech, args, rest))
+                     **loads(args))
     df = frame(sol, theta)
-    if args.deg:
-        df.index = np.degrees(df.index.to_numpy())
-        df.index.name = "theta_deg"
+    index, name = _index(args.theta, theta, args.deg)
+    if name != "theta":
+        df.index = index
+        df.index.name = name
     if sol.problems:
         bad = sol.status.reshape(-1) != 0
         first = min(sol.problems.values(), key=lambda p: p.first)
@@ -339,14 +433,15 @@ def _in_pieces(df, write) -> None:
         write(df.iloc[i:i + PIECE], i == 0)
 
 
-def write_table(df, path: str) -> None:
-    """Write ``df`` to ``path``: CSV or Parquet by its suffix (Parquet needs pyarrow)."""
+def write_table(df, path: str, index: bool = True) -> None:
+    """Write ``df`` to ``path``: CSV or Parquet by its suffix (Parquet needs pyarrow),
+    with its index as the first column or not."""
     if path.endswith(".csv"):
         with open(path, "w", newline="") as f:
-            _in_pieces(df, lambda part, first: part.to_csv(f, header=first))
+            _in_pieces(df, lambda part, first: part.to_csv(f, header=first, index=index))
     elif path.endswith(".parquet"):
         try:
-            df.to_parquet(path)
+            df.to_parquet(path, index=index)
         except ImportError:
             raise UsageError(f"-o {path}: writing Parquet needs pyarrow (pip install pyarrow); "
                              "or write .csv") from None
@@ -360,11 +455,14 @@ def _values(spec: str) -> tuple[str, list]:
     if not sep or not name:
         raise UsageError(f"--grid {spec!r}: expected NAME=a,b,c or NAME=START:STOP:STEP")
     if ":" in text:
-        return name, angles(text, 0, False).tolist()
+        values, unit = typed(text)
+        if unit:
+            raise UsageError(f"--grid {spec!r}: START:STOP:STEP in SI, without a unit")
+        return name, values.tolist()
     return name, [_parameter(f"{name}={v}")[1] for v in text.split(",")]
 
 
-def _plot(d: Description, args, rest: list[str]) -> int:
+def _plot(d: Description, args) -> int:
     try:
         import matplotlib
     except ImportError:
@@ -373,20 +471,27 @@ def _plot(d: Description, args, rest: list[str]) -> int:
     from . import plot
 
     mech = d.build(**dict(args.params))
-    given = loads(mech, args, rest, start=False)
+    given = loads(args)
     kind, names = args.what[0], args.what[1:]
-    if kind not in ("torque", "polar", "linkage", "mu") or len(names) > 1 or (
-            names and kind in ("linkage", "mu")):
+    kinds = ("torque", "polar", "linkage", "mu", "shaking")
+    if kind not in kinds or len(names) > 1 or (names and kind not in ("torque", "polar")):
         raise UsageError(f"--what {' '.join(args.what)}: expected torque [OUTPUT], polar "
-                         "[FORCE], linkage or mu")
-    theta_deg = None if args.theta_deg is None else angles(args.theta_deg, 0, False)
-    motion = {"omega": args.omega, "alpha": args.alpha}
+                         "[FORCE], linkage, mu or shaking")
+    theta_deg = None
+    if args.theta_deg is not None:
+        theta_deg, unit = typed(args.theta_deg)
+        if unit:
+            raise UsageError(f"--theta-deg {args.theta_deg!r}: degrees, without a unit")
+    omega, alpha = speeds(args)
+    motion = {"omega": omega, "alpha": alpha}
     if kind == "torque":
         fig = plot.torque(mech, theta_deg=theta_deg, output=names[0] if names else None,
                           **motion, **given)
     elif kind == "polar":
         fig = plot.polar(mech, names[0] if names else None, theta_deg=theta_deg, **motion,
                          **given)
+    elif kind == "shaking":
+        fig = plot.shaking(mech, theta_deg=theta_deg, **motion, **given)
     elif kind == "linkage":
         if theta_deg is None or theta_deg.size != 1:
             raise UsageError("--what linkage needs one angle: --theta-deg VALUE")
@@ -400,13 +505,12 @@ def _plot(d: Description, args, rest: list[str]) -> int:
     return 0
 
 
-def _sweep(d: Description, args, rest: list[str]) -> int:
+def _sweep(d: Description, args) -> int:
     import pandas as pd
 
     from .sweep import grid, sweep
 
     mech = d.build()
-    values = loads(mech, args, rest)
     if bool(args.grid) == bool(args.samples):
         raise UsageError("give the designs as --grid NAME=VALUES (repeatable) or --samples FILE")
     if args.samples:
@@ -416,11 +520,11 @@ def _sweep(d: Description, args, rest: list[str]) -> int:
         designs = grid(**dict(map(_values, args.grid)))
     theta = (np.linspace(0.0, 2.0 * np.pi, args.n, endpoint=False) if args.theta is None
              else angles(args.theta, 0, args.deg))
-    omega, alpha = speeds(d, args)
+    omega, alpha = speeds(args)
     table = sweep(mech, designs, theta, omega, alpha, scheduler=args.scheduler,
-                  progress=args.scheduler is None and sys.stderr.isatty(), **values)
+                  progress=args.scheduler is None and sys.stderr.isatty(), **loads(args))
     if args.output:
-        write_table(table, args.output)
+        write_table(table, args.output, index=False)  # a design's row is its parameters
     else:
         print(table.to_csv(index=False))
     return 0

@@ -63,8 +63,7 @@ class Expression:
             except SyntaxError as err:
                 raise ValueError(f"{source!r} is not an expression: {err.msg}") from None
         #: the SI value of each quantity, by its name in the parsed text
-        self._si = {f"__q{k}__": float(q.to_base_units().magnitude)
-                    for k, q in enumerate(self.quantities)}
+        self._si = {f"__q{k}__": units.si(q) for k, q in enumerate(self.quantities)}
         names: set = set()
         self._check(self._tree, names)
         self.names = tuple(sorted(names))

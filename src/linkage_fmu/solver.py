@@ -458,6 +458,8 @@ class Solver:
             cond = math.inf
         if math.isfinite(cond):
             inputs = ", ".join(f"{n} = {v!r}" for n, v in zip(mech.input_names + given, values))
+            inputs += "".join(f", {ld.name} = {float(ld.at_state(st))!r} (over the cycle)"
+                              for ld in mech.computed_loads if ld.name not in given)
             return OverflowInputError(mech.name, f"the outputs overflow float64 at {inputs}: "
                                       "an input is too large in magnitude")
         return SingularPositionError(mech.name, theta, diagnostics.singular_detail(mech, st),

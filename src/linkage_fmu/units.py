@@ -96,6 +96,23 @@ def substitute(text: str) -> tuple[str, list]:
     return "".join(out), quantities
 
 
+def si(q) -> float:
+    """The magnitude of the pint quantity ``q`` in SI base units, correctly rounded where
+    the unit is a decimal fraction of its base (``86 mm`` is 0.086, not 86 * 0.001 =
+    0.08600000000000001).
+
+    Examples
+    --------
+    >>> si(registry().Quantity(86, "mm")), si(registry().Quantity(620, "g"))
+    (0.086, 0.62)
+    """
+    factor = registry().Quantity(1.0, q.units).to_base_units().magnitude
+    inverse = 1.0 / factor
+    if inverse > 1.0 and inverse == round(inverse):  # a division is exact where a product
+        return float(q.magnitude) / round(inverse)  # by 0.001 is not
+    return float(q.magnitude) * factor
+
+
 def dimension(unit: str):
     """pint's dimensionality of the package's ``unit`` (``"m"``, ``"rad/s"``, ...)."""
     return registry().parse_units(PINT.get(unit, unit)).dimensionality
@@ -111,7 +128,7 @@ def check(value, unit: str, where: str, source) -> float:
     if value.dimensionality != target.dimensionality:
         raise ValueError(f"{where} = {source!r} must be {NAMES.get(unit, unit)} ({unit}), but "
                          f"it is {measures(value.dimensionality)}")
-    return float(value.to(target).magnitude)
+    return si(value) / si(ureg.Quantity(1.0, target))
 
 
 def measures(dimensionality) -> str:
