@@ -448,9 +448,9 @@ def _example() -> str:
 
 # -- helpers ------------------------------------------------------------------------------
 def _demo() -> Description:
-    """A small linkage with a dyad whose joint is named ``<joint>`` and a plain angle in
-    degrees' clothing: what every linkage reports, and the warning it gives, read from
-    the code."""
+    """A small linkage with a dyad whose joint is named ``<joint>`` and a centre of mass
+    at ``angle = 90`` (meant in degrees): what every linkage reports, and the warning
+    such an angle gives, as the code words them."""
     return (Description("demo", model="Demo", source="linkage.toml")
             .point("A", 0, 0).point("D", 1, 0)
             .group("crank", link="1", pivot="A", tip="B", length=0.3)
