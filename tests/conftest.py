@@ -10,7 +10,7 @@ from pathlib import Path
 import mpmath
 import pytest
 
-from linkage_fmu import presets
+from linkage_fmu import groups, presets
 from linkage_fmu.precise import MP  # noqa: F401  (re-exported for the tests)
 
 #: (preset, parameters) covering every preset and every six-bar driver
@@ -35,6 +35,15 @@ IDS = [f"{n}-{'-'.join(f'{k}={v}' for k, v in p.items()) or 'defaults'}" for n, 
 
 #: the scalar formulas are evaluated at 40 digits in the tests that use MP
 mpmath.mp.dps = 40
+
+
+@pytest.fixture
+def registry():
+    """The group types; those a test defines are forgotten after it."""
+    saved = dict(groups.Group.registry)
+    yield groups.Group.registry
+    groups.Group.registry.clear()
+    groups.Group.registry.update(saved)
 
 
 @pytest.fixture(params=VARIANTS, ids=IDS)

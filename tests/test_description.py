@@ -222,15 +222,6 @@ def test_a_group_subclass_works_and_an_incomplete_group_fails_loudly():
                               base.effort, [], [], 0.0)
 
 
-@pytest.fixture
-def registry():
-    """The group types; those a test defines are forgotten after it."""
-    saved = dict(groups.Group.registry)
-    yield groups.Group.registry
-    groups.Group.registry.clear()
-    groups.Group.registry.update(saved)
-
-
 def test_a_group_type_without_its_fields_is_refused(registry):
     """A class with a kind but no FIELDS of Field fails when it is defined, naming the
     class and what it misses, and is not a type of description files."""

@@ -1,4 +1,5 @@
-"""One command line over the library: ``linkage-fmu info|table|sweep|plot|build|check``.
+"""One command line over the library: ``linkage-fmu
+info|table|sweep|plot|build|check|reference``.
 
 Every command takes a description file or a preset name; ``--set NAME=VALUE`` overrides
 a parameter, and each load of the linkage is an option ``--NAME VALUE`` of ``table``,
@@ -296,6 +297,10 @@ def main(argv: list[str] | None = None) -> int:
     check.add_argument("fmu")
     check.add_argument("--steps", type=int, default=360)
 
+    reference = sub.add_parser("reference", help="the reference of the description file "
+                                                 "format, made from the code (Markdown)")
+    reference.add_argument("-o", "--output", help="write it to FILE (default: print it)")
+
     argv = sys.argv[1:] if argv is None else list(argv)
     try:
         command, named = _named_linkage(argv)
@@ -304,6 +309,8 @@ def main(argv: list[str] | None = None) -> int:
         args = parser.parse_args(argv)
         if args.command == "check":
             return _check(args)
+        if args.command == "reference":
+            return _reference(args)
         d = description(args.linkage)
         if args.command == "info":
             return _info(d)
@@ -357,6 +364,19 @@ def _check(args) -> int:
               "disagree on whether there is a solution", file=sys.stderr)
     print(json.dumps({**result.__dict__, "validate": problems}))
     return 0 if result.passed() and not problems else 1
+
+
+def _reference(args) -> int:
+    from .spec.reference import markdown
+
+    text = markdown()
+    if args.output:
+        with open(args.output, "w", encoding="utf-8") as f:
+            f.write(text)
+        print(f"wrote {args.output}", file=sys.stderr)
+    else:
+        sys.stdout.write(text)
+    return 0
 
 
 def _info(d: Description) -> int:

@@ -35,6 +35,11 @@ CONSTANTS = {"pi": math.pi}
 _BINARY = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul,
            ast.Div: operator.truediv, ast.Pow: operator.pow}
 _UNARY = {ast.USub: operator.neg, ast.UAdd: operator.pos}
+_SYMBOLS = {ast.Add: "+", ast.Sub: "-", ast.Mult: "*", ast.Div: "/", ast.Pow: "**",
+            ast.USub: "-", ast.UAdd: "+"}
+#: the operators an expression may use between two values, and as a sign
+BINARY_OPERATORS = tuple(_SYMBOLS[op] for op in _BINARY)
+SIGNS = tuple(_SYMBOLS[op] for op in _UNARY)
 
 
 class Expression:

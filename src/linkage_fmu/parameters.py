@@ -22,8 +22,43 @@ _REAL_KINDS = {
     "moment": ("N.m", "finite", lambda v: True),
     "number": ("1", "finite", lambda v: True),
 }
+#: kind -> the rule of a value of the kinds that are not real numbers
+_OTHER_KINDS = {"branch": "+1 or -1", "choice": "one of its choices"}
 #: every kind: the real-valued ones, ``branch`` (+1 or -1) and ``choice`` (one of a list)
-KINDS = tuple(_REAL_KINDS) + ("branch", "choice")
+KINDS = tuple(_REAL_KINDS) + tuple(_OTHER_KINDS)
+
+
+def unit_and_rule(kind: str) -> tuple[str, str]:
+    """The SI unit of a parameter of ``kind`` ('' for a branch or a choice) and the rule
+    its value meets, in words.
+
+    Parameters
+    ----------
+    kind : str
+        One of :data:`KINDS`.
+
+    Returns
+    -------
+    tuple of str
+        ``(unit, rule)``: the unit as in :data:`~linkage_fmu.units.PINT`; the rule
+        ``'> 0'``, ``'>= 0'`` or ``'finite'`` for a real kind, else what the value is.
+
+    Raises
+    ------
+    ValueError
+        An unknown kind.
+
+    Examples
+    --------
+    >>> unit_and_rule("length"), unit_and_rule("angle"), unit_and_rule("branch")
+    (('m', '> 0'), ('rad', 'finite'), ('', '+1 or -1'))
+    """
+    if kind in _REAL_KINDS:
+        unit, rule, _ = _REAL_KINDS[kind]
+        return unit, rule
+    if kind in _OTHER_KINDS:
+        return "", _OTHER_KINDS[kind]
+    raise ValueError(f"unknown parameter kind {kind!r}; the kinds are {', '.join(KINDS)}")
 
 
 @dataclass(frozen=True)

@@ -14,7 +14,7 @@ Examples
 ['RPP', 'RPR', 'RRP', 'RRR', 'crank', 'point']
 """
 
-from .base import FRAME, OWNER, ROLES, Field, Group, Joint, KinematicState
+from .base import FRAME, OWNER, ROLE_MEANINGS, ROLES, Field, Group, Joint, KinematicState
 from .crank import Crank
 from .point import LinkPoint
 from .rpp import RPP
@@ -22,5 +22,5 @@ from .rpr import RPR
 from .rrp import RRP
 from .rrr import RRR
 
-__all__ = ["Group", "Field", "ROLES", "Joint", "KinematicState", "FRAME", "OWNER", "Crank",
-           "RRR", "RRP", "RPP", "RPR", "LinkPoint"]
+__all__ = ["Group", "Field", "ROLES", "ROLE_MEANINGS", "Joint", "KinematicState", "FRAME",
+           "OWNER", "Crank", "RRR", "RRP", "RPP", "RPR", "LinkPoint"]

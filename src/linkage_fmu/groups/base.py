@@ -190,6 +190,19 @@ ROLES: dict[str, str] = {
     "length": "m", "angle": "rad", "coordinate": "m", "vector": "m", "branch": "",
 }
 NAME_ROLES = ("new link", "link", "point", "new point", "new joint")
+#: what the value of a field of each role is, in words (a reference of the format lists it)
+ROLE_MEANINGS: dict[str, str] = {
+    "new link": "the name of a moving link the group adds",
+    "link": "the name of a moving link an earlier group added",
+    "point": "the name of a point placed before the group",
+    "new point": "the name of a point the group places",
+    "new joint": "the name of a pair the group makes that no point names (a prismatic pair)",
+    "length": "a fixed length, > 0",
+    "angle": "an angle, counter-clockwise",
+    "coordinate": "a signed distance",
+    "vector": "[x, y] in the frame",
+    "branch": "+1 or -1, the assembly mode",
+}
 
 
 @dataclass(frozen=True)

@@ -8,9 +8,10 @@ from .base import Field, Group, KinematicState
 
 class LinkPoint(Group):
     """Point ``name`` fixed on ``link`` at ``(along, across)`` in the link's own frame,
-    measured from the link's point ``ref``: ``along`` in the link's direction,
-    ``across`` to its left (counter-clockwise). Or, with ``distance``, at that distance
-    from ``ref`` in the direction ``angle`` counter-clockwise from the link's.
+    measured from the link's point ``from`` (the argument ``ref``): ``along`` in the
+    link's direction, ``across`` to its left (counter-clockwise). Or, with ``distance``,
+    at that distance from ``from`` in the direction ``angle`` counter-clockwise from the
+    link's.
 
     Examples
     --------

@@ -10,10 +10,11 @@ from .base import (FRAME, OWNER, Field, Group, Joint, KinematicState, angle_and_
 
 
 class RPP(Group):
-    """Dyad block ``block`` (pin at ``E``) + ``yoke``: the block slides in a straight slot
-    of the yoke (direction ``slot_angle``), the yoke slides on a straight frame guide
-    (through ``guide_point``, direction ``guide_angle``). The yoke's reference point
-    ``ref`` is where the slot's centre line crosses the guide line.
+    """Dyad block ``block`` (on the pin ``pin``, the argument ``E``) + ``yoke``: the block
+    slides in a straight slot of the yoke (direction ``slot_angle``, the pair ``slot``),
+    the yoke slides on a straight frame guide (through ``guide_point``, direction
+    ``guide_angle``, the pair ``guide``). The yoke's reference point ``ref`` is where the
+    slot's centre line crosses the guide line.
 
     Examples
     --------

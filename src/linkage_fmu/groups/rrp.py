@@ -9,7 +9,8 @@ from .base import (FRAME, OWNER, Field, Group, Joint, KinematicState, angle_and_
 
 
 class RRP(Group):
-    """Dyad rod ``link`` (E-B) + ``slider`` at ``B`` on a straight frame guide.
+    """Dyad rod ``rod`` (``end`` - ``pin``; the arguments ``link``, ``E``, ``B``) +
+    ``slider`` at ``pin`` on a straight frame guide (the pair ``guide``).
 
     The guide passes through ``guide_point`` (x, y) with direction angle ``gamma``.
     ``branch = +1`` puts ``B`` on the +gamma side of the foot of the perpendicular from

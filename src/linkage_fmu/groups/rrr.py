@@ -11,7 +11,8 @@ from .base import (OWNER, Field, Group, Joint, KinematicState, angle_and_kappa, 
 
 
 class RRR(Group):
-    """Dyad of two links joined at ``C``: ``link1`` = E1-C and ``link2`` = C-E2.
+    """Dyad of two links joined at ``middle`` (the argument ``C``): ``link1`` from
+    ``end1`` (``E1``) to ``middle`` and ``link2`` from ``end2`` (``E2``) to ``middle``.
 
     ``branch = +1`` places ``C`` to the left of the directed line E1 -> E2, ``-1`` to
     the right. ``link1``'s direction is E1 -> C, ``link2``'s is E2 -> C.

@@ -64,24 +64,159 @@ from ..outputs import SHAKING
 from ..parameters import KINDS, Parameter
 
 INPUT_NAMES = ("theta", "omega", "alpha")
-TABLES = ("linkage", "parameters", "points", "groups", "bodies", "loads", "effort", "outputs",
-          "inputs")
 _IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
-_OUTPUT_FIELDS = {
-    "force": {"name", "by", "on", "components", "x", "y", "magnitude", "description"},
-    "normal": {"name", "joint", "description"},
-    "couple": {"name", "joint", "description"},
-    "effort": {"name", "unit", "description"},
-    "expression": {"name", "expression", "unit", "description"},
+
+# What a description file may hold, table by table: each mapping below gives the keys
+# the reader and the checker accept and what each means, and is what the reference of
+# the format (docs/description.md, written by linkage_fmu.spec.reference) lists.
+
+#: table -> (its header in a description file, what it holds), in the order of a file
+TABLES: dict[str, tuple[str, str]] = {
+    "linkage": ("[linkage]", "what the linkage is: its name, title, the FMU's model "
+                             "identifier, the frame's body name and gravity"),
+    "parameters": ("[parameters]", "the parameters the linkage is built with (its FMUs' "
+                                   "parameters), NAME = { default, kind, ... }"),
+    "points": ("[points]", "the points fixed in the frame, NAME = [x, y] in m"),
+    "groups": ("[[groups]]", "the driver, then the groups that place the other points and "
+                             "links from placed ones, one table each, in order"),
+    "bodies": ("[bodies.L]", "the mass, moment of inertia and centre of mass of each moving "
+                             "link L"),
+    "loads": ("[[loads]]", "the named loads: a force or a moment on a moving link, an input "
+                           "or given over the cycle"),
+    "effort": ("[effort]", "where the balancing effort acts (a moment on the driver, or a "
+                           "force), or which effort each value of a choice parameter takes"),
+    "outputs": ("[[outputs]]", "what the linkage reports besides the outputs every linkage "
+                               "has"),
+    "inputs": ("[inputs]", "start values of the crank's motion"),
 }
-_LOAD_FIELDS = {"name", "body", "kind", "at", "direction", "fixed_in", "unit", "description",
-                "start", "value", "table", "period_deg", "table_unit", "scale"}
+#: key of [linkage] -> what it is
+LINKAGE_KEYS = {
+    "name": "name of the linkage in messages (default: the file's name without .toml)",
+    "title": "one line saying what it is",
+    "model": "model identifier of its FMUs, a C identifier (required)",
+    "frame": "name of the frame body in output names (default \"0\")",
+    "gravity": "gravitational acceleration along -y, m/s2 (default 0; usually the "
+               "parameter g)",
+}
+#: key of a parameter's table in [parameters] -> what it is
+PARAMETER_KEYS = {
+    "default": "its value unless another is given (required): for a real kind a number, "
+               "a number with a unit or an expression of numbers; +1 or -1 for a branch; "
+               "one of choices for a choice",
+    "kind": "what it is: its unit and rule (required)",
+    "description": "what it is, in one phrase",
+    "min": "least value of a real kind (inclusive), in its unit",
+    "max": "greatest value of a real kind (inclusive), in its unit",
+    "choices": "the values of a choice parameter, a list",
+}
+#: key of [bodies.L] -> what it is
+BODY_KEYS = {
+    "mass": "mass of the link, kg (default 0)",
+    "inertia": "moment of inertia about its centre of mass, kg.m2 (default 0)",
+    "cg": "where its centre of mass is, in the link's own frame: { from, along, across } "
+          "or { from, distance, angle }",
+}
+#: key of a body's cg -> what it is
+CG_KEYS = {
+    "from": "the link's point it is measured from, a placed point (required)",
+    "along": "distance from 'from' along the link's direction, m (default 0)",
+    "across": "distance from 'from' to the left of the link's direction, m (default 0)",
+    "distance": "distance from 'from', m (with angle, instead of along and across)",
+    "angle": "direction from 'from', counter-clockwise from the link's, rad (default 0)",
+}
+#: key of a [[loads]] table -> what it is
+LOAD_KEYS = {
+    "name": "name of the load, an identifier: the input's name for a load that is an "
+            "input (required)",
+    "body": "the moving link it acts on (required)",
+    "kind": "\"force\" or \"moment\" (a moment is counter-clockwise positive; required)",
+    "at": "a force's point of application, a placed point of body (required for a force)",
+    "direction": "a force's direction [x, y], of any length: the direction of a positive "
+                 "value (required for a force)",
+    "fixed_in": "what a force's direction is fixed in: \"frame\", or \"link\" (then "
+                "it is in the link's own frame, x along the link)",
+    "unit": "its unit, in SI: \"N\" for a force, \"N.m\" for a moment (a value with "
+            "another unit is converted)",
+    "description": "what the load is, in one phrase",
+    "start": "start value of a load that is an input, N or N.m",
+    "value": "a load over the cycle: an expression of theta (rad), the parameters and the "
+             "positions x_P, y_P (m) of the placed points P, in N or N.m",
+    "table": "a load over the cycle: a CSV file \"FILE.csv\" (columns theta_deg and "
+             "value; relative to the description file) or a list [[theta_deg, value], "
+             "...]: the periodic cubic spline through its points",
+    "period_deg": "the table's period, degrees of crank angle (720 for a four-stroke "
+                  "engine)",
+    "table_unit": "unit of the table's values, such as \"bar\" or \"kN\" (default: the "
+                  "load's, N or N.m)",
+    "scale": "factor of the table's values, a number or an expression of the parameters "
+             "(an area with table_unit = \"bar\")",
+}
+#: the keys of a load with a default, and those defaults
+LOAD_DEFAULTS = {"fixed_in": "frame", "unit": "", "description": "", "start": 0.0}
 #: the keys of a load given by a table, and their defaults
-_TABLE_DEFAULTS = {"period_deg": 360.0, "table_unit": "", "scale": 1.0}
+TABLE_DEFAULTS = {"period_deg": 360.0, "table_unit": "", "scale": 1.0}
+#: key of [effort] (or of one of its options) -> what it is
+EFFORT_KEYS = {
+    "name": "name of the balancing effort, as an output of kind effort (required)",
+    "body": "the moving link it acts on (required)",
+    "at": "for a force: the placed point of body it acts at (with direction)",
+    "direction": "for a force: its direction [x, y] (with at); without at and direction "
+                 "the effort is a moment on body",
+}
+#: key of [effort] when a choice parameter selects the effort -> what it is
+EFFORT_CHOICE_KEYS = {
+    "choose": "the choice parameter whose value selects the effort",
+    "options": "VALUE = { name, body, ... }: the effort for each value of that parameter",
+}
+#: kind of a [[outputs]] table -> what it reports
+OUTPUT_KINDS = {
+    "force": "components of the force one body exerts on another through their joint, N",
+    "normal": "normal force of a prismatic pair along its normal, N",
+    "couple": "couple transmitted by a prismatic pair, counter-clockwise positive, N.m",
+    "effort": "the balancing effort of an [effort] (zero when a choice makes another "
+              "the effort)",
+    "expression": "an expression of the joint reactions, the effort and the parameters",
+}
+#: kind of a [[outputs]] table -> its keys besides kind -> what each is
+OUTPUT_KEYS = {
+    "force": {
+        "name": "stem of the outputs' names: NAMEx and NAMEy (required)",
+        "by": "the body that exerts the force, a moving link or the frame (required)",
+        "on": "the body it acts on, joined to by (required)",
+        "components": "the components reported, a list of \"x\" and/or \"y\" (default "
+                      "both)",
+        "x": "name of the x component (default NAMEx)",
+        "y": "name of the y component (default NAMEy)",
+        "magnitude": "also report the force's magnitude (a prismatic pair's: its normal "
+                     "force): true for NAME_abs, or its name",
+        "description": "what the force is; the outputs' descriptions add the component",
+    },
+    "normal": {
+        "name": "name of the output (required)",
+        "joint": "the prismatic pair, by its name (required)",
+        "description": "what it is",
+    },
+    "couple": {
+        "name": "name of the output (required)",
+        "joint": "the prismatic pair, by its name (required)",
+        "description": "what it is",
+    },
+    "effort": {
+        "name": "the name of an [effort] (required)",
+        "unit": "its unit (default: N.m for a moment, N for a force)",
+        "description": "what it is",
+    },
+    "expression": {
+        "name": "name of the output (required)",
+        "expression": "an expression of N_J, M_J (the normal force and couple of a "
+                      "prismatic pair J), Fx_J, Fy_J (the force of a revolute pair J), "
+                      "the efforts' names and the parameters (required)",
+        "unit": "its unit (default N)",
+        "description": "what it is",
+    },
+}
 #: the units of the inputs
 INPUT_UNITS = {"theta": "rad", "omega": "rad/s", "alpha": "rad/s2"}
-_EFFORT_FIELDS = {"name", "body", "at", "direction"}
-
 
 class DescriptionError(ValueError):
     """A description with problems; ``problems`` lists every one of them."""
@@ -228,9 +363,9 @@ class Description:
         if not isinstance(head, dict):
             head = {}
         for key in head:
-            if key not in ("name", "title", "model", "frame", "gravity"):
-                problems.append(f"[linkage] {key}: unknown key; the keys are name, title, "
-                                "model, frame, gravity")
+            if key not in LINKAGE_KEYS:
+                problems.append(f"[linkage] {key}: unknown key; the keys are "
+                                f"{', '.join(LINKAGE_KEYS)}")
         d = cls(name=str(head.get("name", Path(source).stem)), title=str(head.get("title", "")),
                 model=str(head.get("model", "")), frame=str(head.get("frame", "0")),
                 gravity=head.get("gravity", 0.0), source=source)
@@ -347,7 +482,7 @@ def _read_tables(d: Description, data: dict) -> list[str]:
         if not isinstance(spec, dict):
             problems.append(f"{where}: must be a table {{ default, kind, description }}")
             continue
-        unknown = set(spec) - {"default", "kind", "description", "min", "max", "choices"}
+        unknown = set(spec) - set(PARAMETER_KEYS)
         if unknown:
             problems.append(f"{where}: unknown key(s) {', '.join(sorted(unknown))}")
         if "default" not in spec or "kind" not in spec:
@@ -368,7 +503,7 @@ def _read_tables(d: Description, data: dict) -> list[str]:
         if not isinstance(spec, dict):
             problems.append(f"[bodies.{link}]: must be a table")
             continue
-        unknown = set(spec) - {"mass", "inertia", "cg"}
+        unknown = set(spec) - set(BODY_KEYS)
         if unknown:
             problems.append(f"[bodies.{link}]: unknown key(s) {', '.join(sorted(unknown))}; the "
                             "keys are mass, inertia, cg")
@@ -378,9 +513,9 @@ def _read_tables(d: Description, data: dict) -> list[str]:
         if not isinstance(spec, dict):
             problems.append(f"[[loads]] #{k + 1}: must be a table")
             continue
-        spec = {"fixed_in": "frame", "unit": "", "description": "", "start": 0.0, **spec}
+        spec = {**LOAD_DEFAULTS, **spec}
         if "table" in spec:
-            spec = {**spec, **{k: v for k, v in _TABLE_DEFAULTS.items() if k not in spec}}
+            spec = {**spec, **{k: v for k, v in TABLE_DEFAULTS.items() if k not in spec}}
             base = Path(d.source).parent if Path(d.source).is_file() else Path.cwd()
             problem = _read_table(spec, base)
             if problem:
@@ -389,7 +524,7 @@ def _read_tables(d: Description, data: dict) -> list[str]:
     effort = table("effort")
     if "choose" in effort:
         options = effort.get("options", {})
-        if set(effort) - {"choose", "options"} or not isinstance(options, dict):
+        if set(effort) - set(EFFORT_CHOICE_KEYS) or not isinstance(options, dict):
             problems.append("[effort]: with 'choose', give only 'options' = { VALUE = {...} }")
         else:
             for value, spec in options.items():
@@ -662,7 +797,7 @@ class _Checker:
         if not isinstance(cg, dict) or "from" not in cg:
             self.found.append(f"{where} cg: needs {{ from = POINT, along = ..., across = ... }}")
             return
-        unknown = set(cg) - {"from", "along", "across", "distance", "angle"}
+        unknown = set(cg) - set(CG_KEYS)
         if unknown:
             self.found.append(f"{where} cg: unknown key(s) {', '.join(sorted(unknown))}; the "
                               "keys are from, along, across (or distance, angle)")
@@ -677,7 +812,7 @@ class _Checker:
     def load(self, k: int, spec: dict) -> None:
         name = spec.get("name", "")
         where = f"[[loads]] #{k + 1} ({name or 'no name'})"
-        unknown = set(spec) - _LOAD_FIELDS
+        unknown = set(spec) - set(LOAD_KEYS)
         if unknown:
             self.found.append(f"{where}: unknown key(s) {', '.join(sorted(unknown))}")
         if not _is_identifier(name):
@@ -703,7 +838,7 @@ class _Checker:
         if "value" in spec or "table" in spec:
             self.cycle_load(where, spec, unit)
         else:
-            for key in _TABLE_DEFAULTS:
+            for key in TABLE_DEFAULTS:
                 if key in spec:
                     self.found.append(f"{where} {key}: only a load given by a table has it")
             self.expr(f"{where} start", spec.get("start", 0.0), unit=unit)
@@ -717,7 +852,7 @@ class _Checker:
             self.found.append(f"{where}: give value or table, not both")
             return
         if "value" in spec:
-            for key in _TABLE_DEFAULTS:
+            for key in TABLE_DEFAULTS:
                 if key in spec:
                     self.found.append(f"{where} {key}: only a load given by a table has it")
             points = [p for p in self.placed]
@@ -765,7 +900,7 @@ class _Checker:
         if not isinstance(spec, dict):
             self.found.append(f"{where}: must be a table")
             return
-        unknown = set(spec) - _EFFORT_FIELDS
+        unknown = set(spec) - set(EFFORT_KEYS)
         if unknown:
             self.found.append(f"{where}: unknown key(s) {', '.join(sorted(unknown))}")
         if spec.get("body") not in self.links:
@@ -780,10 +915,10 @@ class _Checker:
         """One output; the names it gives must not be in ``used`` (then they are)."""
         kind = spec.get("kind")
         where = f"[[outputs]] #{k + 1} ({spec.get('name', kind)})"
-        if kind not in _OUTPUT_FIELDS:
-            self.found.append(f"{where} kind: {kind!r} is not one of {', '.join(_OUTPUT_FIELDS)}")
+        if kind not in OUTPUT_KEYS:
+            self.found.append(f"{where} kind: {kind!r} is not one of {', '.join(OUTPUT_KEYS)}")
             return
-        unknown = set(spec) - _OUTPUT_FIELDS[kind] - {"kind"}
+        unknown = set(spec) - set(OUTPUT_KEYS[kind]) - {"kind"}
         if unknown:
             self.found.append(f"{where}: unknown key(s) {', '.join(sorted(unknown))}")
         name = spec.get("name")

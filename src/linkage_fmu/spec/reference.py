@@ -1,0 +1,498 @@
+"""The reference of the description file format, written from what the code declares.
+
+:func:`markdown` writes ``docs/description.md``: the tables of a description file
+(:data:`~linkage_fmu.spec.description.TABLES`) and every key each takes, from the
+mappings the reader and checker use (:mod:`~linkage_fmu.spec.description`); the
+parameter kinds with their units and rules (:mod:`~linkage_fmu.parameters`); every group
+type in :attr:`Group.registry <linkage_fmu.groups.Group.registry>` with its fields; the
+outputs every linkage has, with the descriptions a built linkage gives them; what
+expressions may hold (:mod:`~linkage_fmu.expressions`); the units
+(:mod:`~linkage_fmu.units`); and a complete description file. A group type, key, kind,
+function or unit added to the code is in the reference the next time it is written.
+
+Run as a script, it prints the reference::
+
+    python -m linkage_fmu.spec.reference > docs/description.md
+"""
+
+from __future__ import annotations
+
+import inspect
+import json
+import re
+import sys
+import tomllib
+import warnings
+from pathlib import Path
+from typing import Any
+
+from .. import expressions, parameters, presets, units
+from ..groups import ROLE_MEANINGS, ROLES, Group
+from ..mechanism import Mechanism
+from ..outputs import SHAKING
+from . import description as spec
+from .description import Description
+
+#: the description file shown whole at the end of the reference
+EXAMPLE = Path(__file__).resolve().parents[3] / "examples" / "coupler_four_bar.toml"
+
+#: loads over the cycle and an expression output, each a table that the example file
+#: (:data:`EXAMPLE`) may take as it is
+CYCLE_LOADS = (
+    '''[[loads]]
+name = "F_spring"
+body = "3"
+kind = "force"
+at = "C"
+direction = [0, -1]
+value = "20 N + 400 N/m * (y_C - 100 mm)"  # a spring from C down to the frame
+description = "spring force at C"
+''',
+    '''[[loads]]
+name = "T_cam"
+body = "3"
+kind = "moment"
+value = "5 N*m * sin(2 * theta)"
+''',
+    '''[[loads]]
+name = "F_gas"
+body = "2"
+kind = "force"
+at = "P"
+direction = [-1, 0]
+fixed_in = "link"  # along -x of link 2's own frame: against the direction B -> C
+table = [[0, 1.0], [90, 6.0], [180, 2.0], [270, 1.0]]  # [theta_deg, bar]
+period_deg = 360
+table_unit = "bar"
+scale = "pi * (40 mm)**2 / 4"  # the piston's area
+''',
+)
+EXPRESSION_OUTPUT = '''[[outputs]]
+kind = "expression"
+name = "F_C"
+expression = "sqrt(Fx_C**2 + Fy_C**2)"
+description = "magnitude of the force in the pair C"
+unit = "N"
+'''
+
+
+def markdown() -> str:
+    """The reference of the description file format, in Markdown.
+
+    Everything it lists is read from the code when it is called: the tables and their
+    keys, the parameter kinds, the group types registered at that moment, the outputs
+    a built linkage reports, the expression functions and the units. The example file
+    is :data:`EXAMPLE` (the shipped ``four_bar`` where the package is installed without
+    the examples folder).
+
+    Returns
+    -------
+    str
+        The text of ``docs/description.md``; the same text at every call while the
+        code is the same.
+
+    Examples
+    --------
+    >>> text = markdown()
+    >>> print(text.splitlines()[0])
+    # Description files: the reference
+    >>> [line for line in text.splitlines() if line.startswith("### `RRR`")]
+    ['### `RRR`']
+    >>> "| `period_deg` | `360.0` |" in text
+    True
+    """
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        mech = _demo().build()
+    angle_note = next(str(w.message) for w in caught if "taken in radians" in str(w.message))
+    sections = [
+        _intro(),
+        _units(angle_note),
+        _tables(),
+        _linkage(),
+        _parameters(),
+        _points(),
+        _groups(),
+        _bodies(),
+        _loads(),
+        _effort(),
+        _outputs(mech),
+        _inputs(mech),
+        _expressions(),
+        _unit_names(),
+        _example(),
+    ]
+    return "\n\n".join(s.strip("\n") for s in sections) + "\n"
+
+
+# -- the sections ------------------------------------------------------------------------
+def _intro() -> str:
+    tables = ", ".join(f"`{header}`" for header, _ in spec.TABLES.values())
+    return f"""# Description files: the reference
+
+A description file is a [TOML](https://toml.io) file that describes a linkage: its
+parameters, the points fixed in the frame, the driver and the groups that place every
+other point, the bodies, the loads, where the balancing effort acts, and what it reports.
+`linkage_fmu.load(path)`, `Description.read(path)` and every `linkage-fmu` command
+read it; the check reports every problem at once, each with its table and key.
+
+This reference is written from the code by `linkage_fmu.spec.reference` (do not edit it:
+run `python -m linkage_fmu.spec.reference > docs/description.md`). The tables, in the
+order a file usually has them:
+{tables}.
+An example file is at the end."""
+
+
+def _units(angle_note: str) -> str:
+    examples = ", ".join(f'`"{t}"`' for t in ("240 mm", "1800 rpm", "30 deg",
+                                               "8 bar * pi * bore**2 / 4"))
+    try:
+        expressions.evaluate("1800 rpm", "m", "l_AB")
+    except ValueError as err:
+        refused = str(err)
+    force = expressions.Expression("8 bar * pi * bore**2 / 4").measure({"bore": (0.086, "m")})
+    newtons = force.to(units.PINT["N"]).magnitude
+    return f"""## Units and angles
+
+**Everything is SI, and angles are radians unless a unit says otherwise.** A plain number
+is taken in the SI unit of what it gives: metres, kilograms, newtons, radians, rad/s.
+
+A number may carry a unit, in text:
+{examples}.
+It is converted to SI and checked against what the value gives (a parameter's kind, a
+field's role, a key's unit):
+
+- `l_AB = "1800 rpm"` is refused: `{refused}`;
+- `"8 bar * pi * bore**2 / 4"` with `bore` = 0.086 m is a force of {newtons:.1f} N.
+
+Write a space between a number and its unit or not (`"240mm"`), and spaces around an
+operator after a unit (`"800 kPa * A"`: `"kPa*A"` is kilopascal ampere). A unit is any
+word of [pint](https://pint.readthedocs.io)'s (`mm`, `kN`, `bar`, `rpm`, `deg`, `kg*m**2`,
+`m/s**2`); the units the package itself names are listed under
+[Unit names](#unit-names).
+
+A plain angle beyond 2 pi is taken in radians, and warns, as it is probably meant in
+degrees: `{angle_note}`"""
+
+
+def _tables() -> str:
+    rows = [(f"`{header}`", holds) for header, holds in spec.TABLES.values()]
+    return "## The tables\n\n" + _table(("table", "holds"), rows) + """
+
+A file has these tables and no others. The names of parameters, loads and outputs are
+identifiers (letters, digits and `_`, not starting with a digit); points, links and
+joints are named by any text, such as `"1"` or `"slider"`."""
+
+
+def _linkage() -> str:
+    return "## `[linkage]`\n\n" + _keys(spec.LINKAGE_KEYS)
+
+
+def _parameters() -> str:
+    kinds = []
+    for kind in parameters.KINDS:
+        unit, rule = parameters.unit_and_rule(kind)
+        kinds.append((f"`{kind}`", _code(unit), units.NAMES.get(unit, "") if unit else "",
+                      rule))
+    return f"""## `[parameters]`
+
+One line per parameter, `NAME = {{ default = ..., kind = "...", description = "..." }}`:
+a value the linkage is built with (and an FMU parameter), used by name in the
+expressions of the other tables. A name is not an input's
+({", ".join(f"`{n}`" for n in spec.INPUT_NAMES)}).
+
+{_keys(spec.PARAMETER_KEYS)}
+
+The kinds, each with its SI unit and the rule its value meets:
+
+{_table(("kind", "unit", "measures", "rule"), kinds)}
+
+A value outside its rule, `min` or `max` is refused, naming the parameter."""
+
+
+def _points() -> str:
+    return """## `[points]`
+
+`NAME = [x, y]`: a point fixed in the frame, its coordinates in m (numbers, numbers with
+units, or expressions of the parameters). The frame's points are placed from the start;
+every other point is placed by a group."""
+
+
+def _groups() -> str:
+    roles = [(f"`{role}`", _code(unit), _cell(ROLE_MEANINGS.get(role, "")))
+             for role, unit in ROLES.items()]
+    types = sorted(Group.registry.items(), key=lambda kc: (not kc[1].DRIVER, kc[0].lower()))
+    drivers = " or ".join(f"`{kind}`" for kind, cls in types if cls.DRIVER)
+    out = [f"""## `[[groups]]`
+
+One table per group, `type = "..."` and the type's fields. The first group is the
+driver ({drivers}), and only the first; each later group places points and adds links
+from points already placed, so the order of the tables is an order in which every point
+is placed before it is used. A field's value is a name, or a number (a number with a
+unit, an expression of the parameters) in the field's unit; a field whose key is not
+optional must be given.
+
+Each field has a role, which says what its value must be:
+
+{_table(("role", "unit", "value"), roles)}
+
+The group types:"""]
+    for kind, cls in types:
+        out.append(_group_type(kind, cls))
+    return "\n\n".join(out)
+
+
+def _group_type(kind: str, cls: type) -> str:
+    """The section of one group type: its summary, whether it drives, its fields."""
+    doc = inspect.cleandoc(cls.__dict__.get("__doc__") or "")
+    summary = " ".join(doc.split("\n\n")[0].split()) if doc else ""
+    rows = [(f"`{key}`", f.role, _code(f.unit), "yes" if key in cls.OPTIONAL else "",
+             _cell(_rst_to_markdown(f.description))) for key, f in cls.FIELDS.items()]
+    shipped = sorted(name for name in presets.names()
+                     if any(g.get("type") == kind for g in presets.preset(name).groups))
+    lines = [f"### `{kind}`", ""]
+    if summary:
+        lines += [_cell(_rst_to_markdown(summary)), ""]
+    if cls.DRIVER:
+        lines += ["It drives the linkage: the first group, and only the first.", ""]
+    lines.append(_table(("key", "role", "unit", "optional", "description"), rows))
+    if shipped:
+        lines += ["", "In the shipped linkages " + ", ".join(f"`{n}`" for n in shipped) + "."]
+    return "\n".join(lines)
+
+
+def _bodies() -> str:
+    return f"""## `[bodies.L]`
+
+One table per moving link `L` (every link a group adds), its mass properties:
+
+{_keys(spec.BODY_KEYS)}
+
+`cg` is an inline table, `{{ from = "B", along = "l_BC / 2" }}`: the centre of mass in the
+link's own frame, measured from its point `from`, either `along` and `across` its
+direction or at `distance` in the direction `angle`:
+
+{_keys(spec.CG_KEYS)}"""
+
+
+def _loads() -> str:
+    defaults = {**spec.LOAD_DEFAULTS, **spec.TABLE_DEFAULTS}
+    rows = [(f"`{key}`", _code(_toml_value(defaults[key])) if key in defaults else "",
+             _cell(meaning)) for key, meaning in spec.LOAD_KEYS.items()]
+    examples = "\n\n".join(f"```toml\n{text}```" for text in CYCLE_LOADS)
+    return f"""## `[[loads]]`
+
+One table per named load: a force on a moving link at one of its points, or a moment on
+it. Its magnitude is given in one of three ways:
+
+- as an input: its value is given at each state (an FMU input, an option of
+  `linkage-fmu table`), starting at `start`;
+- over the cycle by `value = "EXPR"`: an expression of the crank angle `theta` (rad),
+  the parameters and the positions `x_P`, `y_P` (m) of every placed point `P`, computed
+  at each state;
+- over the cycle by `table`: the points `[theta_deg, value]` of one period
+  (`period_deg`, default {spec.TABLE_DEFAULTS["period_deg"]:g} degrees), from a CSV file
+  `table = "FILE.csv"` with the columns `theta_deg` and `value` (relative to the
+  description file) or inline, `table = [[theta_deg, value], ...]`; the load is the
+  periodic cubic spline through them, its values in `table_unit` (default the load's),
+  times `scale`.
+
+A load over the cycle is no input and has no `start`; `period_deg`, `table_unit` and
+`scale` belong to a table.
+
+{_table(("key", "default", "meaning"), rows)}
+
+Loads over the cycle, each a table the [example](#an-example) may take as it is:
+
+{examples}"""
+
+
+def _effort() -> str:
+    chooser = next(name for name in presets.names()
+                   if any(w is not None for w in presets.preset(name).efforts))
+    d = presets.preset(chooser)
+    choose = next(iter(d.efforts))[0]
+    text = d.to_toml()
+    parameter = next(line for line in text.splitlines() if line.startswith(f"{choose} = "))
+    block = next(b for b in text.split("\n\n") if b.startswith("[effort]"))
+    return f"""## `[effort]`
+
+Where the balancing effort acts: the moment on a link (the driver's, for the driving
+moment) that keeps the linkage in equilibrium with its loads, weights and inertia, or a
+force at a point. An output of kind `effort` reports it.
+
+{_keys(spec.EFFORT_KEYS)}
+
+Or a choice parameter selects it, one option per value:
+
+{_keys(spec.EFFORT_CHOICE_KEYS)}
+
+The shipped `{chooser}` does this with its parameter `{choose}`:
+
+```toml
+[parameters]
+{parameter}
+
+{block}
+```"""
+
+
+def _outputs(mech: Mechanism) -> str:
+    kinds = [(f"`{kind}`", _cell(spec.OUTPUT_KINDS.get(kind, ""))) for kind in spec.OUTPUT_KEYS]
+    out = [f"""## `[[outputs]]`
+
+One table per output, `kind = "..."` and its keys. The kinds:
+
+{_table(("kind", "reports"), kinds)}"""]
+    for kind, keys in spec.OUTPUT_KEYS.items():
+        out.append(f"### `kind = \"{kind}\"`\n\n" + _keys(keys))
+    out.append(f"```toml\n{EXPRESSION_OUTPUT}```")
+    every = [name for name in mech.output_info if name in SHAKING] + list(
+        mech.diagnostic_names)
+    rows = [(f"`{name}`", _code(mech.output_info[name][0]), _cell(mech.output_info[name][1]))
+            for name in every]
+    out.append(f"""### The outputs every linkage has
+
+Besides those of its `[[outputs]]`, every linkage reports these (`mu_<joint>` once for
+each group with a transmission angle, named by its joint); no other output or load may
+take their names:
+
+{_table(("output", "unit", "meaning"), rows)}""")
+    return "\n\n".join(out)
+
+
+def _inputs(mech: Mechanism) -> str:
+    from ..fmi.variables import variables
+
+    meanings = {v.name: v.description for v in variables(mech) if v.name in spec.INPUT_UNITS}
+    start = Description("start").inputs
+    rows = [(f"`{name}`", _code(unit), _code(_toml_value(start.get(name, 0.0))),
+             _cell(meanings.get(name, ""))) for name, unit in spec.INPUT_UNITS.items()]
+    return f"""## `[inputs]`
+
+The start values of the crank's motion, which the linkage takes where none is given (in
+`solve`, `linkage-fmu table`, an FMU's start values). A load's start value is its `start`
+in `[[loads]]`.
+
+{_table(("key", "unit", "default", "meaning"), rows)}
+
+`omega = "1800 rpm"` is {units.to_si("1800 rpm", "rad/s", "omega"):.6g} rad/s."""
+
+
+def _expressions() -> str:
+    functions = ", ".join(f"`{name}`" for name in sorted(expressions.FUNCTIONS))
+    constants = ", ".join(f"`{name}`" for name in expressions.CONSTANTS)
+    binary = " ".join(f"`{op}`" for op in expressions.BINARY_OPERATORS)
+    signs = " ".join(f"`{op}`" for op in expressions.SIGNS)
+    disagree = "its units do not agree"
+    try:
+        expressions.evaluate("1 m + 1 s", "m", "l_AB")
+    except ValueError as err:  # what pint says after it depends on its version
+        refused = str(err)[:str(err).index(disagree) + len(disagree)]
+    rows = [
+        ("a parameter's `default`", "none: an expression of numbers (`\"pi / 2\"`, "
+                                    "`\"120 mm\"`)"),
+        ("a load's `value`", "`theta` (rad), the parameters, `x_P` and `y_P` (m) of every "
+                             "placed point `P`"),
+        ("an output's `expression`", "`N_J`, `M_J`, `Fx_J`, `Fy_J` of every pair `J`, the "
+                                     "efforts' names, the parameters"),
+        ("every other number: group fields, `[points]`, `[bodies.L]`, `gravity`, a "
+         "load's `start` and `scale`, `[inputs]`", "the parameters"),
+    ]
+    return f"""## Expressions
+
+Where a number is expected, text may give an expression: `"l_BC / 2"`,
+`"-l_AS1 * sin(beta1)"`, `"pi / 2"`, `"120 mm + 2 * l_OA"`. It is parsed, never run as
+code, and may hold
+
+- numbers, numbers with units (`"40 mm"`), and names;
+- the operators {binary}, the signs {signs}, and parentheses;
+- the constant {constants};
+- calls of the functions {functions} (as Python's `math` and builtins: angles in
+  radians; `degrees` and `radians` convert).
+
+The names it may use depend on where it is:
+
+{_table(("where", "names"), rows)}
+
+An expression with units is checked as a number with a unit is, its names taken in their
+units (a parameter's kind, `theta` in rad, `x_P` in m): `"1 m + 1 s"` is refused,
+`{refused}`."""
+
+
+def _unit_names() -> str:
+    rows = [(_code(unit), units.NAMES.get(unit, ""), _code(pint)) for unit, pint in
+            units.PINT.items()]
+    return f"""## Unit names
+
+The units the package names (in the tables above, in its FMUs' `modelDescription`), what
+each measures, and pint's spelling of it, which a value's text may use too:
+
+{_table(("unit", "measures", "pint"), rows)}"""
+
+
+def _example() -> str:
+    path = EXAMPLE if EXAMPLE.is_file() else presets.path("four_bar")
+    shown = ("examples/coupler_four_bar.toml" if path == EXAMPLE else
+             "linkage_fmu/linkages/four_bar.toml")
+    text = path.read_text(encoding="utf-8")
+    title = tomllib.loads(text)["linkage"]["title"]
+    return f"""## An example
+
+`{shown}`: {title}.
+
+```toml
+{text.rstrip()}
+```"""
+
+
+# -- helpers ------------------------------------------------------------------------------
+def _demo() -> Description:
+    """A small linkage with a dyad whose joint is named ``<joint>`` and a centre of mass
+    at ``angle = 90`` (meant in degrees): what every linkage reports, and the warning
+    such an angle gives, as the code words them."""
+    return (Description("demo", model="Demo", source="linkage.toml")
+            .point("A", 0, 0).point("D", 1, 0)
+            .group("crank", link="1", pivot="A", tip="B", length=0.3)
+            .group("RRR", link1="2", link2="3", end1="B", middle="<joint>", end2="D",
+                   length1=1, length2=1, branch=1)
+            .body("1", cg={"from": "A", "distance": 0.1, "angle": 90})
+            .body("2", cg={"from": "B"}).body("3", cg={"from": "D"})
+            .effort("Mb", body="1").output("effort", name="Mb"))
+
+
+def _keys(keys: dict[str, str]) -> str:
+    """The table of a mapping key -> meaning."""
+    return _table(("key", "meaning"), [(f"`{k}`", _cell(v)) for k, v in keys.items()])
+
+
+def _table(head: tuple[str, ...], rows: list[tuple[str, ...]]) -> str:
+    lines = ["| " + " | ".join(head) + " |", "|" + "|".join("---" for _ in head) + "|"]
+    lines += ["| " + " | ".join(row) + " |" for row in rows]
+    return "\n".join(lines)
+
+
+def _code(text: str) -> str:
+    return f"`{text}`" if text else ""
+
+
+def _toml_value(value: Any) -> str:
+    return json.dumps(value) if isinstance(value, str) else repr(value)
+
+
+def _rst_to_markdown(text: str) -> str:
+    """Docstring text in Markdown: ``code`` and :role:`~a.b` as `code`."""
+    text = re.sub(r":\w+:`~?([^`]*)`", r"``\1``", text)
+    return text.replace("``", "`")
+
+
+def _cell(text: str) -> str:
+    """Text for a table cell: ``|`` and ``<`` escaped outside code spans."""
+    parts = text.split("`")
+    for k in range(0, len(parts), 2):
+        parts[k] = parts[k].replace("|", "\\|").replace("<", "\\<")
+    return "`".join(parts)
+
+
+if __name__ == "__main__":
+    sys.stdout.write(markdown())
