@@ -191,3 +191,15 @@ def test_build_refuses_a_linkage_that_assembles_nowhere_and_says_where_one_does(
     status, out, err = run(["build", "four_bar", "--set", "l_AB=0.3", "--out", str(tmp_path)])
     assert status == 0 and out.strip().endswith("FourBar.fmu")
     assert "assembles over theta = 0 to 135.95 and 224.05 to 360 deg only" in err
+
+
+def test_reference_writes_the_description_formats_reference(tmp_path):
+    """``linkage-fmu reference`` prints, and with -o writes, the reference of the
+    description format, which is the committed docs/description.md."""
+    from pathlib import Path
+
+    committed = (Path(__file__).parents[1] / "docs" / "description.md").read_text()
+    status, out, _ = run(["reference"])
+    assert status == 0 and out == committed
+    status, _, err = run(["reference", "-o", str(tmp_path / "d.md")])
+    assert status == 0 and (tmp_path / "d.md").read_text() == committed

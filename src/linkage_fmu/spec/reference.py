@@ -10,7 +10,8 @@ expressions may hold (:mod:`~linkage_fmu.expressions`); the units
 (:mod:`~linkage_fmu.units`); and a complete description file. A group type, key, kind,
 function or unit added to the code is in the reference the next time it is written.
 
-Run as a script, it prints the reference::
+``linkage-fmu reference -o docs/description.md`` writes it; run as a script, it
+prints it::
 
     python -m linkage_fmu.spec.reference > docs/description.md
 """
@@ -137,7 +138,7 @@ other point, the bodies, the loads, where the balancing effort acts, and what it
 read it; the check reports every problem at once, each with its table and key.
 
 This reference is written from the code by `linkage_fmu.spec.reference` (do not edit it:
-run `python -m linkage_fmu.spec.reference > docs/description.md`). The tables, in the
+run `linkage-fmu reference -o docs/description.md`). The tables, in the
 order a file usually has them:
 {tables}.
 An example file is at the end."""
