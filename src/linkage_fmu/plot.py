@@ -12,8 +12,9 @@ horizontal axes are in degrees: the given ``theta_deg`` itself, else ``degrees(t
 
 Inputs: ``omega``, ``alpha`` and each load (by position after ``alpha``, as in
 :meth:`~linkage_fmu.Mechanism.solve`, or by name) that are not given take the linkage's
-start values (its ``[inputs]`` table and each load's ``start``), as ``linkage-fmu
-table`` does: ``mech.solve`` instead takes 0 for an omitted load.
+start values (its ``[inputs]`` table and each load's ``start``), as ``mech.solve`` and
+``linkage-fmu table`` do; a load over the cycle is computed at each angle unless given
+by name.
 
 What is drawn carries a ``gid`` (``artist.get_gid()``), so that scripts and tests can
 find it: the curves by output name, ``"mean"``, ``"peak"``, ``"origin"``,
