@@ -108,6 +108,40 @@ def test_torque_mean_is_zero_without_net_work():
     np.testing.assert_array_equal(np.ravel(lines["peak"][0].get_data()), [DEG[i], y[i]])
 
 
+def test_torque_mean_is_printed_against_the_curve_scale():
+    """The scotch yoke (crank r, block m2 on its pin, yoke m3 moving y = r sin(theta),
+    no gravity, a force F along -y on the yoke) at constant speed: kinetic energy
+    T = (m2 + m3 cos(theta)^2) r^2 omega^2 / 2 and Mb omega = dT/dt + F r cos(theta)
+    omega, so Mb = F r cos(theta) - m3 r^2 omega^2 sin(2 theta) / 2, whose mean over
+    the 720 equal steps of a revolution is exactly 0: the label says 0, not what
+    rounding leaves of the sum (about -2e-15 N.m). With alpha as well, Mb gains
+    (J1 + m2 r^2 + m3 r^2 cos(theta)^2) alpha, of mean alpha (J1 + m2 r^2 + m3 r^2 / 2),
+    printed to 4 digits."""
+    r, m2, m3, j1, omega, force = 0.1, 4.2, 10.0, 0.013, 10.0, 400.0
+    yoke = presets.get("scotch_yoke", l_AB=r, m2=m2, m3=m3, J1=j1, g=0.0)
+    t = np.radians(DEG)
+    lines = by_gid(plot.torque(yoke, omega=omega, alpha=0.0, load=force).axes[0])
+    mb = force * r * np.cos(t) - m3 * r * r * omega ** 2 * np.sin(2 * t) / 2
+    peak = np.max(np.abs(mb))
+    np.testing.assert_allclose(lines["Mb"][0].get_ydata(), mb, rtol=0, atol=1e-13 * peak)
+    assert abs(lines["mean"][0].get_ydata()[0]) < 1e-12 * peak
+    assert lines["mean"][0].get_label() == "mean 0 N.m"
+
+    alpha = 3.0
+    lines = by_gid(plot.torque(yoke, omega=omega, alpha=alpha, load=0.0).axes[0])
+    mean = alpha * (j1 + m2 * r * r + m3 * r * r / 2)  # 0.315 N.m
+    np.testing.assert_allclose(lines["mean"][0].get_ydata(), [mean] * 2, rtol=1e-12)
+    assert lines["mean"][0].get_label() == "mean 0.315 N.m"
+
+
+def test_rounded_cuts_below_the_scale_only():
+    assert plot.rounded(-3.16e-16, 5.0) == "0"
+    assert plot.rounded(4.9e-12, 5.0) == "0"  # 1e-12 of the scale
+    assert plot.rounded(5.1e-12, 5.0) == "5.1e-12"
+    assert plot.rounded(-1234.5678, 5.0) == "-1235"
+    assert plot.rounded(0.0, 0.0) == "0"  # a curve of zeros
+
+
 def test_torque_other_output_theta_in_radians_and_an_axes_given(tmp_path):
     mech = presets.get("four_bar")
     theta = np.linspace(0.5, 2.0, 50)

@@ -50,8 +50,8 @@ if TYPE_CHECKING:  # pragma: no cover
     from .mechanism import Mechanism
 
 __all__ = ["torque", "polar", "linkage", "transmission", "ForcePair", "force_pairs",
-           "link_points", "revolution_mean", "toggles", "N_ANGLES", "ARROW_FRACTION",
-           "TOGGLE_TOL"]
+           "link_points", "revolution_mean", "rounded", "toggles", "N_ANGLES",
+           "ARROW_FRACTION", "TOGGLE_TOL", "ZERO_FRACTION"]
 
 #: the default crank angles: 0, 0.5, ..., 360 degrees (both ends: a closed curve)
 N_ANGLES = 721
@@ -59,6 +59,8 @@ N_ANGLES = 721
 ARROW_FRACTION = 0.4
 #: a transmission angle within this of 0 or pi [rad] is a toggle
 TOGGLE_TOL = 1e-6
+#: a mean within this fraction of its curve's largest magnitude is printed as 0
+ZERO_FRACTION = 1e-12
 
 _INSTALL = ('linkage_fmu.plot needs matplotlib (>= 3.7): pip install "linkage_fmu[plot]" '
             "(or pip install matplotlib)")
@@ -262,6 +264,23 @@ def revolution_mean(theta: np.ndarray, values: np.ndarray) -> float:
     return float(np.sum(0.5 * (y0[ok] + y1[ok]) * dt[ok]) / np.sum(dt[ok]))
 
 
+def rounded(value: float, scale: float) -> str:
+    """``value`` to 4 significant digits, or ``"0"`` where it is within
+    :data:`ZERO_FRACTION` of ``scale`` (e.g. the largest ``|value|`` of the curve whose
+    mean it is): a sum of numbers of that size cannot tell a smaller value from 0.
+
+    Examples
+    --------
+    >>> rounded(3.534e-17, 18.92), rounded(-0.0, 0.0), rounded(0.123456, 18.92)
+    ('0', '0', '0.1235')
+    >>> rounded(2.5e-11, 18.92), rounded(float("nan"), 1.0)
+    ('2.5e-11', 'nan')
+    """
+    if abs(value) <= ZERO_FRACTION * abs(scale):
+        return "0"
+    return f"{value:.4g}"
+
+
 def _peak(values: np.ndarray) -> int:
     """Index of the largest finite ``|values|`` (the first if several)."""
     magnitude = np.abs(values)
@@ -313,7 +332,8 @@ def torque(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads,
     Figure
         Lines (gid): the output (``output``'s name; NaN where the linkage cannot be
         assembled, drawn as gaps), ``"mean"`` (horizontal, at
-        :func:`revolution_mean` of the output) and ``"peak"`` (one point at the largest
+        :func:`revolution_mean` of the output; its legend label gives it
+        :func:`rounded` against the peak) and ``"peak"`` (one point at the largest
         ``|output|``, annotated with its angle and value).
 
     Raises
@@ -350,7 +370,8 @@ def torque(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads,
 
     fig, ax = _axes(ax)
     ax.plot(deg, values, color="C0", lw=1.6, label=name, gid=name)
-    ax.axhline(mean, color="C1", ls="--", lw=1.2, label=f"mean {mean:.4g} {unit}", gid="mean")
+    ax.axhline(mean, color="C1", ls="--", lw=1.2,
+               label=f"mean {rounded(mean, abs(values[i]))} {unit}", gid="mean")
     ax.plot([deg[i]], [values[i]], "o", color="C3", ms=7,
             label=f"peak |{name}| {abs(values[i]):.4g} {unit}", gid="peak")
     ax.annotate(f"{values[i]:.4g} {unit}\nat θ = {deg[i]:.1f}°", (deg[i], values[i]),
