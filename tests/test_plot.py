@@ -8,6 +8,7 @@ plain numpy reductions of it, and toggle angles must match the closed-form geome
 
 from __future__ import annotations
 
+import itertools
 import math
 import sys
 from pathlib import Path
@@ -19,6 +20,7 @@ matplotlib = pytest.importorskip("matplotlib")
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.quiver import Quiver  # noqa: E402
+from matplotlib.text import Text  # noqa: E402
 
 import linkage_fmu  # noqa: E402
 from linkage_fmu import plot, presets  # noqa: E402
@@ -294,6 +296,91 @@ def test_linkage_arrows_are_the_joint_forces_to_scale(tmp_path, make, theta, inp
     revolute = [st.p[j.point] for j in mech.joints if j.normal is None]
     np.testing.assert_allclose(np.array(joints.get_data(), float).T, np.array(revolute, float),
                                rtol=RTOL, atol=1e-15)
+
+
+def label_boxes(fig) -> list:
+    """(gid, text, display bbox of the text alone, distance [pt] from its anchor) of
+    every label of the linkage plot, and the scale key's text, as drawn."""
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    ax = fig.axes[0]
+    out = []
+    for t in ax.texts:
+        if (t.get_gid() or "").split(":")[0] in ("point", "force", "load label"):
+            box = Text.get_window_extent(t, renderer)  # without a leader line
+            x, y = ax.transData.transform(t.xy)
+            dx, dy = max(box.x0 - x, 0.0, x - box.x1), max(box.y0 - y, 0.0, y - box.y1)
+            out.append((t.get_gid(), t.get_text(), box, math.hypot(dx, dy) * 72 / fig.dpi))
+    (key,) = [a for a in ax.get_children() if a.get_gid() == "scale"]
+    out.append(("scale", key.text.get_text(), key.text.get_window_extent(renderer), 0.0))
+    return out
+
+
+def overlaps(boxes) -> list:
+    return [(a[:2], b[:2]) for a, b in itertools.combinations(boxes, 2)
+            if a[2].x0 < b[2].x1 and b[2].x0 < a[2].x1 and a[2].y0 < b[2].y1 and
+            b[2].y0 < a[2].y1]
+
+
+LABELLED = [(name, lambda name=name: presets.get(name)) for name in presets.names()] + [
+    ("six_bar-D", lambda: presets.get("six_bar", driver="D")),
+    ("coupler", lambda: linkage_fmu.load(EXAMPLE))]
+
+
+@pytest.mark.parametrize("make", [m for _, m in LABELLED], ids=[n for n, _ in LABELLED])
+def test_linkage_labels_do_not_overlap(make):
+    """At a few angles of every preset (the six-bar's labels at 60 deg used to lie on
+    top of each other): no two labels' boxes overlap as drawn, nor the scale's key,
+    and each stays within 45 pt of its point or arrow tip; the same figure again puts
+    them in the same places; after a resize they are placed again."""
+    mech = make()
+    angles = [a for a in (30.0, 60.0, 200.0, 300.0) if mech.solve(math.radians(a)).valid]
+    assert angles
+    for deg in angles:
+        fig = plot.linkage(mech, theta_deg=deg)
+        boxes = label_boxes(fig)
+        assert len(boxes) >= len(plot.force_pairs(mech)) + 3
+        assert not overlaps(boxes), (deg, overlaps(boxes))
+        assert max(b[3] for b in boxes) < 45.0, (deg, [(b[0], b[3]) for b in boxes])
+        again = label_boxes(plot.linkage(mech, theta_deg=deg))  # the same places again
+        np.testing.assert_allclose([b[2].extents for b in again],
+                                   [b[2].extents for b in boxes], rtol=0, atol=1e-9)
+        fig.set_size_inches(4.0, 3.5)
+        assert not overlaps(label_boxes(fig)), deg
+        plt.close(fig)
+
+
+def test_place_boxes_keeps_boxes_apart_near_and_inside():
+    """40 boxes about two anchors close by, a box taken between them: every two boxes
+    (the taken one too) are at least the gap apart along x or y, each lies inside the
+    frame and within its distance of its anchor, the distances are on the rings, and
+    the first box, with nothing in its way, lies one gap from its anchor straight in
+    the direction it wants."""
+    rng = np.random.default_rng(7)
+    n, gap = 40, 0.5
+    sizes = rng.uniform(2.0, 9.0, (n, 2))
+    anchors = np.repeat([[-20.0, 0.0], [3.0, 1.0]], n // 2, axis=0)
+    toward = rng.uniform(-4.0, 4.0, n)
+    taken = [[-1.0, -1.0, 1.0, 1.0]]
+    frame = (-60.0, -40.0, 50.0, 45.0)
+    centres, distances = plot.place_boxes(anchors, sizes, toward, taken, frame, gap=gap)
+    boxes = np.r_[np.c_[centres - sizes / 2, centres + sizes / 2], taken]
+    for i, j in itertools.combinations(range(n + 1), 2):
+        a, b = boxes[i], boxes[j]
+        assert max(a[0] - b[2], b[0] - a[2], a[1] - b[3], b[1] - a[3]) >= gap - 1e-12, (i, j)
+    assert np.all((boxes[:n, :2] >= frame[:2]) & (boxes[:n, 2:] <= frame[2:]))
+    dx = np.maximum.reduce([boxes[:n, 0] - anchors[:, 0], anchors[:, 0] - boxes[:n, 2],
+                            np.zeros(n)])
+    dy = np.maximum.reduce([boxes[:n, 1] - anchors[:, 1], anchors[:, 1] - boxes[:n, 3],
+                            np.zeros(n)])
+    assert np.all(np.hypot(dx, dy) <= distances + 1e-12)
+    rings = {gap * (1 + k * (k + 1) // 2) for k in range(30)}
+    assert set(distances.tolist()) <= rings
+    assert distances[0] == gap
+    c, s = math.cos(toward[0]), math.sin(toward[0])
+    edge = min(sizes[0, 0] / 2 / abs(c), sizes[0, 1] / 2 / abs(s))  # centre to edge
+    np.testing.assert_allclose(centres[0], anchors[0] + (gap + edge) * np.array([c, s]),
+                               rtol=1e-12)
 
 
 def test_linkage_cannot_be_drawn_where_it_cannot_be_assembled():

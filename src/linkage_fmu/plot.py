@@ -43,6 +43,12 @@ import numpy as np
 
 from .outputs import SHAKING, joint_between
 
+try:  # the linkage's label placer is an artist; without matplotlib, _pyplot() says so
+    from matplotlib.artist import Artist as _Artist
+    from matplotlib.text import Text as _Text
+except ImportError:  # pragma: no cover
+    _Artist = _Text = object
+
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
@@ -50,7 +56,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from .mechanism import Mechanism
 
 __all__ = ["torque", "polar", "linkage", "transmission", "ForcePair", "force_pairs",
-           "link_points", "revolution_mean", "rounded", "toggles", "N_ANGLES",
+           "link_points", "revolution_mean", "rounded", "toggles", "place_boxes", "N_ANGLES",
            "ARROW_FRACTION", "TOGGLE_TOL", "ZERO_FRACTION"]
 
 #: the default crank angles: 0, 0.5, ..., 360 degrees (both ends: a closed curve)
@@ -477,6 +483,182 @@ def _ordered(points: Sequence[str], pos: dict) -> list[str]:
     return [points[k] for k in order]
 
 
+def _overlapping(boxes: np.ndarray, taken: np.ndarray, pad: float) -> np.ndarray:
+    """For each of ``boxes`` (rows ``x0, y0, x1, y1``), whether it comes within ``pad``
+    of any of ``taken``."""
+    b, t = boxes[:, None, :], taken[None, :, :]
+    return ((b[..., 0] < t[..., 2] + pad) & (t[..., 0] < b[..., 2] + pad) &
+            (b[..., 1] < t[..., 3] + pad) & (t[..., 1] < b[..., 3] + pad)).any(axis=1)
+
+
+#: the directions tried about a label's anchor: the preferred one, then the others in
+#: pairs on either side of it, 22.5 degrees apart
+_TURNS = np.radians(22.5) * np.array([0] + [s * k for k in range(1, 9) for s in (1, -1)][:15])
+
+
+def place_boxes(anchors, sizes, toward, taken=(), frame=None, gap: float = 1.0,
+                far: float = math.inf) -> tuple[np.ndarray, np.ndarray]:
+    """Centres for boxes of the ``sizes`` ``(w, h)``, each near its anchor, such that no
+    two come within ``gap`` of each other or of the boxes ``taken``: each in turn,
+    from the first, at the first free spot on rings about its anchor (distances
+    ``gap * (1, 2, 4, 7, 11, ...)`` from the anchor to the box's edge), trying first the
+    direction ``toward`` [rad] and then the others, 22.5 degrees apart, by how far they
+    turn from it. A spot inside ``frame`` (``x0, y0, x1, y1``) is preferred; beyond
+    ``far`` the first free spot is taken wherever it is. Any unit of length will do
+    (matplotlib's display pixels in :func:`linkage`); the result depends on nothing else.
+
+    Returns
+    -------
+    centres : ndarray, shape (n, 2)
+    distances : ndarray, shape (n,)
+        From each anchor to its box's edge along the direction taken.
+
+    Examples
+    --------
+    Two boxes 4 wide and 2 high anchored at the same point, both wanting to lie to its
+    right: the first does, one gap away; the second, kept a gap off the first, takes
+    the first free direction on the same ring, turned 157.5 degrees to the upper left.
+
+    >>> centres, distances = place_boxes([(0, 0), (0, 0)], [(4, 2), (4, 2)], [0.0, 0.0])
+    >>> centres.round(3).tolist(), distances.tolist()
+    ([[3.0, 0.0], [-2.924, 1.211]], [1.0, 1.0])
+
+    In a frame that ends at x = -1 it goes to the fourth ring instead, 45 degrees up:
+
+    >>> centres, distances = place_boxes([(0, 0), (0, 0)], [(4, 2), (4, 2)], [0.0, 0.0],
+    ...                                  frame=(-1, -10, 10, 10))
+    >>> centres.round(3).tolist(), distances.tolist()
+    ([[3.0, 0.0], [3.828, 3.828]], [1.0, 4.0])
+    """
+    if not gap > 0.0:
+        raise ValueError(f"gap must be > 0, got {gap!r}")
+    anchors = np.asarray(anchors, dtype=float).reshape(-1, 2)
+    sizes = np.asarray(sizes, dtype=float).reshape(-1, 2)
+    boxes = [np.asarray(taken, dtype=float).reshape(-1, 4)]
+    x0, y0, x1, y1 = (-math.inf, -math.inf, math.inf, math.inf) if frame is None else frame
+    centres, distances = np.empty_like(anchors), np.empty(len(anchors))
+    for n, ((ax, ay), (w, h), a) in enumerate(zip(anchors, sizes, np.broadcast_to(
+            np.asarray(toward, dtype=float), len(anchors)))):
+        c, s = np.cos(a + _TURNS), np.sin(a + _TURNS)
+        with np.errstate(divide="ignore"):  # along an axis, one side sets the edge
+            edge = np.minimum(0.5 * w / np.abs(c), 0.5 * h / np.abs(s))
+        now = np.concatenate(boxes)
+        chosen = outside = None
+        k = 0
+        while chosen is None:
+            r = gap * (1 + k * (k + 1) // 2)
+            cx, cy = ax + (r + edge) * c, ay + (r + edge) * s
+            spots = np.c_[cx - 0.5 * w, cy - 0.5 * h, cx + 0.5 * w, cy + 0.5 * h]
+            free = ~_overlapping(spots, now, gap)
+            inside = (spots[:, 0] >= x0) & (spots[:, 1] >= y0) & (spots[:, 2] <= x1) & \
+                     (spots[:, 3] <= y1)
+            if (free & inside).any():
+                chosen = (spots[np.argmax(free & inside)], r)
+            elif outside is None and free.any():
+                outside = (spots[np.argmax(free)], r)
+            if chosen is None and outside is not None and r > far:
+                chosen = outside
+            elif chosen is None and r > 1e6 * max(gap, w, h):  # an infinite box is taken
+                chosen = (spots[0], r)
+            k += 1
+        box, distances[n] = chosen
+        centres[n] = 0.5 * (box[:2] + box[2:])
+        boxes.append(box[None, :])
+    return centres, distances
+
+
+class _LabelPlacer(_Artist):
+    """Places the labels of :func:`linkage` where they do not overlap, at each draw,
+    before the labels are drawn and once the layout has fixed the axes' transform (the
+    size of a text is in points and the linkage in metres, so where they collide
+    depends on the figure): with :func:`place_boxes` in display pixels, in the order
+    they were added, kept off each other, the marks (joint circles), the arrows'
+    shafts and the scale's key, inside the axes where possible. A label farther than
+    :attr:`LEADER_PT` from its anchor gets a thin line to it."""
+
+    GAP_PT = 3.0  # spacing of the rings, and the least gap between labels
+    MARK_PT = 5.0  # half the side of the square kept clear about a mark
+    LEADER_PT = 16.0
+    FAR_PT = 60.0  # farther than this, a label may leave the axes
+
+    def __init__(self, ax: "Axes"):
+        super().__init__()
+        self.set_zorder(-math.inf)  # drawn before the axes' other artists
+        self.set_in_layout(False)
+        self.labels: list = []  # (annotation, anchor [m], preferred direction [m])
+        self.marks = np.empty((0, 2))  # [m]
+        self.blocks = np.empty((0, 4))  # x0, y0, x1, y1 [m]: the frame points' symbols
+        self.arrows = np.empty((0, 4))  # x, y, u, v [m]
+        self.key = None
+        ax.add_artist(self)
+
+    def add(self, text: str, xy, toward, color: str, **kwargs):
+        """A label ``text`` of the point ``xy`` [m], preferably in the direction of the
+        vector ``toward`` [m] from it."""
+        ann = self.axes.annotate(
+            text, xy, xytext=(0.0, 0.0), textcoords="offset points", ha="center",
+            va="center", color=color, arrowprops=dict(arrowstyle="-", color=color, lw=0.6,
+                                                      shrinkA=1.0, shrinkB=2.0), **kwargs)
+        ann.arrow_patch.set_visible(False)
+        ann.set_in_layout(False)  # placed after the layout: it must not move the axes
+        self.labels.append((ann, np.asarray(xy, float), np.asarray(toward, float)))
+        return ann
+
+    def _taken(self, renderer, px: float) -> np.ndarray:
+        """The boxes [display px] labels keep off: the marks, the frame points'
+        symbols, points along the arrows, the scale's key."""
+        to = self.axes.transData.transform
+        m = self.MARK_PT * px
+        marks = to(self.marks).reshape(-1, 2)
+        blocks = to(self.blocks.reshape(-1, 2)).reshape(-1, 4)
+        boxes = [np.c_[marks - m, marks + m], np.c_[np.minimum(blocks[:, :2], blocks[:, 2:]),
+                                                    np.maximum(blocks[:, :2], blocks[:, 2:])]]
+        for x, y, u, v in self.arrows:
+            a, b = to([(x, y), (x + u, y + v)])
+            n = int(min(np.hypot(*(b - a)) / (2.0 * px), 1000)) + 2
+            along = a + np.linspace(0.0, 1.0, n)[:, None] * (b - a)
+            boxes.append(np.c_[along - px, along + px])
+        if self.key is not None and self.key.get_visible():
+            key = self.key
+            x, y = self.axes.transAxes.transform((key.X, key.Y))
+            length = abs(to((key.U, 0.0))[0] - to((0.0, 0.0))[0])  # the key's tip is at X
+            text = key.text.get_window_extent(renderer)
+            half = max(0.5 * text.height, 3.0 * px)
+            sep = 7.2 * px  # QuiverKey's labelsep, 0.1 inch
+            boxes.append([[x - length, y - half, x + sep + text.width, y + half]])
+        return np.concatenate([np.reshape(b, (-1, 4)) for b in boxes])
+
+    def draw(self, renderer):
+        labels = [(a, xy, d) for a, xy, d in self.labels if a.get_visible()]
+        if not self.get_visible() or not labels:
+            return
+        px = renderer.points_to_pixels(1.0)
+        to = self.axes.transData.transform
+        anchors, sizes, toward, shifts = [], [], [], []
+        for ann, xy, direction in labels:
+            ann.update_positions(renderer)
+            box = _Text.get_window_extent(ann, renderer)  # the text, not its leader
+            at = to(xy)
+            d = to(xy + direction) - at
+            anchors.append(at)
+            sizes.append((box.width, box.height))
+            toward.append(math.atan2(d[1], d[0]) if np.hypot(*d) > 0 else math.pi / 4)
+            # the box's centre from the text's position (its alignment, its descent)
+            shifts.append(np.array(box.corners().mean(axis=0)) -
+                          ann.get_transform().transform(ann.xyann))
+        centres, distances = place_boxes(anchors, sizes, toward, self._taken(renderer, px),
+                                         self.axes.bbox.extents, self.GAP_PT * px,
+                                         self.FAR_PT * px)
+        for (ann, _, _), at, centre, shift, r in zip(labels, anchors, centres, shifts,
+                                                      distances):
+            offset = tuple((centre - shift - at) / px)
+            if not np.allclose(offset, ann.xyann, rtol=0.0, atol=1e-3):
+                ann.xyann = offset  # only if it moved: no redraw for nothing
+            leader = bool(r > self.LEADER_PT * px)
+            if ann.arrow_patch.get_visible() != leader:
+                ann.arrow_patch.set_visible(leader)
+
+
 def _nice(value: float) -> float:
     """1, 2 or 5 times a power of ten, at most ``value`` (> 0)."""
     power = 10.0 ** math.floor(math.log10(value))
@@ -503,7 +685,11 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     three or more), a slider a square, revolute joints circles, frame points hatched
     triangles and fixed guides dashed lines. Each :func:`force_pairs` force whose joint is
     known is an arrow ``F * scale`` [m] starting at its joint's point, labelled with its
-    name at the tip.
+    name and magnitude beyond its tip. The labels are placed when the figure is drawn
+    (their size is in points, the linkage's in metres), each as near its point or tip
+    as it can be without covering another label, a joint, a frame point's symbol, an
+    arrow or the scale (:func:`place_boxes`), with a thin line to it if it had to move
+    away.
 
     Parameters
     ----------
@@ -527,7 +713,8 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
         Its axes hold the quiver ``gid="forces"`` (``X, Y`` the joint points, ``U, V``
         the forces times ``scale``, in :func:`force_pairs` order), the quiver key
         ``gid="scale"`` (a round force to scale; the title gives the scale in m/N),
-        lines ``gid="link:<name>"`` (a patch for a slider) and ``gid="joints"``.
+        lines ``gid="link:<name>"`` (a patch for a slider) and ``gid="joints"``, and the
+        labels (annotations) ``gid="force:<name>"`` and ``gid="point:<name>"``.
 
     Raises
     ------
@@ -599,24 +786,26 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     jx, jy = zip(*[pos[p] for p in revolute]) if revolute else ((), ())
     ax.plot(jx, jy, "o", ms=7, mfc="white", mec="k", mew=1.3, ls="none", zorder=4,
             gid="joints")
-    for p in drawn:
-        ax.annotate(p, pos[p], xytext=(-6, 6), textcoords="offset points", ha="right",
-                    fontsize=9, color="0.25", gid=f"point:{p}")
+    labels = _LabelPlacer(ax)
+    labels.marks = np.array([pos[p] for p in drawn], dtype=float).reshape(-1, 2)
+    labels.blocks = np.array([(pos[p][0] - 1.6 * s, pos[p][1] - 2.2 * s, pos[p][0] + 1.6 * s,
+                               pos[p][1]) for p in mech.frame_points]).reshape(-1, 4)
+    for p in drawn:  # up and to the left, as far as the others let them
+        labels.add(p, pos[p], (-1.0, 1.0), "0.25", fontsize=9, gid=f"point:{p}")
 
     u, v = forces[:, 0] * scale, forces[:, 1] * scale
     quiver = ax.quiver(origins[:, 0], origins[:, 1], u, v, angles="xy", scale_units="xy",
                        scale=1.0, color="crimson", width=0.006, zorder=5, gid="forces")
+    labels.arrows = np.c_[origins, u, v]
     for p, (x, y), du, dv, (fx, fy) in zip(pairs, origins, u, v, forces):
-        right, up = du >= 0.0, dv >= 0.0  # the label beyond the tip
-        ax.annotate(f"{p.name}\n{math.hypot(fx, fy):.3g} N", (x + du, y + dv),
-                    xytext=(4 if right else -4, 4 if up else -4), textcoords="offset points",
-                    ha="left" if right else "right", va="bottom" if up else "top",
-                    fontsize=8, color="crimson", gid=f"force:{p.name}")
+        labels.add(f"{p.name}\n{math.hypot(fx, fy):.3g} N", (x + du, y + dv), (du, dv),
+                   "crimson", fontsize=8, gid=f"force:{p.name}")  # beyond the tip
     if largest > 0.0:
         ref = _nice(0.5 * largest)
         key = ax.quiverkey(quiver, 0.5, 0.04, ref * scale, f"{ref:g} N", labelpos="E",
                            coordinates="axes", color="crimson")
         key.set_gid("scale")
+        labels.key = key
 
     tips = np.concatenate([np.array([pos[p] for p in drawn]), origins + np.c_[u, v]])
     lo, hi = tips.min(axis=0) - 0.12 * size, tips.max(axis=0) + 0.12 * size
