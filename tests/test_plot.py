@@ -383,6 +383,23 @@ def test_place_boxes_keeps_boxes_apart_near_and_inside():
                                rtol=1e-12)
 
 
+def test_place_boxes_avoids_a_line_at_a_cost():
+    """A line just right of the anchor: without a cost of covering it the box lies on
+    it, to the right; with one it takes the first spot of the same ring clear of the
+    line by the gap (turned 157.5 degrees: the box's corner would touch it before)."""
+    line = [[0.5, -0.2, 20.0, 0.2]]
+    centres, distances = plot.place_boxes([(0, 0)], [(4, 2)], [0.0], avoid=line)
+    np.testing.assert_allclose(centres, [[3.0, 0.0]], rtol=1e-15)
+    centres, distances = plot.place_boxes([(0, 0)], [(4, 2)], [0.0], avoid=line, cover=50.0)
+    (cx, cy), (w, h) = centres[0], (4.0, 2.0)
+    assert cx + w / 2 <= 0.5 - 1.0 or cy - h / 2 >= 0.2 + 1.0  # a gap (1) off the line
+    assert distances[0] == 1.0
+    t = math.radians(157.5)
+    edge = min(2.0 / abs(math.cos(t)), 1.0 / abs(math.sin(t)))
+    np.testing.assert_allclose(centres[0], (1.0 + edge) * np.array([math.cos(t), math.sin(t)]),
+                               rtol=1e-12)
+
+
 def test_linkage_cannot_be_drawn_where_it_cannot_be_assembled():
     with pytest.raises(linkage_fmu.AssemblyError):
         plot.linkage(presets.get("four_bar", l_AB=0.3), theta_deg=180.0)

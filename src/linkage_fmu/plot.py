@@ -497,15 +497,20 @@ _TURNS = np.radians(22.5) * np.array([0] + [s * k for k in range(1, 9) for s in 
 
 
 def place_boxes(anchors, sizes, toward, taken=(), frame=None, gap: float = 1.0,
-                far: float = math.inf) -> tuple[np.ndarray, np.ndarray]:
+                avoid=(), cover: float = 0.0, leave: float = math.inf
+                ) -> tuple[np.ndarray, np.ndarray]:
     """Centres for boxes of the ``sizes`` ``(w, h)``, each near its anchor, such that no
-    two come within ``gap`` of each other or of the boxes ``taken``: each in turn,
-    from the first, at the first free spot on rings about its anchor (distances
-    ``gap * (1, 2, 4, 7, 11, ...)`` from the anchor to the box's edge), trying first the
-    direction ``toward`` [rad] and then the others, 22.5 degrees apart, by how far they
-    turn from it. A spot inside ``frame`` (``x0, y0, x1, y1``) is preferred; beyond
-    ``far`` the first free spot is taken wherever it is. Any unit of length will do
-    (matplotlib's display pixels in :func:`linkage`); the result depends on nothing else.
+    two come within ``gap`` of each other or of the boxes ``taken``.
+
+    Each box in turn, from the first, is tried on rings about its anchor (distances
+    ``gap * (1, 2, 4, 7, 11, ...)`` from the anchor to the box's edge) in 16 directions
+    22.5 degrees apart, the direction ``toward`` [rad] first, then the others by how far
+    they turn from it. Of the spots clear of the boxes placed before it and of
+    ``taken``, it takes the one of least cost: its distance, plus ``cover`` if it comes
+    within ``gap`` of one of the boxes ``avoid`` (lines it had better not hide), plus
+    ``leave`` if it is not inside ``frame`` (``x0, y0, x1, y1``); of equal costs, the
+    first tried. Any unit of length will do (display pixels in :func:`linkage`); the
+    result depends on nothing else.
 
     Returns
     -------
@@ -517,7 +522,7 @@ def place_boxes(anchors, sizes, toward, taken=(), frame=None, gap: float = 1.0,
     --------
     Two boxes 4 wide and 2 high anchored at the same point, both wanting to lie to its
     right: the first does, one gap away; the second, kept a gap off the first, takes
-    the first free direction on the same ring, turned 157.5 degrees to the upper left.
+    the first clear direction on the same ring, turned 157.5 degrees to the upper left.
 
     >>> centres, distances = place_boxes([(0, 0), (0, 0)], [(4, 2), (4, 2)], [0.0, 0.0])
     >>> centres.round(3).tolist(), distances.tolist()
@@ -535,6 +540,7 @@ def place_boxes(anchors, sizes, toward, taken=(), frame=None, gap: float = 1.0,
     anchors = np.asarray(anchors, dtype=float).reshape(-1, 2)
     sizes = np.asarray(sizes, dtype=float).reshape(-1, 2)
     boxes = [np.asarray(taken, dtype=float).reshape(-1, 4)]
+    avoid = np.asarray(avoid, dtype=float).reshape(-1, 4)
     x0, y0, x1, y1 = (-math.inf, -math.inf, math.inf, math.inf) if frame is None else frame
     centres, distances = np.empty_like(anchors), np.empty(len(anchors))
     for n, ((ax, ay), (w, h), a) in enumerate(zip(anchors, sizes, np.broadcast_to(
@@ -543,25 +549,23 @@ def place_boxes(anchors, sizes, toward, taken=(), frame=None, gap: float = 1.0,
         with np.errstate(divide="ignore"):  # along an axis, one side sets the edge
             edge = np.minimum(0.5 * w / np.abs(c), 0.5 * h / np.abs(s))
         now = np.concatenate(boxes)
-        chosen = outside = None
-        k = 0
-        while chosen is None:
+        best, best_cost, k = None, math.inf, 0
+        while True:
             r = gap * (1 + k * (k + 1) // 2)
+            if r >= best_cost or (best is not None and r > 1e6 * max(gap, w, h)):
+                break  # no farther spot can cost less (or only infinite costs are left)
             cx, cy = ax + (r + edge) * c, ay + (r + edge) * s
             spots = np.c_[cx - 0.5 * w, cy - 0.5 * h, cx + 0.5 * w, cy + 0.5 * h]
-            free = ~_overlapping(spots, now, gap)
-            inside = (spots[:, 0] >= x0) & (spots[:, 1] >= y0) & (spots[:, 2] <= x1) & \
-                     (spots[:, 3] <= y1)
-            if (free & inside).any():
-                chosen = (spots[np.argmax(free & inside)], r)
-            elif outside is None and free.any():
-                outside = (spots[np.argmax(free)], r)
-            if chosen is None and outside is not None and r > far:
-                chosen = outside
-            elif chosen is None and r > 1e6 * max(gap, w, h):  # an infinite box is taken
-                chosen = (spots[0], r)
+            cost = r + cover * _overlapping(spots, avoid, gap) + np.where(
+                (spots[:, 0] >= x0) & (spots[:, 1] >= y0) & (spots[:, 2] <= x1) &
+                (spots[:, 3] <= y1), 0.0, leave)
+            clear = np.flatnonzero(~_overlapping(spots, now, gap))
+            if clear.size:
+                j = clear[np.argmin(cost[clear])]
+                if best is None or cost[j] < best_cost:
+                    best, best_cost = (spots[j], r), cost[j]
             k += 1
-        box, distances[n] = chosen
+        box, distances[n] = best
         centres[n] = 0.5 * (box[:2] + box[2:])
         boxes.append(box[None, :])
     return centres, distances
@@ -572,14 +576,17 @@ class _LabelPlacer(_Artist):
     before the labels are drawn and once the layout has fixed the axes' transform (the
     size of a text is in points and the linkage in metres, so where they collide
     depends on the figure): with :func:`place_boxes` in display pixels, in the order
-    they were added, kept off each other, the marks (joint circles), the arrows'
-    shafts and the scale's key, inside the axes where possible. A label farther than
-    :attr:`LEADER_PT` from its anchor gets a thin line to it."""
+    they were added, kept off each other, the marks (joint circles), the frame points'
+    symbols and the scale's key, and, where it costs at most :attr:`COVER_PT` more
+    distance, off the arrows and the links' lines too; inside the axes unless that
+    costs :attr:`LEAVE_PT` more. A label farther than :attr:`LEADER_PT` from its anchor
+    gets a thin line to it."""
 
     GAP_PT = 3.0  # spacing of the rings, and the least gap between labels
     MARK_PT = 5.0  # half the side of the square kept clear about a mark
     LEADER_PT = 16.0
-    FAR_PT = 60.0  # farther than this, a label may leave the axes
+    COVER_PT = 18.0
+    LEAVE_PT = 60.0
 
     def __init__(self, ax: "Axes"):
         super().__init__()
@@ -588,7 +595,7 @@ class _LabelPlacer(_Artist):
         self.labels: list = []  # (annotation, anchor [m], preferred direction [m])
         self.marks = np.empty((0, 2))  # [m]
         self.blocks = np.empty((0, 4))  # x0, y0, x1, y1 [m]: the frame points' symbols
-        self.arrows = np.empty((0, 4))  # x, y, u, v [m]
+        self.segments = np.empty((0, 4))  # x, y, u, v [m]: arrows, links
         self.key = None
         ax.add_artist(self)
 
@@ -606,18 +613,13 @@ class _LabelPlacer(_Artist):
 
     def _taken(self, renderer, px: float) -> np.ndarray:
         """The boxes [display px] labels keep off: the marks, the frame points'
-        symbols, points along the arrows, the scale's key."""
+        symbols, the scale's key."""
         to = self.axes.transData.transform
         m = self.MARK_PT * px
         marks = to(self.marks).reshape(-1, 2)
         blocks = to(self.blocks.reshape(-1, 2)).reshape(-1, 4)
         boxes = [np.c_[marks - m, marks + m], np.c_[np.minimum(blocks[:, :2], blocks[:, 2:]),
                                                     np.maximum(blocks[:, :2], blocks[:, 2:])]]
-        for x, y, u, v in self.arrows:
-            a, b = to([(x, y), (x + u, y + v)])
-            n = int(min(np.hypot(*(b - a)) / (2.0 * px), 1000)) + 2
-            along = a + np.linspace(0.0, 1.0, n)[:, None] * (b - a)
-            boxes.append(np.c_[along - px, along + px])
         if self.key is not None and self.key.get_visible():
             key = self.key
             x, y = self.axes.transAxes.transform((key.X, key.Y))
@@ -627,6 +629,17 @@ class _LabelPlacer(_Artist):
             sep = 7.2 * px  # QuiverKey's labelsep, 0.1 inch
             boxes.append([[x - length, y - half, x + sep + text.width, y + half]])
         return np.concatenate([np.reshape(b, (-1, 4)) for b in boxes])
+
+    def _lines(self, px: float) -> np.ndarray:
+        """Small boxes [display px] along the segments, every 2 px."""
+        to = self.axes.transData.transform
+        boxes = [np.empty((0, 4))]
+        for x, y, u, v in self.segments:
+            a, b = to([(x, y), (x + u, y + v)])
+            n = int(min(np.hypot(*(b - a)) / (2.0 * px), 1000)) + 2
+            along = a + np.linspace(0.0, 1.0, n)[:, None] * (b - a)
+            boxes.append(np.c_[along - px, along + px])
+        return np.concatenate(boxes)
 
     def draw(self, renderer):
         labels = [(a, xy, d) for a, xy, d in self.labels if a.get_visible()]
@@ -646,9 +659,9 @@ class _LabelPlacer(_Artist):
             # the box's centre from the text's position (its alignment, its descent)
             shifts.append(np.array(box.corners().mean(axis=0)) -
                           ann.get_transform().transform(ann.xyann))
-        centres, distances = place_boxes(anchors, sizes, toward, self._taken(renderer, px),
-                                         self.axes.bbox.extents, self.GAP_PT * px,
-                                         self.FAR_PT * px)
+        centres, distances = place_boxes(
+            anchors, sizes, toward, self._taken(renderer, px), self.axes.bbox.extents,
+            self.GAP_PT * px, self._lines(px), self.COVER_PT * px, self.LEAVE_PT * px)
         for (ann, _, _), at, centre, shift, r in zip(labels, anchors, centres, shifts,
                                                       distances):
             offset = tuple((centre - shift - at) / px)
@@ -687,9 +700,9 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     known is an arrow ``F * scale`` [m] starting at its joint's point, labelled with its
     name and magnitude beyond its tip. The labels are placed when the figure is drawn
     (their size is in points, the linkage's in metres), each as near its point or tip
-    as it can be without covering another label, a joint, a frame point's symbol, an
-    arrow or the scale (:func:`place_boxes`), with a thin line to it if it had to move
-    away.
+    as it can be without covering another label, a joint, a frame point's symbol or the
+    scale, nor, unless that takes it much farther, an arrow or a link
+    (:func:`place_boxes`); with a thin line to it if it had to move away.
 
     Parameters
     ----------
@@ -767,6 +780,7 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
             h = 0.35 * size
             ax.plot([x - h * tx, x + h * tx], [y - h * ty, y + h * ty], ls=(0, (6, 3)),
                     color="0.4", lw=1.2, zorder=1, gid=f"guide:{j.name}")
+    lines = []
     for k, (link, pts) in enumerate(links.items()):
         color = _LINK_COLORS[k % len(_LINK_COLORS)]
         if len(pts) == 1:  # a slider or block: a square along its direction
@@ -778,6 +792,7 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
             continue
         ring = _ordered(pts, pos)
         xy = [pos[p] for p in ring] + ([pos[ring[0]]] if len(ring) > 2 else [])
+        lines += [(x0, y0, x1 - x0, y1 - y0) for (x0, y0), (x1, y1) in zip(xy, xy[1:])]
         ax.plot(*zip(*xy), "-", color=color, lw=3.0, solid_capstyle="round", zorder=2,
                 label=f"link {link}", gid=f"link:{link}")
         if len(ring) > 2:
@@ -796,10 +811,10 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     u, v = forces[:, 0] * scale, forces[:, 1] * scale
     quiver = ax.quiver(origins[:, 0], origins[:, 1], u, v, angles="xy", scale_units="xy",
                        scale=1.0, color="crimson", width=0.006, zorder=5, gid="forces")
-    labels.arrows = np.c_[origins, u, v]
     for p, (x, y), du, dv, (fx, fy) in zip(pairs, origins, u, v, forces):
         labels.add(f"{p.name}\n{math.hypot(fx, fy):.3g} N", (x + du, y + dv), (du, dv),
                    "crimson", fontsize=8, gid=f"force:{p.name}")  # beyond the tip
+    labels.segments = np.r_[np.c_[origins, u, v], np.array(lines, dtype=float).reshape(-1, 4)]
     if largest > 0.0:
         ref = _nice(0.5 * largest)
         key = ax.quiverkey(quiver, 0.5, 0.04, ref * scale, f"{ref:g} N", labelpos="E",
