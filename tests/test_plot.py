@@ -24,6 +24,7 @@ from matplotlib.text import Text  # noqa: E402
 
 import linkage_fmu  # noqa: E402
 from linkage_fmu import plot, presets  # noqa: E402
+from linkage_fmu.spec import Description  # noqa: E402
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "coupler_four_bar.toml"
 PNG = b"\x89PNG\r\n\x1a\n"
@@ -278,15 +279,18 @@ def test_linkage_arrows_are_the_joint_forces_to_scale(tmp_path, make, theta, inp
     np.testing.assert_allclose(np.c_[q.X, q.Y], at, rtol=RTOL, atol=1e-15)
     np.testing.assert_allclose(np.c_[q.U, q.V], 2e-4 * forces, rtol=RTOL, atol=0)
 
-    # the default scale: the largest arrow is 0.4 of the larger side of the bounding
-    # box of the linkage's points (the centres of mass lie inside it for these)
+    # the default scale: the largest arrow (joint force or load) is 0.4 of the larger
+    # side of the bounding box of the linkage's points (the centres of mass lie inside
+    # it for these)
     fig = plot.linkage(mech, theta_deg=math.degrees(theta), **inputs)
     q = quiver_of(fig.axes[0])
     points = np.array(list(st.p.values()), dtype=float)
     size = np.max(points.max(axis=0) - points.min(axis=0))
     arrows = np.c_[q.U, q.V]
-    np.testing.assert_allclose(np.max(np.hypot(arrows[:, 0], arrows[:, 1])), 0.4 * size,
-                               rtol=1e-9)
+    loads = [a for a in fig.axes[0].collections if (a.get_gid() or "").startswith("load:")]
+    longest = max(np.hypot(arrows[:, 0], arrows[:, 1]).tolist() +
+                  [math.hypot(a.U[0], a.V[0]) for a in loads])
+    np.testing.assert_allclose(longest, 0.4 * size, rtol=1e-9)
     k = arrows[:, 0] / np.where(forces[:, 0] != 0, forces[:, 0], np.nan)
     assert np.nanmax(k) == pytest.approx(np.nanmin(k), rel=1e-12)  # one scale for all
     # every moving link is drawn, and every revolute joint
@@ -296,6 +300,117 @@ def test_linkage_arrows_are_the_joint_forces_to_scale(tmp_path, make, theta, inp
     revolute = [st.p[j.point] for j in mech.joints if j.normal is None]
     np.testing.assert_allclose(np.array(joints.get_data(), float).T, np.array(revolute, float),
                                rtol=RTOL, atol=1e-15)
+
+
+def loaded_coupler():
+    """The coupler four-bar (F_P down at P, T4 on the rocker 3) with, besides, a force
+    F_R at C along the rocker's own y axis, and over the cycle a moment
+    M_c = 3 N.m cos(theta) on the coupler 2 and a force F_c = 40 N sin(theta) at B
+    along +x."""
+    d = Description.read(EXAMPLE)
+    d.load("F_R", body="3", kind="force", at="C", direction=[0, 1], fixed_in="link",
+           start=30.0)
+    d.load("M_c", body="2", kind="moment", value="3 N*m * cos(theta)")
+    d.load("F_c", body="2", kind="force", at="B", direction=[1, 0], value="40 N * sin(theta)")
+    return d.build()
+
+
+def load_artists(ax, name: str):
+    """The artists ``load:<name>`` (a quiver, or an arc line) and the label of a load."""
+    (drawn,) = [a for a in ax.get_children() if a.get_gid() == f"load:{name}"]
+    (label,) = [t for t in ax.texts if t.get_gid() == f"load label:{name}"]
+    return drawn, label.get_text()
+
+
+def arc_sweep(line, centre) -> tuple[np.ndarray, float]:
+    """Distances of the line's points from ``centre``, and the angle it turns about
+    it from its first point to its last [deg], counter-clockwise positive."""
+    x, y = (np.asarray(d, float) for d in line.get_data())
+    phi = np.unwrap(np.arctan2(y - centre[1], x - centre[0]))
+    assert np.all(np.diff(phi) > 0) or np.all(np.diff(phi) < 0)  # one way round
+    return np.hypot(x - centre[0], y - centre[1]), math.degrees(phi[-1] - phi[0])
+
+
+def test_linkage_draws_the_loads_as_they_act(tmp_path):
+    """Each load against its definition: a force arrow ends at its point and points the
+    way the force acts (F_P = -80 N along -y: up; F_R along the rocker's y axis, from
+    the positions of D and C; F_c at its value over the cycle, 40 N sin(50 deg)), its
+    length the value times the scale; a moment is an arc of 270 deg about the middle of
+    its link's points, counter-clockwise for a positive value; each label gives the
+    name and value with its unit."""
+    mech = loaded_coupler()
+    th = math.radians(50.0)
+    fig = plot.linkage(mech, theta_deg=50.0, F_P=-80.0, scale=1e-3)
+    saved_png(fig, tmp_path / "linkage_loads.png")
+    ax = fig.axes[0]
+    p = {k: np.array(v, dtype=float) for k, v in mech.kinematics(th, order=0).p.items()}
+    rocker = (p["C"] - p["D"]) / np.linalg.norm(p["C"] - p["D"])  # link 3's x axis
+    expected = {"F_P": (p["P"], -80.0, np.array([0.0, -1.0])),
+                "F_R": (p["C"], 30.0, np.array([-rocker[1], rocker[0]])),
+                "F_c": (p["B"], 40.0 * math.sin(th), np.array([1.0, 0.0]))}
+    for name, (at, value, direction) in expected.items():
+        q, text = load_artists(ax, name)
+        assert isinstance(q, Quiver) and q.pivot == "tip"
+        np.testing.assert_allclose([q.X[0], q.Y[0]], at, rtol=RTOL, atol=1e-15)
+        np.testing.assert_allclose([q.U[0], q.V[0]], 1e-3 * value * direction, rtol=1e-12,
+                                   atol=1e-15)
+        assert text == f"{name} = {value:.4g} N"
+    assert load_artists(ax, "F_P")[0].V[0] > 0.0  # -80 N along -y acts upwards
+    assert load_artists(ax, "F_c")[1] == "F_c = 30.64 N"
+
+    points = np.array([p[k] for k in "ABCDP"])  # what is drawn: its size sets the arcs
+    size = np.max(points.max(axis=0) - points.min(axis=0))
+    for name, centre, value in [("T4", (p["C"] + p["D"]) / 2, 120.0),
+                                ("M_c", (p["B"] + p["C"] + p["P"]) / 3, 3.0 * math.cos(th))]:
+        line, text = load_artists(ax, name)
+        radius, sweep = arc_sweep(line, centre)
+        np.testing.assert_allclose(radius, plot.MOMENT_FRACTION * size, rtol=1e-12)
+        assert sweep == pytest.approx(270.0, rel=1e-12)
+        assert text == f"{name} = {value:.4g} N.m"
+    assert load_artists(ax, "M_c")[1] == "M_c = 1.928 N.m"
+
+    # negative moments turn clockwise; a load over the cycle given by name is that value
+    ax = plot.linkage(mech, theta_deg=50.0, T4=-50.0, M_c=-7.0).axes[0]
+    assert arc_sweep(load_artists(ax, "T4")[0], (p["C"] + p["D"]) / 2)[1] == \
+        pytest.approx(-270.0, rel=1e-12)
+    line, text = load_artists(ax, "M_c")
+    assert arc_sweep(line, (p["B"] + p["C"] + p["P"]) / 3)[1] == pytest.approx(-270.0, rel=1e-12)
+    assert text == "M_c = -7 N.m"
+
+
+def test_linkage_default_scale_counts_the_loads():
+    """The scotch yoke at 90 deg, 10 rad/s, 400 N on the yoke (m2 = 4 kg, m3 = 10 kg,
+    r = 0.1 m): the crank pin carries 400 - (m2 + m3) r omega^2 = 260 N, less than the
+    load, so the load's arrow is the 0.4 of the linkage's size (0.1 m: A to B) and the
+    pin's 260/400 of it."""
+    yoke = presets.get("scotch_yoke")
+    ax = plot.linkage(yoke, theta_deg=90.0, omega=10.0, load=400.0).axes[0]
+    q, text = load_artists(ax, "load")
+    np.testing.assert_allclose([q.U[0], q.V[0]], [0.0, -0.04], rtol=1e-12, atol=1e-15)
+    assert text == "load = 400 N"
+    forces = quiver_of(ax)
+    (i,) = [k for k, p in enumerate(plot.force_pairs(yoke)) if p.name == "F12"]
+    np.testing.assert_allclose(math.hypot(forces.U[i], forces.V[i]), 0.04 * 260 / 400,
+                               rtol=1e-12)
+
+
+def test_linkage_draws_a_zero_load_faint_in_its_positive_sense():
+    mech = loaded_coupler()
+    ax = plot.linkage(mech, theta_deg=50.0, F_R=0.0, T4=0.0).axes[0]
+    p = {k: np.array(v, dtype=float) for k, v in mech.kinematics(math.radians(50.0),
+                                                                   order=0).p.items()}
+    points = np.array([p[k] for k in "ABCDP"])
+    size = np.max(points.max(axis=0) - points.min(axis=0))
+    q, text = load_artists(ax, "F_R")
+    rocker = (p["C"] - p["D"]) / np.linalg.norm(p["C"] - p["D"])
+    np.testing.assert_allclose([q.U[0], q.V[0]], 0.15 * size * np.array([-rocker[1],
+                                                                          rocker[0]]),
+                               rtol=1e-12)
+    assert text == "F_R = 0 N" and q.get_alpha() < 1.0
+    line, text = load_artists(ax, "T4")
+    assert arc_sweep(line, (p["C"] + p["D"]) / 2)[1] == pytest.approx(270.0, rel=1e-12)
+    assert text == "T4 = 0 N.m" and line.get_alpha() < 1.0
+    assert load_artists(ax, "F_P")[0].get_alpha() in (None, 1.0)  # 80 N: drawn in full
 
 
 def label_boxes(fig) -> list:
