@@ -375,10 +375,19 @@ def torque(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads,
     values = np.asarray(_solve(mech, rad, inputs)[name], dtype=float)
     _finite_or_fail(mech, values, deg)
     unit, description = mech.output_info[name]
-    mean = revolution_mean(rad, values)
-    i = _peak(values)
 
     fig, ax = _axes(ax)
+    _draw_curve(ax, rad, deg, values, name, unit)
+    ax.set_title(f"{mech.name}: {description}\n{_inputs_text(mech, inputs)}", fontsize=10)
+    return fig
+
+
+def _draw_curve(ax: "Axes", rad: np.ndarray, deg: np.ndarray, values: np.ndarray, name: str,
+                unit: str) -> None:
+    """The curve of :func:`torque`: ``values`` against ``deg``, their mean over ``rad``
+    and their peak magnitude, a line at 0, the axes' labels and the legend."""
+    mean = revolution_mean(rad, values)
+    i = _peak(values)
     ax.plot(deg, values, color="C0", lw=1.6, label=name, gid=name)
     ax.axhline(mean, color="C1", ls="--", lw=1.2,
                label=f"mean {rounded(mean, abs(values[i]))} {unit}", gid="mean")
@@ -390,9 +399,7 @@ def torque(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads,
     ax.axhline(0.0, color="0.6", lw=0.8, zorder=0, gid="zero")
     _degree_axis(ax, deg)
     ax.set_ylabel(f"{_greek(name)} [{unit}]")
-    ax.set_title(f"{mech.name}: {description}\n{_inputs_text(mech, inputs)}", fontsize=10)
     ax.legend(loc="best", fontsize=9)
-    return fig
 
 
 # -- 2. polar ----------------------------------------------------------------------------
@@ -443,29 +450,37 @@ def polar(mech: "Mechanism", force: str | None = None, theta=None, omega=None, a
     sol = _solve(mech, rad, inputs)
     fx, fy = (np.asarray(sol[n], dtype=float) for n in (pair.x, pair.y))
     _finite_or_fail(mech, fx, deg)
-    i = _peak(np.hypot(fx, fy))
-    magnitude = math.hypot(fx[i], fy[i])
 
     fig, ax = _axes(ax, figsize=(6.5, 6.5))
+    _draw_hodograph(ax, fx, fy, deg, pair.name, pair.x, pair.y)
+    who = f": force of link {pair.by} on link {pair.on}" if pair.by is not None else ""
+    ax.set_title(f"{mech.name}, {pair.name}{who}\n{_inputs_text(mech, inputs)}", fontsize=10)
+    return fig
+
+
+def _draw_hodograph(ax: "Axes", fx: np.ndarray, fy: np.ndarray, deg: np.ndarray, name: str,
+                    x: str, y: str) -> None:
+    """The diagram of :func:`polar`: the curve ``(fx, fy)`` [N] (gid ``name``; ``x``
+    and ``y`` name its components on the axes), the origin, the first angle, the
+    largest force, equal aspect, and the legend."""
+    i = _peak(np.hypot(fx, fy))
+    magnitude = math.hypot(fx[i], fy[i])
     ax.axhline(0.0, color="0.6", lw=0.8, zorder=0, gid="x axis")
     ax.axvline(0.0, color="0.6", lw=0.8, zorder=0, gid="y axis")
-    ax.plot(fx, fy, color="C0", lw=1.6, label=f"{pair.name} over θ", gid=pair.name)
+    ax.plot(fx, fy, color="C0", lw=1.6, label=f"{name} over θ", gid=name)
     ax.plot([0.0], [0.0], "+", color="k", ms=12, mew=1.5, label="origin", gid="origin")
     j = int(np.flatnonzero(np.isfinite(fx) & np.isfinite(fy))[0])
     ax.plot([fx[j]], [fy[j]], "s", color="C2", ms=6, label=f"θ = {deg[j]:g}°", gid="start")
-    ax.plot([fx[i]], [fy[i]], "o", color="C3", ms=7, label=f"max |{pair.name}| {magnitude:.4g} N",
+    ax.plot([fx[i]], [fy[i]], "o", color="C3", ms=7, label=f"max |{name}| {magnitude:.4g} N",
             gid="peak")
     ax.plot([0.0, fx[i]], [0.0, fy[i]], "--", color="C3", lw=1.0, gid="peak vector")
-    ax.annotate(f"|{pair.name}| = {magnitude:.4g} N\nat θ = {deg[i]:.1f}°", (fx[i], fy[i]),
+    ax.annotate(f"|{name}| = {magnitude:.4g} N\nat θ = {deg[i]:.1f}°", (fx[i], fy[i]),
                 xytext=(10, 10), textcoords="offset points", fontsize=9, gid="peak label")
     ax.set_aspect("equal", adjustable="datalim")
-    ax.set_xlabel(f"{pair.x} [N]")
-    ax.set_ylabel(f"{pair.y} [N]")
-    who = f": force of link {pair.by} on link {pair.on}" if pair.by is not None else ""
-    ax.set_title(f"{mech.name}, {pair.name}{who}\n{_inputs_text(mech, inputs)}", fontsize=10)
+    ax.set_xlabel(f"{x} [N]")
+    ax.set_ylabel(f"{y} [N]")
     ax.grid(True, alpha=0.3)
     ax.legend(loc="best", fontsize=9)
-    return fig
 
 
 # -- 3. the linkage and its joint forces -------------------------------------------------
