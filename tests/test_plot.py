@@ -582,6 +582,86 @@ def test_transmission_marks_toggles(tmp_path, make, expected, n):
     np.testing.assert_array_equal(np.isnan(y), ~ref.valid)
 
 
+# -- shaking force and moment --------------------------------------------------------------
+@pytest.mark.parametrize("name, params, inputs", CASES, ids=CASE_IDS)
+def test_shaking_is_the_solved_shaking_force_and_moment(tmp_path, name, params, inputs):
+    mech = presets.get(name, **params)
+    fig = plot.shaking(mech, **inputs)
+    saved_png(fig, tmp_path / f"shaking_{name}.png")
+    force_ax, moment_ax = fig.axes
+    ref = solve_deg(mech, DEG, **dict(inputs))
+    fx, fy, m = ref["shake_x"], ref["shake_y"], ref["shake_M"]
+
+    lines = by_gid(force_ax)
+    x, y = lines["shake"][0].get_data()
+    np.testing.assert_allclose(x, fx, rtol=RTOL, atol=0)
+    np.testing.assert_allclose(y, fy, rtol=RTOL, atol=0)
+    np.testing.assert_array_equal(np.ravel(lines["origin"][0].get_data()), [0.0, 0.0])
+    np.testing.assert_allclose(np.ravel(lines["start"][0].get_data()), [fx[0], fy[0]],
+                               rtol=RTOL)
+    i = int(np.argmax(np.hypot(fx, fy)))
+    np.testing.assert_allclose(np.ravel(lines["peak"][0].get_data()), [fx[i], fy[i]],
+                               rtol=RTOL)
+    np.testing.assert_allclose(np.ravel(lines["peak vector"][0].get_data()),
+                               [0.0, fx[i], 0.0, fy[i]], rtol=RTOL)
+    text = "".join(t.get_text() for t in force_ax.texts)
+    assert f"|shake| = {math.hypot(fx[i], fy[i]):.4g} N" in text
+    assert f"θ = {DEG[i]:.1f}°" in text
+    assert force_ax.get_aspect() == 1.0
+    assert (force_ax.get_xlabel(), force_ax.get_ylabel()) == ("shake_x [N]", "shake_y [N]")
+
+    lines = by_gid(moment_ax)
+    x, y = lines["shake_M"][0].get_data()
+    np.testing.assert_array_equal(x, DEG)
+    np.testing.assert_allclose(y, m, rtol=RTOL, atol=0)
+    np.testing.assert_allclose(lines["mean"][0].get_ydata(), [np.mean(m[:-1])] * 2, rtol=1e-9,
+                               atol=1e-12 * np.max(np.abs(m)))
+    i = int(np.argmax(np.abs(m)))
+    np.testing.assert_allclose(np.ravel(lines["peak"][0].get_data()), [DEG[i], m[i]],
+                               rtol=RTOL)
+    assert moment_ax.get_ylabel() == "shake_M [N.m]"
+
+
+def test_shaking_of_the_scotch_yoke_by_hand():
+    """The scotch yoke (crank r with J1, block m2 at its pin B, yoke m3 moving
+    y = r sin(theta) along the y axis through A, a force F along -y on it, no gravity)
+    puts on the frame the load and the d'Alembert forces of its links:
+    shake_x = m2 r (omega^2 cos + alpha sin), shake_y = (m2 + m3) r (omega^2 sin -
+    alpha cos) - F: an ellipse about (0, -F); about A only the block's tangential
+    inertia and the crank's have a moment, shake_M = -(J1 + m2 r^2) alpha."""
+    r, m2, m3, j1, omega, alpha, force = 0.1, 4.0, 10.0, 0.02, 10.0, 3.0, 400.0
+    yoke = presets.get("scotch_yoke", l_AB=r, m2=m2, m3=m3, J1=j1, g=0.0)
+    fig = plot.shaking(yoke, omega=omega, alpha=alpha, load=force)
+    force_ax, moment_ax = fig.axes
+    t = np.radians(DEG)
+    sx = m2 * r * (omega ** 2 * np.cos(t) + alpha * np.sin(t))
+    sy = (m2 + m3) * r * (omega ** 2 * np.sin(t) - alpha * np.cos(t)) - force
+    x, y = by_gid(force_ax)["shake"][0].get_data()
+    np.testing.assert_allclose(x, sx, rtol=0, atol=1e-12 * force)
+    np.testing.assert_allclose(y, sy, rtol=0, atol=1e-12 * force)
+    moment = -(j1 + m2 * r * r) * alpha  # -0.18 N.m at every angle
+    lines = by_gid(moment_ax)
+    np.testing.assert_allclose(lines["shake_M"][0].get_ydata(), moment, rtol=1e-12)
+    assert lines["mean"][0].get_label() == "mean -0.18 N.m"
+
+
+def test_shaking_draws_into_the_axes_given_over_the_angles_given():
+    mech = presets.get("slider_crank")
+    theta = np.linspace(0.2, 2.5, 40)
+    fig0, axes = plt.subplots(1, 2)
+    fig = plot.shaking(mech, theta, 80.0, 0.0, 150.0, ax=axes)
+    assert fig is fig0
+    ref = mech.solve(theta, 80.0, 0.0, 150.0)
+    x, y = by_gid(axes[0])["shake"][0].get_data()
+    np.testing.assert_allclose(x, ref["shake_x"], rtol=RTOL)
+    np.testing.assert_allclose(y, ref["shake_y"], rtol=RTOL)
+    x, y = by_gid(axes[1])["shake_M"][0].get_data()
+    np.testing.assert_allclose(x, np.degrees(theta), rtol=RTOL)
+    np.testing.assert_allclose(y, ref["shake_M"], rtol=RTOL)
+    with pytest.raises(TypeError, match="pair of Axes"):
+        plot.shaking(mech, ax=axes[0])
+
+
 # -- bad input -----------------------------------------------------------------------------
 def test_bad_input_is_refused_with_the_choices():
     four = presets.get("four_bar")

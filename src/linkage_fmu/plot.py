@@ -1,5 +1,5 @@
 """Plots of a linkage's kinetostatics: driving torque, pin-force polars, the linkage
-with its joint forces, and transmission angles.
+with its joint forces and loads, transmission angles, and the shaking force and moment.
 
 Every public function returns a :class:`matplotlib.figure.Figure` and draws into the
 ``ax`` given, or into a new figure (made with :mod:`matplotlib.pyplot`, so ``plt.show()``
@@ -56,9 +56,10 @@ if TYPE_CHECKING:  # pragma: no cover
     from .loads import Load
     from .mechanism import Mechanism
 
-__all__ = ["torque", "polar", "linkage", "transmission", "ForcePair", "force_pairs",
-           "link_points", "revolution_mean", "rounded", "toggles", "place_boxes", "N_ANGLES",
-           "ARROW_FRACTION", "MOMENT_FRACTION", "TOGGLE_TOL", "ZERO_FRACTION"]
+__all__ = ["torque", "polar", "linkage", "transmission", "shaking", "ForcePair",
+           "force_pairs", "link_points", "revolution_mean", "rounded", "toggles",
+           "place_boxes", "N_ANGLES", "ARROW_FRACTION", "MOMENT_FRACTION", "TOGGLE_TOL",
+           "ZERO_FRACTION"]
 
 #: the default crank angles: 0, 0.5, ..., 360 degrees (both ends: a closed curve)
 N_ANGLES = 721
@@ -1082,4 +1083,85 @@ def transmission(mech: "Mechanism", theta=None, *, theta_deg=None,
     ax.set_title(f"{mech.name}: transmission angles (0° or 180°: toggle; "
                  "shaded 40°-140°)", fontsize=10)
     ax.legend(loc="best", fontsize=9)
+    return fig
+
+
+# -- 5. shaking force and moment ---------------------------------------------------------
+def shaking(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta_deg=None,
+            ax=None, **named_loads) -> "Figure":
+    """What the moving links put on the frame over the crank angles: the polar diagram
+    of the shaking force (the curve ``(shake_x, shake_y)`` traced by its tip, as
+    :func:`polar` draws a pin force), and the shaking moment about the crank's pivot
+    against the crank angle in degrees (as :func:`torque` draws an output).
+
+    The shaking force and moment (:data:`~linkage_fmu.outputs.SHAKING`) are the
+    resultant of the joint forces on the frame and the driver's reaction: what the
+    foundation has to hold, and what balancing aims to make small.
+
+    Parameters
+    ----------
+    mech : Mechanism
+    theta, omega, alpha, *loads, theta_deg, **named_loads
+        As for :func:`torque`.
+    ax : pair of matplotlib Axes, optional
+        Where to draw the force's diagram and the moment; a new figure with the two
+        side by side if None.
+
+    Returns
+    -------
+    Figure
+        The figure of the axes. The force's axes hold lines (gid) ``"shake"`` (x data
+        ``shake_x``, y data ``shake_y`` [N], equal aspect), ``"origin"``, ``"start"``,
+        ``"peak"`` (the largest ``|(shake_x, shake_y)|``, annotated) and ``"peak
+        vector"``; the moment's, ``"shake_M"`` (against the angle in degrees),
+        ``"mean"``, ``"peak"`` and ``"zero"``, as :func:`torque`.
+
+    Raises
+    ------
+    TypeError
+        ``ax`` is not a pair of axes.
+    ValueError
+        The linkage cannot be assembled at any angle.
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> from linkage_fmu import plot, presets
+    >>> mech = presets.get("four_bar")
+    >>> fig = plot.shaking(mech, omega=10.0)
+    >>> force, moment = fig.axes
+    >>> [line.get_gid() for line in force.lines]
+    ['x axis', 'y axis', 'shake', 'origin', 'start', 'peak', 'peak vector']
+    >>> [line.get_gid() for line in moment.lines]
+    ['shake_M', 'mean', 'peak', 'zero']
+    >>> sol = mech.solve(np.radians(np.linspace(0, 360, 721)), omega=10.0)
+    >>> x, y = force.lines[2].get_data()
+    >>> bool(np.array_equal(x, sol["shake_x"]) and np.array_equal(y, sol["shake_y"]))
+    True
+    """
+    if ax is not None:
+        try:
+            force_ax, moment_ax = ax
+        except (TypeError, ValueError):
+            raise TypeError("ax must be a pair of Axes: (the force's, the moment's), "
+                            f"got {ax!r}") from None
+    rad, deg = _angles(theta, theta_deg)
+    inputs = _inputs(mech, omega, alpha, loads, named_loads)
+    sol = _solve(mech, rad, inputs)
+    fx, fy, moment = (np.asarray(sol[n], dtype=float) for n in SHAKING)
+    _finite_or_fail(mech, fx, deg)
+
+    if ax is None:
+        fig, (force_ax, moment_ax) = _pyplot().subplots(
+            1, 2, figsize=(13.0, 5.5), layout="constrained", width_ratios=(1.0, 1.3))
+    else:
+        fig = force_ax.figure
+    x, y, m = SHAKING
+    _draw_hodograph(force_ax, fx, fy, deg, "shake", x, y)
+    force_ax.set_title(f"{mech.name}: shaking force, what the moving links put on the "
+                       f"frame\n{_inputs_text(mech, inputs)}", fontsize=10)
+    _draw_curve(moment_ax, rad, deg, moment, m, mech.output_info[m][0])
+    moment_ax.set_title(f"shaking moment about the crank pivot {mech.crank.pivot}, "
+                        "counter-clockwise positive", fontsize=10)
     return fig
