@@ -18,7 +18,8 @@ by name.
 
 What is drawn carries a ``gid`` (``artist.get_gid()``), so that scripts and tests can
 find it: the curves by output name, ``"mean"``, ``"peak"``, ``"origin"``,
-``"forces"`` (a quiver), ``"toggle:<mu>"`` and so on (see each function).
+``"forces"`` (a quiver), ``"load:<name>"``, ``"toggle:<mu>"`` and so on (see each
+function).
 
 Examples
 --------
@@ -278,7 +279,8 @@ def revolution_mean(theta: np.ndarray, values: np.ndarray) -> float:
 def rounded(value: float, scale: float) -> str:
     """``value`` to 4 significant digits, or ``"0"`` where it is within
     :data:`ZERO_FRACTION` of ``scale`` (e.g. the largest ``|value|`` of the curve whose
-    mean it is): a sum of numbers of that size cannot tell a smaller value from 0.
+    mean it is): what rounding leaves of a zero sum of numbers that size is far less,
+    and a real mean that small would not show on the curve either.
 
     Examples
     --------
