@@ -8,6 +8,7 @@ plain numpy reductions of it, and toggle angles must match the closed-form geome
 
 from __future__ import annotations
 
+import itertools
 import math
 import sys
 from pathlib import Path
@@ -19,9 +20,11 @@ matplotlib = pytest.importorskip("matplotlib")
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.quiver import Quiver  # noqa: E402
+from matplotlib.text import Text  # noqa: E402
 
 import linkage_fmu  # noqa: E402
 from linkage_fmu import plot, presets  # noqa: E402
+from linkage_fmu.spec import Description  # noqa: E402
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "coupler_four_bar.toml"
 PNG = b"\x89PNG\r\n\x1a\n"
@@ -106,6 +109,40 @@ def test_torque_mean_is_zero_without_net_work():
     i = int(np.argmax(np.abs(y)))
     assert y[i] < 0 < np.max(y) < -y[i]
     np.testing.assert_array_equal(np.ravel(lines["peak"][0].get_data()), [DEG[i], y[i]])
+
+
+def test_torque_mean_is_printed_against_the_curve_scale():
+    """The scotch yoke (crank r, block m2 on its pin, yoke m3 moving y = r sin(theta),
+    no gravity, a force F along -y on the yoke) at constant speed: kinetic energy
+    T = (m2 + m3 cos(theta)^2) r^2 omega^2 / 2 and Mb omega = dT/dt + F r cos(theta)
+    omega, so Mb = F r cos(theta) - m3 r^2 omega^2 sin(2 theta) / 2, whose mean over
+    the 720 equal steps of a revolution is exactly 0: the label says 0, not what
+    rounding leaves of the sum (about -2e-15 N.m). With alpha as well, Mb gains
+    (J1 + m2 r^2 + m3 r^2 cos(theta)^2) alpha, of mean alpha (J1 + m2 r^2 + m3 r^2 / 2),
+    printed to 4 digits."""
+    r, m2, m3, j1, omega, force = 0.1, 4.2, 10.0, 0.013, 10.0, 400.0
+    yoke = presets.get("scotch_yoke", l_AB=r, m2=m2, m3=m3, J1=j1, g=0.0)
+    t = np.radians(DEG)
+    lines = by_gid(plot.torque(yoke, omega=omega, alpha=0.0, load=force).axes[0])
+    mb = force * r * np.cos(t) - m3 * r * r * omega ** 2 * np.sin(2 * t) / 2
+    peak = np.max(np.abs(mb))
+    np.testing.assert_allclose(lines["Mb"][0].get_ydata(), mb, rtol=0, atol=1e-13 * peak)
+    assert abs(lines["mean"][0].get_ydata()[0]) < 1e-12 * peak
+    assert lines["mean"][0].get_label() == "mean 0 N.m"
+
+    alpha = 3.0
+    lines = by_gid(plot.torque(yoke, omega=omega, alpha=alpha, load=0.0).axes[0])
+    mean = alpha * (j1 + m2 * r * r + m3 * r * r / 2)  # 0.315 N.m
+    np.testing.assert_allclose(lines["mean"][0].get_ydata(), [mean] * 2, rtol=1e-12)
+    assert lines["mean"][0].get_label() == "mean 0.315 N.m"
+
+
+def test_rounded_cuts_below_the_scale_only():
+    assert plot.rounded(-3.16e-16, 5.0) == "0"
+    assert plot.rounded(4.9e-12, 5.0) == "0"  # 1e-12 of the scale
+    assert plot.rounded(5.1e-12, 5.0) == "5.1e-12"
+    assert plot.rounded(-1234.5678, 5.0) == "-1235"
+    assert plot.rounded(0.0, 0.0) == "0"  # a curve of zeros
 
 
 def test_torque_other_output_theta_in_radians_and_an_axes_given(tmp_path):
@@ -242,15 +279,18 @@ def test_linkage_arrows_are_the_joint_forces_to_scale(tmp_path, make, theta, inp
     np.testing.assert_allclose(np.c_[q.X, q.Y], at, rtol=RTOL, atol=1e-15)
     np.testing.assert_allclose(np.c_[q.U, q.V], 2e-4 * forces, rtol=RTOL, atol=0)
 
-    # the default scale: the largest arrow is 0.4 of the larger side of the bounding
-    # box of the linkage's points (the centres of mass lie inside it for these)
+    # the default scale: the largest arrow (joint force or load) is 0.4 of the larger
+    # side of the bounding box of the linkage's points (the centres of mass lie inside
+    # it for these)
     fig = plot.linkage(mech, theta_deg=math.degrees(theta), **inputs)
     q = quiver_of(fig.axes[0])
     points = np.array(list(st.p.values()), dtype=float)
     size = np.max(points.max(axis=0) - points.min(axis=0))
     arrows = np.c_[q.U, q.V]
-    np.testing.assert_allclose(np.max(np.hypot(arrows[:, 0], arrows[:, 1])), 0.4 * size,
-                               rtol=1e-9)
+    loads = [a for a in fig.axes[0].collections if (a.get_gid() or "").startswith("load:")]
+    longest = max(np.hypot(arrows[:, 0], arrows[:, 1]).tolist() +
+                  [math.hypot(a.U[0], a.V[0]) for a in loads])
+    np.testing.assert_allclose(longest, 0.4 * size, rtol=1e-9)
     k = arrows[:, 0] / np.where(forces[:, 0] != 0, forces[:, 0], np.nan)
     assert np.nanmax(k) == pytest.approx(np.nanmin(k), rel=1e-12)  # one scale for all
     # every moving link is drawn, and every revolute joint
@@ -260,6 +300,219 @@ def test_linkage_arrows_are_the_joint_forces_to_scale(tmp_path, make, theta, inp
     revolute = [st.p[j.point] for j in mech.joints if j.normal is None]
     np.testing.assert_allclose(np.array(joints.get_data(), float).T, np.array(revolute, float),
                                rtol=RTOL, atol=1e-15)
+
+
+def loaded_coupler():
+    """The coupler four-bar (F_P down at P, T4 on the rocker 3) with, besides, a force
+    F_R at C along the rocker's own y axis, and over the cycle a moment
+    M_c = 3 N.m cos(theta) on the coupler 2 and a force F_c = 40 N sin(theta) at B
+    along +x."""
+    d = Description.read(EXAMPLE)
+    d.load("F_R", body="3", kind="force", at="C", direction=[0, 1], fixed_in="link",
+           start=30.0)
+    d.load("M_c", body="2", kind="moment", value="3 N*m * cos(theta)")
+    d.load("F_c", body="2", kind="force", at="B", direction=[1, 0], value="40 N * sin(theta)")
+    return d.build()
+
+
+def load_artists(ax, name: str):
+    """The artists ``load:<name>`` (a quiver, or an arc line) and the label of a load."""
+    (drawn,) = [a for a in ax.get_children() if a.get_gid() == f"load:{name}"]
+    (label,) = [t for t in ax.texts if t.get_gid() == f"load label:{name}"]
+    return drawn, label.get_text()
+
+
+def arc_sweep(line, centre) -> tuple[np.ndarray, float]:
+    """Distances of the line's points from ``centre``, and the angle it turns about
+    it from its first point to its last [deg], counter-clockwise positive."""
+    x, y = (np.asarray(d, float) for d in line.get_data())
+    phi = np.unwrap(np.arctan2(y - centre[1], x - centre[0]))
+    assert np.all(np.diff(phi) > 0) or np.all(np.diff(phi) < 0)  # one way round
+    return np.hypot(x - centre[0], y - centre[1]), math.degrees(phi[-1] - phi[0])
+
+
+def test_linkage_draws_the_loads_as_they_act(tmp_path):
+    """Each load against its definition: a force arrow ends at its point and points the
+    way the force acts (F_P = -80 N along -y: up; F_R along the rocker's y axis, from
+    the positions of D and C; F_c at its value over the cycle, 40 N sin(50 deg)), its
+    length the value times the scale; a moment is an arc of 270 deg about the middle of
+    its link's points, counter-clockwise for a positive value; each label gives the
+    name and value with its unit."""
+    mech = loaded_coupler()
+    th = math.radians(50.0)
+    fig = plot.linkage(mech, theta_deg=50.0, F_P=-80.0, scale=1e-3)
+    saved_png(fig, tmp_path / "linkage_loads.png")
+    ax = fig.axes[0]
+    p = {k: np.array(v, dtype=float) for k, v in mech.kinematics(th, order=0).p.items()}
+    rocker = (p["C"] - p["D"]) / np.linalg.norm(p["C"] - p["D"])  # link 3's x axis
+    expected = {"F_P": (p["P"], -80.0, np.array([0.0, -1.0])),
+                "F_R": (p["C"], 30.0, np.array([-rocker[1], rocker[0]])),
+                "F_c": (p["B"], 40.0 * math.sin(th), np.array([1.0, 0.0]))}
+    for name, (at, value, direction) in expected.items():
+        q, text = load_artists(ax, name)
+        assert isinstance(q, Quiver) and q.pivot == "tip"
+        np.testing.assert_allclose([q.X[0], q.Y[0]], at, rtol=RTOL, atol=1e-15)
+        np.testing.assert_allclose([q.U[0], q.V[0]], 1e-3 * value * direction, rtol=1e-12,
+                                   atol=1e-15)
+        assert text == f"{name} = {value:.4g} N"
+    assert load_artists(ax, "F_P")[0].V[0] > 0.0  # -80 N along -y acts upwards
+    assert load_artists(ax, "F_c")[1] == "F_c = 30.64 N"
+
+    points = np.array([p[k] for k in "ABCDP"])  # what is drawn: its size sets the arcs
+    size = np.max(points.max(axis=0) - points.min(axis=0))
+    for name, centre, value in [("T4", (p["C"] + p["D"]) / 2, 120.0),
+                                ("M_c", (p["B"] + p["C"] + p["P"]) / 3, 3.0 * math.cos(th))]:
+        line, text = load_artists(ax, name)
+        radius, sweep = arc_sweep(line, centre)
+        np.testing.assert_allclose(radius, plot.MOMENT_FRACTION * size, rtol=1e-12)
+        assert sweep == pytest.approx(270.0, rel=1e-12)
+        assert text == f"{name} = {value:.4g} N.m"
+    assert load_artists(ax, "M_c")[1] == "M_c = 1.928 N.m"
+
+    # negative moments turn clockwise; a load over the cycle given by name is that value
+    ax = plot.linkage(mech, theta_deg=50.0, T4=-50.0, M_c=-7.0).axes[0]
+    assert arc_sweep(load_artists(ax, "T4")[0], (p["C"] + p["D"]) / 2)[1] == \
+        pytest.approx(-270.0, rel=1e-12)
+    line, text = load_artists(ax, "M_c")
+    assert arc_sweep(line, (p["B"] + p["C"] + p["P"]) / 3)[1] == pytest.approx(-270.0, rel=1e-12)
+    assert text == "M_c = -7 N.m"
+
+
+def test_linkage_default_scale_counts_the_loads():
+    """The scotch yoke at 90 deg, 10 rad/s, 400 N on the yoke (m2 = 4 kg, m3 = 10 kg,
+    r = 0.1 m): the crank pin carries 400 - (m2 + m3) r omega^2 = 260 N, less than the
+    load, so the load's arrow is the 0.4 of the linkage's size (0.1 m: A to B) and the
+    pin's 260/400 of it."""
+    yoke = presets.get("scotch_yoke")
+    ax = plot.linkage(yoke, theta_deg=90.0, omega=10.0, load=400.0).axes[0]
+    q, text = load_artists(ax, "load")
+    np.testing.assert_allclose([q.U[0], q.V[0]], [0.0, -0.04], rtol=1e-12, atol=1e-15)
+    assert text == "load = 400 N"
+    forces = quiver_of(ax)
+    (i,) = [k for k, p in enumerate(plot.force_pairs(yoke)) if p.name == "F12"]
+    np.testing.assert_allclose(math.hypot(forces.U[i], forces.V[i]), 0.04 * 260 / 400,
+                               rtol=1e-12)
+
+
+def test_linkage_draws_a_zero_load_faint_in_its_positive_sense():
+    mech = loaded_coupler()
+    ax = plot.linkage(mech, theta_deg=50.0, F_R=0.0, T4=0.0).axes[0]
+    p = {k: np.array(v, dtype=float) for k, v in mech.kinematics(math.radians(50.0),
+                                                                   order=0).p.items()}
+    points = np.array([p[k] for k in "ABCDP"])
+    size = np.max(points.max(axis=0) - points.min(axis=0))
+    q, text = load_artists(ax, "F_R")
+    rocker = (p["C"] - p["D"]) / np.linalg.norm(p["C"] - p["D"])
+    np.testing.assert_allclose([q.U[0], q.V[0]], 0.15 * size * np.array([-rocker[1],
+                                                                          rocker[0]]),
+                               rtol=1e-12)
+    assert text == "F_R = 0 N" and q.get_alpha() < 1.0
+    line, text = load_artists(ax, "T4")
+    assert arc_sweep(line, (p["C"] + p["D"]) / 2)[1] == pytest.approx(270.0, rel=1e-12)
+    assert text == "T4 = 0 N.m" and line.get_alpha() < 1.0
+    assert load_artists(ax, "F_P")[0].get_alpha() in (None, 1.0)  # 80 N: drawn in full
+
+
+def label_boxes(fig) -> list:
+    """(gid, text, display bbox of the text alone, distance [pt] from its anchor) of
+    every label of the linkage plot, and the scale key's text, as drawn."""
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    ax = fig.axes[0]
+    out = []
+    for t in ax.texts:
+        if (t.get_gid() or "").split(":")[0] in ("point", "force", "load label"):
+            box = Text.get_window_extent(t, renderer)  # without a leader line
+            x, y = ax.transData.transform(t.xy)
+            dx, dy = max(box.x0 - x, 0.0, x - box.x1), max(box.y0 - y, 0.0, y - box.y1)
+            out.append((t.get_gid(), t.get_text(), box, math.hypot(dx, dy) * 72 / fig.dpi))
+    (key,) = [a for a in ax.get_children() if a.get_gid() == "scale"]
+    out.append(("scale", key.text.get_text(), key.text.get_window_extent(renderer), 0.0))
+    return out
+
+
+def overlaps(boxes) -> list:
+    return [(a[:2], b[:2]) for a, b in itertools.combinations(boxes, 2)
+            if a[2].x0 < b[2].x1 and b[2].x0 < a[2].x1 and a[2].y0 < b[2].y1 and
+            b[2].y0 < a[2].y1]
+
+
+LABELLED = [(name, lambda name=name: presets.get(name)) for name in presets.names()] + [
+    ("six_bar-D", lambda: presets.get("six_bar", driver="D")),
+    ("coupler", lambda: linkage_fmu.load(EXAMPLE))]
+
+
+@pytest.mark.parametrize("make", [m for _, m in LABELLED], ids=[n for n, _ in LABELLED])
+def test_linkage_labels_do_not_overlap(make):
+    """At a few angles of every preset (the six-bar's labels at 60 deg used to lie on
+    top of each other): no two labels' boxes overlap as drawn, nor the scale's key,
+    and each stays within 45 pt of its point or arrow tip; the same figure again puts
+    them in the same places; after a resize they are placed again."""
+    mech = make()
+    angles = [a for a in (30.0, 60.0, 200.0, 300.0) if mech.solve(math.radians(a)).valid]
+    assert angles
+    for deg in angles:
+        fig = plot.linkage(mech, theta_deg=deg)
+        boxes = label_boxes(fig)
+        assert len(boxes) >= len(plot.force_pairs(mech)) + 3
+        assert not overlaps(boxes), (deg, overlaps(boxes))
+        assert max(b[3] for b in boxes) < 45.0, (deg, [(b[0], b[3]) for b in boxes])
+        again = label_boxes(plot.linkage(mech, theta_deg=deg))  # the same places again
+        np.testing.assert_allclose([b[2].extents for b in again],
+                                   [b[2].extents for b in boxes], rtol=0, atol=1e-9)
+        fig.set_size_inches(4.0, 3.5)
+        assert not overlaps(label_boxes(fig)), deg
+        plt.close(fig)
+
+
+def test_place_boxes_keeps_boxes_apart_near_and_inside():
+    """40 boxes about two anchors close by, a box taken between them: every two boxes
+    (the taken one too) are at least the gap apart along x or y, each lies inside the
+    frame and within its distance of its anchor, the distances are on the rings, and
+    the first box, with nothing in its way, lies one gap from its anchor straight in
+    the direction it wants."""
+    rng = np.random.default_rng(7)
+    n, gap = 40, 0.5
+    sizes = rng.uniform(2.0, 9.0, (n, 2))
+    anchors = np.repeat([[-20.0, 0.0], [3.0, 1.0]], n // 2, axis=0)
+    toward = rng.uniform(-4.0, 4.0, n)
+    taken = [[-1.0, -1.0, 1.0, 1.0]]
+    frame = (-60.0, -40.0, 50.0, 45.0)
+    centres, distances = plot.place_boxes(anchors, sizes, toward, taken, frame, gap=gap)
+    boxes = np.r_[np.c_[centres - sizes / 2, centres + sizes / 2], taken]
+    for i, j in itertools.combinations(range(n + 1), 2):
+        a, b = boxes[i], boxes[j]
+        assert max(a[0] - b[2], b[0] - a[2], a[1] - b[3], b[1] - a[3]) >= gap - 1e-12, (i, j)
+    assert np.all((boxes[:n, :2] >= frame[:2]) & (boxes[:n, 2:] <= frame[2:]))
+    dx = np.maximum.reduce([boxes[:n, 0] - anchors[:, 0], anchors[:, 0] - boxes[:n, 2],
+                            np.zeros(n)])
+    dy = np.maximum.reduce([boxes[:n, 1] - anchors[:, 1], anchors[:, 1] - boxes[:n, 3],
+                            np.zeros(n)])
+    assert np.all(np.hypot(dx, dy) <= distances + 1e-12)
+    rings = {gap * (1 + k * (k + 1) // 2) for k in range(30)}
+    assert set(distances.tolist()) <= rings
+    assert distances[0] == gap
+    c, s = math.cos(toward[0]), math.sin(toward[0])
+    edge = min(sizes[0, 0] / 2 / abs(c), sizes[0, 1] / 2 / abs(s))  # centre to edge
+    np.testing.assert_allclose(centres[0], anchors[0] + (gap + edge) * np.array([c, s]),
+                               rtol=1e-12)
+
+
+def test_place_boxes_avoids_a_line_at_a_cost():
+    """A line just right of the anchor: without a cost of covering it the box lies on
+    it, to the right; with one it takes the first spot of the same ring clear of the
+    line by the gap (turned 157.5 degrees: the box's corner would touch it before)."""
+    line = [[0.5, -0.2, 20.0, 0.2]]
+    centres, distances = plot.place_boxes([(0, 0)], [(4, 2)], [0.0], avoid=line)
+    np.testing.assert_allclose(centres, [[3.0, 0.0]], rtol=1e-15)
+    centres, distances = plot.place_boxes([(0, 0)], [(4, 2)], [0.0], avoid=line, cover=50.0)
+    (cx, cy), (w, h) = centres[0], (4.0, 2.0)
+    assert cx + w / 2 <= 0.5 - 1.0 or cy - h / 2 >= 0.2 + 1.0  # a gap (1) off the line
+    assert distances[0] == 1.0
+    t = math.radians(157.5)
+    edge = min(2.0 / abs(math.cos(t)), 1.0 / abs(math.sin(t)))
+    np.testing.assert_allclose(centres[0], (1.0 + edge) * np.array([math.cos(t), math.sin(t)]),
+                               rtol=1e-12)
 
 
 def test_linkage_cannot_be_drawn_where_it_cannot_be_assembled():
@@ -327,6 +580,86 @@ def test_transmission_marks_toggles(tmp_path, make, expected, n):
     ref = solve_deg(mech, deg)
     y = lines[mu][0].get_ydata()
     np.testing.assert_array_equal(np.isnan(y), ~ref.valid)
+
+
+# -- shaking force and moment --------------------------------------------------------------
+@pytest.mark.parametrize("name, params, inputs", CASES, ids=CASE_IDS)
+def test_shaking_is_the_solved_shaking_force_and_moment(tmp_path, name, params, inputs):
+    mech = presets.get(name, **params)
+    fig = plot.shaking(mech, **inputs)
+    saved_png(fig, tmp_path / f"shaking_{name}.png")
+    force_ax, moment_ax = fig.axes
+    ref = solve_deg(mech, DEG, **dict(inputs))
+    fx, fy, m = ref["shake_x"], ref["shake_y"], ref["shake_M"]
+
+    lines = by_gid(force_ax)
+    x, y = lines["shake"][0].get_data()
+    np.testing.assert_allclose(x, fx, rtol=RTOL, atol=0)
+    np.testing.assert_allclose(y, fy, rtol=RTOL, atol=0)
+    np.testing.assert_array_equal(np.ravel(lines["origin"][0].get_data()), [0.0, 0.0])
+    np.testing.assert_allclose(np.ravel(lines["start"][0].get_data()), [fx[0], fy[0]],
+                               rtol=RTOL)
+    i = int(np.argmax(np.hypot(fx, fy)))
+    np.testing.assert_allclose(np.ravel(lines["peak"][0].get_data()), [fx[i], fy[i]],
+                               rtol=RTOL)
+    np.testing.assert_allclose(np.ravel(lines["peak vector"][0].get_data()),
+                               [0.0, fx[i], 0.0, fy[i]], rtol=RTOL)
+    text = "".join(t.get_text() for t in force_ax.texts)
+    assert f"|shake| = {math.hypot(fx[i], fy[i]):.4g} N" in text
+    assert f"θ = {DEG[i]:.1f}°" in text
+    assert force_ax.get_aspect() == 1.0
+    assert (force_ax.get_xlabel(), force_ax.get_ylabel()) == ("shake_x [N]", "shake_y [N]")
+
+    lines = by_gid(moment_ax)
+    x, y = lines["shake_M"][0].get_data()
+    np.testing.assert_array_equal(x, DEG)
+    np.testing.assert_allclose(y, m, rtol=RTOL, atol=0)
+    np.testing.assert_allclose(lines["mean"][0].get_ydata(), [np.mean(m[:-1])] * 2, rtol=1e-9,
+                               atol=1e-12 * np.max(np.abs(m)))
+    i = int(np.argmax(np.abs(m)))
+    np.testing.assert_allclose(np.ravel(lines["peak"][0].get_data()), [DEG[i], m[i]],
+                               rtol=RTOL)
+    assert moment_ax.get_ylabel() == "shake_M [N.m]"
+
+
+def test_shaking_of_the_scotch_yoke_by_hand():
+    """The scotch yoke (crank r with J1, block m2 at its pin B, yoke m3 moving
+    y = r sin(theta) along the y axis through A, a force F along -y on it, no gravity)
+    puts on the frame the load and the d'Alembert forces of its links:
+    shake_x = m2 r (omega^2 cos + alpha sin), shake_y = (m2 + m3) r (omega^2 sin -
+    alpha cos) - F: an ellipse about (0, -F); about A only the block's tangential
+    inertia and the crank's have a moment, shake_M = -(J1 + m2 r^2) alpha."""
+    r, m2, m3, j1, omega, alpha, force = 0.1, 4.0, 10.0, 0.02, 10.0, 3.0, 400.0
+    yoke = presets.get("scotch_yoke", l_AB=r, m2=m2, m3=m3, J1=j1, g=0.0)
+    fig = plot.shaking(yoke, omega=omega, alpha=alpha, load=force)
+    force_ax, moment_ax = fig.axes
+    t = np.radians(DEG)
+    sx = m2 * r * (omega ** 2 * np.cos(t) + alpha * np.sin(t))
+    sy = (m2 + m3) * r * (omega ** 2 * np.sin(t) - alpha * np.cos(t)) - force
+    x, y = by_gid(force_ax)["shake"][0].get_data()
+    np.testing.assert_allclose(x, sx, rtol=0, atol=1e-12 * force)
+    np.testing.assert_allclose(y, sy, rtol=0, atol=1e-12 * force)
+    moment = -(j1 + m2 * r * r) * alpha  # -0.18 N.m at every angle
+    lines = by_gid(moment_ax)
+    np.testing.assert_allclose(lines["shake_M"][0].get_ydata(), moment, rtol=1e-12)
+    assert lines["mean"][0].get_label() == "mean -0.18 N.m"
+
+
+def test_shaking_draws_into_the_axes_given_over_the_angles_given():
+    mech = presets.get("slider_crank")
+    theta = np.linspace(0.2, 2.5, 40)
+    fig0, axes = plt.subplots(1, 2)
+    fig = plot.shaking(mech, theta, 80.0, 0.0, 150.0, ax=axes)
+    assert fig is fig0
+    ref = mech.solve(theta, 80.0, 0.0, 150.0)
+    x, y = by_gid(axes[0])["shake"][0].get_data()
+    np.testing.assert_allclose(x, ref["shake_x"], rtol=RTOL)
+    np.testing.assert_allclose(y, ref["shake_y"], rtol=RTOL)
+    x, y = by_gid(axes[1])["shake_M"][0].get_data()
+    np.testing.assert_allclose(x, np.degrees(theta), rtol=RTOL)
+    np.testing.assert_allclose(y, ref["shake_M"], rtol=RTOL)
+    with pytest.raises(TypeError, match="pair of Axes"):
+        plot.shaking(mech, ax=axes[0])
 
 
 # -- bad input -----------------------------------------------------------------------------

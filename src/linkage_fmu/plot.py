@@ -1,5 +1,5 @@
 """Plots of a linkage's kinetostatics: driving torque, pin-force polars, the linkage
-with its joint forces, and transmission angles.
+with its joint forces and loads, transmission angles, and the shaking force and moment.
 
 Every public function returns a :class:`matplotlib.figure.Figure` and draws into the
 ``ax`` given, or into a new figure (made with :mod:`matplotlib.pyplot`, so ``plt.show()``
@@ -12,12 +12,14 @@ horizontal axes are in degrees: the given ``theta_deg`` itself, else ``degrees(t
 
 Inputs: ``omega``, ``alpha`` and each load (by position after ``alpha``, as in
 :meth:`~linkage_fmu.Mechanism.solve`, or by name) that are not given take the linkage's
-start values (its ``[inputs]`` table and each load's ``start``), as ``linkage-fmu
-table`` does: ``mech.solve`` instead takes 0 for an omitted load.
+start values (its ``[inputs]`` table and each load's ``start``), as ``mech.solve`` and
+``linkage-fmu table`` do; a load over the cycle is computed at each angle unless given
+by name.
 
 What is drawn carries a ``gid`` (``artist.get_gid()``), so that scripts and tests can
 find it: the curves by output name, ``"mean"``, ``"peak"``, ``"origin"``,
-``"forces"`` (a quiver), ``"toggle:<mu>"`` and so on (see each function).
+``"forces"`` (a quiver), ``"load:<name>"``, ``"toggle:<mu>"`` and so on (see each
+function).
 
 Examples
 --------
@@ -42,15 +44,23 @@ import numpy as np
 
 from .outputs import SHAKING, joint_between
 
+try:  # the linkage's label placer is an artist; without matplotlib, _pyplot() says so
+    from matplotlib.artist import Artist as _Artist
+    from matplotlib.text import Text as _Text
+except ImportError:  # pragma: no cover
+    _Artist = _Text = object
+
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
+    from .loads import Load
     from .mechanism import Mechanism
 
-__all__ = ["torque", "polar", "linkage", "transmission", "ForcePair", "force_pairs",
-           "link_points", "revolution_mean", "toggles", "N_ANGLES", "ARROW_FRACTION",
-           "TOGGLE_TOL"]
+__all__ = ["torque", "polar", "linkage", "transmission", "shaking", "ForcePair",
+           "force_pairs", "link_points", "revolution_mean", "rounded", "toggles",
+           "place_boxes", "N_ANGLES", "ARROW_FRACTION", "MOMENT_FRACTION", "TOGGLE_TOL",
+           "ZERO_FRACTION"]
 
 #: the default crank angles: 0, 0.5, ..., 360 degrees (both ends: a closed curve)
 N_ANGLES = 721
@@ -58,10 +68,15 @@ N_ANGLES = 721
 ARROW_FRACTION = 0.4
 #: a transmission angle within this of 0 or pi [rad] is a toggle
 TOGGLE_TOL = 1e-6
+#: a mean within this fraction of its curve's largest magnitude is printed as 0
+ZERO_FRACTION = 1e-12
+#: a moment load is drawn as an arc of this radius, as a fraction of the linkage size
+MOMENT_FRACTION = 0.06
 
 _INSTALL = ('linkage_fmu.plot needs matplotlib (>= 3.7): pip install "linkage_fmu[plot]" '
             "(or pip install matplotlib)")
 _LINK_COLORS = ("C0", "C1", "C2", "C4", "C9", "C6", "C8", "C5", "C7")  # no red: the forces
+_LOAD_COLOR = "k"
 _DEFAULT_FORCE = re.compile(r"^force of link (.+) on link (.+), ([xy]) component$")
 
 
@@ -261,6 +276,24 @@ def revolution_mean(theta: np.ndarray, values: np.ndarray) -> float:
     return float(np.sum(0.5 * (y0[ok] + y1[ok]) * dt[ok]) / np.sum(dt[ok]))
 
 
+def rounded(value: float, scale: float) -> str:
+    """``value`` to 4 significant digits, or ``"0"`` where it is within
+    :data:`ZERO_FRACTION` of ``scale`` (e.g. the largest ``|value|`` of the curve whose
+    mean it is): what rounding leaves of a zero sum of numbers that size is far less,
+    and a real mean that small would not show on the curve either.
+
+    Examples
+    --------
+    >>> rounded(3.534e-17, 18.92), rounded(-0.0, 0.0), rounded(0.123456, 18.92)
+    ('0', '0', '0.1235')
+    >>> rounded(2.5e-11, 18.92), rounded(float("nan"), 1.0)
+    ('2.5e-11', 'nan')
+    """
+    if abs(value) <= ZERO_FRACTION * abs(scale):
+        return "0"
+    return f"{value:.4g}"
+
+
 def _peak(values: np.ndarray) -> int:
     """Index of the largest finite ``|values|`` (the first if several)."""
     magnitude = np.abs(values)
@@ -312,7 +345,8 @@ def torque(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads,
     Figure
         Lines (gid): the output (``output``'s name; NaN where the linkage cannot be
         assembled, drawn as gaps), ``"mean"`` (horizontal, at
-        :func:`revolution_mean` of the output) and ``"peak"`` (one point at the largest
+        :func:`revolution_mean` of the output; its legend label gives it
+        :func:`rounded` against the peak) and ``"peak"`` (one point at the largest
         ``|output|``, annotated with its angle and value).
 
     Raises
@@ -344,12 +378,22 @@ def torque(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads,
     values = np.asarray(_solve(mech, rad, inputs)[name], dtype=float)
     _finite_or_fail(mech, values, deg)
     unit, description = mech.output_info[name]
-    mean = revolution_mean(rad, values)
-    i = _peak(values)
 
     fig, ax = _axes(ax)
+    _draw_curve(ax, rad, deg, values, name, unit)
+    ax.set_title(f"{mech.name}: {description}\n{_inputs_text(mech, inputs)}", fontsize=10)
+    return fig
+
+
+def _draw_curve(ax: "Axes", rad: np.ndarray, deg: np.ndarray, values: np.ndarray, name: str,
+                unit: str) -> None:
+    """The curve of :func:`torque`: ``values`` against ``deg``, their mean over ``rad``
+    and their peak magnitude, a line at 0, the axes' labels and the legend."""
+    mean = revolution_mean(rad, values)
+    i = _peak(values)
     ax.plot(deg, values, color="C0", lw=1.6, label=name, gid=name)
-    ax.axhline(mean, color="C1", ls="--", lw=1.2, label=f"mean {mean:.4g} {unit}", gid="mean")
+    ax.axhline(mean, color="C1", ls="--", lw=1.2,
+               label=f"mean {rounded(mean, abs(values[i]))} {unit}", gid="mean")
     ax.plot([deg[i]], [values[i]], "o", color="C3", ms=7,
             label=f"peak |{name}| {abs(values[i]):.4g} {unit}", gid="peak")
     ax.annotate(f"{values[i]:.4g} {unit}\nat θ = {deg[i]:.1f}°", (deg[i], values[i]),
@@ -358,9 +402,7 @@ def torque(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads,
     ax.axhline(0.0, color="0.6", lw=0.8, zorder=0, gid="zero")
     _degree_axis(ax, deg)
     ax.set_ylabel(f"{_greek(name)} [{unit}]")
-    ax.set_title(f"{mech.name}: {description}\n{_inputs_text(mech, inputs)}", fontsize=10)
     ax.legend(loc="best", fontsize=9)
-    return fig
 
 
 # -- 2. polar ----------------------------------------------------------------------------
@@ -411,29 +453,37 @@ def polar(mech: "Mechanism", force: str | None = None, theta=None, omega=None, a
     sol = _solve(mech, rad, inputs)
     fx, fy = (np.asarray(sol[n], dtype=float) for n in (pair.x, pair.y))
     _finite_or_fail(mech, fx, deg)
-    i = _peak(np.hypot(fx, fy))
-    magnitude = math.hypot(fx[i], fy[i])
 
     fig, ax = _axes(ax, figsize=(6.5, 6.5))
+    _draw_hodograph(ax, fx, fy, deg, pair.name, pair.x, pair.y)
+    who = f": force of link {pair.by} on link {pair.on}" if pair.by is not None else ""
+    ax.set_title(f"{mech.name}, {pair.name}{who}\n{_inputs_text(mech, inputs)}", fontsize=10)
+    return fig
+
+
+def _draw_hodograph(ax: "Axes", fx: np.ndarray, fy: np.ndarray, deg: np.ndarray, name: str,
+                    x: str, y: str) -> None:
+    """The diagram of :func:`polar`: the curve ``(fx, fy)`` [N] (gid ``name``; ``x``
+    and ``y`` name its components on the axes), the origin, the first angle, the
+    largest force, equal aspect, and the legend."""
+    i = _peak(np.hypot(fx, fy))
+    magnitude = math.hypot(fx[i], fy[i])
     ax.axhline(0.0, color="0.6", lw=0.8, zorder=0, gid="x axis")
     ax.axvline(0.0, color="0.6", lw=0.8, zorder=0, gid="y axis")
-    ax.plot(fx, fy, color="C0", lw=1.6, label=f"{pair.name} over θ", gid=pair.name)
+    ax.plot(fx, fy, color="C0", lw=1.6, label=f"{name} over θ", gid=name)
     ax.plot([0.0], [0.0], "+", color="k", ms=12, mew=1.5, label="origin", gid="origin")
     j = int(np.flatnonzero(np.isfinite(fx) & np.isfinite(fy))[0])
     ax.plot([fx[j]], [fy[j]], "s", color="C2", ms=6, label=f"θ = {deg[j]:g}°", gid="start")
-    ax.plot([fx[i]], [fy[i]], "o", color="C3", ms=7, label=f"max |{pair.name}| {magnitude:.4g} N",
+    ax.plot([fx[i]], [fy[i]], "o", color="C3", ms=7, label=f"max |{name}| {magnitude:.4g} N",
             gid="peak")
     ax.plot([0.0, fx[i]], [0.0, fy[i]], "--", color="C3", lw=1.0, gid="peak vector")
-    ax.annotate(f"|{pair.name}| = {magnitude:.4g} N\nat θ = {deg[i]:.1f}°", (fx[i], fy[i]),
+    ax.annotate(f"|{name}| = {magnitude:.4g} N\nat θ = {deg[i]:.1f}°", (fx[i], fy[i]),
                 xytext=(10, 10), textcoords="offset points", fontsize=9, gid="peak label")
     ax.set_aspect("equal", adjustable="datalim")
-    ax.set_xlabel(f"{pair.x} [N]")
-    ax.set_ylabel(f"{pair.y} [N]")
-    who = f": force of link {pair.by} on link {pair.on}" if pair.by is not None else ""
-    ax.set_title(f"{mech.name}, {pair.name}{who}\n{_inputs_text(mech, inputs)}", fontsize=10)
+    ax.set_xlabel(f"{x} [N]")
+    ax.set_ylabel(f"{y} [N]")
     ax.grid(True, alpha=0.3)
     ax.legend(loc="best", fontsize=9)
-    return fig
 
 
 # -- 3. the linkage and its joint forces -------------------------------------------------
@@ -455,10 +505,265 @@ def _ordered(points: Sequence[str], pos: dict) -> list[str]:
     return [points[k] for k in order]
 
 
+def _overlapping(boxes: np.ndarray, taken: np.ndarray, pad: float) -> np.ndarray:
+    """For each of ``boxes`` (rows ``x0, y0, x1, y1``), whether it comes within ``pad``
+    of any of ``taken``."""
+    b, t = boxes[:, None, :], taken[None, :, :]
+    return ((b[..., 0] < t[..., 2] + pad) & (t[..., 0] < b[..., 2] + pad) &
+            (b[..., 1] < t[..., 3] + pad) & (t[..., 1] < b[..., 3] + pad)).any(axis=1)
+
+
+#: the directions tried about a label's anchor: the preferred one, then the others in
+#: pairs on either side of it, 22.5 degrees apart
+_TURNS = np.radians(22.5) * np.array([0] + [s * k for k in range(1, 9) for s in (1, -1)][:15])
+
+
+def place_boxes(anchors, sizes, toward, taken=(), frame=None, gap: float = 1.0,
+                avoid=(), cover: float = 0.0, leave: float = math.inf
+                ) -> tuple[np.ndarray, np.ndarray]:
+    """Centres for boxes of the ``sizes`` ``(w, h)``, each near its anchor, such that no
+    two come within ``gap`` of each other or of the boxes ``taken``.
+
+    Each box in turn, from the first, is tried on rings about its anchor (distances
+    ``gap * (1, 2, 4, 7, 11, ...)`` from the anchor to the box's edge) in 16 directions
+    22.5 degrees apart, the direction ``toward`` [rad] first, then the others by how far
+    they turn from it. Of the spots clear of the boxes placed before it and of
+    ``taken``, it takes the one of least cost: its distance, plus ``cover`` if it comes
+    within ``gap`` of one of the boxes ``avoid`` (lines it had better not hide), plus
+    ``leave`` if it is not inside ``frame`` (``x0, y0, x1, y1``); of equal costs, the
+    first tried. Any unit of length will do (display pixels in :func:`linkage`); the
+    result depends on nothing else.
+
+    Returns
+    -------
+    centres : ndarray, shape (n, 2)
+    distances : ndarray, shape (n,)
+        From each anchor to its box's edge along the direction taken.
+
+    Examples
+    --------
+    Two boxes 4 wide and 2 high anchored at the same point, both wanting to lie to its
+    right: the first does, one gap away; the second, kept a gap off the first, takes
+    the first clear direction on the same ring, turned 157.5 degrees to the upper left.
+
+    >>> centres, distances = place_boxes([(0, 0), (0, 0)], [(4, 2), (4, 2)], [0.0, 0.0])
+    >>> centres.round(3).tolist(), distances.tolist()
+    ([[3.0, 0.0], [-2.924, 1.211]], [1.0, 1.0])
+
+    In a frame that ends at x = -1 it goes to the fourth ring instead, 45 degrees up:
+
+    >>> centres, distances = place_boxes([(0, 0), (0, 0)], [(4, 2), (4, 2)], [0.0, 0.0],
+    ...                                  frame=(-1, -10, 10, 10))
+    >>> centres.round(3).tolist(), distances.tolist()
+    ([[3.0, 0.0], [3.828, 3.828]], [1.0, 4.0])
+    """
+    if not gap > 0.0:
+        raise ValueError(f"gap must be > 0, got {gap!r}")
+    anchors = np.asarray(anchors, dtype=float).reshape(-1, 2)
+    sizes = np.asarray(sizes, dtype=float).reshape(-1, 2)
+    boxes = [np.asarray(taken, dtype=float).reshape(-1, 4)]
+    avoid = np.asarray(avoid, dtype=float).reshape(-1, 4)
+    x0, y0, x1, y1 = (-math.inf, -math.inf, math.inf, math.inf) if frame is None else frame
+    centres, distances = np.empty_like(anchors), np.empty(len(anchors))
+    for n, ((ax, ay), (w, h), a) in enumerate(zip(anchors, sizes, np.broadcast_to(
+            np.asarray(toward, dtype=float), len(anchors)))):
+        c, s = np.cos(a + _TURNS), np.sin(a + _TURNS)
+        with np.errstate(divide="ignore"):  # along an axis, one side sets the edge
+            edge = np.minimum(0.5 * w / np.abs(c), 0.5 * h / np.abs(s))
+        now = np.concatenate(boxes)
+        best, best_cost, k = None, math.inf, 0
+        while True:
+            r = gap * (1 + k * (k + 1) // 2)
+            if r >= best_cost or (best is not None and r > 1e6 * max(gap, w, h)):
+                break  # no farther spot can cost less (or only infinite costs are left)
+            cx, cy = ax + (r + edge) * c, ay + (r + edge) * s
+            spots = np.c_[cx - 0.5 * w, cy - 0.5 * h, cx + 0.5 * w, cy + 0.5 * h]
+            cost = r + cover * _overlapping(spots, avoid, gap) + np.where(
+                (spots[:, 0] >= x0) & (spots[:, 1] >= y0) & (spots[:, 2] <= x1) &
+                (spots[:, 3] <= y1), 0.0, leave)
+            clear = np.flatnonzero(~_overlapping(spots, now, gap))
+            if clear.size:
+                j = clear[np.argmin(cost[clear])]
+                if best is None or cost[j] < best_cost:
+                    best, best_cost = (spots[j], r), cost[j]
+            k += 1
+        box, distances[n] = best
+        centres[n] = 0.5 * (box[:2] + box[2:])
+        boxes.append(box[None, :])
+    return centres, distances
+
+
+class _LabelPlacer(_Artist):
+    """Places the labels of :func:`linkage` where they do not overlap, at each draw,
+    before the labels are drawn and once the layout has fixed the axes' transform (the
+    size of a text is in points and the linkage in metres, so where they collide
+    depends on the figure): with :func:`place_boxes` in display pixels, in the order
+    they were added, kept off each other, the marks (joint circles), the frame points'
+    symbols and the scale's key, and, where it costs at most :attr:`COVER_PT` more
+    distance, off the arrows and the links' lines too; inside the axes unless that
+    costs :attr:`LEAVE_PT` more. A label farther than :attr:`LEADER_PT` from its anchor
+    gets a thin line to it."""
+
+    GAP_PT = 3.0  # spacing of the rings, and the least gap between labels
+    MARK_PT = 5.0  # half the side of the square kept clear about a mark
+    LEADER_PT = 16.0
+    COVER_PT = 18.0
+    LEAVE_PT = 60.0
+
+    def __init__(self, ax: "Axes"):
+        super().__init__()
+        self.set_zorder(-math.inf)  # drawn before the axes' other artists
+        self.set_in_layout(False)
+        self.labels: list = []  # (annotation, anchor [m], preferred direction [m])
+        self.marks = np.empty((0, 2))  # [m]
+        self.blocks = np.empty((0, 4))  # x0, y0, x1, y1 [m]: the frame points' symbols
+        self.segments = np.empty((0, 4))  # x, y, u, v [m]: arrows, links
+        self.key = None
+        ax.add_artist(self)
+
+    def add(self, text: str, xy, toward, color: str, **kwargs):
+        """A label ``text`` of the point ``xy`` [m], preferably in the direction of the
+        vector ``toward`` [m] from it."""
+        ann = self.axes.annotate(
+            text, xy, xytext=(0.0, 0.0), textcoords="offset points", ha="center",
+            va="center", color=color, arrowprops=dict(arrowstyle="-", color=color, lw=0.6,
+                                                      shrinkA=1.0, shrinkB=2.0), **kwargs)
+        ann.arrow_patch.set_visible(False)
+        ann.set_in_layout(False)  # placed after the layout: it must not move the axes
+        self.labels.append((ann, np.asarray(xy, float), np.asarray(toward, float)))
+        return ann
+
+    def _taken(self, renderer, px: float) -> np.ndarray:
+        """The boxes [display px] labels keep off: the marks, the frame points'
+        symbols, the scale's key."""
+        to = self.axes.transData.transform
+        m = self.MARK_PT * px
+        marks = to(self.marks).reshape(-1, 2)
+        blocks = to(self.blocks.reshape(-1, 2)).reshape(-1, 4)
+        boxes = [np.c_[marks - m, marks + m], np.c_[np.minimum(blocks[:, :2], blocks[:, 2:]),
+                                                    np.maximum(blocks[:, :2], blocks[:, 2:])]]
+        if self.key is not None and self.key.get_visible():
+            key = self.key
+            x, y = self.axes.transAxes.transform((key.X, key.Y))
+            length = abs(to((key.U, 0.0))[0] - to((0.0, 0.0))[0])  # the key's tip is at X
+            text = key.text.get_window_extent(renderer)
+            half = max(0.5 * text.height, 3.0 * px)
+            sep = 7.2 * px  # QuiverKey's labelsep, 0.1 inch
+            boxes.append([[x - length, y - half, x + sep + text.width, y + half]])
+        return np.concatenate([np.reshape(b, (-1, 4)) for b in boxes])
+
+    def _lines(self, px: float) -> np.ndarray:
+        """Small boxes [display px] along the segments, every 2 px."""
+        to = self.axes.transData.transform
+        boxes = [np.empty((0, 4))]
+        for x, y, u, v in self.segments:
+            a, b = to([(x, y), (x + u, y + v)])
+            n = int(min(np.hypot(*(b - a)) / (2.0 * px), 1000)) + 2
+            along = a + np.linspace(0.0, 1.0, n)[:, None] * (b - a)
+            boxes.append(np.c_[along - px, along + px])
+        return np.concatenate(boxes)
+
+    def draw(self, renderer):
+        labels = [(a, xy, d) for a, xy, d in self.labels if a.get_visible()]
+        if not self.get_visible() or not labels:
+            return
+        px = renderer.points_to_pixels(1.0)
+        to = self.axes.transData.transform
+        anchors, sizes, toward, shifts = [], [], [], []
+        for ann, xy, direction in labels:
+            ann.update_positions(renderer)
+            box = _Text.get_window_extent(ann, renderer)  # the text, not its leader
+            at = to(xy)
+            d = to(xy + direction) - at
+            anchors.append(at)
+            sizes.append((box.width, box.height))
+            toward.append(math.atan2(d[1], d[0]) if np.hypot(*d) > 0 else math.pi / 4)
+            # the box's centre from the text's position (its alignment, its descent)
+            shifts.append(np.array(box.corners().mean(axis=0)) -
+                          ann.get_transform().transform(ann.xyann))
+        centres, distances = place_boxes(
+            anchors, sizes, toward, self._taken(renderer, px), self.axes.bbox.extents,
+            self.GAP_PT * px, self._lines(px), self.COVER_PT * px, self.LEAVE_PT * px)
+        for (ann, _, _), at, centre, shift, r in zip(labels, anchors, centres, shifts,
+                                                      distances):
+            offset = tuple((centre - shift - at) / px)
+            if not np.allclose(offset, ann.xyann, rtol=0.0, atol=1e-3):
+                ann.xyann = offset  # only if it moved: no redraw for nothing
+            leader = bool(r > self.LEADER_PT * px)
+            if ann.arrow_patch.get_visible() != leader:
+                ann.arrow_patch.set_visible(leader)
+
+
 def _nice(value: float) -> float:
     """1, 2 or 5 times a power of ten, at most ``value`` (> 0)."""
     power = 10.0 ** math.floor(math.log10(value))
     return max(m for m in (1.0, 2.0, 5.0) if m * power <= value * (1 + 1e-12)) * power
+
+
+class _LoadAt(NamedTuple):
+    """A load at one state: its ``value`` and, for a force, its unit ``direction`` in
+    the frame's axes (None for a moment)."""
+
+    load: "Load"
+    value: float
+    direction: tuple[float, float] | None
+
+
+def _loads_at(mech: "Mechanism", st, inputs: dict) -> list[_LoadAt]:
+    """Each of ``mech.loads`` at the kinematic state ``st``: its value given in
+    ``inputs``, else (a load over the cycle) computed there."""
+    out = []
+    for load in mech.loads:
+        value = inputs[load.name] if load.name in inputs else load.at_state(st)
+        direction = None
+        if load.kind == "force":
+            ux, uy = (float(c) for c in load.direction)
+            if load.fixed_in == "link":  # given in the link's own axes
+                c, s = (float(c) for c in st.u[load.body])
+                ux, uy = c * ux - s * uy, s * ux + c * uy
+            direction = (ux, uy)
+        out.append(_LoadAt(load, float(value), direction))
+    return out
+
+
+def _draw_loads(ax: "Axes", loads: Sequence[_LoadAt], pos: dict, links: dict, scale: float,
+                size: float, labels: _LabelPlacer) -> np.ndarray:
+    """Draws each load, each labelled with its name and value: a force as an arrow
+    ``value * direction * scale`` [m] ending at its point, a moment as an arc about the
+    middle of its link's points, with its head in the moment's sense; a load of 0 in
+    its positive sense, faint, a force ``0.15 * size`` long. Returns the segments drawn
+    (``x, y, u, v`` [m]): lines for the labels to keep clear of, and ends for the axes'
+    limits."""
+    from matplotlib.patches import FancyArrowPatch
+
+    segments = []
+    for load, value, direction in loads:
+        faint = value == 0.0  # no sense to show: the positive one, as a reminder
+        style = dict(color=_LOAD_COLOR, alpha=0.35 if faint else 1.0, zorder=5)
+        text = f"{load.name} = {value:.4g} {load.unit}"
+        if direction is not None:
+            (x, y), length = pos[load.at], 0.15 * size if faint else value * scale
+            u, v = length * direction[0], length * direction[1]
+            ax.quiver([x], [y], [u], [v], angles="xy", scale_units="xy", scale=1.0,
+                      pivot="tip", width=0.006, gid=f"load:{load.name}", **style)
+            segments.append((x - u, y - v, u, v))
+            labels.add(text, (x - u, y - v), (-u, -v), _LOAD_COLOR, fontsize=8,
+                       gid=f"load label:{load.name}")  # beyond the tail
+            continue
+        cx, cy = np.mean([pos[p] for p in links[load.body]], axis=0)
+        r = MOMENT_FRACTION * size
+        phi = np.radians(np.linspace(-45.0, 225.0, 61))  # open at the bottom
+        if value < 0.0:
+            phi = phi[::-1]
+        x, y = cx + r * np.cos(phi), cy + r * np.sin(phi)
+        ax.plot(x, y, lw=1.6, gid=f"load:{load.name}", **style)
+        ax.add_patch(FancyArrowPatch((x[-2], y[-2]), (x[-1], y[-1]), arrowstyle="-|>",
+                                     mutation_scale=14, shrinkA=0.0, shrinkB=0.0, lw=1.6,
+                                     gid=f"load head:{load.name}", **style))
+        segments += [(a, b, c - a, d - b) for a, b, c, d in zip(x, y, x[1:], y[1:])]
+        labels.add(text, (cx, cy + r), (0.0, 1.0), _LOAD_COLOR, fontsize=8,
+                   gid=f"load label:{load.name}")
+    return np.array(segments, dtype=float).reshape(-1, 4)
 
 
 def _draw_frame_point(ax, x: float, y: float, s: float, name: str) -> None:
@@ -475,13 +780,23 @@ def _draw_frame_point(ax, x: float, y: float, s: float, name: str) -> None:
 def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta_deg=None,
             scale: float | None = None, ax: "Axes | None" = None, **named_loads) -> "Figure":
     """The linkage at one crank angle, with every joint force drawn as an arrow from its
-    joint, all to one scale.
+    joint and every external load at its point or on its link, the forces to one scale.
 
     Links are lines between the points they carry (:func:`link_points`; a polygon for
     three or more), a slider a square, revolute joints circles, frame points hatched
     triangles and fixed guides dashed lines. Each :func:`force_pairs` force whose joint is
     known is an arrow ``F * scale`` [m] starting at its joint's point, labelled with its
-    name at the tip.
+    name and magnitude beyond its tip. Each load is labelled with its name and value
+    (as given, or, over the cycle, at this angle): a force as an arrow ``value *
+    direction * scale`` [m] ending at its point, so that it points the way the force
+    acts, a moment as an arc about the middle of its link's points with its head in
+    the moment's sense (counter-clockwise for a positive value); a load of 0 is drawn
+    faint, in its positive sense (a force 0.15 of the linkage's size long).
+    The labels are placed when the figure is drawn
+    (their size is in points, the linkage's in metres), each as near its point or tip
+    as it can be without covering another label, a joint, a frame point's symbol or the
+    scale, nor, unless that takes it much farther, an arrow or a link
+    (:func:`place_boxes`); with a thin line to it if it had to move away.
 
     Parameters
     ----------
@@ -493,9 +808,9 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     theta_deg : float, optional
         The crank angle [deg], instead of ``theta``.
     scale : float, optional
-        Arrow length per force [m/N]; default so that the largest force is
-        :data:`ARROW_FRACTION` (0.4) of the linkage's size (the larger side of the
-        bounding box of its points at this angle).
+        Arrow length per force [m/N]; default so that the largest force (joint force
+        or load) is :data:`ARROW_FRACTION` (0.4) of the linkage's size (the larger side
+        of the bounding box of its points at this angle).
     ax : matplotlib Axes, optional
         Where to draw; a new figure if None.
 
@@ -505,7 +820,13 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
         Its axes hold the quiver ``gid="forces"`` (``X, Y`` the joint points, ``U, V``
         the forces times ``scale``, in :func:`force_pairs` order), the quiver key
         ``gid="scale"`` (a round force to scale; the title gives the scale in m/N),
-        lines ``gid="link:<name>"`` (a patch for a slider) and ``gid="joints"``.
+        lines ``gid="link:<name>"`` (a patch for a slider) and ``gid="joints"``; each
+        load's quiver ``gid="load:<name>"`` (one arrow: ``X, Y`` its point, the tip;
+        ``U, V`` the force times ``scale``) or, for a moment, line
+        ``gid="load:<name>"`` (the arc, from its tail to its head, :data:`MOMENT_FRACTION`
+        of the size in radius) and patch ``gid="load head:<name>"``; and the labels
+        (annotations) ``gid="force:<name>"``, ``"load label:<name>"`` and
+        ``"point:<name>"``.
 
     Raises
     ------
@@ -518,12 +839,14 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     >>> matplotlib.use("Agg")
     >>> from linkage_fmu import plot, presets
     >>> mech = presets.get("four_bar")
-    >>> fig = plot.linkage(mech, theta_deg=30.0, omega=10.0, scale=1e-3)
+    >>> fig = plot.linkage(mech, theta_deg=30.0, omega=10.0, load=5.0, scale=1e-3)
     >>> ax = fig.axes[0]
     >>> quiver = next(c for c in ax.collections if c.get_gid() == "forces")
-    >>> sol = mech.solve(np.radians(30.0), omega=10.0)
+    >>> sol = mech.solve(np.radians(30.0), omega=10.0, load=5.0)
     >>> bool(np.isclose(quiver.U[0], 1e-3 * sol["F21x"]))  # F21 at B, in m
     True
+    >>> [t.get_text() for t in ax.texts if t.get_gid() == "load label:load"]  # on the rocker
+    ['load = 5 N.m']
     """
     rad, deg = _angles(theta, theta_deg, scalar=True)
     th, th_deg = float(rad[0]), float(deg[0])
@@ -535,11 +858,13 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     sol = _solve(mech, th, inputs)
     forces = np.array([(sol[p.x], sol[p.y]) for p in pairs], dtype=float).reshape(-1, 2)
     origins = np.array([pos[p.point] for p in pairs], dtype=float).reshape(-1, 2)
+    loads_now = _loads_at(mech, st, inputs)
 
     links = link_points(mech)
     drawn = sorted({p for pts in links.values() for p in pts} | set(mech.frame_points))
     size = _size([pos[p] for p in drawn], mech.length_scale)
-    largest = float(np.max(np.hypot(forces[:, 0], forces[:, 1]))) if len(forces) else 0.0
+    largest = max([0.0, *np.hypot(forces[:, 0], forces[:, 1]),
+                   *(abs(ld.value) for ld in loads_now if ld.direction is not None)])
     if scale is None:
         scale = ARROW_FRACTION * size / largest if largest > 0.0 else 1.0
     elif not (math.isfinite(scale) and scale > 0.0):
@@ -558,6 +883,7 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
             h = 0.35 * size
             ax.plot([x - h * tx, x + h * tx], [y - h * ty, y + h * ty], ls=(0, (6, 3)),
                     color="0.4", lw=1.2, zorder=1, gid=f"guide:{j.name}")
+    lines = []
     for k, (link, pts) in enumerate(links.items()):
         color = _LINK_COLORS[k % len(_LINK_COLORS)]
         if len(pts) == 1:  # a slider or block: a square along its direction
@@ -569,6 +895,7 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
             continue
         ring = _ordered(pts, pos)
         xy = [pos[p] for p in ring] + ([pos[ring[0]]] if len(ring) > 2 else [])
+        lines += [(x0, y0, x1 - x0, y1 - y0) for (x0, y0), (x1, y1) in zip(xy, xy[1:])]
         ax.plot(*zip(*xy), "-", color=color, lw=3.0, solid_capstyle="round", zorder=2,
                 label=f"link {link}", gid=f"link:{link}")
         if len(ring) > 2:
@@ -577,26 +904,31 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     jx, jy = zip(*[pos[p] for p in revolute]) if revolute else ((), ())
     ax.plot(jx, jy, "o", ms=7, mfc="white", mec="k", mew=1.3, ls="none", zorder=4,
             gid="joints")
-    for p in drawn:
-        ax.annotate(p, pos[p], xytext=(-6, 6), textcoords="offset points", ha="right",
-                    fontsize=9, color="0.25", gid=f"point:{p}")
+    labels = _LabelPlacer(ax)
+    labels.marks = np.array([pos[p] for p in drawn], dtype=float).reshape(-1, 2)
+    labels.blocks = np.array([(pos[p][0] - 1.6 * s, pos[p][1] - 2.2 * s, pos[p][0] + 1.6 * s,
+                               pos[p][1]) for p in mech.frame_points]).reshape(-1, 4)
+    for p in drawn:  # up and to the left, as far as the others let them
+        labels.add(p, pos[p], (-1.0, 1.0), "0.25", fontsize=9, gid=f"point:{p}")
 
     u, v = forces[:, 0] * scale, forces[:, 1] * scale
     quiver = ax.quiver(origins[:, 0], origins[:, 1], u, v, angles="xy", scale_units="xy",
                        scale=1.0, color="crimson", width=0.006, zorder=5, gid="forces")
     for p, (x, y), du, dv, (fx, fy) in zip(pairs, origins, u, v, forces):
-        right, up = du >= 0.0, dv >= 0.0  # the label beyond the tip
-        ax.annotate(f"{p.name}\n{math.hypot(fx, fy):.3g} N", (x + du, y + dv),
-                    xytext=(4 if right else -4, 4 if up else -4), textcoords="offset points",
-                    ha="left" if right else "right", va="bottom" if up else "top",
-                    fontsize=8, color="crimson", gid=f"force:{p.name}")
+        labels.add(f"{p.name}\n{math.hypot(fx, fy):.3g} N", (x + du, y + dv), (du, dv),
+                   "crimson", fontsize=8, gid=f"force:{p.name}")  # beyond the tip
+    drawn_loads = _draw_loads(ax, loads_now, pos, links, scale, size, labels)
+    labels.segments = np.r_[np.c_[origins, u, v], drawn_loads,
+                            np.array(lines, dtype=float).reshape(-1, 4)]
     if largest > 0.0:
         ref = _nice(0.5 * largest)
         key = ax.quiverkey(quiver, 0.5, 0.04, ref * scale, f"{ref:g} N", labelpos="E",
                            coordinates="axes", color="crimson")
         key.set_gid("scale")
+        labels.key = key
 
-    tips = np.concatenate([np.array([pos[p] for p in drawn]), origins + np.c_[u, v]])
+    tips = np.concatenate([np.array([pos[p] for p in drawn]), origins + np.c_[u, v],
+                           drawn_loads[:, :2], drawn_loads[:, :2] + drawn_loads[:, 2:]])
     lo, hi = tips.min(axis=0) - 0.12 * size, tips.max(axis=0) + 0.12 * size
     lo[1] -= 2.2 * s + 0.12 * size  # the ground hatching, and a band for the scale
     ax.set_xlim(lo[0], hi[0])
@@ -753,4 +1085,85 @@ def transmission(mech: "Mechanism", theta=None, *, theta_deg=None,
     ax.set_title(f"{mech.name}: transmission angles (0° or 180°: toggle; "
                  "shaded 40°-140°)", fontsize=10)
     ax.legend(loc="best", fontsize=9)
+    return fig
+
+
+# -- 5. shaking force and moment ---------------------------------------------------------
+def shaking(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta_deg=None,
+            ax=None, **named_loads) -> "Figure":
+    """What the moving links put on the frame over the crank angles: the polar diagram
+    of the shaking force (the curve ``(shake_x, shake_y)`` traced by its tip, as
+    :func:`polar` draws a pin force), and the shaking moment about the crank's pivot
+    against the crank angle in degrees (as :func:`torque` draws an output).
+
+    The shaking force and moment (:data:`~linkage_fmu.outputs.SHAKING`) are the
+    resultant of the joint forces on the frame and the driver's reaction: what the
+    foundation has to hold, and what balancing aims to make small.
+
+    Parameters
+    ----------
+    mech : Mechanism
+    theta, omega, alpha, *loads, theta_deg, **named_loads
+        As for :func:`torque`.
+    ax : pair of matplotlib Axes, optional
+        Where to draw the force's diagram and the moment; a new figure with the two
+        side by side if None.
+
+    Returns
+    -------
+    Figure
+        The figure of the axes. The force's axes hold lines (gid) ``"shake"`` (x data
+        ``shake_x``, y data ``shake_y`` [N], equal aspect), ``"origin"``, ``"start"``,
+        ``"peak"`` (the largest ``|(shake_x, shake_y)|``, annotated) and ``"peak
+        vector"``; the moment's, ``"shake_M"`` (against the angle in degrees),
+        ``"mean"``, ``"peak"`` and ``"zero"``, as :func:`torque`.
+
+    Raises
+    ------
+    TypeError
+        ``ax`` is not a pair of axes.
+    ValueError
+        The linkage cannot be assembled at any angle.
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> from linkage_fmu import plot, presets
+    >>> mech = presets.get("four_bar")
+    >>> fig = plot.shaking(mech, omega=10.0)
+    >>> force, moment = fig.axes
+    >>> [line.get_gid() for line in force.lines]
+    ['x axis', 'y axis', 'shake', 'origin', 'start', 'peak', 'peak vector']
+    >>> [line.get_gid() for line in moment.lines]
+    ['shake_M', 'mean', 'peak', 'zero']
+    >>> sol = mech.solve(np.radians(np.linspace(0, 360, 721)), omega=10.0)
+    >>> x, y = force.lines[2].get_data()
+    >>> bool(np.array_equal(x, sol["shake_x"]) and np.array_equal(y, sol["shake_y"]))
+    True
+    """
+    if ax is not None:
+        try:
+            force_ax, moment_ax = ax
+        except (TypeError, ValueError):
+            raise TypeError("ax must be a pair of Axes: (the force's, the moment's), "
+                            f"got {ax!r}") from None
+    rad, deg = _angles(theta, theta_deg)
+    inputs = _inputs(mech, omega, alpha, loads, named_loads)
+    sol = _solve(mech, rad, inputs)
+    fx, fy, moment = (np.asarray(sol[n], dtype=float) for n in SHAKING)
+    _finite_or_fail(mech, fx, deg)
+
+    if ax is None:
+        fig, (force_ax, moment_ax) = _pyplot().subplots(
+            1, 2, figsize=(13.0, 5.5), layout="constrained", width_ratios=(1.0, 1.3))
+    else:
+        fig = force_ax.figure
+    x, y, m = SHAKING
+    _draw_hodograph(force_ax, fx, fy, deg, "shake", x, y)
+    force_ax.set_title(f"{mech.name}: shaking force, what the moving links put on the "
+                       f"frame\n{_inputs_text(mech, inputs)}", fontsize=10)
+    _draw_curve(moment_ax, rad, deg, moment, m, mech.output_info[m][0])
+    moment_ax.set_title(f"shaking moment about the crank pivot {mech.crank.pivot}, "
+                        "counter-clockwise positive", fontsize=10)
     return fig
