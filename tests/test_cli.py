@@ -204,3 +204,13 @@ def test_reference_writes_the_description_formats_reference(tmp_path):
     assert status == 0 and out == committed
     status, _, err = run(["reference", "-o", str(tmp_path / "d.md")])
     assert status == 0 and (tmp_path / "d.md").read_text() == committed
+
+
+def test_the_plot_usage_says_one_kind_and_an_optional_name():
+    import pytest
+
+    out = io.StringIO()
+    with redirect_stdout(out), pytest.raises(SystemExit):
+        main(["plot", "--help"])
+    assert out.getvalue().startswith("usage: linkage-fmu plot LINKAGE --what KIND [NAME] -o FILE")
+    assert "[KIND ...]" not in out.getvalue() and "[NAME] [KIND" not in out.getvalue()

@@ -158,3 +158,21 @@ def test_inputs_that_overflow_are_an_error_not_a_silent_inf(mech, inputs):
     for method in ("closed_form", "direct"):
         with pytest.raises(OverflowInputError, match="overflow float64 at theta = 0.3"):
             mech.solve(0.3, **inputs, method=method)
+
+
+def test_an_overflow_names_the_load_values_of_the_state():
+    """The overflow error lists every input as given, loads by name included, and a
+    load over the cycle at its value at that state (2 kN/m * x_B at theta = 0: 2000 *
+    (l_OA + l_AB) = 500 N)."""
+    from linkage_fmu import OverflowInputError
+
+    mech = presets.linkage("examples/coupler_four_bar.toml")
+    with pytest.raises(OverflowInputError, match=r"theta = 0.3, omega = 1e\+160, alpha = 0.0, "
+                                                 r"F_P = 80.0, T4 = 4021.0: "):
+        mech.solve(0.3, omega=1e160, T4=4021.0)
+    d = presets.preset("slider_crank").copy()
+    d.load("F_spring", body="3", kind="force", at="B", direction=[-1, 0],
+           value="2 kN/m * x_B")
+    with pytest.raises(OverflowInputError, match=r"load = 7.0, F_spring = 500.0 \(over the "
+                                                 r"cycle\)"):
+        d.build().solve(0.0, 1e160, 0.0, 7.0)

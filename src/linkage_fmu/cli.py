@@ -273,7 +273,7 @@ def main(argv: list[str] | None = None) -> int:
                           usage="linkage-fmu plot LINKAGE --what KIND [NAME] -o FILE [options]",
                           epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     _linkage(plot, linkage_help)
-    plot.add_argument("--what", nargs="+", required=True, metavar="KIND",
+    plot.add_argument("--what", nargs="+", required=True, metavar=("KIND", "NAME"),
                       help="what to draw, one of: torque [OUTPUT] | polar [FORCE] | linkage | "
                            "mu | shaking")
     plot.add_argument("--theta-deg", dest="theta_deg",
