@@ -1,0 +1,122 @@
+"""The artist that places the labels of the linkage's picture each time the figure is
+drawn (:func:`~linkage_fmu.plot.placement.place_boxes` in display pixels). It needs
+matplotlib, so the picture imports it only when it draws."""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from .placement import place_boxes
+
+try:  # an artist; without matplotlib this still imports, and figures.pyplot() says so
+    from matplotlib.artist import Artist as _Artist
+    from matplotlib.text import Text as _Text
+except ImportError:  # pragma: no cover
+    _Artist = _Text = object
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.axes import Axes
+
+
+class LabelPlacer(_Artist):
+    """Places the labels of :func:`linkage` where they do not overlap, at each draw,
+    before the labels are drawn and once the layout has fixed the axes' transform (the
+    size of a text is in points and the linkage in metres, so where they collide
+    depends on the figure): with :func:`place_boxes` in display pixels, in the order
+    they were added, kept off each other, the marks (joint circles), the frame points'
+    symbols and the scale's key, and, where it costs at most :attr:`COVER_PT` more
+    distance, off the arrows and the links' lines too; inside the axes unless that
+    costs :attr:`LEAVE_PT` more. A label farther than :attr:`LEADER_PT` from its anchor
+    gets a thin line to it."""
+
+    GAP_PT = 3.0  # spacing of the rings, and the least gap between labels
+    MARK_PT = 5.0  # half the side of the square kept clear about a mark
+    LEADER_PT = 16.0
+    COVER_PT = 18.0
+    LEAVE_PT = 60.0
+
+    def __init__(self, ax: "Axes"):
+        super().__init__()
+        self.set_zorder(-math.inf)  # drawn before the axes' other artists
+        self.set_in_layout(False)
+        self.labels: list = []  # (annotation, anchor [m], preferred direction [m])
+        self.marks = np.empty((0, 2))  # [m]
+        self.blocks = np.empty((0, 4))  # x0, y0, x1, y1 [m]: the frame points' symbols
+        self.segments = np.empty((0, 4))  # x, y, u, v [m]: arrows, links
+        self.key = None
+        ax.add_artist(self)
+
+    def add(self, text: str, xy, toward, color: str, **kwargs):
+        """A label ``text`` of the point ``xy`` [m], preferably in the direction of the
+        vector ``toward`` [m] from it."""
+        ann = self.axes.annotate(
+            text, xy, xytext=(0.0, 0.0), textcoords="offset points", ha="center",
+            va="center", color=color, arrowprops=dict(arrowstyle="-", color=color, lw=0.6,
+                                                      shrinkA=1.0, shrinkB=2.0), **kwargs)
+        ann.arrow_patch.set_visible(False)
+        ann.set_in_layout(False)  # placed after the layout: it must not move the axes
+        self.labels.append((ann, np.asarray(xy, float), np.asarray(toward, float)))
+        return ann
+
+    def _taken(self, renderer, px: float) -> np.ndarray:
+        """The boxes [display px] labels keep off: the marks, the frame points'
+        symbols, the scale's key."""
+        to = self.axes.transData.transform
+        m = self.MARK_PT * px
+        marks = to(self.marks).reshape(-1, 2)
+        blocks = to(self.blocks.reshape(-1, 2)).reshape(-1, 4)
+        boxes = [np.c_[marks - m, marks + m], np.c_[np.minimum(blocks[:, :2], blocks[:, 2:]),
+                                                    np.maximum(blocks[:, :2], blocks[:, 2:])]]
+        if self.key is not None and self.key.get_visible():
+            key = self.key
+            x, y = self.axes.transAxes.transform((key.X, key.Y))
+            length = abs(to((key.U, 0.0))[0] - to((0.0, 0.0))[0])  # the key's tip is at X
+            text = key.text.get_window_extent(renderer)
+            half = max(0.5 * text.height, 3.0 * px)
+            sep = 7.2 * px  # QuiverKey's labelsep, 0.1 inch
+            boxes.append([[x - length, y - half, x + sep + text.width, y + half]])
+        return np.concatenate([np.reshape(b, (-1, 4)) for b in boxes])
+
+    def _lines(self, px: float) -> np.ndarray:
+        """Small boxes [display px] along the segments, every 2 px."""
+        to = self.axes.transData.transform
+        boxes = [np.empty((0, 4))]
+        for x, y, u, v in self.segments:
+            a, b = to([(x, y), (x + u, y + v)])
+            n = int(min(np.hypot(*(b - a)) / (2.0 * px), 1000)) + 2
+            along = a + np.linspace(0.0, 1.0, n)[:, None] * (b - a)
+            boxes.append(np.c_[along - px, along + px])
+        return np.concatenate(boxes)
+
+    def draw(self, renderer):
+        labels = [(a, xy, d) for a, xy, d in self.labels if a.get_visible()]
+        if not self.get_visible() or not labels:
+            return
+        px = renderer.points_to_pixels(1.0)
+        to = self.axes.transData.transform
+        anchors, sizes, toward, shifts = [], [], [], []
+        for ann, xy, direction in labels:
+            ann.update_positions(renderer)
+            box = _Text.get_window_extent(ann, renderer)  # the text, not its leader
+            at = to(xy)
+            d = to(xy + direction) - at
+            anchors.append(at)
+            sizes.append((box.width, box.height))
+            toward.append(math.atan2(d[1], d[0]) if np.hypot(*d) > 0 else math.pi / 4)
+            # the box's centre from the text's position (its alignment, its descent)
+            shifts.append(np.array(box.corners().mean(axis=0)) -
+                          ann.get_transform().transform(ann.xyann))
+        centres, distances = place_boxes(
+            anchors, sizes, toward, self._taken(renderer, px), self.axes.bbox.extents,
+            self.GAP_PT * px, self._lines(px), self.COVER_PT * px, self.LEAVE_PT * px)
+        for (ann, _, _), at, centre, shift, r in zip(labels, anchors, centres, shifts,
+                                                      distances):
+            offset = tuple((centre - shift - at) / px)
+            if not np.allclose(offset, ann.xyann, rtol=0.0, atol=1e-3):
+                ann.xyann = offset  # only if it moved: no redraw for nothing
+            leader = bool(r > self.LEADER_PT * px)
+            if ann.arrow_patch.get_visible() != leader:
+                ann.arrow_patch.set_visible(leader)

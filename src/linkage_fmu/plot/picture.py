@@ -1,0 +1,301 @@
+"""The picture of the linkage at one crank angle (:func:`linkage`): its links, joints,
+frame points and guides, every joint force as an arrow from its joint and every external
+load, the forces to one scale."""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, NamedTuple, Sequence
+
+import numpy as np
+
+from .figures import figure_axes
+from .inputs import crank_angles, input_values, inputs_text, solve_at
+from .parts import force_pairs, link_points
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+    from ..loads import Load
+    from ..mechanism import Mechanism
+    from .label_placer import LabelPlacer
+
+#: the default arrow scale makes the largest joint force this fraction of the linkage size
+ARROW_FRACTION = 0.4
+#: a moment load is drawn as an arc of this radius, as a fraction of the linkage size
+MOMENT_FRACTION = 0.06
+
+_LINK_COLORS = ("C0", "C1", "C2", "C4", "C9", "C6", "C8", "C5", "C7")  # no red: the forces
+_LOAD_COLOR = "k"
+
+
+def _size(points: Sequence[tuple[float, float]], fallback: float) -> float:
+    """The larger side of the bounding box of ``points``; ``fallback`` if zero."""
+    xy = np.asarray(points, dtype=float)
+    size = float(np.max(np.ptp(xy, axis=0))) if len(xy) else 0.0
+    return size if size > 0.0 else float(fallback)
+
+
+def _ordered(points: Sequence[str], pos: dict) -> list[str]:
+    """``points`` around their centroid, so that a link of three or more points is
+    drawn as a polygon that does not cross itself."""
+    if len(points) < 3:
+        return list(points)
+    xy = np.array([pos[p] for p in points])
+    c = xy.mean(axis=0)
+    order = np.argsort(np.arctan2(xy[:, 1] - c[1], xy[:, 0] - c[0]), kind="stable")
+    return [points[k] for k in order]
+
+
+def _nice(value: float) -> float:
+    """1, 2 or 5 times a power of ten, at most ``value`` (> 0)."""
+    power = 10.0 ** math.floor(math.log10(value))
+    return max(m for m in (1.0, 2.0, 5.0) if m * power <= value * (1 + 1e-12)) * power
+
+
+class _LoadAt(NamedTuple):
+    """A load at one state: its ``value`` and, for a force, its unit ``direction`` in
+    the frame's axes (None for a moment)."""
+
+    load: "Load"
+    value: float
+    direction: tuple[float, float] | None
+
+
+def _loads_at(mech: "Mechanism", st, inputs: dict) -> list[_LoadAt]:
+    """Each of ``mech.loads`` at the kinematic state ``st``: its value given in
+    ``inputs``, else (a load over the cycle) computed there."""
+    out = []
+    for load in mech.loads:
+        value = inputs[load.name] if load.name in inputs else load.at_state(st)
+        direction = None
+        if load.kind == "force":
+            ux, uy = (float(c) for c in load.direction)
+            if load.fixed_in == "link":  # given in the link's own axes
+                c, s = (float(c) for c in st.u[load.body])
+                ux, uy = c * ux - s * uy, s * ux + c * uy
+            direction = (ux, uy)
+        out.append(_LoadAt(load, float(value), direction))
+    return out
+
+
+def _draw_loads(ax: "Axes", loads: Sequence[_LoadAt], pos: dict, links: dict, scale: float,
+                size: float, labels: LabelPlacer) -> np.ndarray:
+    """Draws each load, each labelled with its name and value: a force as an arrow
+    ``value * direction * scale`` [m] ending at its point, a moment as an arc about the
+    middle of its link's points, with its head in the moment's sense; a load of 0 in
+    its positive sense, faint, a force ``0.15 * size`` long. Returns the segments drawn
+    (``x, y, u, v`` [m]): lines for the labels to keep clear of, and ends for the axes'
+    limits."""
+    from matplotlib.patches import FancyArrowPatch
+
+    segments = []
+    for load, value, direction in loads:
+        faint = value == 0.0  # no sense to show: the positive one, as a reminder
+        style = dict(color=_LOAD_COLOR, alpha=0.35 if faint else 1.0, zorder=5)
+        text = f"{load.name} = {value:.4g} {load.unit}"
+        if direction is not None:
+            (x, y), length = pos[load.at], 0.15 * size if faint else value * scale
+            u, v = length * direction[0], length * direction[1]
+            ax.quiver([x], [y], [u], [v], angles="xy", scale_units="xy", scale=1.0,
+                      pivot="tip", width=0.006, gid=f"load:{load.name}", **style)
+            segments.append((x - u, y - v, u, v))
+            labels.add(text, (x - u, y - v), (-u, -v), _LOAD_COLOR, fontsize=8,
+                       gid=f"load label:{load.name}")  # beyond the tail
+            continue
+        cx, cy = np.mean([pos[p] for p in links[load.body]], axis=0)
+        r = MOMENT_FRACTION * size
+        phi = np.radians(np.linspace(-45.0, 225.0, 61))  # open at the bottom
+        if value < 0.0:
+            phi = phi[::-1]
+        x, y = cx + r * np.cos(phi), cy + r * np.sin(phi)
+        ax.plot(x, y, lw=1.6, gid=f"load:{load.name}", **style)
+        ax.add_patch(FancyArrowPatch((x[-2], y[-2]), (x[-1], y[-1]), arrowstyle="-|>",
+                                     mutation_scale=14, shrinkA=0.0, shrinkB=0.0, lw=1.6,
+                                     gid=f"load head:{load.name}", **style))
+        segments += [(a, b, c - a, d - b) for a, b, c, d in zip(x, y, x[1:], y[1:])]
+        labels.add(text, (cx, cy + r), (0.0, 1.0), _LOAD_COLOR, fontsize=8,
+                   gid=f"load label:{load.name}")
+    return np.array(segments, dtype=float).reshape(-1, 4)
+
+
+def _draw_frame_point(ax, x: float, y: float, s: float, name: str) -> None:
+    from matplotlib.patches import Polygon, Rectangle
+
+    ax.add_patch(Polygon([(x, y), (x - s, y - 1.6 * s), (x + s, y - 1.6 * s)], closed=True,
+                         facecolor="0.85", edgecolor="k", lw=1.0, zorder=1,
+                         gid=f"frame:{name}"))
+    ax.add_patch(Rectangle((x - 1.6 * s, y - 2.2 * s), 3.2 * s, 0.6 * s, facecolor="none",
+                           edgecolor="k", hatch="////", lw=0.0, zorder=1,
+                           gid=f"ground:{name}"))
+
+
+def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta_deg=None,
+            scale: float | None = None, ax: "Axes | None" = None, **named_loads) -> "Figure":
+    """The linkage at one crank angle, with every joint force drawn as an arrow from its
+    joint and every external load at its point or on its link, the forces to one scale.
+
+    Links are lines between the points they carry (:func:`link_points`; a polygon for
+    three or more), a slider a square, revolute joints circles, frame points hatched
+    triangles and fixed guides dashed lines. Each :func:`force_pairs` force whose joint is
+    known is an arrow ``F * scale`` [m] starting at its joint's point, labelled with its
+    name and magnitude beyond its tip. Each load is labelled with its name and value
+    (as given, or, over the cycle, at this angle): a force as an arrow ``value *
+    direction * scale`` [m] ending at its point, so that it points the way the force
+    acts, a moment as an arc about the middle of its link's points with its head in
+    the moment's sense (counter-clockwise for a positive value); a load of 0 is drawn
+    faint, in its positive sense (a force 0.15 of the linkage's size long).
+    The labels are placed when the figure is drawn
+    (their size is in points, the linkage's in metres), each as near its point or tip
+    as it can be without covering another label, a joint, a frame point's symbol or the
+    scale, nor, unless that takes it much farther, an arrow or a link
+    (:func:`place_boxes`); with a thin line to it if it had to move away.
+
+    Parameters
+    ----------
+    mech : Mechanism
+    theta : float, optional
+        The crank angle [rad]; or ``theta_deg`` [deg]. One of them is required.
+    omega, alpha, *loads, **named_loads : float, optional
+        As for :func:`torque`.
+    theta_deg : float, optional
+        The crank angle [deg], instead of ``theta``.
+    scale : float, optional
+        Arrow length per force [m/N]; default so that the largest force (joint force
+        or load) is :data:`ARROW_FRACTION` (0.4) of the linkage's size (the larger side
+        of the bounding box of its points at this angle).
+    ax : matplotlib Axes, optional
+        Where to draw; a new figure if None.
+
+    Returns
+    -------
+    Figure
+        Its axes hold the quiver ``gid="forces"`` (``X, Y`` the joint points, ``U, V``
+        the forces times ``scale``, in :func:`force_pairs` order), the quiver key
+        ``gid="scale"`` (a round force to scale; the title gives the scale in m/N),
+        lines ``gid="link:<name>"`` (a patch for a slider) and ``gid="joints"``; each
+        load's quiver ``gid="load:<name>"`` (one arrow: ``X, Y`` its point, the tip;
+        ``U, V`` the force times ``scale``) or, for a moment, line
+        ``gid="load:<name>"`` (the arc, from its tail to its head, :data:`MOMENT_FRACTION`
+        of the size in radius) and patch ``gid="load head:<name>"``; and the labels
+        (annotations) ``gid="force:<name>"``, ``"load label:<name>"`` and
+        ``"point:<name>"``.
+
+    Raises
+    ------
+    AssemblyError
+        The linkage cannot be assembled at ``theta`` (a ``ValueError``).
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> from linkage_fmu import plot, presets
+    >>> mech = presets.get("four_bar")
+    >>> fig = plot.linkage(mech, theta_deg=30.0, omega=10.0, load=5.0, scale=1e-3)
+    >>> ax = fig.axes[0]
+    >>> quiver = next(c for c in ax.collections if c.get_gid() == "forces")
+    >>> sol = mech.solve(np.radians(30.0), omega=10.0, load=5.0)
+    >>> bool(np.isclose(quiver.U[0], 1e-3 * sol["F21x"]))  # F21 at B, in m
+    True
+    >>> [t.get_text() for t in ax.texts if t.get_gid() == "load label:load"]  # on the rocker
+    ['load = 5 N.m']
+    """
+    rad, deg = crank_angles(theta, theta_deg, scalar=True)
+    th, th_deg = float(rad[0]), float(deg[0])
+    inputs = input_values(mech, omega, alpha, loads, named_loads)
+    st = mech.kinematics(th, order=0)
+    pos = {p: (float(x), float(y)) for p, (x, y) in st.p.items()}
+    pairs = [p for p in force_pairs(mech) if p.point is not None]
+    effort = mech.effort.name if mech.effort.name in mech.output_names else None
+    sol = solve_at(mech, th, inputs)
+    forces = np.array([(sol[p.x], sol[p.y]) for p in pairs], dtype=float).reshape(-1, 2)
+    origins = np.array([pos[p.point] for p in pairs], dtype=float).reshape(-1, 2)
+    loads_now = _loads_at(mech, st, inputs)
+
+    links = link_points(mech)
+    drawn = sorted({p for pts in links.values() for p in pts} | set(mech.frame_points))
+    size = _size([pos[p] for p in drawn], mech.length_scale)
+    largest = max([0.0, *np.hypot(forces[:, 0], forces[:, 1]),
+                   *(abs(ld.value) for ld in loads_now if ld.direction is not None)])
+    if scale is None:
+        scale = ARROW_FRACTION * size / largest if largest > 0.0 else 1.0
+    elif not (math.isfinite(scale) and scale > 0.0):
+        raise ValueError(f"scale must be a finite number > 0 [m/N], got {scale!r}")
+
+    fig, ax = figure_axes(ax, figsize=(8.0, 6.5))
+    from matplotlib.patches import Polygon, Rectangle
+
+    from .label_placer import LabelPlacer  # a matplotlib artist: imported to draw
+
+    s = 0.025 * size
+    for name in mech.frame_points:
+        _draw_frame_point(ax, *pos[name], s, name)
+    for j in mech.joints:  # fixed guides
+        if j.normal is not None and not isinstance(j.normal, str) and mech.frame in (j.a, j.b):
+            (x, y), (nx, ny) = pos[j.point], j.normal
+            tx, ty = ny, -nx
+            h = 0.35 * size
+            ax.plot([x - h * tx, x + h * tx], [y - h * ty, y + h * ty], ls=(0, (6, 3)),
+                    color="0.4", lw=1.2, zorder=1, gid=f"guide:{j.name}")
+    lines = []
+    for k, (link, pts) in enumerate(links.items()):
+        color = _LINK_COLORS[k % len(_LINK_COLORS)]
+        if len(pts) == 1:  # a slider or block: a square along its direction
+            (x, y), (ux, uy) = pos[pts[0]], st.u.get(link, (1.0, 0.0))
+            ax.add_patch(Rectangle((x - 2 * s, y - 1.2 * s), 4 * s, 2.4 * s,
+                                   angle=math.degrees(math.atan2(float(uy), float(ux))),
+                                   rotation_point="center", facecolor=color, alpha=0.35,
+                                   edgecolor=color, lw=1.5, zorder=2, gid=f"link:{link}"))
+            continue
+        ring = _ordered(pts, pos)
+        xy = [pos[p] for p in ring] + ([pos[ring[0]]] if len(ring) > 2 else [])
+        lines += [(x0, y0, x1 - x0, y1 - y0) for (x0, y0), (x1, y1) in zip(xy, xy[1:])]
+        ax.plot(*zip(*xy), "-", color=color, lw=3.0, solid_capstyle="round", zorder=2,
+                label=f"link {link}", gid=f"link:{link}")
+        if len(ring) > 2:
+            ax.add_patch(Polygon(xy, closed=True, facecolor=color, alpha=0.15, lw=0, zorder=1))
+    revolute = [j.point for j in mech.joints if j.normal is None]
+    jx, jy = zip(*[pos[p] for p in revolute]) if revolute else ((), ())
+    ax.plot(jx, jy, "o", ms=7, mfc="white", mec="k", mew=1.3, ls="none", zorder=4,
+            gid="joints")
+    labels = LabelPlacer(ax)
+    labels.marks = np.array([pos[p] for p in drawn], dtype=float).reshape(-1, 2)
+    labels.blocks = np.array([(pos[p][0] - 1.6 * s, pos[p][1] - 2.2 * s, pos[p][0] + 1.6 * s,
+                               pos[p][1]) for p in mech.frame_points]).reshape(-1, 4)
+    for p in drawn:  # up and to the left, as far as the others let them
+        labels.add(p, pos[p], (-1.0, 1.0), "0.25", fontsize=9, gid=f"point:{p}")
+
+    u, v = forces[:, 0] * scale, forces[:, 1] * scale
+    quiver = ax.quiver(origins[:, 0], origins[:, 1], u, v, angles="xy", scale_units="xy",
+                       scale=1.0, color="crimson", width=0.006, zorder=5, gid="forces")
+    for p, (x, y), du, dv, (fx, fy) in zip(pairs, origins, u, v, forces):
+        labels.add(f"{p.name}\n{math.hypot(fx, fy):.3g} N", (x + du, y + dv), (du, dv),
+                   "crimson", fontsize=8, gid=f"force:{p.name}")  # beyond the tip
+    drawn_loads = _draw_loads(ax, loads_now, pos, links, scale, size, labels)
+    labels.segments = np.r_[np.c_[origins, u, v], drawn_loads,
+                            np.array(lines, dtype=float).reshape(-1, 4)]
+    if largest > 0.0:
+        ref = _nice(0.5 * largest)
+        key = ax.quiverkey(quiver, 0.5, 0.04, ref * scale, f"{ref:g} N", labelpos="E",
+                           coordinates="axes", color="crimson")
+        key.set_gid("scale")
+        labels.key = key
+
+    tips = np.concatenate([np.array([pos[p] for p in drawn]), origins + np.c_[u, v],
+                           drawn_loads[:, :2], drawn_loads[:, :2] + drawn_loads[:, 2:]])
+    lo, hi = tips.min(axis=0) - 0.12 * size, tips.max(axis=0) + 0.12 * size
+    lo[1] -= 2.2 * s + 0.12 * size  # the ground hatching, and a band for the scale
+    ax.set_xlim(lo[0], hi[0])
+    ax.set_ylim(lo[1], hi[1])
+    ax.set_aspect("equal", adjustable="box")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    title = f"{mech.name} at θ = {th_deg:.4g}°, {inputs_text(mech, inputs)}\n"
+    if effort is not None:
+        title += f"{effort} = {sol[effort]:.4g} {mech.output_info[effort][0]}; "
+    title += f"forces to scale {scale:.4g} m/N (1 N = {1000 * scale:.3g} mm)"
+    ax.set_title(title, fontsize=10)
+    ax.grid(True, alpha=0.2)
+    return fig
