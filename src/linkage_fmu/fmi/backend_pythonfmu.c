@@ -182,8 +182,9 @@ static int readable(const char *path, const char *name) {
 
 static void *backend_instantiate(Instance *in, const char *resources, const char *location) {
     if (!resources) {
-        say(in, LK_ERROR, "the resource location %s is not a file URI (file:///path, file:/path "
-            "or file://localhost/path)", location ? location : "(null)");
+        say(in, LK_ERROR, "the resource location %s is not a file URI of an absolute path on "
+            "this machine (file:///path, file:/path or file://localhost/path, %%XX escapes "
+            "decoded) nor, for FMI 3.0, an absolute path", location ? location : "(null)");
         return NULL;
     }
     /* the wrapper rewrites these in a path; and it crashes on a folder without the slave */

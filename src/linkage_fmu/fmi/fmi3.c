@@ -8,9 +8,14 @@
  * - the logger, which takes plain text, and memory from calloc and free;
  * - EnterInitializationMode with the experiment's times, and DoStep's out-arguments: a
  *   discarded step sets lastSuccessfulTime to its start and terminateSimulation;
+ * - event mode, for an importer that instantiates with eventModeUsed (hasEventMode is
+ *   true): the model has no events, so DoStep never asks for one, UpdateDiscreteStates
+ *   changes nothing and EnterStepMode goes back to steps;
+ * - the variables' dependencies (providesPerElementDependencies), those of the
+ *   modelDescription's ModelStructure, from config.h's table;
  * - every FMI 3.0 function is exported: what the model has not (model exchange,
- *   scheduled execution, event mode, clocks, configuration mode, derivatives, the types
- *   it has no variables of) answers fmi3Error (or NULL) with a log.
+ *   scheduled execution, clocks, configuration mode, derivatives, the types it has no
+ *   variables of) answers fmi3Error (or NULL) with a log.
  */
 #include "fmi3Functions.h"
 #include "framework.h"
@@ -85,11 +90,7 @@ fmi3Instance fmi3InstantiateCoSimulation(
     (void)intermediateUpdate;                 /* providesIntermediateUpdate is false */
     Instance probe = host3(instanceEnvironment, logMessage);
     const char *call = "fmi3InstantiateCoSimulation";
-    if (eventModeUsed) {
-        say(&probe, LK_ERROR, "%s: eventModeUsed is true, but " MODEL_IDENTIFIER " has no event "
-            "mode (hasEventMode is false)", call);
-        return NULL;
-    }
+    probe.event_mode_used = eventModeUsed ? 1 : 0;
     for (size_t i = 0; i < nRequiredIntermediateVariables; i++)
         if (!requiredIntermediateVariables || requiredIntermediateVariables[i] > TIME_VR ||
             (requiredIntermediateVariables[i] < TIME_VR &&
@@ -361,21 +362,51 @@ fmi3Status fmi3DeserializeFMUState(fmi3Instance instance, const fmi3Byte seriali
 /* -- not supported: every other FMI 3.0 function answers fmi3Error with a log ------------- */
 #define UNSUPPORTED(name, why) return (fmi3Status)lk_refuse(instance, #name, why)
 
+/* -- event mode: the model has no events; an importer that uses event mode may enter it --- */
 fmi3Status fmi3EnterEventMode(fmi3Instance instance) {
-    UNSUPPORTED(fmi3EnterEventMode, "hasEventMode is false");
+    return (fmi3Status)lk_enter_event_mode(instance, "fmi3EnterEventMode");
 }
 
 fmi3Status fmi3EnterStepMode(fmi3Instance instance) {
-    UNSUPPORTED(fmi3EnterStepMode, "eventModeUsed is false: fmi3ExitInitializationMode "
-                "enters step mode");
+    return (fmi3Status)lk_enter_step_mode(instance, "fmi3EnterStepMode");
 }
 
+fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean *discreteStatesNeedUpdate,
+                                    fmi3Boolean *terminateSimulation,
+                                    fmi3Boolean *nominalsOfContinuousStatesChanged,
+                                    fmi3Boolean *valuesOfContinuousStatesChanged,
+                                    fmi3Boolean *nextEventTimeDefined,
+                                    fmi3Float64 *nextEventTime) {
+    fmi3Boolean *flags[] = {discreteStatesNeedUpdate, terminateSimulation,
+                            nominalsOfContinuousStatesChanged, valuesOfContinuousStatesChanged,
+                            nextEventTimeDefined};
+    Instance *in = lk_instance(instance, "fmi3UpdateDiscreteStates");
+    if (!in) return fmi3Error;
+    for (size_t k = 0; k < sizeof flags / sizeof *flags; k++)
+        if (!flags[k])
+            return (fmi3Status)say(in, LK_ERROR, "fmi3UpdateDiscreteStates: argument %zu is NULL",
+                                   k + 2);
+    if (!nextEventTime)
+        return (fmi3Status)say(in, LK_ERROR, "fmi3UpdateDiscreteStates: nextEventTime is NULL");
+    Status s = lk_update_discrete_states(in, "fmi3UpdateDiscreteStates");
+    if (s != LK_OK) return (fmi3Status)s;
+    for (size_t k = 0; k < sizeof flags / sizeof *flags; k++) *flags[k] = fmi3False;
+    *nextEventTime = 0.0;
+    return fmi3OK;
+}
+
+/* -- the ModelStructure's dependencies, from config.h's table -------------------------------- */
 fmi3Status fmi3GetNumberOfVariableDependencies(fmi3Instance instance,
                                                fmi3ValueReference valueReference,
                                                size_t *nDependencies) {
-    (void)valueReference, (void)nDependencies;
-    UNSUPPORTED(fmi3GetNumberOfVariableDependencies, "providesPerElementDependencies is "
-                "false; the dependencies are in the modelDescription's ModelStructure");
+    const char *call = "fmi3GetNumberOfVariableDependencies";
+    Instance *in = lk_instance(instance, call);
+    if (!in) return fmi3Error;
+    if (!nDependencies) return (fmi3Status)say(in, LK_ERROR, "%s: nDependencies is NULL", call);
+    const ValueReference *list;
+    *nDependencies = 0; /* `time` depends on nothing */
+    if (valueReference == TIME_VR) return fmi3OK;
+    return (fmi3Status)lk_dependencies(in, call, valueReference, &list, nDependencies);
 }
 
 fmi3Status fmi3GetVariableDependencies(fmi3Instance instance, fmi3ValueReference dependent,
@@ -384,10 +415,27 @@ fmi3Status fmi3GetVariableDependencies(fmi3Instance instance, fmi3ValueReference
                                        size_t elementIndicesOfIndependents[],
                                        fmi3DependencyKind dependencyKinds[],
                                        size_t nDependencies) {
-    (void)dependent, (void)elementIndicesOfDependent, (void)independents;
-    (void)elementIndicesOfIndependents, (void)dependencyKinds, (void)nDependencies;
-    UNSUPPORTED(fmi3GetVariableDependencies, "providesPerElementDependencies is false; the "
-                "dependencies are in the modelDescription's ModelStructure");
+    const char *call = "fmi3GetVariableDependencies";
+    Instance *in = lk_instance(instance, call);
+    if (!in) return fmi3Error;
+    const ValueReference *list = NULL;
+    size_t n = 0;
+    if (dependent != TIME_VR && lk_dependencies(in, call, dependent, &list, &n) != LK_OK)
+        return fmi3Error;
+    if (nDependencies != n)
+        return (fmi3Status)say(in, LK_ERROR, "%s: nDependencies = %zu, but value reference %u "
+                               "has %zu dependencies now", call, nDependencies,
+                               (unsigned)dependent, n);
+    if (n && (!elementIndicesOfDependent || !independents || !elementIndicesOfIndependents ||
+              !dependencyKinds))
+        return (fmi3Status)say(in, LK_ERROR, "%s: a result array is NULL", call);
+    for (size_t k = 0; k < n; k++) { /* scalars: element 0, the whole variable */
+        elementIndicesOfDependent[k] = 0;
+        independents[k] = list[k];
+        elementIndicesOfIndependents[k] = 0;
+        dependencyKinds[k] = fmi3Dependent;
+    }
+    return fmi3OK;
 }
 
 fmi3Status fmi3GetDirectionalDerivative(fmi3Instance instance,
@@ -478,18 +526,6 @@ fmi3Status fmi3SetShiftFraction(fmi3Instance instance, const fmi3ValueReference 
 
 fmi3Status fmi3EvaluateDiscreteStates(fmi3Instance instance) {
     UNSUPPORTED(fmi3EvaluateDiscreteStates, "providesEvaluateDiscreteStates is false");
-}
-
-fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean *discreteStatesNeedUpdate,
-                                    fmi3Boolean *terminateSimulation,
-                                    fmi3Boolean *nominalsOfContinuousStatesChanged,
-                                    fmi3Boolean *valuesOfContinuousStatesChanged,
-                                    fmi3Boolean *nextEventTimeDefined,
-                                    fmi3Float64 *nextEventTime) {
-    (void)discreteStatesNeedUpdate, (void)terminateSimulation;
-    (void)nominalsOfContinuousStatesChanged, (void)valuesOfContinuousStatesChanged;
-    (void)nextEventTimeDefined, (void)nextEventTime;
-    UNSUPPORTED(fmi3UpdateDiscreteStates, "hasEventMode is false");
 }
 
 #define CS_ONLY "model exchange: " MODEL_IDENTIFIER " supports co-simulation only"

@@ -3,7 +3,9 @@
  * fmi3.c), which converts its types and names its calls; this file includes the backend
  * named by config.h's BACKEND. It owns:
  *
- * - the state machine (Instantiated -> InitializationMode -> StepMode -> Terminated);
+ * - the state machine (Instantiated -> InitializationMode -> StepMode -> Terminated; an
+ *   FMI 3.0 instance whose importer uses event mode enters EventMode from
+ *   InitializationMode and moves between it and StepMode as asked: there are no events);
  * - the checks of every argument before any state changes (value references, types,
  *   variables that may not be set now, booleans, UTF-8, step sizes, times): a bad call is
  *   Error with a log naming the call, the reference and the reason, nothing changed;
@@ -41,13 +43,15 @@
 
 #define LK_PATH 4096 /* the longest path of a resources folder taken */
 
-typedef enum { S_INSTANTIATED, S_INIT, S_STEP, S_TERMINATED, S_FAILED } Machine;
+typedef enum { S_INSTANTIATED, S_INIT, S_STEP, S_TERMINATED, S_EVENT, S_FAILED } Machine;
 /* the standard's names of the states (the adapter names the state of steps) */
 static const char *const MACHINE_NAMES[] = {"Instantiated", "InitializationMode", STEP_MODE_NAME,
-                                            "Terminated", "failed"};
+                                            "Terminated", "EventMode", "failed"};
 #define IN(s) (1u << (s))
-#define READABLE (IN(S_INIT) | IN(S_STEP) | IN(S_TERMINATED))
-#define WRITABLE (IN(S_INSTANTIATED) | IN(S_INIT) | IN(S_STEP))
+#define READABLE (IN(S_INIT) | IN(S_STEP) | IN(S_EVENT) | IN(S_TERMINATED))
+#define WRITABLE (IN(S_INSTANTIATED) | IN(S_INIT) | IN(S_STEP) | IN(S_EVENT))
+/* past initialisation: the parameter set was taken */
+#define INITIALIZED (IN(S_STEP) | IN(S_EVENT) | IN(S_TERMINATED))
 
 static const char *const LOG_CATEGORIES[] = {"logStatusWarning", "logStatusDiscard",
                                              "logStatusError", "logStatusFatal", "logAll"};
@@ -76,6 +80,7 @@ typedef struct Instance {
     void *host[8]; /* what the adapter keeps of the host (its callbacks) */
     Machine machine;
     int logging;
+    int event_mode_used; /* FMI 3.0: the importer enters event mode (ours has no events) */
     unsigned categories; /* bit i: LOG_CATEGORIES[i] enabled; 0 = all */
     double time;         /* the last successful communication point */
     int discarded;       /* the last step was discarded */
@@ -316,6 +321,15 @@ static int file_path(const char *uri, char *path, size_t size) {
     return n > 0;
 }
 
+static int absolute(const char *path) {
+#ifdef _WIN32
+    return (path[0] && path[1] == ':' && (path[2] == '/' || path[2] == '\\')) ||
+           (path[0] == '\\' && path[1] == '\\');
+#else
+    return path[0] == '/';
+#endif
+}
+
 /* -- values --------------------------------------------------------------------------- */
 static char *copy_text(const Instance *in, const char *text) {
     char *copy = (char *)in->allocate(strlen(text) + 1, 1);
@@ -371,8 +385,9 @@ static void changed(Instance *in, int parameters) {
 
 /* -- the backend: BACKEND defines these (static: one translation unit) ------------------
  * backend_ready      once per instantiation: can this process run the backend?
- * backend_instantiate the backend's data of an instance, given the resources folder (NULL
- *                    if the host gave none, or no file URI: `location` is what it gave);
+ * backend_instantiate the backend's data of an instance, given the resources folder as
+ *                    an absolute path (NULL if the host gave none, no file URI of one, or
+ *                    a relative path: `location` is what it gave);
  *                    NULL, with a log, if it cannot
  * backend_free       ... released
  * backend_prepare    take the parameters in `v`: LK_OK, or LK_ERROR with `why`
@@ -507,6 +522,7 @@ static Instance *lk_instantiate(const char *call, const char *name, const char *
     char path[LK_PATH + 1];
     const char *folder = resources;
     if (resources && uri) folder = file_path(resources, path, sizeof path) ? path : NULL;
+    if (folder && !absolute(folder)) folder = NULL;
     if (!start_values(in, &in->values) ||
         !(in->model = backend_instantiate(in, folder, resources))) {
         release_values(in, &in->values);
@@ -606,15 +622,40 @@ static Status lk_exit_initialization(void *c, const char *call) {
         return say(in, LK_ERROR, "%s: the parameter set is invalid: %s; the instance stays in "
                    "initialisation mode until it is fixed", call, in->problem);
     }
-    in->machine = S_STEP;
+    in->machine = in->event_mode_used ? S_EVENT : S_STEP;
     return LK_OK;
 }
 
 static Status lk_terminate(void *c, const char *call) {
     INSTANCE(c, call);
-    if (require(in, call, IN(S_STEP))) return LK_ERROR;
+    if (require(in, call, IN(S_STEP) | IN(S_EVENT))) return LK_ERROR;
     in->machine = S_TERMINATED;
     return LK_OK;
+}
+
+/* Event mode (FMI 3.0, where the importer asked for it): the model has no events, so it
+ * never asks for one; entering and leaving changes nothing but the mode. FMI 3.0's calls
+ * only are `inline`: FMI 2.0's unit has no use for them. */
+static inline Status lk_enter_event_mode(void *c, const char *call) {
+    INSTANCE(c, call);
+    if (!in->event_mode_used)
+        return say(in, LK_ERROR, "%s: the instance was made with eventModeUsed = false", call);
+    if (require(in, call, IN(S_STEP))) return LK_ERROR;
+    in->machine = S_EVENT;
+    return LK_OK;
+}
+
+static inline Status lk_enter_step_mode(void *c, const char *call) {
+    INSTANCE(c, call);
+    if (require(in, call, IN(S_EVENT))) return LK_ERROR;
+    in->machine = S_STEP;
+    return LK_OK;
+}
+
+/* No discrete state changes: one call settles an event. */
+static inline Status lk_update_discrete_states(void *c, const char *call) {
+    INSTANCE(c, call);
+    return require(in, call, IN(S_EVENT));
 }
 
 static Status lk_reset(void *c, const char *call) {
@@ -745,6 +786,22 @@ static Status lk_set_string(void *c, const char *call, const char *exit_call,
     return LK_OK;
 }
 
+/* The variables `vr` depends on, as the modelDescription's ModelStructure declares them:
+ * an output's inputs (with every parameter before initialisation ends); none for the
+ * others (FMI 3.0's). */
+static inline Status lk_dependencies(void *c, const char *call, ValueReference vr,
+                                     const ValueReference **list, size_t *n) {
+    INSTANCE(c, call);
+    if (vr >= N_VARIABLES || !VARIABLES[vr].name)
+        return say(in, LK_ERROR, "%s: value reference %u is not a variable of " MODEL_IDENTIFIER,
+                   call, (unsigned)vr);
+    const Variable *v = &VARIABLES[vr];
+    const int initial = in->machine == S_INSTANTIATED || in->machine == S_INIT;
+    *list = initial ? v->initial : v->depends;
+    *n = (size_t)(initial ? v->n_initial : v->n_depends);
+    return LK_OK;
+}
+
 /* -- stepping --------------------------------------------------------------------------- */
 /* One step from `t` to `t + h`: LK_OK, or LK_DISCARD where the inputs cannot be solved
  * (the time stays at `t`). */
@@ -847,7 +904,8 @@ static Status lk_free_state(void *c, const char *call, void **state) {
     return LK_OK;
 }
 
-/* Serialized layout: magic[8] | u32 format | u32 nid | id | u32 nguid | guid | u32 mode |
+/* Serialized layout: magic[8] | u32 format | u32 nid | id | u32 nguid | guid | u32 mode
+ * (Machine: 0 Instantiated, 1 InitializationMode, 2 step mode, 3 Terminated, 4 EventMode) |
  * f64 time | per input and parameter by value reference: a real f64, an integer i32, a
  * string u32 length + bytes | u32 CRC-32 of all bytes before it. */
 static int kept(const Variable *v) { return v->name && v->kind != K_OUTPUT; }
@@ -937,6 +995,9 @@ static Status lk_deserialize(void *c, const char *call, const unsigned char *b, 
                              void **state) {
     INSTANCE(c, call);
     if (!b || !state) return say(in, LK_ERROR, "%s: %s is NULL", call, !state ? "state" : "the bytes");
+    /* a state given is one returned before, to be overwritten */
+    Saved *reused = NULL;
+    if (*state && !(reused = live_state(in, call, *state))) return LK_ERROR;
     const unsigned char *p = b, *end = b + size;
     char magic[8], why[1024];
     uint32_t format, nid, nguid, mode, crc;
@@ -962,9 +1023,9 @@ static Status lk_deserialize(void *c, const char *call, const unsigned char *b, 
     p += nguid;
     if (!take(&p, end, &mode, 4) || !take(&p, end, &time, 8))
         return say(in, LK_ERROR, "%s: the state is truncated", call);
-    if (mode > S_TERMINATED)
-        return say(in, LK_ERROR, "%s: the state's mode %u is not a mode of an instance", call,
-                   (unsigned)mode);
+    if (mode > S_EVENT || (mode == S_EVENT && !in->event_mode_used))
+        return say(in, LK_ERROR, "%s: the state's mode %u is not a mode of this instance%s", call,
+                   (unsigned)mode, mode == S_EVENT ? " (made with eventModeUsed = false)" : "");
     if (!isfinite(time)) return say(in, LK_ERROR, "%s: the state's time is not finite", call);
     Saved *s = (Saved *)in->allocate(1, sizeof *s);
     if (!s) return say(in, LK_ERROR, "%s: out of memory", call);
@@ -994,7 +1055,7 @@ static Status lk_deserialize(void *c, const char *call, const unsigned char *b, 
         }
     }
     if (!why[0] && p != end) snprintf(why, sizeof why, "it has %zu bytes too many", (size_t)(end - p));
-    if (!why[0] && mode >= S_STEP) { /* a state past initialisation holds a valid set */
+    if (!why[0] && (IN(mode) & INITIALIZED)) { /* past initialisation: a valid set */
         if (!unfit_parameters(&s->values, why, sizeof why)[0]) {
             Status ok = answer(in, call, backend_prepare(in, &s->values, why, sizeof why));
             in->prepared = 0; /* the backend holds the state's parameters now, not ours */
@@ -1006,10 +1067,18 @@ static Status lk_deserialize(void *c, const char *call, const unsigned char *b, 
         in->release(s);
         return say(in, LK_ERROR, "%s: the state does not fit " MODEL_IDENTIFIER ": %s", call, why);
     }
-    memcpy(s->magic, STATE_MAGIC, sizeof STATE_MAGIC);
-    s->owner = in;
     s->machine = (Machine)mode;
     s->time = time;
+    if (reused) { /* taken whole: the old values go, the new ones take their place */
+        release_values(in, &reused->values);
+        reused->values = s->values;
+        reused->machine = s->machine;
+        reused->time = s->time;
+        in->release(s);
+        return LK_OK;
+    }
+    memcpy(s->magic, STATE_MAGIC, sizeof STATE_MAGIC);
+    s->owner = in;
     s->next = in->states;
     in->states = s;
     *state = s;

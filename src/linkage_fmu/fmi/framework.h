@@ -40,6 +40,10 @@ typedef struct {
     const char *string_start;
     const char *const *options;    /* a string's allowed values, NULL-terminated */
     const char *rule_text;         /* an integer's or a string's allowed values, in words */
+    const ValueReference *depends; /* an output's dependencies after initialisation */
+    int n_depends;
+    const ValueReference *initial; /* ... and in initialisation mode */
+    int n_initial;
 } Variable;
 
 #endif

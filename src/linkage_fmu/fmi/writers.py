@@ -100,6 +100,29 @@ def _stop(mech) -> float:
     return 2.0 * math.pi / w0 if w0 else 1.0
 
 
+def dependencies(table: list[Variable]) -> tuple[dict, dict]:
+    """The value references each output of ``table`` depends on: after initialisation
+    (the inputs it is computed from) and in initialisation mode (those and every
+    parameter), as ``{output vr: sorted vrs}`` each.
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets
+    >>> table = variables(presets.get("four_bar"))
+    >>> depends, initial = dependencies(table)
+    >>> depends[len(table) - 1], len(initial[len(table) - 1])
+    ([0], 20)
+    """
+    vr_of = {v.name: vr for vr, v in enumerate(table)}
+    parameters = [vr for vr, v in enumerate(table) if v.causality == "parameter"]
+    depends, initial = {}, {}
+    for vr, v in enumerate(table):
+        if v.causality == "output":
+            depends[vr] = sorted(vr_of[n] for n in v.depends)
+            initial[vr] = sorted(set(depends[vr]) | set(parameters))
+    return depends, initial
+
+
 def model_description(mech, flavour: str, fmi_version: int, guid: str,
                       sources: tuple = ()) -> bytes:
     """``modelDescription.xml`` of the FMU of ``mech`` (FMI ``fmi_version`` 2 or 3,
@@ -108,16 +131,9 @@ def model_description(mech, flavour: str, fmi_version: int, guid: str,
     import pythonfmu
 
     table = variables(mech, flavour)
-    vr_of = {v.name: vr for vr, v in enumerate(table)}
-    parameters = [vr for vr, v in enumerate(table) if v.causality == "parameter"]
-    depends, initial = {}, {}
-    for vr, v in enumerate(table):
-        if v.causality == "output":
-            known = sorted(vr_of[n] for n in v.depends)
-            # FMI 2.0 lists the inputs by index (from 1), FMI 3.0 by value reference; in
-            # initialisation mode an output depends on the parameters too (FMI 3.0)
-            depends[vr] = [k + 1 for k in known] if fmi_version == 2 else known
-            initial[vr] = sorted(set(known) | set(parameters))
+    depends, initial = dependencies(table)
+    if fmi_version == 2:  # FMI 2.0 lists the inputs by index (from 1), not value reference
+        depends = {vr: [k + 1 for k in known] for vr, known in depends.items()}
     d = mech.description
     return _XML.get_template(f"modelDescription{fmi_version}.xml").render(
         model=d.model, guid=guid, flavour=flavour, version=__version__,
@@ -133,9 +149,11 @@ def config_header(mech, flavour: str, guid: str, defines: dict | None = None) ->
     """``config.h`` of the FMU of ``mech`` in ``flavour`` (the backend it includes),
     with the GUID ``guid`` and the backend's own ``defines`` (name -> C text)."""
     table = variables(mech, flavour)
+    depends, initial = dependencies(table)
     return _C.get_template("config.h").render(
         model=mech.description.model, guid=guid, flavour=flavour,
         defines=list((defines or {}).items()), variables=list(enumerate(table)),
+        depends=depends, initial=initial,
         inputs=[vr for vr, v in enumerate(table) if v.causality == "input"],
         outputs=[vr for vr, v in enumerate(table) if v.causality == "output"])
 

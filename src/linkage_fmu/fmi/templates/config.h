@@ -14,6 +14,9 @@
 static const int ALLOWED_{{ vr }}[] = { {%- for a in v.allowed %}{{ a }}{{ ", " if not loop.last }}{% endfor %}};
 {% endfor %}{% for vr, v in variables if v.options %}
 static const char *const OPTIONS_{{ vr }}[] = { {%- for o in v.options %}{{ o | c_string }}, {% endfor %}NULL};
+{% endfor %}{% for vr in depends %}
+static const ValueReference DEPENDS_{{ vr }}[] = { {{- (depends[vr] or [0]) | join(", ") }}};
+static const ValueReference INITIAL_{{ vr }}[] = { {{- (initial[vr] or [0]) | join(", ") }}};
 {% endfor %}
 
 static const Variable VARIABLES[N_VARIABLES] = {
@@ -22,6 +25,9 @@ static const Variable VARIABLES[N_VARIABLES] = {
           .meaning = {{ v.description | c_string }}, .index = {{ v.index }},
 {% if v.type == "Real" %}
           .start = {{ (v.start if v.start is not none else 0.0) | c_double }}, .rule = RULE_{{ RULES[v.rule] }}, .min = {{ v.minimum | c_double }}, .max = {{ v.maximum | c_double }},
+{% if vr in depends %}
+          .depends = DEPENDS_{{ vr }}, .n_depends = {{ depends[vr] | length }}, .initial = INITIAL_{{ vr }}, .n_initial = {{ initial[vr] | length }},
+{% endif %}
 {% elif v.type == "Integer" %}
           .integer_start = {{ v.start }}, .allowed = ALLOWED_{{ vr }}, .n_allowed = {{ v.allowed | length }},
           .rule_text = {{ v.rule | c_string }},
