@@ -5,7 +5,8 @@ protocol tests and ``benchmarks/fmu_fuzz.py``; never imported by them, and it ne
 imports linkage_fmu, so every FMU runs the package it bundles.
 
 No call raises here: each answers its status code, so a test can count them. The job
-holds FMU paths and a list of operations ``[instance, op, *args]``; the result has one
+holds FMU paths (and, optionally, the folder each is unpacked into) and a list of
+operations ``[instance, op, *args]``; the result has one
 ``[status, payload]`` per operation (``payload`` holds values read, NaN as None), the
 log messages by status, and the peak resident memory.
 """
@@ -26,11 +27,11 @@ LAST_SUCCESSFUL_TIME, TERMINATED = 2, 3  # fmi2StatusKind
 
 
 class Host:
-    def __init__(self, fmus: dict, keep_log: int):
+    def __init__(self, fmus: dict, keep_log: int, unzip: dict | None = None):
         self.units = {}  # fmu key -> (md, unzip dir, library owner FMU2Slave)
         for key, path in fmus.items():
             md = read_model_description(path)
-            self.units[key] = (md, extract(path))
+            self.units[key] = (md, extract(path, (unzip or {}).get(key)))
         self.instances = {}  # name -> (FMU2Slave, component)
         self.states = {}
         self.blobs = {}
@@ -240,7 +241,7 @@ class Host:
 
 
 def main(job):
-    host = Host(job["fmus"], job.get("keep_log", 50))
+    host = Host(job["fmus"], job.get("keep_log", 50), job.get("unzip"))
     results = []
     for entry in job["ops"]:
         results.append(list(host.run(*entry)))

@@ -29,10 +29,12 @@ LAST_SUCCESSFUL_TIME, TERMINATED = 2, 3
 PRESET_OF = {model: preset for preset, model in MODELS.items()}
 
 
-def raw(dist: Path, ops: list, tmp_path: Path, models=("FourBar",), keep_log=200) -> dict:
-    """Run ``ops`` in a fresh host process (cwd outside the repository)."""
+def raw(dist: Path, ops: list, tmp_path: Path, models=("FourBar",), keep_log=200,
+        unzip=None) -> dict:
+    """Run ``ops`` in a fresh host process (cwd outside the repository), each FMU
+    unpacked into a temporary folder or the one ``unzip`` names for its model."""
     job = {"fmus": {m: str(dist / f"{m}.fmu") for m in models}, "ops": ops,
-           "keep_log": keep_log}
+           "keep_log": keep_log, "unzip": unzip or {}}
     cwd = tmp_path / "cwd"
     cwd.mkdir(exist_ok=True)
     (cwd / "job.json").write_text(json.dumps(job))
