@@ -54,6 +54,19 @@ def _variables(fmu: Path) -> dict:
             for v in md.modelVariables}
 
 
+#: bytes a forged state's field may be given: the extremes of the u32 lengths and modes,
+#: non-finite and huge doubles, zeros, invalid UTF-8
+FORGED = ("ffffffff", "00000000", "01000000", "04000000", "7fffffff", "000000000000f87f",
+          "000000000000f07f", "000000000000f0ff", "ffffffffffffefff", "0000000000000000",
+          "ff", "00", "c0af", "80")
+
+
+def _forged_bytes(rng) -> str:
+    if rng.random() < 0.5:
+        return str(rng.choice(FORGED))
+    return bytes(rng.integers(0, 256, int(rng.integers(1, 9)), dtype=np.uint8)).hex()
+
+
 def generate(fmu: Path, preset: str, steps: int, seed: int) -> Plan:
     """Random calls to ``fmu`` totalling ``steps`` doStep calls, in episodes of 500 steps,
     each a fresh instance with its own parameters."""
@@ -146,7 +159,14 @@ def generate(fmu: Path, preset: str, steps: int, seed: int) -> Plan:
             elif r < 0.91 and saved:
                 slot = str(rng.choice(sorted(saved)))
                 edit = [None, ["flip", int(rng.integers(0, 10_000)), int(rng.integers(1, 256))],
-                        ["cut", -int(rng.integers(1, 100))]][int(rng.integers(3))]  # drop bytes
+                        ["cut", -int(rng.integers(1, 100))],  # drop bytes
+                        ["forge", int(rng.integers(0, 10_000)), _forged_bytes(rng)]][
+                    int(rng.integers(4))]
+                if edit and edit[0] == "forge":
+                    # a valid CRC: refused, or a state this FMU could make; never more
+                    add([name, "deserialize", slot, "d", edit], ("status in", (OK, ERROR)))
+                    add([name, "getReal", outs], ("read", preset, params, list(u), out_names))
+                    continue
                 add([name, "deserialize", slot, "d", edit], ("status", OK if edit is None
                                                               else ERROR))
                 if edit is None:
@@ -198,6 +218,9 @@ def check(plan: Plan, results: list) -> Counter:
             continue
         if c[0] == "status":
             assert status == c[1], (i, plan.ops[i], status, c[1])
+        elif c[0] == "status in":
+            assert status in c[1], (i, plan.ops[i], status, c[1])
+            tally["forged state", status] += 1
         elif c[0] == "set":
             assert status == OK, (i, plan.ops[i], status)
         elif c[0] == "values":  # exactly as set, NaN too

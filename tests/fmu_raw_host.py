@@ -17,6 +17,7 @@ import math
 import pathlib
 import resource
 import sys
+import zlib
 from ctypes import byref, c_char_p, c_double, c_int, c_size_t, c_uint, c_void_p
 
 from fmpy import calloc, extract, free, read_model_description
@@ -146,10 +147,18 @@ class Host:
             self.blobs[blob] = buf.raw
             return status, len(buf.raw)
         if op == "deserialize":
-            blob, slot, edit = a  # edit: None | ["flip", i, byte] | ["cut", n] | ["hex", str]
+            # edit: None | ["flip", i, byte] | ["cut", n] | ["hex", str] | ["forge", i, hex]
+            # (hex's bytes written at i of the payload, its CRC-32 made valid again)
+            blob, slot, edit = a
             data = bytearray(self.blobs[blob])
             if edit and edit[0] == "flip":
                 data[edit[1] % len(data)] ^= edit[2]
+            elif edit and edit[0] == "forge":
+                payload = data[:-4]
+                at = edit[1] % len(payload)
+                raw = bytes.fromhex(edit[2])[:len(payload) - at]
+                payload[at:at + len(raw)] = raw
+                data = payload + zlib.crc32(payload).to_bytes(4, "little")
             elif edit and edit[0] == "cut":
                 data = data[:edit[1]]
             elif edit and edit[0] == "hex":

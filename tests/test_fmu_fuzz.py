@@ -2,7 +2,9 @@
 (``fmu_fuzz.py``): NaN, infinite and overflowing inputs, unassemblable angles, invalid
 parameter sets, outputs and unknown references set, fixed parameters set after
 initialisation, wrong types, strings that are not UTF-8, bad step sizes, state round
-trips and corrupted states. Every answer is checked: no Fatal and no crash, each bad
+trips, corrupted states, and forged states (bytes written into a serialized state and its
+CRC-32 made valid again: each refused, or taken as a state the FMU could have made, and the
+instance reads on unchanged). Every answer is checked: no Fatal and no crash, each bad
 call fmi2Error, each read after a bad call equal to the direct solver at the inputs in
 force (1e-9 relative) or NaN with fmi2Warning where they cannot be solved (the step
 then fmi2Discard), each value read equal to the value set."""
@@ -26,3 +28,4 @@ def test_fuzz(fmu2, preset):
     assert tally[("status", ERROR)] > STEPS // 10  # the bad calls were made and refused
     assert tally[("status", DISCARD)] > 100 and tally[("status", WARNING)] > 100
     assert tally[("status", OK)] > STEPS
+    assert tally[("forged state", ERROR)] > 10 and tally[("forged state", OK)] > 10
