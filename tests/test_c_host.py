@@ -1,12 +1,15 @@
 """Run the FourBar FMU from a plain C program (``tests/c_host/host.c``) through the FMI 2.0 C API.
 
 The FMU binary is a pythonfmu wrapper that embeds Python, so the host needs this
-interpreter's libpython preloaded and its site-packages (numpy) on ``PYTHONPATH``.
+interpreter's libpython preloaded, its home in ``PYTHONHOME`` and its site-packages (numpy)
+on ``PYTHONPATH``: the README's commands for them are run and the host given nothing else
+but ``PATH``.
 """
 
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -70,10 +73,36 @@ def model_outputs(model_description: Path) -> tuple[str, str, dict[str, int]]:
     return root.find("CoSimulation").get("modelIdentifier"), root.get("guid"), outputs
 
 
+def readme_environment() -> dict[str, str]:
+    """The variables the README's ``sh`` block exports for a non-Python host, each
+    command run with this interpreter."""
+    readme = (ROOT / "README.md").read_text()
+    block = next(b for b in re.findall(r"```sh\n(.*?)```", readme, flags=re.S)
+                 if "LD_PRELOAD" in b)
+    env = {}
+    for name, command in re.findall(r"^export (\w+)=\$\((.*)\)$", block, flags=re.M):
+        command = re.sub(r"^(python3|\.venv/bin/python) ", f"{sys.executable} ", command)
+        env[name] = subprocess.run(["bash", "-c", command], cwd=ROOT, capture_output=True,
+                                   text=True, check=True).stdout.strip()
+    return env
+
+
 def test_c_host_matches_direct_solver(fmu: Path, tmp_path: Path) -> None:
     """Every output of one revolution (omega = 10 rad/s, load = 5 N.m) computed by the FMU
     under a C host matches ``presets.get("four_bar").solve(..., method="direct")``, the
     assembled-LU reference, to 1e-9 relative to each output's largest magnitude."""
+    check_revolution(fmu, tmp_path, host_environment())
+
+
+def test_the_readme_environment_is_all_a_clean_host_needs(fmu: Path, tmp_path: Path) -> None:
+    """The host with only ``PATH`` and what the README's commands export (LD_PRELOAD,
+    PYTHONHOME, PYTHONPATH), as ``env -i`` would give it, computes the same revolution."""
+    env = readme_environment()
+    assert set(env) == {"LD_PRELOAD", "PYTHONHOME", "PYTHONPATH"}
+    check_revolution(fmu, tmp_path, {"PATH": "/usr/local/bin:/usr/bin:/bin", **env})
+
+
+def check_revolution(fmu: Path, tmp_path: Path, env: dict[str, str]) -> None:
     unzipped = tmp_path / "FourBar"
     with zipfile.ZipFile(fmu) as archive:
         archive.extractall(unzipped)
@@ -82,8 +111,8 @@ def test_c_host_matches_direct_solver(fmu: Path, tmp_path: Path) -> None:
 
     command = [str(host), str(unzipped), model, guid, str(STEPS), repr(OMEGA), repr(LOAD),
                *map(str, outputs.values())]
-    run = subprocess.run(command, cwd=tmp_path, env=host_environment(),
-                         capture_output=True, text=True, timeout=120)
+    run = subprocess.run(command, cwd=tmp_path, env=env, capture_output=True, text=True,
+                         timeout=120)
     assert run.returncode == 0, f"host exited with {run.returncode}:\n{run.stderr}"
 
     table = np.loadtxt(run.stdout.splitlines(), delimiter=",", ndmin=2)
