@@ -287,9 +287,14 @@ def pointers_job(job, path, unzip, md, log):
         if address is not None:  # FreeFMUState of NULL is a no-op in both standards
             statuses.append(call(f"FreeFMU{s}", byref(holder_type(address))))
             statuses.append(call(f"GetFMU{s}", byref(holder_type(address))))
-            statuses.append(a.status(a.deserialize, a.serialize(mine),
-                                     holder_type(address))[0])
+            # the standards leave *state undefined on entry: a new state is made instead
+            status, made = a.status(a.deserialize, a.serialize(mine), holder_type(address))
+            # a new live state (malloc may give a freed one's address again): freeing it is OK
+            fresh = made is not None and made.value not in (None, mine.value)
+            deserialized = [status, a.status(a.free_state, made)[0] if fresh else "not a new state"]
         results[name] = {"statuses": statuses, "said": [m for st, m in log[n:] if st >= 3]}
+        if address is not None:
+            results[name]["deserialized"] = deserialized
     a.set_state(mine)
     return {"results": results, "step_after": a.status(a.step, 0.1, 0.1)[0]}
 
