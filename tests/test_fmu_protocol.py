@@ -385,21 +385,22 @@ def test_memory_is_flat_while_every_step_fails(fmu2, tmp_path):
 
 
 def test_instantiate_free_cycles_keep_no_memory(fmu2, tmp_path):
-    """Two windows of 5,000 cycles of instantiate, initialise with other parameters,
+    """Three windows of 5,000 cycles of instantiate, initialise with other parameters,
     step, read and free, after 500 to warm up: in one of them at least, resident memory
     grows by less than 512 KiB, and every answer is OK. A leak of 100 bytes a cycle
-    grows both windows by 500 KiB (pythonfmu's wrapper kept about 1 KB per instance it
+    grows every window by 500 KiB (pythonfmu's wrapper kept about 1 KB per instance it
     created, 4.5 KB with the slave script of before); the allocator's arenas, once
-    filled, grow one window now and then and stay (measured over 30,000 cycles: +470,
-    +0, +16, +16, +0 KiB)."""
+    filled, grow a window now and then and stay (measured over 30,000 cycles: +470,
+    +0, +16, +16, +0 KiB; on a loaded machine two windows in a row grew 1.4 and 1.6 MiB
+    and the next ones less)."""
     dist = fmu2
     l_ab = variables(dist, "FourBar")["l_AB"][0]
-    ops = [["x", "cycles", "FourBar", 500, l_ab], ["x", "rss"],
-           ["x", "cycles", "FourBar", 5000, l_ab], ["x", "rss"],
-           ["x", "cycles", "FourBar", 5000, l_ab], ["x", "rss"]]
+    windows = 3
+    ops = [["x", "cycles", "FourBar", 500, l_ab], ["x", "rss"]]
+    ops += [["x", "cycles", "FourBar", 5000, l_ab], ["x", "rss"]] * windows
     out = raw(dist, ops, tmp_path, keep_log=5)
-    (_, warm), (_, before), (_, run), (_, middle), (_, run2), (_, after) = out["results"]
-    for r in (run, run2):
+    rss = [value for _, value in out["results"][1::2]]
+    for _, r in out["results"][2::2]:
         assert r["counts"][OK] == 5000 * 7 and sum(r["counts"]) == 5000 * 7
-    print(f"resident memory {before} KiB -> {middle} KiB -> {after} KiB over 2 x 5000 cycles")
-    assert min(middle - before, after - middle) < 512, (before, middle, after)
+    print(f"resident memory {' -> '.join(map(str, rss))} KiB over {windows} x 5000 cycles")
+    assert min(b - a for a, b in zip(rss, rss[1:])) < 512, rss
