@@ -37,7 +37,8 @@ def fmu(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """FourBar.fmu freshly built from the working tree (no fmpy check)."""
     out = tmp_path_factory.mktemp("fmu")
     build = subprocess.run([sys.executable, "build_fmu.py", "--no-check", "--preset", "four_bar",
-                            "--out", str(out)], cwd=ROOT, capture_output=True, text=True)
+                            "--platforms", "host", "--out", str(out)], cwd=ROOT,
+                           capture_output=True, text=True)
     assert build.returncode == 0, build.stdout + build.stderr
     return out / "FourBar.fmu"
 

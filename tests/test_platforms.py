@@ -184,19 +184,50 @@ def wine_run(tmp_path_factory):
         subprocess.run([server, "-k"], env=env, capture_output=True, timeout=60)
 
 
+@pytest.fixture(scope="module")
+def windows_host(tmp_path_factory) -> Path:
+    """The C host built for Windows (zig, MinGW, UCRT)."""
+    return compile_host(tmp_path_factory.mktemp("windows_host"),
+                        PLATFORMS["x86_64-windows"].zig)
+
+
+def windows_arguments(folder: Path, version: int) -> tuple[list[str], dict[str, int]]:
+    """The host's arguments for the FMU unzipped in ``folder``, its path as Windows
+    sees it under wine (drive Z: is the root of this file system)."""
+    arguments, outputs = host_arguments(folder, version)
+    arguments[-3] = "Z:" + arguments[-3].replace("/", "\\")
+    return arguments, outputs
+
+
 @needs_zig
 @pytest.mark.parametrize("version", (2, 3))
-def test_the_windows_binary_under_wine(every_platform, wine_run, tmp_path, version):
+def test_the_windows_binary_under_wine(every_platform, wine_run, windows_host, version):
     """The win64 (FMI 2.0) and x86_64-windows (3.0) DLLs, loaded with LoadLibrary by the C
-    host built for Windows (zig, MinGW, UCRT) and run under wine: every output of a
-    revolution equals the direct solver's to 1e-12 of its largest magnitude."""
+    host built for Windows and run under wine: every output of a revolution equals the
+    direct solver's to 1e-12 of its largest magnitude."""
     prefix, env = wine_run
-    exe = compile_host(tmp_path, "x86_64-windows-gnu")
-    arguments, outputs = host_arguments(every_platform[version], version)
-    # wine's drive Z: is the root of this file system
-    arguments[-3] = "Z:" + arguments[-3].replace("/", "\\")
-    errors = run_host([*prefix, str(exe), *arguments], env, outputs)
+    arguments, outputs = windows_arguments(every_platform[version], version)
+    errors = run_host([*prefix, str(windows_host), *arguments], env, outputs)
     assert max(errors.values()) <= TOLERANCE, errors
+
+
+@needs_zig
+def test_the_windows_binary_logs_an_error_in_full_under_wine(every_platform, wine_run,
+                                                              windows_host):
+    """A foreign GUID: the win64 DLL's fmi2Instantiate returns NULL and logs the reason
+    with both GUIDs (formatted by the Windows C runtime), and the host carries on to its
+    own exit status 1."""
+    prefix, env = wine_run
+    arguments, outputs = windows_arguments(every_platform[2], 2)
+    guid = arguments[-1]
+    arguments[-1] = "not-the-guid"
+    run = subprocess.run([*prefix, str(windows_host), *arguments, "4", "1.0", "0.0",
+                          str(outputs["Mb"])], env=env, capture_output=True, text=True,
+                         timeout=300)
+    assert run.returncode == 1, run.stderr
+    assert "fmi2Instantiate failed" in run.stderr
+    assert (f"fmi2Instantiate: the GUID not-the-guid does not match this FMU's {guid}"
+            in run.stderr), run.stderr
 
 
 @needs_zig

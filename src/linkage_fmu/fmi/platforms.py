@@ -165,7 +165,7 @@ def select(spec: str | Iterable[str] | None, fmi_version: int) -> tuple[Platform
         return (this,)
     names = [n.strip() for n in (spec.split(",") if isinstance(spec, str) else spec)]
     names = [n for n in names if n]
-    if names == ["all"]:
+    if "all" in names:
         return tuple(p for p in PLATFORMS.values() if fmi_version == 3 or p.fmi2)
     for name in names:
         if name not in PLATFORMS:
