@@ -106,8 +106,12 @@ def _elf(data: bytes) -> Slice:
             name, info, other, shndx = struct.unpack_from("<IBBH", data, at)
             if shndx != 0 and info >> 4 in (1, 2) and other & 3 in (0, 3):
                 exports.add(_cstring(data, strings + name))
-    return Slice("elf", ELF_MACHINES.get(e_machine, f"elf machine {e_machine}"), e_type == 3,
-                 frozenset(exports))
+    phoff = struct.unpack_from("<Q", data, 0x20)[0]
+    phentsize, phnum = struct.unpack_from("<HH", data, 0x36)
+    interpreter = any(struct.unpack_from("<I", data, phoff + k * phentsize)[0] == 3
+                      for k in range(phnum))  # PT_INTERP: a program (PIE is ET_DYN too)
+    return Slice("elf", ELF_MACHINES.get(e_machine, f"elf machine {e_machine}"),
+                 e_type == 3 and not interpreter, frozenset(exports))
 
 
 def _pe(data: bytes) -> Slice:
