@@ -94,6 +94,17 @@ def compile_for(target: Platform, sources: list[Path], output: Path, fmi_version
     CompilerError
         No compiler (zig's for another platform: the message names the ``cross`` extra),
         the compiler failed or warned, or the library is not as it must be.
+
+    Examples
+    --------
+    >>> with tempfile.TemporaryDirectory() as tmp:
+    ...     source = Path(tmp) / "none.c"
+    ...     _ = source.write_text("int fmi2Nothing(void) { return 0; }")
+    ...     try:
+    ...         compile_for(host(), [source], Path(tmp) / "none.so", 2, include=[])
+    ...     except CompilerError as err:
+    ...         print(str(err).split(": ")[1].split(";")[0])
+    fmi2Instantiate is not exported
     """
     here = target == host() and find_compiler() is not None
     output.parent.mkdir(parents=True, exist_ok=True)

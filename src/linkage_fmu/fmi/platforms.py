@@ -183,7 +183,13 @@ def select(spec: str | Iterable[str] | None, fmi_version: int) -> tuple[Platform
 def folders(chosen: Iterable[Platform], fmi_version: int) -> dict[str, list[Platform]]:
     """The folders under ``binaries/`` of an FMU of ``fmi_version`` with ``chosen``
     platforms, each with the platforms whose code it holds: one each, but for FMI 2.0's
-    ``darwin64``, which holds every Mac platform chosen (one universal binary)."""
+    ``darwin64``, which holds every Mac platform chosen (one universal binary).
+
+    Examples
+    --------
+    >>> folders(select("aarch64-darwin,x86_64-windows", 3), 3)["aarch64-darwin"][0].zig
+    'aarch64-macos.11.0'
+    """
     out: dict[str, list[Platform]] = {}
     for p in chosen:
         out.setdefault(p.folder(fmi_version), []).append(p)
