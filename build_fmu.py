@@ -1,6 +1,7 @@
 """Build both FMUs of every shipped preset and example, then check each with fmpy.
 
     python build_fmu.py [--preset NAME | --linkage FILE] [--out DIR] [--no-check]
+                        [--platforms all|LIST|host]
 
 The linkages are the presets and the description files in ``examples/`` (the coupler
 four-bar, and the engine driven by its indicator diagram over 720 degrees).
@@ -12,7 +13,9 @@ framework (``linkage_fmu/fmi/framework.c`` under ``fmi2.c``) in front of pythonf
 wrapper. ``DIR/native/<Model>.fmu`` is the native FMU, built by
 ``linkage_fmu.fmi.build_native_fmu``: the linkage's traced kernels in C behind the same
 framework, no Python needed by the importing tool. Both are compiled with the system C
-compiler. The check validates the
+compiler; the native one also for win64 and darwin64 (universal: x86_64 and arm64) with
+zig where the ``cross`` extra is installed (``--platforms`` chooses: ``host``, ``all`` or
+names, as ``linkage-fmu build --native --platforms``). The check validates the
 modelDescription (``fmpy validate``), runs a revolution with time-varying speed and
 loads through fmpy (two revolutions for the engine's 720 degree cycle), compares every
 output with the direct solver (within 1e-9 for the pythonfmu FMU and 1e-12 for the
@@ -48,6 +51,26 @@ def check_in_fresh_process(fmu: Path) -> dict:
                 "max_rel_error": float("nan"), "worst_output": "", "steps": 0, "seconds": 0.0}
 
 
+def native_platforms(spec: str | None) -> str | None:
+    """The ``platforms`` of the native FMUs for ``--platforms spec``, saying on stderr
+    which they are when ``spec`` is not given: all where zig's compiler is installed,
+    else this machine's (None)."""
+    from linkage_fmu.ccompiler import find_cross_compiler
+    from linkage_fmu.fmi.platforms import folders, select
+
+    if spec == "host":
+        return None
+    if spec is not None:
+        return spec
+    if find_cross_compiler() is None:
+        print("build_fmu.py: native FMUs for this machine only (for win64 and darwin64 too: "
+              'pip install "linkage-fmu[cross]")', file=sys.stderr)
+        return None
+    print(f"build_fmu.py: native FMUs for {', '.join(folders(select('all', 2), 2))} "
+          "(zig for all but this machine)", file=sys.stderr)
+    return "all"
+
+
 def main(argv: list[str] | None = None) -> int:
     from linkage_fmu import presets
     from linkage_fmu.ccompiler import CompilerError
@@ -61,17 +84,23 @@ def main(argv: list[str] | None = None) -> int:
                         help="build this description file (repeatable)")
     parser.add_argument("--out", type=Path, default=Path("dist"), help="output folder")
     parser.add_argument("--no-check", action="store_true", help="build without checking")
+    parser.add_argument("--platforms", default=None, metavar="all|LIST|host",
+                        help="the native FMUs' platforms (default: all where zig is installed, "
+                             "the cross extra; else this machine's)")
     args = parser.parse_args(argv)
+    platforms = native_platforms(args.platforms)
 
     failed = False
     chosen = [*args.preset, *map(str, args.linkage)] or [*presets.names(), *map(str, EXAMPLES)]
     for source in chosen:
         for flavour, (folder, tolerance) in FLAVOURS.items():
-            make = build_native_fmu if flavour == "native" else build_fmu
             out = args.out / folder
             try:
-                fmu = make(source, out)
-            except CompilerError as err:
+                if flavour == "native":
+                    fmu = build_native_fmu(source, out, platforms=platforms)
+                else:
+                    fmu = build_fmu(source, out)
+            except (CompilerError, ValueError) as err:
                 print(f"build_fmu.py: cannot build the {flavour} FMU of {source}: {err}",
                       file=sys.stderr)
                 return 2

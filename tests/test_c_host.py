@@ -3,7 +3,9 @@
 The FMU binary is a pythonfmu wrapper that embeds Python, so the host needs this
 interpreter's libpython preloaded, its home in ``PYTHONHOME`` and its site-packages (numpy)
 on ``PYTHONPATH``: the README's commands for them are run and the host given nothing else
-but ``PATH``.
+but ``PATH``. The helpers here (compiling the host for this machine or, with zig, for
+another platform; reading a modelDescription; comparing a run with the direct solver)
+serve the native FMUs' tests too (``test_native.py``, ``test_platforms.py``).
 """
 
 from __future__ import annotations
@@ -37,20 +39,29 @@ def fmu(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """FourBar.fmu freshly built from the working tree (no fmpy check)."""
     out = tmp_path_factory.mktemp("fmu")
     build = subprocess.run([sys.executable, "build_fmu.py", "--no-check", "--preset", "four_bar",
-                            "--out", str(out)], cwd=ROOT, capture_output=True, text=True)
+                            "--platforms", "host", "--out", str(out)], cwd=ROOT,
+                           capture_output=True, text=True)
     assert build.returncode == 0, build.stdout + build.stderr
     return out / "FourBar.fmu"
 
 
-def compile_host(out: Path) -> Path:
-    """Compile host.c against the FMI 2 headers shipped with fmpy; return the executable."""
+def compile_host(out: Path, zig_target: str | None = None) -> Path:
+    """Compile host.c against the FMI headers shipped with fmpy, with gcc for this
+    machine, or with zig's compiler for ``zig_target`` (``x86_64-windows-gnu``, ...);
+    return the executable."""
     import fmpy
 
-    exe = out / "host"
-    command = ["gcc", "-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", "-o", str(exe),
-               str(HOST_SOURCE), "-I", str(Path(fmpy.__file__).parent / "c-code"), "-ldl"]
+    from linkage_fmu.ccompiler import require_cross_compiler
+
+    windows = zig_target is not None and "windows" in zig_target
+    exe = out / ("host.exe" if windows else "host")
+    compiler = (["gcc"] if zig_target is None else
+                [*require_cross_compiler("the C host"), "-target", zig_target])
+    command = [*compiler, "-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", "-o", str(exe),
+               str(HOST_SOURCE), "-I", str(Path(fmpy.__file__).parent / "c-code"),
+               *(() if windows else ("-ldl",))]
     run = subprocess.run(command, capture_output=True, text=True)
-    assert run.returncode == 0, run.stderr
+    assert run.returncode == 0 and not run.stderr.strip(), run.stderr
     return exe
 
 
@@ -65,12 +76,31 @@ def host_environment() -> dict[str, str]:
 
 
 def model_outputs(model_description: Path) -> tuple[str, str, dict[str, int]]:
-    """Model identifier, GUID and ``{output name: valueReference}`` of a
-    modelDescription.xml."""
+    """Model identifier, GUID (FMI 3.0: instantiation token) and ``{output name:
+    valueReference}`` of a modelDescription.xml of FMI 2.0 or 3.0."""
     root = ET.parse(model_description).getroot()
+    variables = (root.iter("ScalarVariable") if root.get("fmiVersion") == "2.0" else
+                 root.find("ModelVariables"))
     outputs = {v.get("name"): int(v.get("valueReference"))
-               for v in root.iter("ScalarVariable") if v.get("causality") == "output"}
-    return root.find("CoSimulation").get("modelIdentifier"), root.get("guid"), outputs
+               for v in variables if v.get("causality") == "output"}
+    token = root.get("guid") or root.get("instantiationToken")
+    return root.find("CoSimulation").get("modelIdentifier"), token, outputs
+
+
+def error_against_direct(stdout: str, outputs: dict[str, int], steps: int, omega: float,
+                         load: float, preset: str = "four_bar") -> dict[str, float]:
+    """The host's table (its ``stdout``) against ``presets.get(preset).solve(...,
+    method="direct")``: the largest error of each output, relative to that output's
+    largest magnitude over the revolution; the angles must be the host's exactly."""
+    table = np.loadtxt(stdout.splitlines(), delimiter=",", ndmin=2)
+    assert table.shape == (steps, 1 + len(outputs))
+    theta = table[:, 0]
+    np.testing.assert_allclose(theta, 2 * np.pi * np.arange(steps) / steps, rtol=0, atol=1e-15)
+    expected = presets.get(preset).solve(theta, omega=omega, alpha=0.0, load=load,
+                                         method="direct")
+    return {name: float(np.max(np.abs(table[:, column] - expected[name]))
+                        / max(np.max(np.abs(expected[name])), 1e-300))
+            for column, name in enumerate(outputs, start=1)}
 
 
 def readme_environment() -> dict[str, str]:

@@ -1,4 +1,5 @@
-"""The system C compiler: found once, and asked to build shared libraries.
+"""The C compilers: the system's, and zig's for other platforms (the ``cross`` extra);
+asked to build shared libraries.
 
 Examples
 --------
@@ -6,13 +7,18 @@ Examples
 >>> cc = find_compiler()
 >>> cc is None or shutil.which(cc) is not None
 True
+>>> zig = find_cross_compiler()
+>>> zig is None or zig[-1] == "cc"
+True
 """
 
 from __future__ import annotations
 
+import importlib.util
 import os
 import shutil
 import subprocess
+import sys
 from pathlib import Path
 from typing import Sequence
 
@@ -62,22 +68,59 @@ def require_compiler(purpose: str) -> str:
     return path
 
 
+def find_cross_compiler() -> list[str] | None:
+    """The command of zig's C compiler, which builds for other platforms than this one:
+    ``python -m ziglang cc`` where the ``ziglang`` package is installed (the ``cross``
+    extra: ``pip install "linkage-fmu[cross]"``), else ``zig cc`` where zig is on
+    ``PATH``; None without either."""
+    if importlib.util.find_spec("ziglang") is not None:
+        return [sys.executable, "-m", "ziglang", "cc"]
+    zig = shutil.which("zig")
+    return [zig, "cc"] if zig else None
+
+
+def require_cross_compiler(purpose: str) -> list[str]:
+    """The command of zig's C compiler, or a :class:`CompilerError` saying what needs it
+    and how to get it.
+
+    Examples
+    --------
+    >>> try:
+    ...     command = require_cross_compiler("building FourBar.dll for x86_64-windows")
+    ... except CompilerError as err:
+    ...     assert "linkage-fmu[cross]" in str(err)
+    """
+    command = find_cross_compiler()
+    if command is None:
+        raise CompilerError(
+            f"{purpose} needs zig's C compiler, and neither the ziglang package nor zig on "
+            "PATH was found; install the cross extra: pip install \"linkage-fmu[cross]\"")
+    return command
+
+
 def compile_shared(sources: Sequence[Path], output: Path, include: Sequence[Path] = (),
                    defines: Sequence[str] = (), flags: Sequence[str] = ("-O2",),
-                   libraries: Sequence[str] = ()) -> Path:
-    """Compile C ``sources`` into the shared library ``output``.
+                   libraries: Sequence[str] = (), target: str | None = None) -> Path:
+    """Compile C ``sources`` into the shared library ``output``: for this machine with the
+    system compiler (``target`` None), or for zig's ``target`` (``x86_64-windows-gnu``,
+    ...) with zig's compiler, where ``flags`` say what position-independent code the
+    target needs (``-fPIC``).
 
     Raises
     ------
     CompilerError
-        No compiler, or the compiler failed (its output is in the message).
+        No compiler, or the compiler failed or warned (its output is in the message).
     """
-    cc = require_compiler(f"building {output.name}")
-    command = [cc, "-shared", "-fPIC", "-std=c99", "-Wall", "-Wextra", *flags,
+    if target is None:
+        compiler = [require_compiler(f"building {output.name}"), "-fPIC"]
+    else:
+        compiler = [*require_cross_compiler(f"building {output.name} for {target}"),
+                    "-target", target]
+    command = [*compiler, "-shared", "-std=c99", "-Wall", "-Wextra", *flags,
                *(f"-I{p}" for p in include), *(f"-D{d}" for d in defines),
                "-o", str(output), *map(str, sources), *(f"-l{lib}" for lib in libraries)]
     run = subprocess.run(command, capture_output=True, text=True)
-    if run.returncode != 0 or run.stderr.strip():
+    if run.returncode != 0 or run.stderr.strip() or not output.is_file():
         raise CompilerError(f"{' '.join(command)}\nfailed with exit status {run.returncode}:\n"
                             f"{run.stderr}")
     return output

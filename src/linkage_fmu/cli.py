@@ -47,6 +47,8 @@ EPILOG = """examples:
   linkage-fmu build four_bar --set l_AB=0.12 --out dist
   linkage-fmu build --native my_linkage.toml --out dist/native
   linkage-fmu build --native --fmi 3 four_bar
+  linkage-fmu build --native --fmi 3 --platforms all four_bar
+  linkage-fmu build --native --platforms x86_64-linux,x86_64-windows four_bar
   linkage-fmu check dist/FourBar.fmu
 """
 
@@ -292,6 +294,11 @@ def main(argv: list[str] | None = None) -> int:
                             "importing tool (default: the pythonfmu FMU)")
     build.add_argument("--fmi", type=int, choices=(2, 3), default=2,
                        help="FMI version (default 2)")
+    build.add_argument("--platforms", default=None, metavar="all|LIST",
+                       help="with --native: the binaries' platforms, 'all' or a comma-separated "
+                            "list of x86_64-linux, aarch64-linux (FMI 3 only), x86_64-windows, "
+                            "x86_64-darwin, aarch64-darwin (default: this machine's); built "
+                            "with zig: pip install \"linkage-fmu[cross]\"")
 
     check = sub.add_parser("check", help="run an FMU with fmpy against the direct solver")
     check.add_argument("fmu")
@@ -322,9 +329,13 @@ def main(argv: list[str] | None = None) -> int:
             from .ccompiler import CompilerError
             from .fmi import build_fmu, build_native_fmu
 
+            if args.platforms is not None and not args.native:
+                raise UsageError("--platforms is for native FMUs (--native): the pythonfmu "
+                                 "FMU is for linux64 only")
             try:
                 if args.native:
-                    path = build_native_fmu(d, args.out, args.fmi, **dict(args.params))
+                    path = build_native_fmu(d, args.out, args.fmi, args.platforms,
+                                            **dict(args.params))
                 else:
                     out = args.out or ("dist" if args.fmi == 2 else "dist/fmi3")
                     path = build_fmu(d, out, args.fmi, **dict(args.params))

@@ -9,14 +9,14 @@ Mechanism built from one), in two flavours over one C framework:
   (``model.c``) with ``backend_native.c``; no Python in the importing process. It holds
   its C in ``sources/`` and computes the closed form only (``method`` is ``closed_form``).
 
-Each is FMI 2.0 (``fmi2.c``) or FMI 3.0 (``fmi3.c``) co-simulation, compiled with the
-system C compiler. Everything generated comes from the linkage's variable table through
-the writers of :mod:`~linkage_fmu.fmi.writers`.
-
-Examples
---------
->>> platform(2), platform(3)
-('linux64', 'x86_64-linux')
+Each is FMI 2.0 (``fmi2.c``) or FMI 3.0 (``fmi3.c``) co-simulation. Every binary is
+built by :func:`compile_for`, for one platform of :mod:`~linkage_fmu.fmi.platforms`: this
+machine's with the system C compiler, any other with zig's (the ``cross`` extra), and
+checked (format, processor, and only the FMI functions exported) before it goes into the
+FMU. The pythonfmu FMU is for ``linux64`` only (pythonfmu's wrapper is); the native one
+for this machine's platform, or for those asked for (``platforms``). Everything generated
+comes from the linkage's variable table through the writers of
+:mod:`~linkage_fmu.fmi.writers`.
 """
 
 from __future__ import annotations
@@ -30,10 +30,11 @@ import zipfile
 from pathlib import Path
 
 from .. import ranges
-from ..ccompiler import compile_shared
+from ..ccompiler import CompilerError, compile_shared, find_compiler
 from ..errors import AssemblyError
 from ..presets import linkage
-from . import writers
+from . import binaries, writers
+from .platforms import PLATFORMS, ZIG_FLAGS, Platform, folders, host, select
 from .slave import PACKAGE, fingerprint
 
 HERE = Path(__file__).parent
@@ -42,16 +43,15 @@ FRAMEWORK = ("framework.h", "framework.c")
 #: the FMI headers (from fmpy) each adapter includes
 HEADERS = {2: ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h"),
            3: ("fmi3Functions.h", "fmi3FunctionTypes.h", "fmi3PlatformTypes.h")}
-#: FMI 2.0's and 3.0's name of this platform
-PLATFORMS = {2: "linux64", 3: "x86_64-linux"}
 #: flags of every FMU binary: IEEE operations as written, only the FMI functions exported
 FLAGS = ("-O2", "-ffp-contract=off", "-fno-math-errno", "-fvisibility=hidden")
 WRAPPED_LIBRARY = "libpythonfmu-export.so"
-
-
-def platform(fmi_version: int) -> str:
-    """The name of this platform's binaries folder in an FMU of ``fmi_version``."""
-    return PLATFORMS[fmi_version]
+#: the platform of the pythonfmu FMU's binaries: that of pythonfmu's wrapper
+PYTHONFMU_PLATFORM = "x86_64-linux"
+#: functions a binary of each FMI version must export
+REQUIRED = {2: ("fmi2Instantiate", "fmi2DoStep", "fmi2GetReal", "fmi2FreeInstance"),
+            3: ("fmi3InstantiateCoSimulation", "fmi3DoStep", "fmi3GetFloat64",
+                "fmi3FreeInstance")}
 
 
 def fmi_headers() -> Path:
@@ -79,6 +79,45 @@ def _stage_sources(folder: Path, mech, flavour: str, fmi_version: int, guid: str
         shutil.copy(fmi_headers() / name, folder / name)
     (folder / "config.h").write_text(writers.config_header(mech, flavour, guid, defines))
     return folder / adapter
+
+
+def compile_for(target: Platform, sources: list[Path], output: Path, fmi_version: int,
+                include: list[Path], defines: list[str] | None = None,
+                libraries: tuple[str, ...] = ()) -> Path:
+    """Compile an FMU's C ``sources`` into the library ``output`` for ``target``: with the
+    system C compiler if ``target`` is this machine's platform and it has one, else with
+    zig's; then check that ``output`` is a library of ``target``'s format and processor
+    that exports the FMI ``fmi_version`` functions and nothing else.
+
+    Raises
+    ------
+    CompilerError
+        No compiler (zig's for another platform: the message names the ``cross`` extra),
+        the compiler failed or warned, or the library is not as it must be.
+
+    Examples
+    --------
+    >>> with tempfile.TemporaryDirectory() as tmp:
+    ...     source = Path(tmp) / "none.c"
+    ...     _ = source.write_text("int fmi2Nothing(void) { return 0; }")
+    ...     try:
+    ...         compile_for(host(), [source], Path(tmp) / "none.so", 2, include=[])
+    ...     except CompilerError as err:
+    ...         print(str(err).split(": ")[1].split(";")[0])
+    fmi2Instantiate is not exported
+    """
+    here = target == host() and find_compiler() is not None
+    output.parent.mkdir(parents=True, exist_ok=True)
+    compile_shared(sources, output, include=include, defines=defines or (),
+                   flags=(*FLAGS, *target.flags, *(() if here else ZIG_FLAGS)),
+                   libraries=(*target.libraries, *libraries),
+                   target=None if here else target.zig)
+    wrong = binaries.problems(output, target.format, [target.machine], f"fmi{fmi_version}",
+                              REQUIRED[fmi_version])
+    if wrong:
+        raise CompilerError(f"{output.name} built for {target.name} is wrong: "
+                            f"{'; '.join(wrong)}")
+    return output
 
 
 def _archive(root: Path, target: Path) -> Path:
@@ -134,8 +173,9 @@ def build_fmu(source, out: str | Path = "dist", fmi_version: int = 2, **paramete
     with tempfile.TemporaryDirectory(prefix="linkage_fmu_build_") as tmp:
         root = Path(tmp) / "fmu"
         resources = root / "resources"
-        binaries = root / "binaries" / platform(fmi_version)
-        binaries.mkdir(parents=True)
+        linux = PLATFORMS[PYTHONFMU_PLATFORM]
+        folder = root / "binaries" / linux.folder(fmi_version)
+        folder.mkdir(parents=True)
         ignore = shutil.ignore_patterns("__pycache__", "*.pyc")
         shutil.copytree(PACKAGE, resources / "linkage_fmu", ignore=ignore)
         (resources / "pythonfmu").mkdir()
@@ -148,7 +188,7 @@ def build_fmu(source, out: str | Path = "dist", fmi_version: int = 2, **paramete
         (resources / "slavemodule.txt").write_text(module)
         (root / "modelDescription.xml").write_bytes(
             writers.model_description(mech, "pythonfmu", fmi_version, guid))
-        shutil.copy(wrapper, binaries / WRAPPED_LIBRARY)
+        shutil.copy(wrapper, folder / WRAPPED_LIBRARY)
         defines = {"WRAPPED_LIBRARY": writers.c_string(WRAPPED_LIBRARY),
                    "PYTHON_VERSION": writers.c_string(sysconfig.get_python_version()),
                    "SLAVE_MODULE": writers.c_string(module)}
@@ -160,16 +200,22 @@ def build_fmu(source, out: str | Path = "dist", fmi_version: int = 2, **paramete
             # wrapper then does, and a host with a broken Python exits in instantiation
             include.append(python_include)
             extra.append("GUARD_PYTHON_INIT")
-        compile_shared([adapter], binaries / f"{d.model}.so", include=include, defines=extra,
-                       flags=FLAGS, libraries=["dl", "m", "pthread"])
+        compile_for(linux, [adapter], folder / linux.library(d.model), fmi_version,
+                    include=include, defines=extra, libraries=("dl", "pthread"))
         return _archive(root, Path(out) / f"{d.model}.fmu")
 
 
 def build_native_fmu(source, out: str | Path | None = None, fmi_version: int = 2,
-                     **parameters) -> Path:
+                     platforms: str | list[str] | None = None, **parameters) -> Path:
     """Build ``out/<model>.fmu``, the native FMU of the linkage ``source`` (see
     :func:`~linkage_fmu.presets.linkage`), for FMI 2.0 (default ``out``: ``dist/native``)
     or FMI 3.0 (``dist/native3``), and return its path.
+
+    Its binaries are for this machine's platform (``platforms`` None), for ``"all"`` the
+    FMI version names (FMI 2.0: ``linux64``, ``win64``, ``darwin64``, this one universal,
+    x86_64 and arm64; FMI 3.0 also ``aarch64-linux``, and one folder per Mac), or for the
+    platforms named (see :func:`~linkage_fmu.fmi.platforms.select`); any but this
+    machine's are built with zig (``pip install "linkage-fmu[cross]"``).
 
     Its binary holds one kernel per structure: every combination of the branch and
     choice parameters, each traced from the linkage's description, so that those
@@ -181,11 +227,20 @@ def build_native_fmu(source, out: str | Path | None = None, fmi_version: int = 2
     DescriptionError, TypeError, ValueError
         The description or a parameter is invalid, or the linkage assembles at no crank
         angle (one that assembles over part of a revolution is built, as by
-        :func:`build_fmu`).
+        :func:`build_fmu`); an unknown platform, or one FMI 2.0 does not name.
     CompilerError
-        No C compiler (nothing is written to ``out`` then).
+        No C compiler, or no zig for another platform (nothing is written to ``out``
+        then).
+
+    Examples
+    --------
+    >>> build_native_fmu("four_bar", platforms="x86_64-windows,linux64")
+    Traceback (most recent call last):
+    ...
+    ValueError: unknown platform 'linux64': the platforms are all, x86_64-linux, aarch64-linux, x86_64-windows, x86_64-darwin, aarch64-darwin
     """
     _check_version(fmi_version)
+    chosen = select(platforms, fmi_version)
     d, mech = _assembling(source, parameters)
     model_c, _ = writers.model_source(mech, d.build)
     guid = str(uuid.uuid4())
@@ -201,8 +256,13 @@ def build_native_fmu(source, out: str | Path | None = None, fmi_version: int = 2
         (root / "resources" / f"{d.model}.toml").write_text(d.to_toml(), encoding="utf-8")
         (root / "modelDescription.xml").write_bytes(writers.model_description(
             mech, "native", fmi_version, guid, (adapter.name,) if fmi_version == 2 else ()))
-        binaries = root / "binaries" / platform(fmi_version)
-        binaries.mkdir(parents=True)
-        compile_shared([adapter], binaries / f"{d.model}.so", include=[sources], flags=FLAGS,
-                       libraries=["m"])
+        for folder, group in folders(chosen, fmi_version).items():
+            (root / "binaries" / folder).mkdir(parents=True)
+            library = root / "binaries" / folder / group[0].library(d.model)
+            thin = [compile_for(p, [adapter], Path(tmp) / p.name / p.library(d.model),
+                                fmi_version, include=[sources]) for p in group]
+            if len(thin) == 1:
+                shutil.move(thin[0], library)
+            else:  # FMI 2.0's darwin64: every Mac in one file
+                binaries.universal(thin, library)
         return _archive(root, out / f"{d.model}.fmu")
