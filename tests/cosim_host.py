@@ -12,8 +12,11 @@ and a last value observer that reads the outputs. For each row ``k`` of ``inputs
 3. the observer's values, read now (time ``t_k + h``), are the outputs the FMU computed
    from row ``k``'s inputs.
 
-So a result's ``outputs[k]`` pairs with ``inputs[k]``; ``ok[k]`` is what ``step()`` said
-and ``time_ns[k]`` the execution's time after it. An FMU libcosim cannot load gives
+So a result's ``outputs[k]`` pairs with ``inputs[k]``; ``ok[k]`` is what ``step()`` said,
+``errors[k]`` libcosim's message if it failed, ``time_ns[k]`` and ``states[k]`` the
+execution's time and state after it (0 stopped, 1 running, 2 error). With ``until`` (one
+target time in ns per row), each row's inputs are set and ``simulate_until`` runs to the
+row's target instead of one step. An FMU libcosim cannot load gives
 ``error`` (libcosim's message) and nothing else. This process never imports linkage_fmu,
 so each FMU runs what it bundles.
 """
@@ -49,10 +52,12 @@ def run(job: dict) -> dict:
     observer = CosimObserver.create_last_value()
     execution.add_observer(observer)
     in_refs, out_refs = [refs[n] for n in inputs], [refs[n] for n in outputs]
-    result = {"names": outputs, "ok": [], "time_ns": [], "outputs": [], "errors": []}
-    for row in job["inputs"]:
+    result = {"names": outputs, "ok": [], "time_ns": [], "outputs": [], "errors": [],
+              "states": []}
+    for row, until in zip(job["inputs"], job.get("until") or [None] * len(job["inputs"])):
         manipulator.slave_real_values(index, in_refs, row)
-        ok = execution.step()
+        ok = execution.step() if until is None else execution.simulate_until(until)
+        result["states"].append(execution.status().state)
         result["ok"].append(ok)
         result["errors"].append("" if ok else get_last_error_message().strip())
         result["time_ns"].append(execution.status().current_time)

@@ -14,12 +14,14 @@ What libcosim (libcosimpy 0.0.6: libcosim and libcosimc 0.11.2) does with them:
 - a discarded step (inputs the linkage cannot take): ``step()`` fails with "Step not
   complete"; the execution's time does not advance and its observer keeps the last
   completed step's outputs; libcosim neither retries nor stops, so the next ``step()``
-  goes on from the same time.
+  goes on from the same time. ``simulate_until`` stops there for good: the execution
+  stays in its error state and refuses to run again.
 """
 
 from __future__ import annotations
 
 import json
+import math
 import subprocess
 import sys
 from pathlib import Path
@@ -39,6 +41,8 @@ HOST = Path(__file__).with_name("cosim_host.py")
 #: every FMU that build_fmu.py builds, in both flavours
 ALL_MODELS = (*MODELS.values(), "CouplerFourBar", "Engine")
 TOL = 1e-12
+#: libcosim's execution states
+STOPPED, ERROR = 0, 2
 
 
 def cosim(jobs: list[dict], cwd: Path) -> list[dict]:
@@ -125,30 +129,47 @@ def test_libcosim_refuses_fmi3(native3, tmp_path):
 @pytest.mark.parametrize("flavour", ["native", "pythonfmu"])
 def test_what_libcosim_does_with_a_discarded_step(tmp_path, flavour):
     """The four-bar with a long crank (``l_AB = 0.3``) assembles over part of a revolution;
-    at the other angles its FMU discards the step. libcosim's ``step()`` then fails
-    ("Step not complete"); it neither retries the step nor stops the execution: the
-    time stays where it was, the observer keeps the outputs of the last completed
-    step, and the next ``step()`` runs from that same time with the next inputs. The
-    steps that complete equal the direct solver to 1e-12."""
+    at the other angles its FMU discards the step.
+
+    Step by step, libcosim's ``step()`` then fails ("Step not complete") and the
+    execution's state is "error"; libcosim neither retries the step nor stops the
+    execution: the time stays where it was, the observer keeps the outputs of the last
+    completed step, and the next ``step()`` runs from that same time with the next
+    inputs (the state is "stopped" again once a step completes). The steps that
+    complete equal the direct solver to 1e-12.
+
+    ``simulate_until`` ends at the first discarded step instead, and for good: it
+    returns failure, the execution is left in its error state at the last completed
+    step's time, and a later ``simulate_until`` is refused."""
     build = build_native_fmu if flavour == "native" else build_fmu
     fmu = build(presets.get("four_bar", l_AB=0.3), tmp_path / "fmu")
     spec, mech, u = job(fmu)
-    (result,) = cosim([spec], tmp_path / "cwd")
-    ok = np.array(result["ok"])
-    valid = np.asarray(reference(mech, u).valid)
-    assert np.array_equal(ok, valid) and ok.any() and not ok.all()
-    assert {e for e in result["errors"] if e} == {"Simulation error: linkage: Step not complete"}
-    time_ns = np.array(result["time_ns"])
-    assert np.array_equal(time_ns, np.cumsum(ok) * spec["h_ns"])
-    values = np.array(result["outputs"], dtype=float)
+    h_ns = spec["h_ns"]
+    thetas = [0.0, math.pi, 0.0]  # assembles, does not, does
+    assert list(mech.solve(np.array(thetas), 1.0, 0.0, 1.0, method="direct").valid) == [
+        True, False, True]
+    until = {**spec, "inputs": [[theta, *spec["inputs"][0][1:]] for theta in thetas],
+             "until": [5 * h_ns, 10 * h_ns, 15 * h_ns]}
+    stepped, until = cosim([spec, until], tmp_path / "cwd")
+    discarded = "Simulation error: linkage: Step not complete"
+
+    ok = np.array(stepped["ok"])
+    assert np.array_equal(ok, reference(mech, u).valid) and ok.any() and not ok.all()
+    assert {e for e in stepped["errors"] if e} == {discarded}
+    assert stepped["states"] == [STOPPED if k else ERROR for k in ok]
+    assert stepped["time_ns"] == (np.cumsum(ok) * h_ns).tolist()
+    values = np.array(stepped["outputs"], dtype=float)
     for k in np.flatnonzero(~ok):
         if k > 0:  # still the last completed step's outputs
             assert np.array_equal(values[k], values[k - 1], equal_nan=True)
     names = list(mech.output_names + mech.diagnostic_names)
-    rows = {n: v[ok] for n, v in observed(result).items()}
-    ref = reference(mech, u[ok])
-    err, where = compare(rows, ref, names)
+    err, where = compare({n: v[ok] for n, v in observed(stepped).items()},
+                         reference(mech, u[ok]), names)
     assert err <= TOL, (where, err)
+
+    assert until["ok"] == [True, False, False] and until["states"][1:] == [ERROR, ERROR]
+    assert until["time_ns"] == [5 * h_ns] * 3 and until["errors"][1] == discarded
+    assert "may not be called while simulation is running" in until["errors"][2]
 
 
 def test_libcosim_save_and_restore():
