@@ -56,12 +56,23 @@ def cosim(jobs: list[dict], cwd: Path) -> list[dict]:
     return json.loads(run.stdout.splitlines()[-1])
 
 
-def job(fmu: Path):
-    """The job of ``fmu`` over :func:`~linkage_fmu.fmi.run.revolution` of its linkage (speed
-    and loads varying), one step per row but the last; the linkage and the rows."""
+def job(fmu: Path) -> tuple[dict, object, np.ndarray]:
+    """The ``cosim_host.py`` job of ``fmu`` over :func:`~linkage_fmu.fmi.run.revolution` of
+    its linkage (speed and loads varying), one step per row but the last.
+
+    Returns
+    -------
+    job : dict
+        For ``cosim_host.py``; its step is the rows' time step rounded to libcosim's
+        nanoseconds (the outputs depend on the inputs only, not on the time).
+    mech : Mechanism
+        The FMU's linkage.
+    u : structured array
+        The rows stepped, one per step.
+    """
     mech = fmu_linkage(fmu)
     u = revolution(mech)[:-1]
-    h_ns = round(float(u["time"][1] - u["time"][0]) * 1e9)  # libcosim's time is in ns
+    h_ns = round(float(u["time"][1] - u["time"][0]) * 1e9)
     rows = np.column_stack([u[n] for n in mech.input_names]).tolist()
     return {"fmu": str(fmu), "h_ns": h_ns, "input_names": list(mech.input_names),
             "inputs": rows}, mech, u
