@@ -21,7 +21,7 @@ from fmpy.util import create_zip_archive
 
 from conftest import MODELS
 from linkage_fmu.fmi import build_native_fmu, check_fmu
-from linkage_fmu.fmi.build import platform
+from linkage_fmu.fmi.platforms import host
 
 ROOT = Path(__file__).resolve().parents[1]
 #: every native FMU that build_fmu.py builds
@@ -43,7 +43,7 @@ def rebuilt(fmu: Path, fmi_version: int, tmp_path: Path) -> Path:
     compile step, as ``fmpy compile`` does."""
     unzipped = tmp_path / "unzipped"
     extract(str(fmu), unzipdir=str(unzipped))
-    binary = unzipped / "binaries" / platform(fmi_version) / f"{fmu.stem}.so"
+    binary = unzipped / "binaries" / host().folder(fmi_version) / host().library(fmu.stem)
     binary.unlink()
     build = tmp_path / "build"
     build.mkdir()
