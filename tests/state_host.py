@@ -24,7 +24,7 @@ import math
 import struct
 import sys
 import zlib
-from ctypes import byref, c_int, c_size_t, c_uint, c_void_p, cast
+from ctypes import POINTER, byref, c_int, c_size_t, c_uint, c_void_p, cast
 
 from fmpy import extract, read_model_description
 from fmpy.fmi1 import FMICallException
@@ -295,8 +295,14 @@ def pointers_job(job, path, unzip, md, log):
         results[name] = {"statuses": statuses, "said": [m for st, m in log[n:] if st >= 3]}
         if address is not None:
             results[name]["deserialized"] = deserialized
+    # the state itself where its address belongs (fmusim 0.0.39): freed, with a Warning
+    given = a.get_state()
+    failed, answer = a.status(getattr(a.s, f"{p}FreeFMU{s}"), a.s.component,
+                              cast(given, POINTER(holder_type)))
+    by_value = [failed or answer, call(f"SetFMU{s}", given)]
     a.set_state(mine)
-    return {"results": results, "step_after": a.status(a.step, 0.1, 0.1)[0]}
+    return {"results": results, "by_value": by_value,
+            "step_after": a.status(a.step, 0.1, 0.1)[0]}
 
 
 def structure_job(job, path, unzip, md, log):

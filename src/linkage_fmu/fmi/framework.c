@@ -886,12 +886,8 @@ static Status lk_set_state(void *c, const char *call, void *state) {
     return restore(in, call, &s->values, s->machine, s->time);
 }
 
-static Status lk_free_state(void *c, const char *call, void **state) {
-    INSTANCE(c, call);
-    if (!state) return say(in, LK_ERROR, "%s: the state pointer is NULL", call);
-    if (!*state) return LK_OK;
-    Saved *s = live_state(in, call, *state);
-    if (!s) return LK_ERROR;
+/* Unlink the live state `s` from the instance and release it. */
+static void drop_state(Instance *in, Saved *s) {
     for (Saved **p = &in->states; *p; p = &(*p)->next)
         if (*p == s) {
             *p = s->next;
@@ -900,6 +896,24 @@ static Status lk_free_state(void *c, const char *call, void **state) {
     release_values(in, &s->values);
     memset(s->magic, 0, sizeof s->magic);
     in->release(s);
+}
+
+static Status lk_free_state(void *c, const char *call, void **state) {
+    INSTANCE(c, call);
+    if (!state) return say(in, LK_ERROR, "%s: the state pointer is NULL", call);
+    /* Given the state itself rather than its address, as fmusim 0.0.39 does when it saves
+     * or restores a state file: a live state's address is never an importer's variable,
+     * so this is recognised without reading through it, and the state is freed. */
+    for (Saved *s = in->states; s; s = s->next)
+        if ((void *)s == (void *)state) {
+            drop_state(in, s);
+            return say(in, LK_WARNING, "%s: given the FMU state itself instead of a pointer "
+                       "to it; it is freed", call);
+        }
+    if (!*state) return LK_OK;
+    Saved *s = live_state(in, call, *state);
+    if (!s) return LK_ERROR;
+    drop_state(in, s);
     *state = NULL;
     return LK_OK;
 }
