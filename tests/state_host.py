@@ -297,9 +297,11 @@ def pointers_job(job, path, unzip, md, log):
             results[name]["deserialized"] = deserialized
     # the state itself where its address belongs (fmusim 0.0.39): freed, with a Warning
     given = a.get_state()
+    n = len(log)
     failed, answer = a.status(getattr(a.s, f"{p}FreeFMU{s}"), a.s.component,
                               cast(given, POINTER(holder_type)))
-    by_value = [failed or answer, call(f"SetFMU{s}", given)]
+    said = " ".join(m for _, m in log[n:])
+    by_value = [failed or answer, call(f"SetFMU{s}", given), said]
     a.set_state(mine)
     return {"results": results, "by_value": by_value,
             "step_after": a.status(a.step, 0.1, 0.1)[0]}

@@ -903,12 +903,14 @@ static Status lk_free_state(void *c, const char *call, void **state) {
     if (!state) return say(in, LK_ERROR, "%s: the state pointer is NULL", call);
     /* Given the state itself rather than its address, as fmusim 0.0.39 does when it saves
      * or restores a state file: a live state's address is never an importer's variable,
-     * so this is recognised without reading through it, and the state is freed. */
+     * so this is recognised without reading through it, and the state is freed: OK, as
+     * the call did what was meant (fmusim stops at a Warning), with the mistake logged. */
     for (Saved *s = in->states; s; s = s->next)
         if ((void *)s == (void *)state) {
             drop_state(in, s);
-            return say(in, LK_WARNING, "%s: given the FMU state itself instead of a pointer "
-                       "to it; it is freed", call);
+            say(in, LK_WARNING, "%s: given the FMU state itself instead of a pointer to it; "
+                "it is freed", call);
+            return LK_OK;
         }
     if (!*state) return LK_OK;
     Saved *s = live_state(in, call, *state);
