@@ -38,9 +38,9 @@ The importers (each skipped, and its rows saying "not available", when absent):
   FMU-state release is fixed: fmusim 0.0.39 (the last C fmusim, Reference-FMUs
   ``fmusim/FMIUtil.c``) calls ``fmi2FreeFMUstate(S, FMUState)`` /
   ``fmi3FreeFMUState(S, FMUState)`` after saving and after restoring, passing the state
-  where its address is due; the FMUs refuse the pointer they are given (its first bytes
-  are the state's tag, not a state of theirs) with status Error, and fmusim stops with
-  exit status 3. The fix passes ``&FMUState``;
+  where its address is due; the FMUs recognise their state given so and free it with a
+  Warning (before, they answered Error and fmusim stopped with exit status 3). The fix
+  passes ``&FMUState``, and the FMUs answer OK;
 - the project's C host ``tests/c_host/host.c`` (compiled and run as
   ``tests/test_platforms.py`` does): this machine's binary natively (pythonfmu FMUs in the
   README's environment), the x86_64 Windows DLL under wine, the aarch64 Linux library
