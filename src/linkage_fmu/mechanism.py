@@ -14,7 +14,7 @@ from typing import Callable, Iterable, Sequence
 
 import numpy as np
 
-from . import diagnostics, inertia, kinetostatics, numerics
+from . import diagnostics, inertia, kinetostatics, motion, numerics
 from .expressions import evaluate
 from .bodies import Body, Effort
 from .errors import AssemblyError
@@ -218,6 +218,10 @@ class Mechanism:
         """``(J, dJ)``: the inertia reduced to the crank and dJ/dtheta; see
         :func:`linkage_fmu.inertia.reduced_inertia`."""
         return inertia.reduced_inertia(self, theta, xp)
+
+    def simulate(self, tau, t, theta0=None, omega0=None, **options):
+        """The motion under the crank torque ``tau``: :func:`linkage_fmu.motion.simulate`."""
+        return motion.simulate(self, tau, t, theta0, omega0, **options)
 
     # -- the formulas -----------------------------------------------------------
     def evaluate(self, plan, theta, omega, alpha, loads, xp) -> tuple[dict, KinematicState]:
