@@ -1,0 +1,180 @@
+"""Mechanism.simulate: the motion of a linkage under a given crank torque (Eksergian's
+equation, alpha = (tau - Mb(theta, omega, 0, loads)) / J(theta)), against conservation of
+energy, the closed-form first integral of a scotch yoke, and the kinetostatic solve run
+along the motion.
+
+The integrator's tolerance is rtol = 1e-10 (the default) unless a test says otherwise; an
+error of the integrated state of some 1e-10 relative per unit of time is its size, so the
+tests allow 1e-8 (energy) or 1e-9 (first integrals at rtol = 1e-11), each with the figure
+measured.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from linkage_fmu import AssemblyError, presets
+
+#: linkages that turn fully, their effort a moment on the crank (the six-bar's other
+#: drivers put the effort on another link, which simulate refuses)
+FULL = [
+    ("four_bar", {}),
+    ("slider_crank", {"e": 0.02, "gamma": 0.7, "m1": 0.5, "J1": 1e-3, "l_OS1": 0.02}),
+    ("slotted_lever", {"l_AB": 0.55, "l_AC": 0.25, "l_CS3": -0.1}),
+    ("crank_shaper", {}),
+    ("six_bar", {"driver": "OA"}),
+]
+T = np.linspace(0.0, 1.0, 21)
+
+
+def unloaded(name: str, **params):
+    """The preset with no gravity, and the loads (over the cycle too) all zero."""
+    mech = presets.get(name, **{**params, "g": 0.0})
+    return mech, {ld.name: 0.0 for ld in mech.loads}
+
+
+def potential(mech, theta):
+    """V = sum m_i g y_Si, from the positions of the centres of mass."""
+    st = mech.kinematics(np.asarray(theta, dtype=float), order=0)
+    return sum(b.mass * mech.g * st.p[b.cg][1] for b in mech.bodies if b.mass)
+
+
+@pytest.mark.parametrize("name,params", FULL)
+def test_work_of_a_constant_torque_is_the_kinetic_energy_gained(name, params):
+    mech, zero = unloaded(name, **params)
+    run = mech.simulate(2.0, T, theta0=0.3, omega0=5.0, **zero)
+    work = 2.0 * (run["theta"].iloc[-1] - run["theta"].iloc[0])
+    kinetic = 0.5 * run["J_red"] * run["omega"] ** 2
+    gained = kinetic - kinetic.iloc[0]
+    # at every output time, against the work done up to it; measured <= 1.5e-9 (slider-crank at 470 rad/s)
+    done = 2.0 * (run["theta"] - run["theta"].iloc[0])
+    assert np.max(np.abs(gained - done)) <= 1e-8 * work
+    assert run["theta"].iloc[-1] > 0.3 + math.pi  # it turned half a revolution at least
+    assert run["J_red"].iloc[0] == mech.reduced_inertia(0.3)[0]
+
+
+@pytest.mark.parametrize("name,params", [("four_bar", {}),
+                                         ("scotch_yoke", {"m1": 1.5, "J3": 0.2, "g": 9.81})])
+def test_kinetic_plus_potential_energy_is_conserved_under_gravity(name, params):
+    mech = presets.get(name, **params)
+    assert mech.g == 9.81
+    run = mech.simulate(0.0, T, theta0=0.3, omega0=10.0, load=0.0)
+    V = potential(mech, run["theta"].to_numpy())
+    E = 0.5 * run["J_red"].to_numpy() * run["omega"].to_numpy() ** 2 + V
+    assert np.ptp(V) > 0.1 * E[0]  # gravity does work worth testing
+    assert np.ptp(E) <= 1e-8 * E[0]  # measured 4.0e-10 (four-bar), 5.9e-10 (yoke)
+
+
+@pytest.mark.parametrize("name,params", FULL)
+def test_free_motion_keeps_J_omega_squared(name, params):
+    mech, zero = unloaded(name, **params)
+    run = mech.simulate(0.0, T, theta0=0.3, omega0=5.0, rtol=1e-11, **zero)
+    K = run["J_red"] * run["omega"] ** 2
+    assert np.ptp(K) <= 1e-9 * K.iloc[0]  # measured <= 1.4e-10 at rtol = 1e-11
+    assert np.ptp(run["omega"]) > 0.05 * 5.0  # the speed does change
+
+
+def test_scotch_yoke_with_the_yoke_alone_against_its_first_integral():
+    """J = m r^2 cos^2(theta), so cos(theta) omega = C: sin(theta) = sin(theta0) + C t."""
+    m, r = 10.0, 0.1
+    yoke = presets.get("scotch_yoke", m2=0.0, m3=m, g=0.0)
+    th0, w0 = 0.2, 1.5
+    C = w0 * math.cos(th0)
+    t = np.linspace(0.0, 0.5, 11)  # sin(theta) from 0.199 to 0.940: near the dead point
+    run = yoke.simulate(0.0, t, theta0=th0, omega0=w0, load=0.0)
+    theta = np.arcsin(math.sin(th0) + C * t)
+    omega = C / np.cos(theta)
+    np.testing.assert_allclose(run["J_red"], m * r**2 * np.cos(run["theta"]) ** 2, rtol=1e-14)
+    np.testing.assert_allclose(run["theta"], theta, rtol=1e-9, atol=0)  # measured 1.9e-10
+    np.testing.assert_allclose(run["omega"], omega, rtol=1e-9, atol=0)  # measured 8e-11
+    # alpha = omega' = C sin(theta) omega / cos^2(theta)
+    np.testing.assert_allclose(run["alpha"], C * np.sin(theta) * omega / np.cos(theta) ** 2,
+                               rtol=1e-9)  # measured 3.7e-10
+    # the first integral itself
+    first = m * r**2 * np.cos(run["theta"]) ** 2 * run["omega"] ** 2
+    assert np.ptp(first) <= 1e-9 * first.iloc[0]
+
+
+def tau_of_state(t, theta, omega):
+    return 3.0 + math.sin(5.0 * t) - 0.05 * omega
+
+
+@pytest.mark.parametrize("tau", ["callable", "array", "constant"])
+def test_Mb_along_the_motion_is_the_driving_torque(tau):
+    mech = presets.get("four_bar")  # gravity, a moment on the rocker
+    t = np.linspace(0.0, 2.0, 41)
+    given = {"callable": tau_of_state, "array": 3.0 + np.sin(5.0 * t),
+             "constant": -1.5}[tau]
+    run = mech.simulate(given, t, theta0=1.0, omega0=8.0, load=0.4)
+    if tau == "array":
+        np.testing.assert_array_equal(run["tau"], given)
+    expected = run["tau"].to_numpy()
+    if tau == "callable":
+        np.testing.assert_array_equal(expected, [tau_of_state(*s) for s in zip(
+            t, run["theta"], run["omega"])])
+    scale = np.max(np.abs(expected))
+    # the solve inside simulate (its outputs in the frame), and the direct method again
+    assert np.max(np.abs(run["Mb"] - expected)) <= 1e-9 * scale  # measured <= 5e-13
+    direct = mech.solve(run["theta"].to_numpy(), run["omega"].to_numpy(),
+                        run["alpha"].to_numpy(), load=0.4, method="direct")
+    assert np.max(np.abs(direct["Mb"] - expected)) <= 1e-9 * scale  # measured <= 3e-13
+    np.testing.assert_allclose(run["F21x"], direct["F21x"], rtol=1e-9, atol=1e-9 * scale)
+    assert run.index.name == "time" and (run.index == t).all()
+    assert {"theta", "omega", "alpha", "tau", "J_red", "cond"} <= set(run.columns)
+    assert set(mech.output_names) <= set(run.columns)
+
+
+def test_the_array_torque_is_interpolated_linearly():
+    """A torque ramp given at two times equals the ramp as a callable."""
+    mech, zero = unloaded("four_bar")
+    t = np.array([0.0, 0.5])
+    ramp = mech.simulate([1.0, 3.0], t, theta0=0.0, omega0=2.0, **zero)
+    exact = mech.simulate(lambda s, th, w: 1.0 + 4.0 * s, t, theta0=0.0, omega0=2.0, **zero)
+    np.testing.assert_allclose(ramp[["theta", "omega"]], exact[["theta", "omega"]],
+                               rtol=1e-12)
+
+
+def test_start_values_default_to_the_linkage_s():
+    mech, zero = unloaded("four_bar")  # start: omega 10, theta 0
+    run = mech.simulate(0.0, [0.0, 0.01], **zero)
+    assert run["theta"].iloc[0] == mech.start["theta"] == 0.0
+    assert run["omega"].iloc[0] == mech.start["omega"] == 10.0
+    units = mech.simulate(0.0, [0.0, 0.01], theta0="90 deg", omega0="60 rpm", **zero)
+    assert units["theta"].iloc[0] == pytest.approx(math.pi / 2, rel=1e-15)
+    assert units["omega"].iloc[0] == pytest.approx(2 * math.pi, rel=1e-15)
+
+
+def test_a_position_that_cannot_be_assembled_is_an_error_naming_time_and_angle():
+    rocker = presets.get("four_bar", l_AB=0.3)  # the crank cannot turn fully
+    with pytest.raises(AssemblyError, match=r"four_bar cannot be assembled at theta = .*"
+                                            r"\(reached at t = 0\.\d+ s\)"):
+        rocker.simulate(50.0, np.linspace(0.0, 1.0, 5), theta0=0.0, omega0=0.0, load=0.0)
+
+
+@pytest.mark.parametrize("kwargs,message", [
+    ({"t": [0.0, 0.2, 0.1]}, r"t must be strictly increasing: t\[2\] = 0\.1 <= t\[1\] = 0\.2"),
+    ({"t": [0.0, 0.0]}, r"t must be strictly increasing"),
+    ({"t": [0.0]}, r"t must be a 1-d array of at least 2 times"),
+    ({"t": [0.0, np.nan]}, r"t must be finite"),
+    ({"tau": [1.0, 2.0]}, r"tau must be .* one value per time: 3 values .* got shape \(2,\)"),
+    ({"tau": np.inf}, r"tau must be a finite number"),
+    ({"theta0": np.nan}, r"theta0 must be a finite number, got nan"),
+    ({"omega0": np.inf}, r"omega0 must be a finite number, got inf"),
+    ({"theta0": "3 m"}, r"theta0"),
+    ({"tau": lambda t, th, w: math.nan}, r"tau\(t, theta, omega\) must be a finite number"),
+    ({"Mr": 1.0}, r"four_bar has no input 'Mr'"),
+])
+def test_bad_inputs_are_named(kwargs, message):
+    mech = presets.get("four_bar")
+    args = {"tau": 1.0, "t": [0.0, 0.1, 0.2], **kwargs}
+    with pytest.raises((ValueError, TypeError), match=message):
+        mech.simulate(args.pop("tau"), args.pop("t"), **args)
+
+
+def test_an_effort_off_the_crank_is_refused():
+    mech = presets.get("six_bar", driver="KD")
+    with pytest.raises(ValueError, match="does not act on the crank"):
+        mech.simulate(1.0, [0.0, 0.1])
