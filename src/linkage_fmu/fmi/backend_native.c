@@ -13,6 +13,9 @@
 typedef struct {
     int structure; /* kernel of the structure in force */
     double q[N_Q + 1]; /* its parameter step's values */
+#if N_STATES > 0
+    double r[N_R + 1]; /* ... and those of its kernel of the derivatives */
+#endif
 } Model;
 
 static int backend_ready(char *why, size_t size) {
@@ -57,12 +60,26 @@ static Status backend_prepare(Instance *in, const Values *v, char *why, size_t s
         set_text(why, size, REASONS[s][code - 1]);
         return LK_ERROR;
     }
+#if N_STATES > 0
+    const int rhs_code = RHS_PREPARE[s](p, m->r);
+    if (rhs_code) {
+        set_text(why, size, RHS_REASONS[s][rhs_code - 1]);
+        return LK_ERROR;
+    }
+#endif
     m->structure = s;
     return LK_OK;
 }
 
+#if N_STATES > 0
+static Status drive_evaluate(Instance *in, const Values *v, double *y, char *why, size_t size);
+#endif
+
 static Status backend_evaluate(Instance *in, const Values *v, double *y, char *why,
                                size_t size) {
+#if N_STATES > 0
+    return drive_evaluate(in, v, y, why, size);
+#else
     const Model *m = (const Model *)in->model;
     double x[N_INPUTS + 1];
     for (int k = 0; k < N_INPUTS; k++) x[k] = v->real[INPUTS[k]];
@@ -81,4 +98,95 @@ static Status backend_evaluate(Instance *in, const Values *v, double *y, char *w
             return LK_DISCARD;
         }
     return LK_OK;
+#endif
 }
+
+#if N_STATES > 0
+/* -- a linkage driven by a moment on its crank (the drive FMU) ----------------------------
+ * The states are theta and omega; the inputs tau (the moment on the crank), then the
+ * loads. Eksergian's equation gives the crank's acceleration from the kernel of the
+ * derivatives, which computes the balancing moment at alpha = 0, Mb0, and the inertia
+ * reduced to the crank, J: alpha = (tau - Mb0) / J. */
+
+/* The kernel of the derivatives at the states `x`: Mb0 and J, or LK_DISCARD with `why`. */
+static Status moment_and_inertia(const Model *m, const Values *v, const double *x, double *mb0,
+                                 double *J, char *why, size_t size) {
+    double u[N_INPUTS + 3], r[RHS_N_Y + 1];
+    u[0] = x[0], u[1] = x[1], u[2] = 0.0;
+    for (int k = 1; k < N_INPUTS; k++) u[2 + k] = v->real[INPUTS[k]]; /* the loads */
+    int code = RHS_ONE[m->structure](m->r, u, r);
+    if (code) {
+        set_text(why, size, RHS_REASONS[m->structure][code - 1]);
+        return LK_DISCARD;
+    }
+    *mb0 = r[RHS_MB];
+#if RHS_J >= 0
+    *J = r[RHS_J];
+#else /* J from the moment's slope in alpha (the moment is affine in alpha) */
+    u[2] = 1.0;
+    if ((code = RHS_ONE[m->structure](m->r, u, r))) {
+        set_text(why, size, RHS_REASONS[m->structure][code - 1]);
+        return LK_DISCARD;
+    }
+    *J = r[RHS_MB] - *mb0;
+#endif
+    char value[32];
+    if (!(*J > 0.0) || !isfinite(*J)) {
+        snprintf(why, size, "the inertia reduced to the crank is %s: the motion is not defined",
+                 shortest(*J, value, sizeof value));
+        return LK_DISCARD;
+    }
+    return LK_OK;
+}
+
+static Status backend_derivatives(Instance *in, const Values *v, const double *x, double *dx,
+                                  char *why, size_t size) {
+    double mb0, J;
+    Status s = moment_and_inertia((const Model *)in->model, v, x, &mb0, &J, why, size);
+    if (s != LK_OK) return s;
+    dx[0] = x[1];
+    dx[1] = (v->real[INPUTS[0]] - mb0) / J;
+    if (!isfinite(dx[1])) {
+        set_text(why, size, "the crank's acceleration overflows float64: an input is too large "
+                 "in magnitude");
+        return LK_DISCARD;
+    }
+    return LK_OK;
+}
+
+/* Every output at the states in `v`: the derivatives, then the kernel of every output at
+ * (theta, omega, alpha, loads). */
+static Status drive_evaluate(Instance *in, const Values *v, double *y, char *why, size_t size) {
+    const Model *m = (const Model *)in->model;
+    double x[N_STATES], u[N_INPUTS + 3], mb0, J;
+    for (int k = 0; k < N_STATES; k++) x[k] = v->real[STATES[k]];
+    Status s = moment_and_inertia(m, v, x, &mb0, &J, why, size);
+    if (s != LK_OK) return s;
+    const double alpha = (v->real[INPUTS[0]] - mb0) / J;
+    u[0] = x[0], u[1] = x[1], u[2] = alpha;
+    for (int k = 1; k < N_INPUTS; k++) u[2 + k] = v->real[INPUTS[k]];
+    double *z = y + KERNEL_OUTPUTS;
+    const int code = ONE[m->structure](m->q, u, z);
+    if (code) {
+        set_text(why, size, REASONS[m->structure][code - 1]);
+        return LK_DISCARD;
+    }
+    y[ALPHA_OUTPUT] = alpha;
+    y[DTHETA_OUTPUT] = x[1];
+    if (J_OUTPUT >= 0) y[J_OUTPUT] = J;
+    for (int k = 0; k < N_KERNEL_OUTPUTS; k++)
+        if (CHECKED[k] && !isfinite(z[k])) {
+            set_text(why, size, COND_OUTPUT >= 0 && isfinite(z[COND_OUTPUT])
+                     ? "the outputs overflow float64: an input is too large in magnitude"
+                     : "the linkage is at a singular position: the equations have no unique "
+                       "solution");
+            return LK_DISCARD;
+        }
+    if (!isfinite(alpha)) {
+        set_text(why, size, "the crank's acceleration overflows float64: an input is too large "
+                 "in magnitude");
+        return LK_DISCARD;
+    }
+    return LK_OK;
+}
+#endif

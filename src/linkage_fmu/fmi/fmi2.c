@@ -1,5 +1,6 @@
-/* FMI 2.0 co-simulation: the adapter of framework.c (which owns the state machine, the
- * checks, the values, the status policy and the states) to FMI 2.0's functions and types.
+/* FMI 2.0 co-simulation (and model exchange, for a model with continuous states): the
+ * adapter of framework.c (which owns the state machine, the checks, the values, the status
+ * policy, the states and the continuous states) to FMI 2.0's functions and types.
  *
  * What is FMI 2.0's own: the host's callbacks (its logger takes a printf format: a '%' in
  * a message is doubled; its memory functions), SetupExperiment before
@@ -52,7 +53,8 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     probe.emit = emit2;
     probe.allocate = functions->allocateMemory;
     probe.release = functions->freeMemory;
-    if (fmuType != fmi2CoSimulation) {
+    probe.exchange = N_STATES > 0 && fmuType == fmi2ModelExchange;
+    if (fmuType != fmi2CoSimulation && !probe.exchange) {
         probe.name = (char *)"?";
         say(&probe, LK_ERROR, "fmi2Instantiate: " MODEL_IDENTIFIER " supports co-simulation only");
         return NULL;
@@ -243,3 +245,63 @@ fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte serializedSta
     return (fmi2Status)lk_deserialize(c, "fmi2DeSerializeFMUstate",
                                       (const unsigned char *)serializedState, size, state);
 }
+
+#if N_STATES > 0
+/* -- model exchange ------------------------------------------------------------------------ */
+fmi2Status fmi2EnterEventMode(fmi2Component c) {
+    return (fmi2Status)lk_exchange_event_mode(c, "fmi2EnterEventMode");
+}
+
+fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *eventInfo) {
+    Instance *in = lk_instance(c, "fmi2NewDiscreteStates");
+    if (!in) return fmi2Error;
+    if (!eventInfo) return (fmi2Status)say(in, LK_ERROR, "fmi2NewDiscreteStates: eventInfo is NULL");
+    Status s = lk_update_discrete_states(in, "fmi2NewDiscreteStates");
+    if (s != LK_OK) return (fmi2Status)s;
+    memset(eventInfo, 0, sizeof *eventInfo); /* no events: nothing needed, nothing changed */
+    return fmi2OK;
+}
+
+fmi2Status fmi2EnterContinuousTimeMode(fmi2Component c) {
+    return (fmi2Status)lk_enter_continuous_time_mode(c, "fmi2EnterContinuousTimeMode");
+}
+
+fmi2Status fmi2CompletedIntegratorStep(fmi2Component c, fmi2Boolean noSetFMUStatePriorToCurrentPoint,
+                                       fmi2Boolean *enterEventMode,
+                                       fmi2Boolean *terminateSimulation) {
+    (void)noSetFMUStatePriorToCurrentPoint;
+    Instance *in = lk_instance(c, "fmi2CompletedIntegratorStep");
+    if (!in) return fmi2Error;
+    if (!enterEventMode || !terminateSimulation)
+        return (fmi2Status)say(in, LK_ERROR, "fmi2CompletedIntegratorStep: %s is NULL",
+                               !enterEventMode ? "enterEventMode" : "terminateSimulation");
+    Status s = lk_completed_integrator_step(in, "fmi2CompletedIntegratorStep");
+    if (s == LK_OK) *enterEventMode = *terminateSimulation = fmi2False;
+    return (fmi2Status)s;
+}
+
+fmi2Status fmi2SetTime(fmi2Component c, fmi2Real time) {
+    return (fmi2Status)lk_set_time(c, "fmi2SetTime", time);
+}
+
+fmi2Status fmi2SetContinuousStates(fmi2Component c, const fmi2Real x[], size_t nx) {
+    return (fmi2Status)lk_set_continuous_states(c, "fmi2SetContinuousStates", x, nx);
+}
+
+fmi2Status fmi2GetDerivatives(fmi2Component c, fmi2Real derivatives[], size_t nx) {
+    return (fmi2Status)lk_get_derivatives(c, "fmi2GetDerivatives", derivatives, nx);
+}
+
+fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real eventIndicators[], size_t ni) {
+    (void)eventIndicators;
+    return (fmi2Status)lk_get_event_indicators(c, "fmi2GetEventIndicators", ni);
+}
+
+fmi2Status fmi2GetContinuousStates(fmi2Component c, fmi2Real x[], size_t nx) {
+    return (fmi2Status)lk_get_continuous_states(c, "fmi2GetContinuousStates", x, nx);
+}
+
+fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component c, fmi2Real x_nominal[], size_t nx) {
+    return (fmi2Status)lk_get_nominals(c, "fmi2GetNominalsOfContinuousStates", x_nominal, nx);
+}
+#endif

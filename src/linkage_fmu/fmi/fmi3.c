@@ -1,5 +1,6 @@
-/* FMI 3.0 co-simulation: the adapter of framework.c (which owns the state machine, the
- * checks, the values, the status policy and the states) to FMI 3.0's functions and types.
+/* FMI 3.0 co-simulation (and model exchange, for a model with continuous states): the
+ * adapter of framework.c (which owns the state machine, the checks, the values, the status
+ * policy, the states and the continuous states) to FMI 3.0's functions and types.
  *
  * What is FMI 3.0's own:
  * - the independent variable `time`, value reference N_VARIABLES (right after the
@@ -13,8 +14,8 @@
  *   changes nothing and EnterStepMode goes back to steps;
  * - the variables' dependencies (providesPerElementDependencies), those of the
  *   modelDescription's ModelStructure, from config.h's table;
- * - every FMI 3.0 function is exported: what the model has not (model exchange,
- *   scheduled execution, clocks, configuration mode, derivatives, the types it has no
+ * - every FMI 3.0 function is exported: what the model has not (model exchange without
+ *   continuous states, scheduled execution, clocks, configuration mode, derivatives, the types it has no
  *   variables of) answers fmi3Error (or NULL) with a log.
  */
 #include "fmi3Functions.h"
@@ -109,12 +110,19 @@ fmi3Instance fmi3InstantiateModelExchange(fmi3String instanceName,
                                           fmi3Boolean loggingOn,
                                           fmi3InstanceEnvironment instanceEnvironment,
                                           fmi3LogMessageCallback logMessage) {
-    (void)instanceName, (void)instantiationToken, (void)resourcePath, (void)visible;
+    (void)visible;
     Instance probe = host3(instanceEnvironment, logMessage);
+#if N_STATES > 0
+    probe.exchange = 1;
+    return lk_instantiate("fmi3InstantiateModelExchange", instanceName, instantiationToken,
+                          resourcePath, 0, loggingOn, &probe);
+#else
+    (void)instanceName, (void)instantiationToken, (void)resourcePath;
     probe.logging = loggingOn;
     say(&probe, LK_ERROR, "fmi3InstantiateModelExchange: " MODEL_IDENTIFIER
         " supports co-simulation only");
     return NULL;
+#endif
 }
 
 fmi3Instance fmi3InstantiateScheduledExecution(
@@ -364,7 +372,12 @@ fmi3Status fmi3DeserializeFMUState(fmi3Instance instance, const fmi3Byte seriali
 
 /* -- event mode: the model has no events; an importer that uses event mode may enter it --- */
 fmi3Status fmi3EnterEventMode(fmi3Instance instance) {
-    return (fmi3Status)lk_enter_event_mode(instance, "fmi3EnterEventMode");
+    Instance *in = lk_instance(instance, "fmi3EnterEventMode");
+    if (!in) return fmi3Error;
+#if N_STATES > 0
+    if (in->exchange) return (fmi3Status)lk_exchange_event_mode(in, "fmi3EnterEventMode");
+#endif
+    return (fmi3Status)lk_enter_event_mode(in, "fmi3EnterEventMode");
 }
 
 fmi3Status fmi3EnterStepMode(fmi3Instance instance) {
@@ -528,6 +541,81 @@ fmi3Status fmi3EvaluateDiscreteStates(fmi3Instance instance) {
     UNSUPPORTED(fmi3EvaluateDiscreteStates, "providesEvaluateDiscreteStates is false");
 }
 
+#if N_STATES > 0
+/* -- model exchange ------------------------------------------------------------------------ */
+fmi3Status fmi3EnterContinuousTimeMode(fmi3Instance instance) {
+    return (fmi3Status)lk_enter_continuous_time_mode(instance, "fmi3EnterContinuousTimeMode");
+}
+
+fmi3Status fmi3CompletedIntegratorStep(fmi3Instance instance,
+                                       fmi3Boolean noSetFMUStatePriorToCurrentPoint,
+                                       fmi3Boolean *enterEventMode,
+                                       fmi3Boolean *terminateSimulation) {
+    (void)noSetFMUStatePriorToCurrentPoint;
+    Instance *in = lk_instance(instance, "fmi3CompletedIntegratorStep");
+    if (!in) return fmi3Error;
+    if (!enterEventMode || !terminateSimulation)
+        return (fmi3Status)say(in, LK_ERROR, "fmi3CompletedIntegratorStep: %s is NULL",
+                               !enterEventMode ? "enterEventMode" : "terminateSimulation");
+    Status s = lk_completed_integrator_step(in, "fmi3CompletedIntegratorStep");
+    if (s == LK_OK) *enterEventMode = *terminateSimulation = fmi3False;
+    return (fmi3Status)s;
+}
+
+fmi3Status fmi3SetTime(fmi3Instance instance, fmi3Float64 time) {
+    return (fmi3Status)lk_set_time(instance, "fmi3SetTime", time);
+}
+
+fmi3Status fmi3SetContinuousStates(fmi3Instance instance, const fmi3Float64 continuousStates[],
+                                   size_t nContinuousStates) {
+    return (fmi3Status)lk_set_continuous_states(instance, "fmi3SetContinuousStates",
+                                                continuousStates, nContinuousStates);
+}
+
+fmi3Status fmi3GetContinuousStateDerivatives(fmi3Instance instance, fmi3Float64 derivatives[],
+                                             size_t nContinuousStates) {
+    return (fmi3Status)lk_get_derivatives(instance, "fmi3GetContinuousStateDerivatives",
+                                          derivatives, nContinuousStates);
+}
+
+fmi3Status fmi3GetEventIndicators(fmi3Instance instance, fmi3Float64 eventIndicators[],
+                                  size_t nEventIndicators) {
+    (void)eventIndicators;
+    return (fmi3Status)lk_get_event_indicators(instance, "fmi3GetEventIndicators",
+                                               nEventIndicators);
+}
+
+fmi3Status fmi3GetContinuousStates(fmi3Instance instance, fmi3Float64 continuousStates[],
+                                   size_t nContinuousStates) {
+    return (fmi3Status)lk_get_continuous_states(instance, "fmi3GetContinuousStates",
+                                                continuousStates, nContinuousStates);
+}
+
+fmi3Status fmi3GetNominalsOfContinuousStates(fmi3Instance instance, fmi3Float64 nominals[],
+                                             size_t nContinuousStates) {
+    return (fmi3Status)lk_get_nominals(instance, "fmi3GetNominalsOfContinuousStates", nominals,
+                                       nContinuousStates);
+}
+
+fmi3Status fmi3GetNumberOfEventIndicators(fmi3Instance instance, size_t *nEventIndicators) {
+    Instance *in = lk_instance(instance, "fmi3GetNumberOfEventIndicators");
+    if (!in) return fmi3Error;
+    if (!nEventIndicators)
+        return (fmi3Status)say(in, LK_ERROR, "fmi3GetNumberOfEventIndicators: the pointer is NULL");
+    *nEventIndicators = 0;
+    return fmi3OK;
+}
+
+fmi3Status fmi3GetNumberOfContinuousStates(fmi3Instance instance, size_t *nContinuousStates) {
+    Instance *in = lk_instance(instance, "fmi3GetNumberOfContinuousStates");
+    if (!in) return fmi3Error;
+    if (!nContinuousStates)
+        return (fmi3Status)say(in, LK_ERROR, "fmi3GetNumberOfContinuousStates: the pointer is "
+                               "NULL");
+    *nContinuousStates = N_STATES;
+    return fmi3OK;
+}
+#else
 #define CS_ONLY "model exchange: " MODEL_IDENTIFIER " supports co-simulation only"
 fmi3Status fmi3EnterContinuousTimeMode(fmi3Instance instance) {
     UNSUPPORTED(fmi3EnterContinuousTimeMode, CS_ONLY);
@@ -585,6 +673,8 @@ fmi3Status fmi3GetNumberOfContinuousStates(fmi3Instance instance, size_t *nConti
     (void)nContinuousStates;
     UNSUPPORTED(fmi3GetNumberOfContinuousStates, CS_ONLY);
 }
+
+#endif
 
 fmi3Status fmi3GetOutputDerivatives(fmi3Instance instance,
                                     const fmi3ValueReference valueReferences[],

@@ -43,15 +43,25 @@
 
 #define LK_PATH 4096 /* the longest path of a resources folder taken */
 
-typedef enum { S_INSTANTIATED, S_INIT, S_STEP, S_TERMINATED, S_EVENT, S_FAILED } Machine;
+/* S_CONTINUOUS: model exchange's continuous-time mode (a model with continuous states) */
+typedef enum { S_INSTANTIATED, S_INIT, S_STEP, S_TERMINATED, S_EVENT, S_FAILED,
+               S_CONTINUOUS } Machine;
 /* the standard's names of the states (the adapter names the state of steps) */
 static const char *const MACHINE_NAMES[] = {"Instantiated", "InitializationMode", STEP_MODE_NAME,
-                                            "Terminated", "EventMode", "failed"};
+                                            "Terminated", "EventMode", "failed",
+                                            "ContinuousTimeMode"};
 #define IN(s) (1u << (s))
-#define READABLE (IN(S_INIT) | IN(S_STEP) | IN(S_EVENT) | IN(S_TERMINATED))
-#define WRITABLE (IN(S_INSTANTIATED) | IN(S_INIT) | IN(S_STEP) | IN(S_EVENT))
+#define READABLE (IN(S_INIT) | IN(S_STEP) | IN(S_EVENT) | IN(S_TERMINATED) | IN(S_CONTINUOUS))
+#define WRITABLE (IN(S_INSTANTIATED) | IN(S_INIT) | IN(S_STEP) | IN(S_EVENT) | IN(S_CONTINUOUS))
 /* past initialisation: the parameter set was taken */
-#define INITIALIZED (IN(S_STEP) | IN(S_EVENT) | IN(S_TERMINATED))
+#define INITIALIZED (IN(S_STEP) | IN(S_EVENT) | IN(S_TERMINATED) | IN(S_CONTINUOUS))
+
+/* config.h of a model with continuous states defines N_STATES, STATES (their value
+ * references), STATE_STARTS (their start parameters), DERIVATIVES (their derivatives'
+ * positions among the outputs) and TOLERANCE_VR (the integrator's tolerance) */
+#ifndef N_STATES
+#define N_STATES 0
+#endif
 
 static const char *const LOG_CATEGORIES[] = {"logStatusWarning", "logStatusDiscard",
                                              "logStatusError", "logStatusFatal", "logAll"};
@@ -81,6 +91,8 @@ typedef struct Instance {
     Machine machine;
     int logging;
     int event_mode_used; /* FMI 3.0: the importer enters event mode (ours has no events) */
+    int exchange;        /* instantiated for model exchange (a model with continuous states) */
+    double substep;      /* the integrator's next substep (0: not known yet) */
     unsigned categories; /* bit i: LOG_CATEGORIES[i] enabled; 0 = all */
     double time;         /* the last successful communication point */
     int discarded;       /* the last step was discarded */
@@ -103,11 +115,12 @@ struct Saved {
     Saved *next;
     Machine machine;
     double time;
+    double substep;
     Values values;
 };
 
 static const char STATE_MAGIC[8] = {'L', 'K', 'F', 'M', 'U', 'S', 'T', '\0'};
-#define STATE_FORMAT 2u
+#define STATE_FORMAT (N_STATES ? 3u : 2u) /* 3: with the integrator's substep */
 
 /* -- logging ------------------------------------------------------------------------ */
 static int category_enabled(const Instance *in, Status status, const char *category) {
@@ -220,6 +233,10 @@ static Status check_settable(const Instance *in, const char *call, const ValueRe
         if (v->kind == K_INPUT || v->kind == K_TUNABLE) continue;
         if (v->kind == K_FIXED && (in->machine == S_INSTANTIATED || in->machine == S_INIT))
             continue;
+        if (v->kind == K_STATE)
+            return say(in, LK_ERROR, "%s: '%s' (value reference %u) is a continuous state: it "
+                       "starts at its start parameter, and model exchange sets it with "
+                       "SetContinuousStates", call, v->name, (unsigned)vr[i]);
         return say(in, LK_ERROR, "%s: '%s' (value reference %u) %s%s", call, v->name,
                    (unsigned)vr[i],
                    v->kind == K_FIXED ? "is a fixed parameter: it can only be set before "
@@ -402,6 +419,10 @@ static Status backend_evaluate(Instance *in, const Values *v, double *y, char *w
 
 #include BACKEND
 
+#if N_STATES > 0
+static Status advance(Instance *in, const char *call, double t, double h);
+#endif
+
 /* A backend's Fatal fails the instance for good. */
 static Status answer(Instance *in, const char *call, Status status) {
     if (status == LK_FATAL) {
@@ -439,21 +460,38 @@ static void describe_inputs(const Instance *in, char *text, size_t size) {
     }
 }
 
+/* Why the inputs cannot be taken ('' if they can): one is not finite. */
+static const char *unfit_inputs(const Instance *in, char *why, size_t size) {
+    why[0] = '\0';
+    for (int k = 0; k < N_INPUTS && !why[0]; k++) {
+        const double x = in->values.real[INPUTS[k]];
+        char value[32];
+        if (!isfinite(x))
+            snprintf(why, size, "input %s = %s is not a finite number", VARIABLES[INPUTS[k]].name,
+                     shortest(x, value, sizeof value));
+    }
+    return why;
+}
+
+/* Until initialisation ends, each continuous state is its start parameter. */
+static void start_states(Instance *in) {
+#if N_STATES > 0
+    if (IN(in->machine) & INITIALIZED) return;
+    for (int k = 0; k < N_STATES; k++) in->values.real[STATES[k]] = in->values.real[STATE_STARTS[k]];
+#else
+    (void)in;
+#endif
+}
+
 /* Compute the outputs if the inputs changed: LK_OK (solved), LK_DISCARD (cannot be
  * solved; `why` says why), LK_ERROR (the parameters are invalid, or the backend failed). */
 static Status evaluate(Instance *in, const char *call) {
     if (in->fresh) return in->solved ? LK_OK : LK_DISCARD;
     Status s = prepare(in, call);
     if (s != LK_OK) return s;
+    start_states(in);
     in->reported = 0;
-    in->why[0] = '\0';
-    for (int k = 0; k < N_INPUTS && !in->why[0]; k++) {
-        const double x = in->values.real[INPUTS[k]];
-        char value[32];
-        if (!isfinite(x))
-            snprintf(in->why, sizeof in->why, "input %s = %s is not a finite number",
-                     VARIABLES[INPUTS[k]].name, shortest(x, value, sizeof value));
-    }
+    unfit_inputs(in, in->why, sizeof in->why);
     s = LK_DISCARD;
     if (!in->why[0]) {
         s = answer(in, call, backend_evaluate(in, &in->values, in->outputs, in->why,
@@ -622,13 +660,14 @@ static Status lk_exit_initialization(void *c, const char *call) {
         return say(in, LK_ERROR, "%s: the parameter set is invalid: %s; the instance stays in "
                    "initialisation mode until it is fixed", call, in->problem);
     }
-    in->machine = in->event_mode_used ? S_EVENT : S_STEP;
+    start_states(in);
+    in->machine = in->event_mode_used || in->exchange ? S_EVENT : S_STEP;
     return LK_OK;
 }
 
 static Status lk_terminate(void *c, const char *call) {
     INSTANCE(c, call);
-    if (require(in, call, IN(S_STEP) | IN(S_EVENT))) return LK_ERROR;
+    if (require(in, call, IN(S_STEP) | IN(S_EVENT) | IN(S_CONTINUOUS))) return LK_ERROR;
     in->machine = S_TERMINATED;
     return LK_OK;
 }
@@ -647,6 +686,7 @@ static inline Status lk_enter_event_mode(void *c, const char *call) {
 
 static inline Status lk_enter_step_mode(void *c, const char *call) {
     INSTANCE(c, call);
+    if (in->exchange) return say(in, LK_ERROR, "%s: the instance is for model exchange", call);
     if (require(in, call, IN(S_EVENT))) return LK_ERROR;
     in->machine = S_STEP;
     return LK_OK;
@@ -665,6 +705,7 @@ static Status lk_reset(void *c, const char *call) {
     in->machine = S_INSTANTIATED;
     in->time = 0.0;
     in->discarded = 0;
+    in->substep = 0.0;
     return LK_OK;
 }
 
@@ -679,6 +720,7 @@ static Status lk_get_real(void *c, const char *call, const ValueReference vr[], 
     Status status = LK_OK;
     for (size_t i = 0; i < nvr; i++) {
         const Variable *v = &VARIABLES[vr[i]];
+        if (v->kind == K_STATE) start_states(in);
         if (v->kind != K_OUTPUT) {
             value[i] = in->values.real[vr[i]];
             continue;
@@ -813,6 +855,9 @@ static Status lk_do_step(void *c, const char *call, double t, double h) {
     if (!(h > 0.0) || !isfinite(h))
         return say(in, LK_ERROR, "%s: communicationStepSize = %g is not a positive finite number",
                    call, h);
+#if N_STATES > 0
+    return advance(in, call, t, h); /* continuous.c */
+#endif
     Status s = evaluate(in, call);
     if (s == LK_ERROR) {
         if (in->machine != S_FAILED && !in->prepared)
@@ -860,6 +905,7 @@ static Status lk_get_state(void *c, const char *call, void **state) {
     }
     s->machine = in->machine;
     s->time = in->time;
+    s->substep = in->substep;
     if (!*state) {
         s->next = in->states;
         in->states = s;
@@ -870,11 +916,12 @@ static Status lk_get_state(void *c, const char *call, void **state) {
 
 /* Take the values, time and mode of a saved state whole. */
 static Status restore(Instance *in, const char *call, const Values *values, Machine machine,
-                      double time) {
+                      double time, double substep) {
     if (!copy_values(in, &in->values, values)) return say(in, LK_ERROR, "%s: out of memory", call);
     changed(in, 1);
     in->machine = machine;
     in->time = time;
+    in->substep = substep;
     in->discarded = 0;
     return LK_OK;
 }
@@ -883,7 +930,7 @@ static Status lk_set_state(void *c, const char *call, void *state) {
     INSTANCE(c, call);
     Saved *s = live_state(in, call, state);
     if (!s) return LK_ERROR;
-    return restore(in, call, &s->values, s->machine, s->time);
+    return restore(in, call, &s->values, s->machine, s->time, s->substep);
 }
 
 /* Unlink the live state `s` from the instance and release it. */
@@ -921,9 +968,11 @@ static Status lk_free_state(void *c, const char *call, void **state) {
 }
 
 /* Serialized layout: magic[8] | u32 format | u32 nid | id | u32 nguid | guid | u32 mode
- * (Machine: 0 Instantiated, 1 InitializationMode, 2 step mode, 3 Terminated, 4 EventMode) |
- * f64 time | per input and parameter by value reference: a real f64, an integer i32, a
- * string u32 length + bytes | u32 CRC-32 of all bytes before it. */
+ * (Machine: 0 Instantiated, 1 InitializationMode, 2 step mode, 3 Terminated, 4 EventMode,
+ * 6 ContinuousTimeMode) | f64 time | with continuous states (format 3), f64 the
+ * integrator's next substep | per input, parameter and continuous state by value
+ * reference: a real f64, an integer i32, a string u32 length + bytes | u32 CRC-32 of all
+ * bytes before it. */
 static int kept(const Variable *v) { return v->name && v->kind != K_OUTPUT; }
 
 static uint32_t crc32(const unsigned char *p, size_t n) {
@@ -936,7 +985,8 @@ static uint32_t crc32(const unsigned char *p, size_t n) {
 }
 
 static size_t serialized_size(const Saved *s) {
-    size_t n = 8 + 4 + 4 + strlen(MODEL_IDENTIFIER) + 4 + strlen(MODEL_GUID) + 4 + 8 + 4;
+    size_t n = 8 + 4 + 4 + strlen(MODEL_IDENTIFIER) + 4 + strlen(MODEL_GUID) + 4 + 8 + 4 +
+               (N_STATES ? 8 : 0);
     for (unsigned vr = 0; vr < N_VARIABLES; vr++) {
         const Variable *v = &VARIABLES[vr];
         if (!kept(v)) continue;
@@ -979,6 +1029,7 @@ static Status lk_serialize(void *c, const char *call, void *state, unsigned char
     p = put(p, MODEL_GUID, nguid);
     p = put(p, &mode, 4);
     p = put(p, &s->time, 8);
+    if (N_STATES) p = put(p, &s->substep, 8);
     for (unsigned vr = 0; vr < N_VARIABLES; vr++) {
         const Variable *v = &VARIABLES[vr];
         if (!kept(v)) continue;
@@ -993,6 +1044,15 @@ static Status lk_serialize(void *c, const char *call, void *state, unsigned char
     uint32_t crc = crc32(bytes, (size_t)(p - bytes));
     put(p, &crc, 4);
     return LK_OK;
+}
+
+/* 1 if an instance of this kind (co-simulation with or without event mode, or model
+ * exchange) can be in the serialized `mode`. */
+static int mode_of_instance(const Instance *in, uint32_t mode) {
+    if (mode == S_INSTANTIATED || mode == S_INIT || mode == S_TERMINATED) return 1;
+    if (mode == S_EVENT) return in->event_mode_used || in->exchange;
+    if (mode == S_STEP) return !in->exchange;
+    return mode == S_CONTINUOUS && in->exchange;
 }
 
 /* Read `n` bytes at *p within [*p, end); 0 where they run past the end. */
@@ -1020,7 +1080,7 @@ static Status lk_deserialize(void *c, const char *call, const unsigned char *b, 
     const unsigned char *p = b, *end = b + size;
     char magic[8], why[1024];
     uint32_t format, nid, nguid, mode, crc;
-    double time;
+    double time, substep = 0.0;
     if (size < 12 || !take(&p, end, magic, 8) || memcmp(magic, STATE_MAGIC, 8))
         return say(in, LK_ERROR, "%s: these %zu bytes are not a serialized linkage_fmu state",
                    call, size);
@@ -1040,12 +1100,16 @@ static Status lk_deserialize(void *c, const char *call, const unsigned char *b, 
         return say(in, LK_ERROR, "%s: the state was made by another build of " MODEL_IDENTIFIER
                    " (its GUID or instantiation token differs)", call);
     p += nguid;
-    if (!take(&p, end, &mode, 4) || !take(&p, end, &time, 8))
+    if (!take(&p, end, &mode, 4) || !take(&p, end, &time, 8) ||
+        (N_STATES && !take(&p, end, &substep, 8)))
         return say(in, LK_ERROR, "%s: the state is truncated", call);
-    if (mode > S_EVENT || (mode == S_EVENT && !in->event_mode_used))
+    if (!mode_of_instance(in, mode))
         return say(in, LK_ERROR, "%s: the state's mode %u is not a mode of this instance%s", call,
-                   (unsigned)mode, mode == S_EVENT ? " (made with eventModeUsed = false)" : "");
+                   (unsigned)mode, mode == S_EVENT && !in->exchange
+                   ? " (made with eventModeUsed = false)" : "");
     if (!isfinite(time)) return say(in, LK_ERROR, "%s: the state's time is not finite", call);
+    if (!(substep >= 0.0) || !isfinite(substep))
+        return say(in, LK_ERROR, "%s: the state's integrator substep is not a number >= 0", call);
     Saved *s = (Saved *)in->allocate(1, sizeof *s);
     if (!s) return say(in, LK_ERROR, "%s: out of memory", call);
     why[0] = '\0';
@@ -1054,6 +1118,8 @@ static Status lk_deserialize(void *c, const char *call, const unsigned char *b, 
         if (!kept(v)) continue;
         if (v->type == T_REAL) {
             if (!take(&p, end, &s->values.real[vr], 8)) snprintf(why, sizeof why, "it is truncated");
+            else if (v->kind == K_STATE && !isfinite(s->values.real[vr]))
+                snprintf(why, sizeof why, "the continuous state %s is not finite", v->name);
         } else if (v->type == T_INTEGER) {
             if (!take(&p, end, &s->values.integer[vr], 4)) snprintf(why, sizeof why, "it is truncated");
             else unfit_integer(v, s->values.integer[vr], why, sizeof why);
@@ -1088,11 +1154,13 @@ static Status lk_deserialize(void *c, const char *call, const unsigned char *b, 
     }
     s->machine = (Machine)mode;
     s->time = time;
+    s->substep = substep;
     if (reused) { /* taken whole: the old values go, the new ones take their place */
         release_values(in, &reused->values);
         reused->values = s->values;
         reused->machine = s->machine;
         reused->time = s->time;
+        reused->substep = s->substep;
         in->release(s);
         return LK_OK;
     }
@@ -1103,3 +1171,7 @@ static Status lk_deserialize(void *c, const char *call, const unsigned char *b, 
     *state = s;
     return LK_OK;
 }
+
+#if N_STATES > 0
+#include "continuous.c"
+#endif

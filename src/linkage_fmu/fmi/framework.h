@@ -20,8 +20,9 @@ typedef enum { LK_OK, LK_WARNING, LK_DISCARD, LK_ERROR, LK_FATAL } Status;
 typedef unsigned int ValueReference;
 
 enum { T_REAL, T_INTEGER, T_BOOLEAN, T_STRING };
-/* what a variable is, for the rules on setting it */
-enum { K_INPUT, K_FIXED, K_TUNABLE, K_OUTPUT, K_OTHER };
+/* what a variable is, for the rules on setting it (K_STATE: a continuous state, kept with
+ * the values, set only by the model-exchange call or from its start parameter) */
+enum { K_INPUT, K_FIXED, K_TUNABLE, K_OUTPUT, K_OTHER, K_STATE };
 /* the rule a real parameter's value meets */
 enum { RULE_FINITE, RULE_POSITIVE, RULE_NONNEGATIVE };
 

@@ -1,0 +1,277 @@
+/* The continuous states of the FMI framework (framework.c includes this file when config.h
+ * names continuous states: N_STATES > 0): what a model driven by its inputs, rather than
+ * told its motion, adds to the framework.
+ *
+ * - Co-simulation: DoStep integrates the states over the step with an embedded explicit
+ *   Runge-Kutta pair, Dormand and Prince's 5(4) (the 5th-order solution is taken), its
+ *   error held to the `tolerance` parameter (relative and absolute, on every state) by
+ *   the standard step-size controller; as many substeps as that takes. The next substep
+ *   is remembered between steps and kept in FMU states. A stage at which the backend
+ *   cannot give the derivatives (the linkage cannot be assembled there) is a limit: the
+ *   substep is halved, and the step goes on from any shorter substep that succeeds,
+ *   until the limit is located to the tolerance (the states would change by less than it
+ *   before the limit) or to the resolution of the time; the step then ends there:
+ *   Discard, the last successful time that of the last good state, whose outputs the
+ *   reads give.
+ * - Model exchange: the importer integrates; SetTime, SetContinuousStates,
+ *   GetContinuousStates, GetDerivatives (Discard, with NaN and a log, where the backend
+ *   cannot give them), the nominals (1), no event indicators, and the modes: after
+ *   initialisation event mode, continuous-time mode, and back.
+ *
+ * The backend gives the derivatives: backend_derivatives(in, v, x, dx, why, size), with
+ * the inputs and parameters in `v` and the states `x`: LK_OK; LK_DISCARD with `why`.
+ */
+#include <float.h>
+
+/* Dormand and Prince's 5(4) pair: nodes, the stages' coefficients (the last row is the
+ * 5th-order solution's weights: first same as last), and the weights of the error
+ * estimate (5th order minus 4th). */
+static const double DP_A[7][6] = {
+    {0},
+    {1.0 / 5.0},
+    {3.0 / 40.0, 9.0 / 40.0},
+    {44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0},
+    {19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0},
+    {9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0},
+    {35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0}};
+static const double DP_E[7] = {71.0 / 57600.0, 0.0, -71.0 / 16695.0, 71.0 / 1920.0,
+                               -17253.0 / 339200.0, 22.0 / 525.0, -1.0 / 40.0};
+#define MAX_SUBSTEPS 1000000L /* per step: a guard, never reached by a motion that goes on */
+
+/* The states in force, for a message. */
+static void describe_states(const double *x, char *text, size_t size) {
+    size_t n = 0;
+    text[0] = '\0';
+    for (int k = 0; k < N_STATES && n < size; k++) {
+        char value[32];
+        n += (size_t)snprintf(text + n, size - n, "%s%s = %s", k ? ", " : "",
+                              VARIABLES[STATES[k]].name, shortest(x[k], value, sizeof value));
+    }
+}
+
+/* The weighted RMS norm of `e` against the tolerance at the states `a` and `b`. */
+static double error_norm(const double *e, const double *a, const double *b, double tol) {
+    double sum = 0.0;
+    for (int k = 0; k < N_STATES; k++) {
+        const double scale = tol + tol * fmax(fabs(a[k]), fabs(b[k]));
+        sum += (e[k] / scale) * (e[k] / scale);
+    }
+    return sqrt(sum / N_STATES);
+}
+
+/* A first substep from the states and their derivatives (Hairer, Norsett and Wanner's
+ * first guess, without its second evaluation), at most `h`. */
+static double first_substep(const double *x, const double *dx, double tol, double h) {
+    const double d0 = error_norm(x, x, x, tol), d1 = error_norm(dx, x, x, tol);
+    const double guess = d0 > 1e-5 && d1 > 1e-5 ? 0.01 * d0 / d1 : 1e-6;
+    return fmin(guess, h);
+}
+
+/* 1 if the states change by less than the tolerance over `span` from `x`, at the rates `dx`,
+ * or `span` is below the resolution of the time `t`: a limit located. */
+static int located(const double *x, const double *dx, double tol, double span, double t) {
+    if (span <= 4.0 * DBL_EPSILON * fabs(t)) return 1;
+    for (int k = 0; k < N_STATES; k++)
+        if (span * fabs(dx[k]) > tol + tol * fabs(x[k])) return 0;
+    return 1;
+}
+
+/* Integrate the states from `t` over `h` (DoStep of a model with continuous states):
+ * LK_OK at `t + h`; LK_DISCARD where the motion cannot go on (at its start: nothing
+ * changes; later: the states and time of the last good substep); LK_ERROR for an invalid
+ * parameter set or a failed backend. */
+static Status advance(Instance *in, const char *call, double t, double h) {
+    char why[512], at[32], states[256];
+    if (prepare(in, call) != LK_OK) {
+        if (in->machine != S_FAILED)
+            say(in, LK_ERROR, "%s: the parameter set is invalid: %s", call, in->problem);
+        return LK_ERROR;
+    }
+    double x[N_STATES], y[N_STATES], e[N_STATES], k[7][N_STATES];
+    for (int i = 0; i < N_STATES; i++) x[i] = in->values.real[STATES[i]];
+    const double tol = in->values.real[TOLERANCE_VR];
+    Status s = LK_DISCARD;
+    if (!unfit_inputs(in, why, sizeof why)[0])
+        s = answer(in, call, backend_derivatives(in, &in->values, x, k[0], why, sizeof why));
+    if (s > LK_DISCARD) return say(in, LK_ERROR, "%s: %s", call, why[0] ? why : "the backend failed");
+    if (s == LK_DISCARD) { /* not even the start: the states stay, the outputs are NaN */
+        in->discarded = 1;
+        describe_states(x, states, sizeof states);
+        return say(in, LK_DISCARD, "%s: the motion cannot start at t = %s from %s: %s", call,
+                   shortest(t, at, sizeof at), states, why);
+    }
+    double done = 0.0, hs = in->substep > 0.0 ? in->substep : first_substep(x, k[0], tol, h);
+    double limit = INFINITY; /* a substep from `done` that reached a stage without derivatives */
+    char limit_why[512] = "";
+    int rejected = 0;
+    long substeps = 0;
+    while (done < h) {
+        if (++substeps > MAX_SUBSTEPS) {
+            snprintf(why, sizeof why, "more than %ld substeps in one step", MAX_SUBSTEPS);
+            s = LK_DISCARD;
+            break;
+        }
+        const double left = h - done;
+        double step = hs;
+        int last = 0;
+        if (step >= left) step = left, last = 1;
+        if (step >= limit) step = 0.5 * limit, last = 0;
+        s = LK_OK;
+        for (int j = 1; j < 7 && s == LK_OK; j++) {
+            for (int i = 0; i < N_STATES; i++) {
+                double sum = 0.0;
+                for (int m = 0; m < j; m++) sum += DP_A[j][m] * k[m][i];
+                y[i] = x[i] + step * sum;
+            }
+            s = answer(in, call, backend_derivatives(in, &in->values, y, k[j], why, sizeof why));
+        }
+        if (s > LK_DISCARD)
+            return say(in, LK_ERROR, "%s: %s", call, why[0] ? why : "the backend failed");
+        if (s == LK_DISCARD) { /* past a limit: bisect towards it */
+            limit = step;
+            set_text(limit_why, sizeof limit_why, why);
+            if (located(x, k[0], tol, limit, t + done)) break;
+            hs = 0.5 * step;
+            continue;
+        }
+        for (int i = 0; i < N_STATES; i++) {
+            double sum = 0.0;
+            for (int m = 0; m < 7; m++) sum += DP_E[m] * k[m][i];
+            e[i] = step * sum;
+        }
+        const double err = error_norm(e, x, y, tol);
+        if (!(err <= 1.0)) { /* rejected (a NaN estimate too): shorter */
+            hs = step * (err == err ? fmax(0.2, 0.9 * pow(err, -0.2)) : 0.2);
+            rejected = 1;
+            if (hs <= 4.0 * DBL_EPSILON * fabs(t + done)) {
+                snprintf(why, sizeof why, "the substep the tolerance needs falls below the "
+                         "resolution of the time");
+                s = LK_DISCARD;
+                break;
+            }
+            continue;
+        }
+        done = last ? h : done + step;
+        limit -= step;
+        memcpy(x, y, sizeof x);
+        memcpy(k[0], k[6], sizeof k[0]);
+        double grow = err > 0.0 ? 0.9 * pow(err, -0.2) : 5.0;
+        grow = fmin(rejected ? 1.0 : 5.0, fmax(0.2, grow));
+        rejected = 0;
+        /* a last substep cut to the end of the step does not shrink the next one */
+        hs = last ? fmax(step * grow, hs) : step * grow;
+        if (limit < INFINITY && located(x, k[0], tol, limit, t + done)) break;
+    }
+    for (int i = 0; i < N_STATES; i++) in->values.real[STATES[i]] = x[i];
+    in->substep = hs;
+    in->time = t + done;
+    changed(in, 0);
+    in->discarded = done < h;
+    if (done >= h) return LK_OK;
+    describe_states(x, states, sizeof states);
+    char end[32];
+    return say(in, LK_DISCARD, "%s: the motion cannot go on past t = %s (%s): %s; the step "
+               "from t = %s ends there (lastSuccessfulTime), with the outputs of that state",
+               call, shortest(t + done, end, sizeof end), states,
+               limit_why[0] ? limit_why : why, shortest(t, at, sizeof at));
+}
+
+/* -- model exchange ------------------------------------------------------------------- */
+/* `n` values at `values` for the continuous states: Error unless it is N_STATES of them. */
+static Status check_states(const Instance *in, const char *call, const void *values, size_t n,
+                           const char *what) {
+    if (n != N_STATES)
+        return say(in, LK_ERROR, "%s: %s = %zu, but " MODEL_IDENTIFIER " has %d continuous "
+                   "states", call, what, n, N_STATES);
+    if (!values) return say(in, LK_ERROR, "%s: the array is NULL", call);
+    return LK_OK;
+}
+
+static Status lk_set_time(void *c, const char *call, double time) {
+    INSTANCE(c, call);
+    if (require(in, call, IN(S_EVENT) | IN(S_CONTINUOUS))) return LK_ERROR;
+    if (!isfinite(time)) return say(in, LK_ERROR, "%s: time = %g is not finite", call, time);
+    in->time = time; /* the model is autonomous: nothing else changes */
+    return LK_OK;
+}
+
+static Status lk_set_continuous_states(void *c, const char *call, const double x[], size_t n) {
+    INSTANCE(c, call);
+    if (require(in, call, IN(S_CONTINUOUS)) || check_states(in, call, x, n, "nContinuousStates"))
+        return LK_ERROR;
+    for (int k = 0; k < N_STATES; k++) /* check all before setting any */
+        if (!isfinite(x[k]))
+            return say(in, LK_ERROR, "%s: the continuous state %s = %g is not a finite number",
+                       call, VARIABLES[STATES[k]].name, x[k]);
+    for (int k = 0; k < N_STATES; k++) {
+        if (in->values.real[STATES[k]] != x[k]) changed(in, 0);
+        in->values.real[STATES[k]] = x[k];
+    }
+    return LK_OK;
+}
+
+static Status lk_get_continuous_states(void *c, const char *call, double x[], size_t n) {
+    INSTANCE(c, call);
+    if (require(in, call, READABLE) || check_states(in, call, x, n, "nContinuousStates"))
+        return LK_ERROR;
+    start_states(in);
+    for (int k = 0; k < N_STATES; k++) x[k] = in->values.real[STATES[k]];
+    return LK_OK;
+}
+
+/* The derivatives of the states: Discard (NaN, with a log) where they cannot be had. */
+static Status lk_get_derivatives(void *c, const char *call, double dx[], size_t n) {
+    INSTANCE(c, call);
+    if (require(in, call, READABLE) || check_states(in, call, dx, n, "nContinuousStates"))
+        return LK_ERROR;
+    Status s = evaluate(in, call);
+    if (s == LK_ERROR) {
+        if (in->machine != S_FAILED && !in->prepared)
+            say(in, LK_ERROR, "%s: the parameter set is invalid: %s", call, in->problem);
+        return LK_ERROR;
+    }
+    for (int k = 0; k < N_STATES; k++) dx[k] = in->outputs[DERIVATIVES[k]];
+    if (s == LK_DISCARD) report(in, LK_DISCARD, call, in->time);
+    return s;
+}
+
+static Status lk_get_nominals(void *c, const char *call, double nominals[], size_t n) {
+    INSTANCE(c, call);
+    if (require(in, call, READABLE | IN(S_INSTANTIATED)) ||
+        check_states(in, call, nominals, n, "nContinuousStates"))
+        return LK_ERROR;
+    for (int k = 0; k < N_STATES; k++) nominals[k] = 1.0;
+    return LK_OK;
+}
+
+/* No event indicators: only an empty call. */
+static Status lk_get_event_indicators(void *c, const char *call, size_t n) {
+    INSTANCE(c, call);
+    if (require(in, call, READABLE)) return LK_ERROR;
+    if (n) return say(in, LK_ERROR, "%s: nEventIndicators = %zu, but " MODEL_IDENTIFIER
+                      " has none", call, n);
+    return LK_OK;
+}
+
+static Status lk_enter_continuous_time_mode(void *c, const char *call) {
+    INSTANCE(c, call);
+    if (!in->exchange) return say(in, LK_ERROR, "%s: the instance is for co-simulation", call);
+    if (require(in, call, IN(S_EVENT))) return LK_ERROR;
+    in->machine = S_CONTINUOUS;
+    return LK_OK;
+}
+
+/* Model exchange's event mode, entered from continuous-time mode (the model has no events:
+ * nothing changes but the mode). */
+static Status lk_exchange_event_mode(void *c, const char *call) {
+    INSTANCE(c, call);
+    if (require(in, call, IN(S_CONTINUOUS))) return LK_ERROR;
+    in->machine = S_EVENT;
+    return LK_OK;
+}
+
+/* Nothing happens at the end of an integrator step: no event, no end. */
+static Status lk_completed_integrator_step(void *c, const char *call) {
+    INSTANCE(c, call);
+    return require(in, call, IN(S_CONTINUOUS));
+}
