@@ -49,6 +49,7 @@ EPILOG = """examples:
   linkage-fmu build --native --fmi 3 four_bar
   linkage-fmu build --native --fmi 3 --platforms all four_bar
   linkage-fmu build --native --platforms x86_64-linux,x86_64-windows four_bar
+  linkage-fmu build --native --drive four_bar        (dist/native/FourBarDrive.fmu)
   linkage-fmu check dist/FourBar.fmu
 """
 
@@ -292,6 +293,9 @@ def main(argv: list[str] | None = None) -> int:
     build.add_argument("--native", action="store_true",
                        help="a native FMU: the linkage's kernels in C, no Python in the "
                             "importing tool (default: the pythonfmu FMU)")
+    build.add_argument("--drive", action="store_true",
+                       help="with --native: the drive FMU <Model>Drive, the linkage driven by a "
+                            "moment tau on its crank (co-simulation and model exchange)")
     build.add_argument("--fmi", type=int, choices=(2, 3), default=2,
                        help="FMI version (default 2)")
     build.add_argument("--platforms", default=None, metavar="all|LIST",
@@ -332,10 +336,12 @@ def main(argv: list[str] | None = None) -> int:
             if args.platforms is not None and not args.native:
                 raise UsageError("--platforms is for native FMUs (--native): the pythonfmu "
                                  "FMU is for linux64 only")
+            if args.drive and not args.native:
+                raise UsageError("--drive is for native FMUs: add --native")
             try:
                 if args.native:
                     path = build_native_fmu(d, args.out, args.fmi, args.platforms,
-                                            **dict(args.params))
+                                            drive=args.drive, **dict(args.params))
                 else:
                     out = args.out or ("dist" if args.fmi == 2 else "dist/fmi3")
                     path = build_fmu(d, out, args.fmi, **dict(args.params))

@@ -8,8 +8,12 @@ Mechanism built from one), in two flavours over one C framework:
 - :func:`build_native_fmu`, the native FMU: the linkage's traced kernels in C
   (``model.c``) with ``backend_native.c``; no Python in the importing process. It holds
   its C in ``sources/`` and computes the closed form only (``method`` is ``closed_form``).
+  With ``drive``, the drive FMU ``<Model>Drive``: the linkage driven by a moment on its
+  crank, its continuous states integrated by the framework (``continuous.c``) in
+  co-simulation, or by the importer in model exchange.
 
-Each is FMI 2.0 (``fmi2.c``) or FMI 3.0 (``fmi3.c``) co-simulation. Every binary is
+Each is FMI 2.0 (``fmi2.c``) or FMI 3.0 (``fmi3.c``) co-simulation (the drive FMU model
+exchange too). Every binary is
 built by :func:`compile_for`, for one platform of :mod:`~linkage_fmu.fmi.platforms`: this
 machine's with the system C compiler, any other with zig's (the ``cross`` extra), and
 checked (format, processor, and only the FMI functions exported) before it goes into the
@@ -39,7 +43,7 @@ from .slave import PACKAGE, fingerprint
 
 HERE = Path(__file__).parent
 #: the framework and its backends, as shipped in the package
-FRAMEWORK = ("framework.h", "framework.c")
+FRAMEWORK = ("framework.h", "framework.c", "continuous.c")
 #: the FMI headers (from fmpy) each adapter includes
 HEADERS = {2: ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h"),
            3: ("fmi3Functions.h", "fmi3FunctionTypes.h", "fmi3PlatformTypes.h")}
@@ -67,7 +71,7 @@ def _check_version(fmi_version: int) -> None:
 
 
 def _stage_sources(folder: Path, mech, flavour: str, fmi_version: int, guid: str,
-                   defines: dict | None = None) -> Path:
+                   defines: dict | None = None, drive: bool = False) -> Path:
     """Write into ``folder`` the C of the FMU: the adapter, the framework, the backend,
     ``config.h`` and the FMI headers; return the adapter's path."""
     folder.mkdir(parents=True, exist_ok=True)
@@ -77,7 +81,7 @@ def _stage_sources(folder: Path, mech, flavour: str, fmi_version: int, guid: str
     # the pythonfmu backend talks to an FMI 2.0 wrapper, whatever the FMU's version
     for name in {*HEADERS[fmi_version], *(HEADERS[2] if flavour == "pythonfmu" else ())}:
         shutil.copy(fmi_headers() / name, folder / name)
-    (folder / "config.h").write_text(writers.config_header(mech, flavour, guid, defines))
+    (folder / "config.h").write_text(writers.config_header(mech, flavour, guid, defines, drive))
     return folder / adapter
 
 
@@ -206,10 +210,18 @@ def build_fmu(source, out: str | Path = "dist", fmi_version: int = 2, **paramete
 
 
 def build_native_fmu(source, out: str | Path | None = None, fmi_version: int = 2,
-                     platforms: str | list[str] | None = None, **parameters) -> Path:
+                     platforms: str | list[str] | None = None, drive: bool = False,
+                     **parameters) -> Path:
     """Build ``out/<model>.fmu``, the native FMU of the linkage ``source`` (see
     :func:`~linkage_fmu.presets.linkage`), for FMI 2.0 (default ``out``: ``dist/native``)
     or FMI 3.0 (``dist/native3``), and return its path.
+
+    With ``drive``, build ``out/<model>Drive.fmu``, the drive FMU: co-simulation and
+    model exchange of the linkage driven by the moment ``tau`` on its crank (inputs
+    ``tau`` and the loads; continuous states ``theta`` and ``omega``, from the
+    parameters ``theta0`` and ``omega0``; outputs ``alpha``, every output of the
+    linkage and ``J_red``); in co-simulation it integrates its motion over each step to
+    the parameter ``tolerance``.
 
     Its binaries are for this machine's platform (``platforms`` None), for ``"all"`` the
     FMI version names (FMI 2.0: ``linux64``, ``win64``, ``darwin64``, this one universal,
@@ -227,7 +239,8 @@ def build_native_fmu(source, out: str | Path | None = None, fmi_version: int = 2
     DescriptionError, TypeError, ValueError
         The description or a parameter is invalid, or the linkage assembles at no crank
         angle (one that assembles over part of a revolution is built, as by
-        :func:`build_fmu`); an unknown platform, or one FMI 2.0 does not name.
+        :func:`build_fmu`); an unknown platform, or one FMI 2.0 does not name; with
+        ``drive``, a linkage whose balancing effort is not a moment on its crank.
     CompilerError
         No C compiler, or no zig for another platform (nothing is written to ``out``
         then).
@@ -242,27 +255,31 @@ def build_native_fmu(source, out: str | Path | None = None, fmi_version: int = 2
     _check_version(fmi_version)
     chosen = select(platforms, fmi_version)
     d, mech = _assembling(source, parameters)
-    model_c, _ = writers.model_source(mech, d.build)
+    if drive:  # refused before anything is traced or compiled
+        writers.table_of(mech, "native", drive)
+    model_c, _ = writers.model_source(mech, d.build, drive)
+    model = writers.model_name(mech, drive)
     guid = str(uuid.uuid4())
     out = Path(out or ("dist/native" if fmi_version == 2 else "dist/native3"))
     with tempfile.TemporaryDirectory(prefix="linkage_fmu_native_") as tmp:
         root = Path(tmp) / "fmu"
         sources = root / "sources"
-        adapter = _stage_sources(sources, mech, "native", fmi_version, guid)
+        adapter = _stage_sources(sources, mech, "native", fmi_version, guid, drive=drive)
         (sources / "model.c").write_text(model_c)
         if fmi_version == 3:  # FMI 3.0 lists the sources here, not in the modelDescription
-            (sources / "buildDescription.xml").write_bytes(writers.build_description(d.model))
+            (sources / "buildDescription.xml").write_bytes(writers.build_description(model))
         (root / "resources").mkdir()
         (root / "resources" / f"{d.model}.toml").write_text(d.to_toml(), encoding="utf-8")
         (root / "modelDescription.xml").write_bytes(writers.model_description(
-            mech, "native", fmi_version, guid, (adapter.name,) if fmi_version == 2 else ()))
+            mech, "native", fmi_version, guid, (adapter.name,) if fmi_version == 2 else (),
+            drive))
         for folder, group in folders(chosen, fmi_version).items():
             (root / "binaries" / folder).mkdir(parents=True)
-            library = root / "binaries" / folder / group[0].library(d.model)
-            thin = [compile_for(p, [adapter], Path(tmp) / p.name / p.library(d.model),
+            library = root / "binaries" / folder / group[0].library(model)
+            thin = [compile_for(p, [adapter], Path(tmp) / p.name / p.library(model),
                                 fmi_version, include=[sources]) for p in group]
             if len(thin) == 1:
                 shutil.move(thin[0], library)
             else:  # FMI 2.0's darwin64: every Mac in one file
                 binaries.universal(thin, library)
-        return _archive(root, out / f"{d.model}.fmu")
+        return _archive(root, out / f"{model}.fmu")

@@ -2,9 +2,12 @@
 
 Inputs first (``theta``, ``omega``, ``alpha``, then each load), then every parameter of
 the linkage's description, then ``method``, then the outputs and diagnostics; value
-references follow this order from 0. Everything generated for an FMU (its
-modelDescription, ``config.h``, the native kernels' tables) is written from this table
-(:mod:`~linkage_fmu.fmi.writers`).
+references follow this order from 0. The drive FMU's table (:func:`drive_variables`)
+has the input ``tau`` and the loads, the parameters with ``theta0``, ``omega0`` and
+``tolerance``, the continuous states ``theta`` and ``omega``, then ``alpha`` (the
+derivative of ``omega``), every output and diagnostic, ``J_red`` and ``der(theta)``.
+Everything generated for an FMU (its modelDescription, ``config.h``, the native kernels'
+tables) is written from these tables (:mod:`~linkage_fmu.fmi.writers`).
 
 Examples
 --------
@@ -16,6 +19,11 @@ Examples
 ('cond', ('theta',))
 >>> [v.options for v in variables(presets.get("four_bar"), "native") if v.name == "method"]
 [('closed_form',)]
+>>> drive = drive_variables(presets.get("four_bar"))
+>>> [(v.name, v.causality) for v in drive[:2]], [v.name for v in drive if v.state]
+([('tau', 'input'), ('load', 'input')], ['theta', 'omega'])
+>>> [(v.name, v.derivative) for v in drive if v.derivative]
+[('alpha', 'omega'), ('der(theta)', 'theta')]
 """
 
 from __future__ import annotations
@@ -47,7 +55,9 @@ class Variable:
     the inputs it depends on; for a parameter the rule its value meets (``rule``: a
     Real's ``> 0``, ``>= 0`` or ``finite``, with ``minimum`` and ``maximum``; in words
     for an Integer, whose values are ``allowed``, and a String, whose are ``options``);
-    ``index``: its position among the variables of its causality."""
+    ``index``: its position among the variables of its causality (a continuous state's
+    among the states, a derivative's among the computed outputs); ``state``: a
+    continuous state; ``derivative``: the name of the state it is the derivative of."""
 
     name: str
     type: str
@@ -64,6 +74,8 @@ class Variable:
     maximum: float = math.inf
     allowed: tuple = ()
     options: tuple = ()
+    state: bool = False
+    derivative: str = ""
 
 
 def _one_of(options) -> str:
@@ -86,7 +98,29 @@ def variables(mech, flavour: str = "pythonfmu") -> list[Variable]:
         text = load.description or f"{load.kind} on link {load.body}"
         table.append(Variable(load.name, "Real", "input", "continuous", load.unit, "", text,
                               float(load.start), index=k))
-    for k, p in enumerate(d.parameter_specs()):
+    table += _parameters(mech)
+    table.append(Variable("method", "String", "parameter", "fixed", "", "", method_text,
+                          "closed_form", index=len(d.parameters), rule=_one_of(methods),
+                          options=tuple(methods)))
+    inputs = mech.input_names
+    for k, name in enumerate(mech.output_names + mech.diagnostic_names):
+        table.append(_output(mech, name, inputs, k))
+    return table
+
+
+def _output(mech, name: str, inputs: tuple, index: int) -> Variable:
+    """The output ``name`` of the linkage, computed from ``inputs``."""
+    unit, text = mech.output_info[name]
+    # a diagnostic is a function of the position only
+    depends = ("theta",) if name in mech.diagnostic_names else inputs
+    return Variable(name, "Real", "output", "continuous", unit, "deg" if unit == "rad" else "",
+                    text, None, depends, index=index)
+
+
+def _parameters(mech) -> list[Variable]:
+    """The variables of the parameters of the linkage's description."""
+    table = []
+    for k, p in enumerate(mech.description.parameter_specs()):
         value = mech.parameters[p.name]
         if p.kind == "branch":
             table.append(Variable(p.name, "Integer", "parameter", "fixed", "", "", p.description,
@@ -102,14 +136,63 @@ def variables(mech, flavour: str = "pythonfmu") -> list[Variable]:
                 p.description, float(value), index=k, rule=p.rule,
                 minimum=-math.inf if p.minimum is None else float(p.minimum),
                 maximum=math.inf if p.maximum is None else float(p.maximum)))
-    table.append(Variable("method", "String", "parameter", "fixed", "", "", method_text,
-                          "closed_form", index=len(d.parameters), rule=_one_of(methods),
-                          options=tuple(methods)))
-    inputs = mech.input_names
-    for k, name in enumerate(mech.output_names + mech.diagnostic_names):
-        unit, text = mech.output_info[name]
-        # a diagnostic is a function of the position only
-        depends = ("theta",) if name in mech.diagnostic_names else inputs
-        table.append(Variable(name, "Real", "output", "continuous", unit,
-                              "deg" if unit == "rad" else "", text, None, depends, index=k))
+    return table
+
+
+#: the drive FMU's default integrator tolerance (relative and absolute)
+TOLERANCE = 1e-8
+
+
+def drive_variables(mech) -> list[Variable]:
+    """The variable table of the drive FMU of ``mech``: the linkage driven by a moment
+    ``tau`` on its crank, its motion integrated from ``theta0`` and ``omega0`` (the
+    linkage's start values) to the tolerance ``tolerance``.
+
+    Raises
+    ------
+    ValueError
+        The linkage's balancing effort is not a moment on its crank: it cannot be driven
+        by one.
+    """
+    if not mech.effort_on_crank:
+        raise ValueError(f"{mech.name}: its balancing effort {mech.effort.name} is not a "
+                         "moment on the crank, so it cannot be driven by a torque (a drive "
+                         "FMU needs a linkage whose effort is Mb)")
+    table = [Variable("tau", "Real", "input", "continuous", "N.m", "",
+                      "moment of the drive on the crank, counter-clockwise positive", 0.0)]
+    for k, load in enumerate(mech.input_loads, 1):
+        text = load.description or f"{load.kind} on link {load.body}"
+        table.append(Variable(load.name, "Real", "input", "continuous", load.unit, "", text,
+                              float(load.start), index=k))
+    table += _parameters(mech)
+    n = len(mech.description.parameters)
+    for k, name in enumerate(("theta", "omega")):
+        unit, display, text = _MOTION_INFO[name]
+        table.append(Variable(f"{name}0", "Real", "parameter", "fixed", unit, display,
+                              f"{text} at the start", float(mech.start[name]), index=n + k))
+    table.append(Variable("tolerance", "Real", "parameter", "fixed", "1", "",
+                          "relative and absolute tolerance of the integrator on theta [rad] "
+                          "and omega [rad/s] (co-simulation)", TOLERANCE, index=n + 2,
+                          rule="> 0", maximum=0.1))
+    moved = ("theta", "omega", "tau") + tuple(load.name for load in mech.input_loads)
+    for k, name in enumerate(("theta", "omega")):
+        unit, display, text = _MOTION_INFO[name]
+        table.append(Variable(name, "Real", "output", "continuous", unit, display,
+                              f"{text} (a continuous state)", None, index=k, state=True))
+    unit, display, text = _MOTION_INFO["alpha"]
+    table.append(Variable("alpha", "Real", "output", "continuous", unit, display,
+                          f"{text}: Eksergian's (tau - Mb(alpha = 0)) / J_red", None, moved,
+                          index=0, derivative="omega"))
+    names = mech.output_names + mech.diagnostic_names
+    for k, name in enumerate(names, 1):
+        table.append(_output(mech, name, moved, k))
+    k = len(names) + 1
+    if "J_red" not in names:
+        table.append(Variable("J_red", "Real", "output", "continuous", "kg.m2", "",
+                              "moment of inertia of the linkage reduced to the crank", None,
+                              ("theta",), index=k))
+        k += 1
+    table.append(Variable("der(theta)", "Real", "local", "continuous", "rad/s", "",
+                          "derivative of theta: omega", None, ("omega",), index=k,
+                          derivative="theta"))
     return table

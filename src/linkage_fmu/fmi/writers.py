@@ -33,7 +33,7 @@ import jinja2
 
 from .. import __version__
 from ..kernels.c_source import c_literal
-from .variables import Variable, variables
+from .variables import Variable, drive_variables, variables
 
 TEMPLATES = Path(__file__).with_name("templates")
 #: unit -> (SI base-unit exponents, display units as (name, factor))
@@ -74,7 +74,32 @@ def c_string(text: str) -> str:
 
 
 def _kind(v: Variable) -> str:
+    if v.state:
+        return "STATE"
+    if v.derivative:  # computed, whatever its causality
+        return "OUTPUT"
     return {"input": "INPUT", "output": "OUTPUT", "parameter": "FIXED"}.get(v.causality, "OTHER")
+
+
+def model_name(mech, drive: bool = False) -> str:
+    """The model identifier of the FMU of ``mech``: its description's ``model``, with
+    ``Drive`` after it for the drive FMU.
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets
+    >>> model_name(presets.get("four_bar")), model_name(presets.get("four_bar"), drive=True)
+    ('FourBar', 'FourBarDrive')
+    """
+    return mech.description.model + ("Drive" if drive else "")
+
+
+def table_of(mech, flavour: str, drive: bool = False) -> list[Variable]:
+    """The variable table of the FMU of ``mech``: the drive FMU's (native only), or the
+    one of ``flavour``."""
+    if drive and flavour != "native":
+        raise ValueError(f"a drive FMU is native, not {flavour}")
+    return drive_variables(mech) if drive else variables(mech, flavour)
 
 
 def _xml_value(value) -> str:
@@ -115,29 +140,43 @@ def dependencies(table: list[Variable]) -> tuple[dict, dict]:
     """
     vr_of = {v.name: vr for vr, v in enumerate(table)}
     parameters = [vr for vr, v in enumerate(table) if v.causality == "parameter"]
+    states = {vr for vr, v in enumerate(table) if v.state}
     depends, initial = {}, {}
     for vr, v in enumerate(table):
-        if v.causality == "output":
+        if v.causality == "output" or v.derivative:
             depends[vr] = sorted(vr_of[n] for n in v.depends)
-            initial[vr] = sorted(set(depends[vr]) | set(parameters))
+            # the states are computed in initialisation mode: from their start parameters
+            initial[vr] = sorted(set(depends[vr]) - states | set(parameters))
     return depends, initial
 
 
 def model_description(mech, flavour: str, fmi_version: int, guid: str,
-                      sources: tuple = ()) -> bytes:
+                      sources: tuple = (), drive: bool = False) -> bytes:
     """``modelDescription.xml`` of the FMU of ``mech`` (FMI ``fmi_version`` 2 or 3,
-    ``flavour`` ``pythonfmu`` or ``native``), with the GUID (FMI 3.0: instantiation token)
-    ``guid`` and, for an FMI 2.0 source FMU, its source files."""
+    ``flavour`` ``pythonfmu`` or ``native``; with ``drive``, the native drive FMU, model
+    exchange and co-simulation), with the GUID (FMI 3.0: instantiation token) ``guid``
+    and, for an FMI 2.0 source FMU, its source files."""
     import pythonfmu
 
-    table = variables(mech, flavour)
+    table = table_of(mech, flavour, drive)
     depends, initial = dependencies(table)
-    if fmi_version == 2:  # FMI 2.0 lists the inputs by index (from 1), not value reference
-        depends = {vr: [k + 1 for k in known] for vr, known in depends.items()}
+    if fmi_version == 2:  # FMI 2.0 lists the knowns by index (from 1), not value reference
+        def index(known):
+            return [k + 1 for k in known]
+        # the inverse FMU's InitialUnknowns list what its Outputs do (no state to start)
+        initial = {vr: index(initial[vr] if drive else depends[vr]) for vr in depends}
+        depends = {vr: index(known) for vr, known in depends.items()}
+    vr_of = {v.name: vr for vr, v in enumerate(table)}
     d = mech.description
+    what = ("its motion under a moment on the crank (Eksergian's equation), with joint "
+            "reactions" if drive else "joint reactions and balancing effort (kinetostatics)")
     return _XML.get_template(f"modelDescription{fmi_version}.xml").render(
-        model=d.model, guid=guid, flavour=flavour, version=__version__,
-        title=f"{d.title or d.name}: joint reactions and balancing effort (kinetostatics)",
+        model=model_name(mech, drive), guid=guid, flavour=flavour, version=__version__,
+        title=f"{d.title or d.name}: {what}", drive=drive,
+        derivative_of={vr: vr_of[v.derivative] for vr, v in enumerate(table) if v.derivative},
+        # in the order of the states
+        derivatives=[vr for s in table if s.state for vr, v in enumerate(table)
+                     if v.derivative == s.name],
         tool=_TOOLS[flavour].format(version=__version__, pythonfmu=pythonfmu.__version__),
         now=datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
         sources=sources, units=UNITS.items() if fmi_version == 2 else
@@ -145,17 +184,25 @@ def model_description(mech, flavour: str, fmi_version: int, guid: str,
         variables=list(enumerate(table)), depends=depends, initial=initial).encode("utf-8")
 
 
-def config_header(mech, flavour: str, guid: str, defines: dict | None = None) -> str:
-    """``config.h`` of the FMU of ``mech`` in ``flavour`` (the backend it includes),
-    with the GUID ``guid`` and the backend's own ``defines`` (name -> C text)."""
-    table = variables(mech, flavour)
+def config_header(mech, flavour: str, guid: str, defines: dict | None = None,
+                  drive: bool = False) -> str:
+    """``config.h`` of the FMU of ``mech`` in ``flavour`` (the backend it includes; with
+    ``drive``, the native drive FMU, whose continuous states it names), with the GUID
+    ``guid`` and the backend's own ``defines`` (name -> C text)."""
+    table = table_of(mech, flavour, drive)
     depends, initial = dependencies(table)
+    vr_of = {v.name: vr for vr, v in enumerate(table)}
+    states = [vr for vr, v in enumerate(table) if v.state]
+    derivative = {v.derivative: v.index for v in table if v.derivative}
     return _C.get_template("config.h").render(
-        model=mech.description.model, guid=guid, flavour=flavour,
+        model=model_name(mech, drive), guid=guid, flavour=flavour,
         defines=list((defines or {}).items()), variables=list(enumerate(table)),
         depends=depends, initial=initial,
         inputs=[vr for vr, v in enumerate(table) if v.causality == "input"],
-        outputs=[vr for vr, v in enumerate(table) if v.causality == "output"])
+        outputs=[vr for vr, v in enumerate(table) if _kind(v) == "OUTPUT"], states=states,
+        starts=[vr_of[f"{table[vr].name}0"] for vr in states],
+        derivatives=[derivative[table[vr].name] for vr in states],
+        tolerance=vr_of.get("tolerance"))
 
 
 def structures(mech) -> list[dict]:
@@ -168,39 +215,60 @@ def structures(mech) -> list[dict]:
     return [dict(zip((p.name for p in specs), combo)) for combo in itertools.product(*options)]
 
 
-def model_source(mech, rebuild) -> tuple[str, list[dict]]:
+def model_source(mech, rebuild, drive: bool = False) -> tuple[str, list[dict]]:
     """``model.c`` of the native FMU of ``mech``: one kernel per structure that can be
     traced (``rebuild(**structure)`` builds the linkage in it), and the structures
-    built.
+    built. The drive FMU's (``drive``) has a second kernel per structure, that of its
+    derivatives: the balancing moment at ``alpha = 0`` and the reduced inertia.
 
     Raises
     ------
     ValueError
         The linkage cannot be assembled at any witness angle in any structure.
     """
-    table = variables(mech, "native")
+    table = table_of(mech, "native", drive)
     vr_of = {v.name: vr for vr, v in enumerate(table)}
     integers = [v.name for v in table if v.type == "Integer"]
     strings = [v.name for v in table if v.type == "String" and v.name != "method"]
-    kernels, built, errors = [], [], []
+    kernels, rhs, built, errors = [], [], [], []
     for combo in structures(mech):
         try:
-            k = rebuild(**combo).kernel(None, False)
+            twin = rebuild(**combo)
+            k = twin.kernel(None, False)
+            r = twin.kernel(rhs_outputs(twin), False) if drive else None
         except ValueError as err:  # cannot be assembled anywhere: no kernel for this structure
             errors.append(f"{combo}: {err}")
             continue
-        if k.parameters != mech.kernel_parameters or (kernels and k.outputs != kernels[0].outputs):
+        if k.parameters != mech.kernel_parameters or (kernels and k.outputs != kernels[0].outputs) \
+                or (r is not None and r.parameters != mech.kernel_parameters):
             raise ValueError(f"{mech.name}: the structure {combo} has other parameters or "
                              "outputs than the one built")
         kernels.append(k)
+        rhs.append(r)
         built.append(combo)
     if not kernels:
         raise ValueError(f"{mech.name} cannot be assembled in any structure, so it has no "
                          "kernel to build: " + "; ".join(errors))
     words = "; ".join(", ".join(f"{n} = {v}" for n, v in c.items()) for c in built)
     outputs = kernels[0].outputs
+
+    def reasons(k):  # the framework says "the parameter set is invalid" itself
+        return [r.what if r.kind == "parameter" else r.text for r in k.reasons]
+
+    drive_tables = {}
+    if drive:
+        computed = [v for v in table if _kind(v) == "OUTPUT"]
+        index = {v.name: v.index for v in computed}
+        names = rhs[0].outputs
+        drive_tables = dict(
+            rhs_kernels=[r.c_source(array=False, prefix=f"r{s}") for s, r in enumerate(rhs)],
+            n_r=max(len(r.frozen) for r in rhs), rhs_outputs=names, rhs_mb=names.index("Mb"),
+            rhs_j=names.index("J_red") if "J_red" in names else -1,
+            rhs_reasons=[reasons(r) for r in rhs], alpha=index["alpha"],
+            dtheta=index["der(theta)"], kernel_at=index[outputs[0]],
+            j_output=-1 if "J_red" in outputs else index["J_red"])
     source = _C.get_template("model.c").render(
-        model=mech.description.model,
+        model=model_name(mech, drive),
         kernels=[k.c_source(array=False, prefix=f"s{s}") for s, k in enumerate(kernels)],
         parameters=[vr_of[n] for n in mech.kernel_parameters],
         n_q=max(len(k.frozen) for k in kernels), built=words or "one structure",
@@ -208,10 +276,16 @@ def model_source(mech, rebuild) -> tuple[str, list[dict]]:
         integers=[vr_of[n] for n in integers], strings=[vr_of[n] for n in strings],
         checked=[int(i in kernels[0].checked) for i in range(len(outputs))],
         structures=[{"integers": [c[n] for n in integers], "strings": [str(c[n]) for n in strings],
-                     # the framework says "the parameter set is invalid" itself
-                     "reasons": [r.what if r.kind == "parameter" else r.text
-                                 for r in k.reasons]} for c, k in zip(built, kernels)])
+                     "reasons": reasons(k)} for c, k in zip(built, kernels)],
+        drive=drive, **drive_tables)
     return source, built
+
+
+def rhs_outputs(mech) -> tuple:
+    """The outputs of the drive FMU's kernel of the derivatives: the balancing moment
+    (at ``alpha = 0``), and the inertia reduced to the crank where the linkage has it as
+    an output (else the backend takes it from the moment's slope in ``alpha``)."""
+    return ("Mb", "J_red") if "J_red" in mech.diagnostic_names else ("Mb",)
 
 
 def build_description(model: str, adapter: str = "fmi3.c") -> bytes:

@@ -41,3 +41,13 @@ static const Variable VARIABLES[N_VARIABLES] = {
 
 static const ValueReference INPUTS[N_INPUTS] = { {%- for vr in inputs %}{{ vr }}{{ ", " if not loop.last }}{% endfor %}};
 static const ValueReference OUTPUTS[N_OUTPUTS] = { {%- for vr in outputs %}{{ vr }}{{ ", " if not loop.last }}{% endfor %}};
+{% if states %}
+
+/* the continuous states, their start parameters, their derivatives' positions among the
+ * outputs, and the integrator's tolerance */
+#define N_STATES {{ states | length }}
+static const ValueReference STATES[N_STATES] = { {%- for vr in states %}{{ vr }}{{ ", " if not loop.last }}{% endfor %}};
+static const ValueReference STATE_STARTS[N_STATES] = { {%- for vr in starts %}{{ vr }}{{ ", " if not loop.last }}{% endfor %}};
+static const int DERIVATIVES[N_STATES] = { {%- for k in derivatives %}{{ k }}{{ ", " if not loop.last }}{% endfor %}};
+#define TOLERANCE_VR {{ tolerance }}u
+{% endif %}

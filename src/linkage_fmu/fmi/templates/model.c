@@ -29,7 +29,8 @@ static const char *const STRUCTURE_STRINGS[N_STRUCTURES][N_STRUCTURE_STRINGS + 1
 {% endfor %}
 };
 /* outputs that must be finite */
-static const int CHECKED[N_OUTPUTS] = { {%- for c in checked %}{{ c }}{{ ", " if not loop.last }}{% endfor %}};
+#define N_KERNEL_OUTPUTS {{ checked | length }}
+static const int CHECKED[N_KERNEL_OUTPUTS] = { {%- for c in checked %}{{ c }}{{ ", " if not loop.last }}{% endfor %}};
 /* why a guard fails, by structure and code - 1 (the same words as the Python library's) */
 {% for s in structures %}
 static const char *const S{{ loop.index0 }}_REASONS[] = {
@@ -41,3 +42,32 @@ static const char *const S{{ loop.index0 }}_REASONS[] = {
 static const char *const *const REASONS[N_STRUCTURES] = { {%- for s in structures %}S{{ loop.index0 }}_REASONS, {% endfor %}};
 static int (*const PREPARE[N_STRUCTURES])(const double *, double *) = { {%- for s in structures %}s{{ loop.index0 }}_prepare, {% endfor %}};
 static int (*const ONE[N_STRUCTURES])(const double *, const double *, double *) = { {%- for s in structures %}s{{ loop.index0 }}_one, {% endfor %}};
+{% if drive %}
+
+/* -- the drive FMU: the kernels of the derivatives, one per structure ------------------ */
+{% for source in rhs_kernels %}
+{{ source }}
+{% endfor %}
+#define N_R {{ n_r }}
+/* the outputs of the kernel of the derivatives: {{ rhs_outputs | join(", ") }} */
+#define RHS_N_Y {{ rhs_outputs | length }}
+#define RHS_MB {{ rhs_mb }}
+/* -1: the reduced inertia is not an output; the moment's slope in alpha gives it */
+#define RHS_J {{ rhs_j }}
+/* where the drive's values go among the outputs: alpha, der(theta), the reduced inertia
+ * (-1: one of the kernel's outputs), the first of the kernel's outputs */
+#define ALPHA_OUTPUT {{ alpha }}
+#define DTHETA_OUTPUT {{ dtheta }}
+#define J_OUTPUT {{ j_output }}
+#define KERNEL_OUTPUTS {{ kernel_at }}
+{% for reasons in rhs_reasons %}
+static const char *const R{{ loop.index0 }}_REASONS[] = {
+{% for r in reasons %}
+    {{ r | c_string }},
+{% endfor %}
+    NULL};
+{% endfor %}
+static const char *const *const RHS_REASONS[N_STRUCTURES] = { {%- for r in rhs_reasons %}R{{ loop.index0 }}_REASONS, {% endfor %}};
+static int (*const RHS_PREPARE[N_STRUCTURES])(const double *, double *) = { {%- for r in rhs_reasons %}r{{ loop.index0 }}_prepare, {% endfor %}};
+static int (*const RHS_ONE[N_STRUCTURES])(const double *, const double *, double *) = { {%- for r in rhs_reasons %}r{{ loop.index0 }}_one, {% endfor %}};
+{% endif %}
