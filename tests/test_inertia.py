@@ -163,3 +163,26 @@ def test_unassemblable_scalar_raises_as_solve_does():
     assert "cannot be assembled at theta = 3.1 rad" in str(reducing.value)
     J, dJ = mech.reduced_inertia([0.0, 3.1])  # arrays: NaN there, as solve's mask
     assert np.isfinite(J[0]) and np.isnan(J[1]) and np.isnan(dJ[1])
+
+
+@pytest.mark.parametrize("name, params", VARIANTS)
+def test_the_diagnostics_J_red_and_dJ_red_are_reduced_inertia_on_every_path(name, params):
+    # every path of solve (the traced kernel, compiled once hot, the C array kernel, the
+    # interpreted and the direct formulas) gives reduced_inertia's floats, moving or static
+    mech = presets.get(name, **params)
+    J, dJ = mech.reduced_inertia(TH)
+    ok = np.isfinite(J)
+    for method in ("closed_form", "interpreted", "direct"):
+        for omega in (0.0, 7.0):
+            sol = mech.solve(TH, omega, 0.0, method=method)
+            np.testing.assert_allclose(sol["J_red"][ok], J[ok], rtol=1e-14, atol=0.0)
+            np.testing.assert_allclose(sol["dJ_red"][ok], dJ[ok], rtol=1e-13,
+                                       atol=1e-15 * np.max(np.abs(J[ok])))
+            assert np.isnan(sol["J_red"][~ok]).all()
+    k = mech.solver.kernel()
+    theta = float(TH[ok][3])
+    k.compile()  # the C kernel where there is a compiler, else the Python one stays
+    r = k(theta, 3.0, 1.0, *[1.0] * len(mech.input_loads))
+    assert r[k.index["J_red"]] == pytest.approx(mech.reduced_inertia(theta)[0], rel=1e-14)
+    assert r[k.index["dJ_red"]] == pytest.approx(mech.reduced_inertia(theta)[1], rel=1e-13,
+                                                 abs=1e-15 * J[ok].max())

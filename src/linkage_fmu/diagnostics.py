@@ -1,5 +1,6 @@
-"""The diagnostics of a state: the transmission angle of each dyad and an estimate of the
-condition number of the outputs, and the words for a singular position.
+"""The diagnostics of a state: the transmission angle of each dyad, an estimate of the
+condition number of the outputs, the inertia reduced to the crank and its derivative
+(functions of the position alone), and the words for a singular position.
 
 Examples
 --------
@@ -16,16 +17,43 @@ from typing import Iterable
 
 import numpy as np
 
-from . import kinetostatics, numerics
+from . import inertia, kinetostatics, numerics
 from .groups import KinematicState
 from .kernels.trace import Reason
 
 
+#: the diagnostics every linkage has, after the transmission angle of each dyad
+NAMES = ("cond", "J_red", "dJ_red")
+
+
+def info(mech) -> dict:
+    """Diagnostic name -> (unit, description) for the linkage ``mech``."""
+    out = {f"mu_{d.key}": ("rad", f"transmission angle of the dyad at {d.key} (0 or pi: "
+                                  "toggle)") for d in mech.dyads}
+    out["cond"] = ("1", "estimated condition number of the outputs, including the scale of "
+                        "the centre-of-mass offsets: relative rounding error about cond x "
+                        "1e-16 (inf: singular)")
+    out["J_red"] = ("kg.m2", "inertia reduced to the crank (kinetic energy J_red omega^2/2)")
+    out["dJ_red"] = ("kg.m2/rad", "derivative of J_red with respect to theta")
+    return out
+
+
+def order(mech, wanted: Iterable[str]) -> int:
+    """The order of the kinematics the diagnostics in ``wanted`` need: 2 for ``dJ_red``,
+    1 for ``J_red`` (and ``cond`` of a linkage whose effort is not on the crank), else
+    0 (positions)."""
+    if "dJ_red" in wanted:
+        return 2
+    return int("J_red" in wanted or ("cond" in wanted and not mech.effort_on_crank))
+
+
 def values(mech, st: KinematicState, wanted: Iterable[str] = ("cond",)) -> dict:
-    """The transmission angles ``mu_<joint>`` and the condition estimate ``cond``
-    named in ``wanted``, at the kinematic state ``st`` (positions; ``cond`` of a
-    linkage whose effort is not on the crank needs first-order coefficients)."""
+    """The transmission angles ``mu_<joint>``, the condition estimate ``cond``, the
+    reduced inertia ``J_red`` and its derivative ``dJ_red`` named in ``wanted``, at the
+    kinematic state ``st`` (of the :func:`order` they need)."""
     out = {}
+    if "J_red" in wanted or "dJ_red" in wanted:
+        out["J_red"], out["dJ_red"] = inertia.at_state(mech, st, "dJ_red" in wanted)
     cond = mech.offset_scale  # 1.0 unless a centre of mass lies beyond length_scale
     for d in mech.dyads:
         mu, kappa = d.transmission(st, mech.length_scale)

@@ -69,18 +69,38 @@ def reduced_inertia(mech, theta, xp=None) -> tuple:
         zeros = np.zeros(theta.shape)
         J, dJ = J + zeros, dJ + zeros  # arrays of theta's shape, a link at rest too
         return J, dJ
-    st = mech.kinematics(theta, 2, xp)
-    J = dJ = 0.0
+    return at_state(mech, mech.kinematics(theta, 2, xp))
+
+
+def at_state(mech, st, derivative: bool = True) -> tuple:
+    """``(J, dJ)`` of :func:`reduced_inertia` at the kinematic state ``st`` of ``mech``
+    (first-order coefficients; second-order ones for ``dJ``, which is None without
+    ``derivative``): what the linkage's kernels compute as the outputs ``J_red`` and
+    ``dJ_red``.
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets
+    >>> yoke = presets.get("scotch_yoke")
+    >>> J, dJ = at_state(yoke, yoke.kinematics(0.0, order=1), derivative=False)
+    >>> round(J, 12), dJ
+    (0.14, None)
+    """
+    J, dJ = 0.0, (0.0 if derivative else None)
     for body in mech.bodies:
         if body.mass:
-            (x1, y1), (x2, y2) = st.d1[body.cg], st.d2[body.cg]
+            x1, y1 = st.d1[body.cg]
             J = J + body.mass * (x1 * x1 + y1 * y1)
-            dJ = dJ + 2.0 * body.mass * (x1 * x2 + y1 * y2)
+            if derivative:
+                x2, y2 = st.d2[body.cg]
+                dJ = dJ + 2.0 * body.mass * (x1 * x2 + y1 * y2)
         if body.inertia:
-            w1, w2 = st.w1[body.name], st.w2[body.name]
+            w1 = st.w1[body.name]
             J = J + body.inertia * (w1 * w1)
-            dJ = dJ + 2.0 * body.inertia * (w1 * w2)
+            if derivative:
+                dJ = dJ + 2.0 * body.inertia * (w1 * st.w2[body.name])
     if st.invalid is not None:  # arrays: NaN where it cannot be assembled
-        J, dJ = np.where(st.invalid, np.nan, J), np.where(st.invalid, np.nan, dJ)
+        J = np.where(st.invalid, np.nan, J)
+        if derivative:
+            dJ = np.where(st.invalid, np.nan, dJ)
     return J, dJ
-

@@ -148,17 +148,12 @@ class Mechanism:
         self.output_info = {o.name: (o.unit, o.description) for o in outputs}
         self.effort_outputs = frozenset(o.name for o in outputs if isinstance(o, EffortOutput))
         self.output_names = tuple(o.name for o in outputs)
-        self.diagnostic_names = tuple(f"mu_{d.key}" for d in self.dyads) + ("cond",)
+        self.diagnostic_names = tuple(f"mu_{d.key}" for d in self.dyads) + diagnostics.NAMES
         #: the real-valued parameters, the arguments of its kernels (a branch or a choice
         #: is structure); none for a linkage built without a description
         self.kernel_parameters = () if rebuild is None else tuple(
             n for n, v in self.parameters.items() if type(v) is float)
-        for d in self.dyads:
-            self.output_info[f"mu_{d.key}"] = (
-                "rad", f"transmission angle of the dyad at {d.key} (0 or pi: toggle)")
-        self.output_info["cond"] = (
-            "1", "estimated condition number of the outputs, including the scale of the "
-            "centre-of-mass offsets: relative rounding error about cond x 1e-16 (inf: singular)")
+        self.output_info.update(diagnostics.info(self))
         #: solves it: plans, kernels, methods (:class:`~linkage_fmu.solver.Solver`)
         self.solver = Solver(self)
 
@@ -240,8 +235,7 @@ class Mechanism:
                 order = 2
             elif not plan.reactions or (plan.method != "direct" and not self.effort_on_crank):
                 order = 1
-        if "cond" in plan.outputs and not self.effort_on_crank:
-            order = max(order, 1)
+        order = max(order, diagnostics.order(self, plan.outputs))
         st = self.kinematics(theta, order, xp)
         R, effort = {}, 0.0
         if plan.reactions or plan.effort:

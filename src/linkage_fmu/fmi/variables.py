@@ -16,7 +16,7 @@ Examples
 >>> [(v.name, v.causality, v.unit) for v in table[:4]]
 [('theta', 'input', 'rad'), ('omega', 'input', 'rad/s'), ('alpha', 'input', 'rad/s2'), ('load', 'input', 'N.m')]
 >>> table[-1].name, table[-1].depends
-('cond', ('theta',))
+('dJ_red', ('theta',))
 >>> [v.options for v in variables(presets.get("four_bar"), "native") if v.name == "method"]
 [('closed_form',)]
 >>> drive = drive_variables(presets.get("four_bar"))
