@@ -120,16 +120,7 @@ static Status moment_and_inertia(const Model *m, const Values *v, const double *
         return LK_DISCARD;
     }
     *mb0 = r[RHS_MB];
-#if RHS_J >= 0
     *J = r[RHS_J];
-#else /* J from the moment's slope in alpha (the moment is affine in alpha) */
-    u[2] = 1.0;
-    if ((code = RHS_ONE[m->structure](m->r, u, r))) {
-        set_text(why, size, RHS_REASONS[m->structure][code - 1]);
-        return LK_DISCARD;
-    }
-    *J = r[RHS_MB] - *mb0;
-#endif
     char value[32];
     if (!(*J > 0.0) || !isfinite(*J)) {
         snprintf(why, size, "the inertia reduced to the crank is %s: the motion is not defined",
@@ -162,7 +153,7 @@ static Status drive_evaluate(Instance *in, const Values *v, double *y, char *why
     for (int k = 0; k < N_STATES; k++) x[k] = v->real[STATES[k]];
     Status s = moment_and_inertia(m, v, x, &mb0, &J, why, size);
     if (s != LK_OK) return s;
-    const double alpha = (v->real[INPUTS[0]] - mb0) / J;
+    const double alpha = (v->real[INPUTS[0]] - mb0) / J; /* as backend_derivatives */
     u[0] = x[0], u[1] = x[1], u[2] = alpha;
     for (int k = 1; k < N_INPUTS; k++) u[2 + k] = v->real[INPUTS[k]];
     double *z = y + KERNEL_OUTPUTS;
@@ -173,7 +164,6 @@ static Status drive_evaluate(Instance *in, const Values *v, double *y, char *why
     }
     y[ALPHA_OUTPUT] = alpha;
     y[DTHETA_OUTPUT] = x[1];
-    if (J_OUTPUT >= 0) y[J_OUTPUT] = J;
     for (int k = 0; k < N_KERNEL_OUTPUTS; k++)
         if (CHECKED[k] && !isfinite(z[k])) {
             set_text(why, size, COND_OUTPUT >= 0 && isfinite(z[COND_OUTPUT])

@@ -5,7 +5,8 @@ the linkage's description, then ``method``, then the outputs and diagnostics; va
 references follow this order from 0. The drive FMU's table (:func:`drive_variables`)
 has the input ``tau`` and the loads, the parameters with ``theta0``, ``omega0`` and
 ``tolerance``, the continuous states ``theta`` and ``omega``, then ``alpha`` (the
-derivative of ``omega``), every output and diagnostic, ``J_red`` and ``der(theta)``.
+derivative of ``omega``), every output and diagnostic (``J_red`` among them) and
+``der(theta)``.
 Everything generated for an FMU (its modelDescription, ``config.h``, the native kernels'
 tables) is written from these tables (:mod:`~linkage_fmu.fmi.writers`).
 
@@ -171,8 +172,8 @@ def drive_variables(mech) -> list[Variable]:
         table.append(Variable(f"{name}0", "Real", "parameter", "fixed", unit, display,
                               f"{text} at the start", float(mech.start[name]), index=n + k))
     table.append(Variable("tolerance", "Real", "parameter", "fixed", "1", "",
-                          "relative and absolute tolerance of the integrator on theta [rad] "
-                          "and omega [rad/s] (co-simulation)", TOLERANCE, index=n + 2,
+                          "the co-simulation integrator's tolerance, relative and absolute, "
+                          "on theta [rad] and omega [rad/s]", TOLERANCE, index=n + 2,
                           rule="> 0", maximum=0.1))
     moved = ("theta", "omega", "tau") + tuple(load.name for load in mech.input_loads)
     for k, name in enumerate(("theta", "omega")):
@@ -186,13 +187,7 @@ def drive_variables(mech) -> list[Variable]:
     names = mech.output_names + mech.diagnostic_names
     for k, name in enumerate(names, 1):
         table.append(_output(mech, name, moved, k))
-    k = len(names) + 1
-    if "J_red" not in names:
-        table.append(Variable("J_red", "Real", "output", "continuous", "kg.m2", "",
-                              "moment of inertia of the linkage reduced to the crank", None,
-                              ("theta",), index=k))
-        k += 1
     table.append(Variable("der(theta)", "Real", "local", "continuous", "rad/s", "",
-                          "derivative of theta: omega", None, ("omega",), index=k,
+                          "derivative of theta: omega", None, ("omega",), index=len(names) + 1,
                           derivative="theta"))
     return table

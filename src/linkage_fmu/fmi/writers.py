@@ -236,7 +236,7 @@ def model_source(mech, rebuild, drive: bool = False) -> tuple[str, list[dict]]:
         try:
             twin = rebuild(**combo)
             k = twin.kernel(None, False)
-            r = twin.kernel(rhs_outputs(twin), False) if drive else None
+            r = twin.kernel(RHS_OUTPUTS, False) if drive else None
         except ValueError as err:  # cannot be assembled anywhere: no kernel for this structure
             errors.append(f"{combo}: {err}")
             continue
@@ -264,10 +264,8 @@ def model_source(mech, rebuild, drive: bool = False) -> tuple[str, list[dict]]:
         drive_tables = dict(
             rhs_kernels=[r.c_source(array=False, prefix=f"r{s}") for s, r in enumerate(rhs)],
             n_r=max(len(r.frozen) for r in rhs), rhs_outputs=names, rhs_mb=names.index("Mb"),
-            rhs_j=names.index("J_red") if "J_red" in names else -1,
-            rhs_reasons=[reasons(r) for r in rhs], alpha=index["alpha"],
-            dtheta=index["der(theta)"], kernel_at=index[outputs[0]],
-            j_output=-1 if "J_red" in outputs else index["J_red"])
+            rhs_j=names.index("J_red"), rhs_reasons=[reasons(r) for r in rhs],
+            alpha=index["alpha"], dtheta=index["der(theta)"], kernel_at=index[outputs[0]])
     source = _C.get_template("model.c").render(
         model=model_name(mech, drive),
         kernels=[k.c_source(array=False, prefix=f"s{s}") for s, k in enumerate(kernels)],
@@ -282,11 +280,9 @@ def model_source(mech, rebuild, drive: bool = False) -> tuple[str, list[dict]]:
     return source, built
 
 
-def rhs_outputs(mech) -> tuple:
-    """The outputs of the drive FMU's kernel of the derivatives: the balancing moment
-    (at ``alpha = 0``), and the inertia reduced to the crank where the linkage has it as
-    an output (else the backend takes it from the moment's slope in ``alpha``)."""
-    return ("Mb", "J_red") if "J_red" in mech.diagnostic_names else ("Mb",)
+#: the outputs of the drive FMU's kernel of the derivatives, evaluated at ``alpha = 0``:
+#: the balancing moment and the inertia reduced to the crank (no reaction is solved for)
+RHS_OUTPUTS = ("Mb", "J_red")
 
 
 def build_description(model: str, adapter: str = "fmi3.c") -> bytes:

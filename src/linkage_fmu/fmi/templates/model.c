@@ -52,13 +52,11 @@ static int (*const ONE[N_STRUCTURES])(const double *, const double *, double *) 
 /* the outputs of the kernel of the derivatives: {{ rhs_outputs | join(", ") }} */
 #define RHS_N_Y {{ rhs_outputs | length }}
 #define RHS_MB {{ rhs_mb }}
-/* -1: the reduced inertia is not an output; the moment's slope in alpha gives it */
 #define RHS_J {{ rhs_j }}
-/* where the drive's values go among the outputs: alpha, der(theta), the reduced inertia
- * (-1: one of the kernel's outputs), the first of the kernel's outputs */
+/* where the drive's values go among the outputs: alpha, der(theta), and the first of the
+ * kernel's outputs */
 #define ALPHA_OUTPUT {{ alpha }}
 #define DTHETA_OUTPUT {{ dtheta }}
-#define J_OUTPUT {{ j_output }}
 #define KERNEL_OUTPUTS {{ kernel_at }}
 {% for reasons in rhs_reasons %}
 static const char *const R{{ loop.index0 }}_REASONS[] = {

@@ -1,0 +1,293 @@
+"""The drive FMU (``linkage-fmu build --native --drive``): the four-bar driven by a moment
+``tau`` on its crank, its continuous states integrated by the framework
+(``fmi/continuous.c``) in co-simulation, or by fmpy's CVode in model exchange.
+
+References: :meth:`Mechanism.simulate <linkage_fmu.mechanism.Mechanism.simulate>`
+(scipy's DOP853 at ``rtol = atol = 1e-13``, the library's own equations of motion); the
+energy balance (the work of ``tau`` against the change of ``J_red omega**2 / 2`` plus
+the weights' potential energy); the inverse native FMU on the drive's motion; the
+assembly limit of a four-bar that cannot turn fully (:func:`linkage_fmu.ranges.assembles`).
+Raw calls (FMU states, bad calls, the discard) run in a fresh process
+(``drive_host.py``), so that a crash fails the test instead of ending pytest.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from fmpy import simulate_fmu
+from fmpy.validation import validate_fmu
+
+from linkage_fmu import presets, ranges
+from linkage_fmu.cli import main
+from linkage_fmu.fmi import build_native_fmu
+
+HOST = Path(__file__).with_name("drive_host.py")
+MECH = presets.get("four_bar")  # g = 9.81, no load
+THETA0, OMEGA0, STOP, H = 0.3, 5.0, 1.0, 0.01
+#: a moment that makes the crank swing back and forth, and one that makes it revolve
+#: (to about 190 rad/s after 1 s)
+TAUS = (0.5, 2.0)
+OK, WARNING, DISCARD, ERROR, FATAL = range(5)
+
+
+@pytest.fixture(scope="module")
+def fmus(tmp_path_factory) -> dict:
+    """The drive FMUs of the four-bar (FMI 2.0 and 3.0), of the four-bar with
+    ``l_AB = 0.3`` (it turns from 0 to 135.95 degrees only), and the four-bar's inverse
+    native FMU."""
+    out = tmp_path_factory.mktemp("drive")
+    return {2: build_native_fmu("four_bar", out / "2", 2, drive=True),
+            3: build_native_fmu("four_bar", out / "3", 3, drive=True),
+            "limit2": build_native_fmu("four_bar", out / "limit2", 2, drive=True, l_AB=0.3),
+            "limit3": build_native_fmu("four_bar", out / "limit3", 3, drive=True, l_AB=0.3),
+            "inverse": build_native_fmu("four_bar", out / "inverse", 2)}
+
+
+@pytest.fixture(scope="module")
+def reference() -> dict:
+    """The library's motion under each of :data:`TAUS`, at the output times."""
+    t = np.linspace(0.0, STOP, round(STOP / H) + 1)
+    return {tau: MECH.simulate(tau, t, theta0=THETA0, omega0=OMEGA0, rtol=1e-13, atol=1e-13)
+            for tau in TAUS}
+
+
+def cosimulate(fmu, tau, tolerance=1e-8, outputs=("theta", "omega"), **kw):
+    start = {"tau": tau, "theta0": THETA0, "omega0": OMEGA0, "tolerance": tolerance}
+    return simulate_fmu(str(fmu), stop_time=STOP, output_interval=H, fmi_type="CoSimulation",
+                        start_values=start, output=list(outputs), **kw)
+
+
+def relative_error(result, ref, name) -> float:
+    """The largest error of ``name`` over the run, relative to 1 + |reference|."""
+    r = ref[name].to_numpy()
+    return float(np.max(np.abs(result[name] - r) / (1.0 + np.abs(r))))
+
+
+def host(job: dict, tmp_path: Path) -> dict:
+    path = tmp_path / "job.json"
+    path.write_text(json.dumps(job))
+    run = subprocess.run([sys.executable, str(HOST), str(path)], capture_output=True,
+                         text=True, timeout=300)
+    assert run.returncode == 0, f"host exited with {run.returncode}:\n{run.stderr[-3000:]}"
+    return json.loads(run.stdout.splitlines()[-1])
+
+
+@pytest.mark.parametrize("version", (2, 3))
+def test_fmpy_finds_no_problem(fmus, version):
+    """``fmpy validate`` finds nothing in the drive FMU (co-simulation and model exchange
+    in one modelDescription), whose states are ``theta`` and ``omega``."""
+    assert validate_fmu(str(fmus[version])) == []
+    from fmpy import read_model_description
+    md = read_model_description(str(fmus[version]))
+    assert md.modelExchange.modelIdentifier == md.coSimulation.modelIdentifier == "FourBarDrive"
+    assert [d.variable.derivative.name for d in md.derivatives] == ["theta", "omega"]
+
+
+@pytest.mark.parametrize("tau", TAUS)
+def test_cosimulation_against_the_library(fmus, reference, tau):
+    """Co-simulation at the tolerances 1e-8 and 1e-10 against ``Mechanism.simulate``:
+    ``theta`` within 20 tol and ``omega`` within 1000 tol of 1 + |value| (a global error
+    from a local-error controller: over the revolving crank's 11 turns, with the
+    acceleration swinging by 2e4 rad/s2 per turn, a phase error in theta is one of omega
+    2e2 times larger), 5 times smaller or better from 1e-8 to 1e-10; along the motion
+    ``Mb`` (the inverse kinetostatics at the FMU's theta, omega, alpha) equals ``tau`` to
+    1e-12 of max(1, |Mb|), and the joint forces and ``J_red`` equal the library's direct
+    solve at the FMU's states to 1e-12 of their largest value."""
+    ref, errors = reference[tau], {}
+    names = ("theta", "omega", "alpha", "Mb", "F21x", "F43y", "J_red")
+    for tol in (1e-8, 1e-10):
+        r = cosimulate(fmus[2], tau, tol, names)
+        errors[tol] = relative_error(r, ref, "theta"), relative_error(r, ref, "omega")
+        assert errors[tol][0] <= 20 * tol and errors[tol][1] <= 1000 * tol, (tol, errors[tol])
+        assert np.max(np.abs(r["Mb"] - tau)) <= 1e-12 * max(1.0, np.max(np.abs(r["Mb"])))
+        sol = MECH.solve(r["theta"], r["omega"], r["alpha"], method="direct")
+        for name in ("F21x", "F43y", "J_red"):
+            assert np.max(np.abs(r[name] - sol[name])) <= 1e-12 * np.max(np.abs(sol[name]))
+    assert errors[1e-10][0] * 5 <= errors[1e-8][0] and errors[1e-10][1] * 5 <= errors[1e-8][1]
+
+
+def test_fmi3_cosimulation_is_fmi2s(fmus):
+    """The FMI 3.0 drive FMU runs the same framework and kernels: every value of a run is
+    FMI 2.0's, bit for bit."""
+    a = cosimulate(fmus[2], 2.0, 1e-8, ("theta", "omega", "alpha", "F21x"))
+    b = cosimulate(fmus[3], 2.0, 1e-8, ("theta", "omega", "alpha", "F21x"))
+    for name in ("theta", "omega", "alpha", "F21x"):
+        assert np.array_equal(a[name], b[name]), name
+
+
+@pytest.mark.parametrize("version", (2, 3))
+def test_model_exchange_against_the_library(fmus, reference, version):
+    """Model exchange, fmpy's CVode at rtol 1e-10, against ``Mechanism.simulate``: theta
+    within 1e-6 of 1 + |theta|, omega within 1e-5 of 1 + |omega|."""
+    for tau in TAUS:
+        r = simulate_fmu(str(fmus[version]), stop_time=STOP, output_interval=H,
+                         fmi_type="ModelExchange", relative_tolerance=1e-10,
+                         start_values={"tau": tau, "theta0": THETA0, "omega0": OMEGA0},
+                         output=["theta", "omega"])
+        assert relative_error(r, reference[tau], "theta") <= 1e-6, tau
+        assert relative_error(r, reference[tau], "omega") <= 1e-5, tau
+
+
+def test_model_exchange_derivatives(fmus, tmp_path):
+    """GetDerivatives at given states is ``(omega, (tau - Mb(alpha = 0)) / J_red)`` of the
+    library to 1e-12 relative (FMI 2.0 and 3.0); at a position where the linkage cannot
+    be assembled it is Discard, with NaN and a log that says why."""
+    states = [[0.3, 5.0], [2.0, -3.0], [5.0, 40.0]]
+    for version in (2, 3):
+        out = host({"job": "exchange", "fmu": str(fmus[version]), "tau": 0.7, "start": {},
+                    "states": states}, tmp_path)
+        for (theta, omega), (status, dx) in zip(states, out["derivatives"]):
+            mb0 = MECH.solve(theta, omega, 0.0, outputs=("Mb",))["Mb"]
+            alpha = (0.7 - mb0) / MECH.reduced_inertia(theta)[0]
+            assert status == OK and dx[0] == omega
+            assert abs(dx[1] - alpha) <= 1e-12 * max(1.0, abs(alpha)), (theta, omega)
+        out = host({"job": "exchange", "fmu": str(fmus[f"limit{version}"]), "tau": 0.7,
+                    "start": {}, "states": [[3.1, 1.0]]}, tmp_path)
+        assert out["derivatives"] == [[DISCARD, [1.0, None]]] or \
+            out["derivatives"] == [[DISCARD, [None, None]]]
+        assert any("cannot be assembled" in text for _, text in out["log"])
+
+
+def test_energy_balance(fmus):
+    """The work of ``tau`` equals the change of the kinetic energy ``J_red omega**2 / 2``
+    (``J_red`` from the FMU) plus the weights' potential energy (``g`` sum ``m y`` at the
+    centres of mass, from the linkage's kinematics) to 1e-8 of the largest term, at the
+    tolerance 1e-10, for both moments."""
+    for tau in TAUS:
+        r = cosimulate(fmus[2], tau, 1e-10, ("theta", "omega", "J_red"))
+        st = MECH.kinematics(r["theta"], order=0)
+        potential = MECH.g * sum(b.mass * st.p[b.cg][1] for b in MECH.bodies)
+        kinetic = 0.5 * r["J_red"] * r["omega"] ** 2
+        work = tau * (r["theta"] - THETA0)
+        balance = work - (kinetic - kinetic[0]) - (potential - potential[0])
+        scale = max(np.max(np.abs(work)), np.max(np.abs(kinetic)), np.max(np.abs(potential)))
+        assert np.max(np.abs(balance)) <= 1e-8 * scale, (tau, np.max(np.abs(balance)) / scale)
+
+
+def inverse_run(fmu, theta, omega, alpha, outputs, h=H):
+    """The inverse FMU's outputs for each row of (theta, omega, alpha), load 0, a row
+    every ``h`` (fmpy's rows hold the outputs of the previous row's inputs: shifted
+    back)."""
+    n = len(theta)
+    u = np.zeros(n + 1, dtype=[("time", float), ("theta", float), ("omega", float),
+                               ("alpha", float), ("load", float)])
+    u["time"] = np.arange(n + 1) * h
+    for name, values in (("theta", theta), ("omega", omega), ("alpha", alpha)):
+        u[name][:n], u[name][n] = values, values[-1]
+    r = simulate_fmu(str(fmu), stop_time=n * h, output_interval=h, input=u, output=outputs)
+    return {name: r[name][1:n + 1] for name in outputs}
+
+
+def test_the_inverse_fmu_on_the_drives_motion(fmus):
+    """The inverse native FMU at the drive's theta, omega and alpha gives back ``Mb =
+    tau`` to 1e-12 of max(1, |Mb|), and the drive's joint forces to 1e-12 of their
+    largest value."""
+    names = ["F21x", "F21y", "F32x", "F43y", "shake_M"]
+    d = cosimulate(fmus[2], 2.0, 1e-8, ("theta", "omega", "alpha", "Mb", *names))
+    inv = inverse_run(fmus["inverse"], d["theta"], d["omega"], d["alpha"], ["Mb", *names])
+    assert np.max(np.abs(inv["Mb"] - 2.0)) <= 1e-12 * max(1.0, np.max(np.abs(inv["Mb"])))
+    for name in names:
+        assert np.max(np.abs(inv[name] - d[name])) <= 1e-12 * np.max(np.abs(d[name])), name
+
+
+def prescribed(t):
+    """A crank motion: theta, omega, alpha at the times ``t``."""
+    return (0.3 + 6.0 * t + 0.4 * np.sin(5.0 * t), 6.0 + 2.0 * np.cos(5.0 * t),
+            -10.0 * np.sin(5.0 * t))
+
+
+def test_the_inverse_fmus_torque_drives_the_motion_back(fmus, tmp_path):
+    """The torque the inverse FMU computes along a prescribed motion, given to the drive
+    FMU (held over each step at its value at the step's midpoint), reproduces the motion:
+    theta within 2e-4 rad and omega within 4e-3 rad/s over 1 s at steps of 2 ms, and the
+    error falls as the square of the step (a ratio of 3.5 to 4.5 from 2 ms to 1 ms)."""
+    errors = []
+    for h in (0.002, 0.001):
+        t = np.arange(round(STOP / h)) * h
+        tau = inverse_run(fmus["inverse"], *prescribed(t + 0.5 * h), ["Mb"], h)["Mb"]
+        u = np.zeros(len(t) + 1, dtype=[("time", float), ("tau", float), ("load", float)])
+        u["time"], u["tau"][:-1], u["tau"][-1] = np.append(t, STOP), tau, tau[-1]
+        r = simulate_fmu(str(fmus[2]), stop_time=STOP, output_interval=h, input=u,
+                         start_values={"theta0": 0.3, "omega0": 8.0, "tolerance": 1e-10},
+                         output=["theta", "omega"])
+        theta, omega, _ = prescribed(r["time"])
+        errors.append((np.max(np.abs(r["theta"] - theta)), np.max(np.abs(r["omega"] - omega))))
+    assert errors[0][0] <= 2e-4 and errors[0][1] <= 4e-3, errors
+    for k in (0, 1):
+        assert 3.5 <= errors[0][k] / errors[1][k] <= 4.5, errors
+
+
+@pytest.mark.parametrize("version", (2, 3))
+def test_discard_at_the_assembly_limit(fmus, tmp_path, version):
+    """The four-bar with ``l_AB = 0.3`` turns from 0 to 135.95 degrees only: driven by 5
+    N.m from 10 rad/s it reaches the limit at t = 0.1112 s, inside the twelfth step of 10
+    ms. That step is Discard, its lastSuccessfulTime inside the step, theta there within
+    1e-8 rad of the limit (:func:`~linkage_fmu.ranges.assembles`, 1e-9 rad) and omega
+    near 0 (the reduced inertia grows without bound there); the outputs read afterwards
+    are those of that last good state, finite and with OK; the log says why."""
+    out = host({"job": "run", "fmu": str(fmus[f"limit{version}"]), "tau": 5.0, "h": 0.01,
+                "stop": 1.0, "start": {"theta0": 0.0, "omega0": 10.0, "tolerance": 1e-8},
+                "outputs": ["alpha", "F21x", "J_red"]}, tmp_path)
+    rows = out["rows"]
+    assert out["init"] == OK and [r["status"] for r in rows] == [OK] * 11 + [DISCARD]
+    last = rows[-1]
+    limit = math.radians(ranges.assembles(presets.get("four_bar", l_AB=0.3))[0][1])
+    assert 0.11 < last["last"] < 0.12 and abs(last["last"] - 0.1112) < 1e-4
+    assert abs(last["theta"] - limit) <= 1e-8 and abs(last["omega"]) < 1e-3
+    assert last["read"] == OK and all(math.isfinite(last[n]) for n in ("alpha", "F21x"))
+    assert last["J_red"] > 1e6 * rows[0]["J_red"]
+    assert "cannot be assembled" in out["log"][-1][1] and "lastSuccessfulTime" in out["log"][-1][1]
+
+
+@pytest.mark.parametrize("version", (2, 3))
+def test_states_round_trip(fmus, tmp_path, version):
+    """An FMU state taken halfway through 40 steps, set again, and serialized into a fresh
+    instance: the second half runs bit for bit as it did (the integrator's next substep
+    is part of the state)."""
+    out = host({"job": "states", "fmu": str(fmus[version]), "tau": 2.0, "h": 0.01, "n": 40,
+                "start": {"theta0": THETA0, "omega0": OMEGA0}, "outputs": ["alpha", "F21x"]},
+               tmp_path)
+    assert len(out["second"]) == 20 and out["second"][-1]["omega"] > 50.0
+    assert out["again"] == out["second"] and out["fresh"] == out["second"]
+
+
+@pytest.mark.parametrize("version", (2, 3))
+def test_bad_calls_are_errors_never_fatal(fmus, tmp_path, version):
+    """Setting a state as a variable, a tolerance of 0, a step of 0, a DoStep in model
+    exchange, SetContinuousStates with 3 values or a NaN, GetDerivatives with 1, a time
+    of inf: Error, with a log naming the call; tau = NaN makes the step Discard and the
+    outputs NaN with a Warning (the state keeps its value); the instance goes on."""
+    out = host({"job": "bad", "fmu": str(fmus[version]), "start": {}}, tmp_path)
+    a = out["answers"]
+    assert a == {"set state theta": ERROR, "tolerance 0": ERROR, "tolerance back": OK,
+                 "tau nan": OK, "step nan": DISCARD, "read nan": [WARNING, [None, 0.0]],
+                 "step fine": OK, "step h 0": ERROR, "enter continuous": OK,
+                 "set states n=3": ERROR, "set states nan": ERROR, "derivatives n=1": ERROR,
+                 "do step in model exchange": ERROR, "set time inf": ERROR,
+                 "set states fine": OK, "derivatives fine": OK}
+    log = " | ".join(text for _, text in out["log"])
+    for words in ("'theta' (value reference", "tolerance must be > 0",
+                  "input tau = nan is not a finite number", "nContinuousStates = 3",
+                  "the continuous state theta = nan"):
+        assert words in log, words
+    assert all(status != FATAL for status, _ in out["log"])
+
+
+def test_cli(tmp_path, capsys):
+    """``linkage-fmu build --native --drive`` builds FourBarDrive.fmu; without --native,
+    or for a linkage whose effort is not a moment on its crank (the six-bar driven at its
+    slider), it refuses, saying why."""
+    assert main(["build", "--native", "--drive", "four_bar", "--out", str(tmp_path)]) == 0
+    assert (tmp_path / "FourBarDrive.fmu").is_file()
+    assert main(["build", "--drive", "four_bar", "--out", str(tmp_path)]) == 2
+    assert "--drive is for native FMUs" in capsys.readouterr().err
+    assert main(["build", "--native", "--drive", "six_bar", "--set", "driver=D",
+                 "--out", str(tmp_path)]) == 2
+    assert "cannot be driven by a torque" in capsys.readouterr().err
