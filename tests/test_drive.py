@@ -15,8 +15,11 @@ from __future__ import annotations
 
 import json
 import math
+import os
+import shutil
 import subprocess
 import sys
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -27,6 +30,7 @@ from fmpy.validation import validate_fmu
 from linkage_fmu import presets, ranges
 from linkage_fmu.cli import main
 from linkage_fmu.fmi import build_native_fmu
+from test_c_host import compile_host, model_outputs
 
 HOST = Path(__file__).with_name("drive_host.py")
 MECH = presets.get("four_bar")  # g = 9.81, no load
@@ -278,6 +282,31 @@ def test_bad_calls_are_errors_never_fatal(fmus, tmp_path, version):
                   "the continuous state theta = nan"):
         assert words in log, words
     assert all(status != FATAL for status, _ in out["log"])
+
+
+@pytest.mark.skipif(shutil.which("gcc") is None, reason="gcc is not on PATH")
+def test_the_c_host_runs_it_as_fmpy_does(fmus, tmp_path):
+    """The C host (``tests/c_host/host.c -d``, no Python in the process) steps the drive
+    FMU for 1 s in 100 steps with tau = 2 N.m from the linkage's start values: every
+    output it prints equals fmpy's co-simulation of the same steps to 1e-10 of its
+    largest value (the hosts' step sizes differ in the last bit: k h against fmpy's
+    differences of its times)."""
+    unzipped = tmp_path / "fmu"
+    with zipfile.ZipFile(fmus[2]) as archive:
+        archive.extractall(unzipped)
+    model, guid, outputs = model_outputs(unzipped / "modelDescription.xml")
+    names = ["theta", "omega", "alpha", "F21x", "J_red"]
+    run = subprocess.run([str(compile_host(tmp_path)), "-d", str(unzipped), model, guid,
+                          "100", "2.0", "0.0", *(str(outputs[n]) for n in names)],
+                         capture_output=True, text=True, env={"PATH": os.environ["PATH"]})
+    assert run.returncode == 0, run.stderr
+    rows = np.array([[float(v) for v in line.split(",")] for line in run.stdout.split()])
+    r = simulate_fmu(str(fmus[2]), stop_time=STOP, output_interval=H,
+                     start_values={"tau": 2.0}, output=names)
+    assert rows.shape == (100, 6) and np.array_equal(rows[:, 0], r["time"][1:])
+    for k, name in enumerate(names, 1):
+        assert np.max(np.abs(rows[:, k] - r[name][1:])) <= 1e-10 * np.max(np.abs(rows[:, k])), \
+            (name, np.max(np.abs(rows[:, k] - r[name][1:])) / np.max(np.abs(rows[:, k])))
 
 
 def test_cli(tmp_path, capsys):

@@ -1,7 +1,9 @@
 /* Minimal FMI 2.0 / 3.0 co-simulation host for the linkage FMUs (pythonfmu or native).
  *
- * usage: host [-3] DIR MODEL GUID N W L VR...
+ * usage: host [-3] [-d] DIR MODEL GUID N W L VR...
  *   -3     FMI 3.0 (default FMI 2.0)
+ *   -d     a drive FMU (<Model>Drive): N steps over one second with tau = W and load = L
+ *          (valueReferences 0 and 1), printing "time,<outputs...>"
  *   DIR    unzipped FMU folder          MODEL  model identifier
  *          (the library: DIR/binaries/<this platform>/MODEL<suffix>, host_platform.h)
  *   GUID   the guid (FMI 3.0: instantiationToken) of DIR/modelDescription.xml
@@ -74,14 +76,27 @@ static void logger3(fmi3InstanceEnvironment env, fmi3Status status, fmi3String c
 
 typedef struct {
     const char *dir, *model, *guid;
-    int n;
+    int n, drive;
     double w, load;
     size_t nout;
     unsigned *vout;
     double *y;
 } Run;
 
-static const unsigned VIN[4] = {0, 1, 2, 3}; /* theta, omega, alpha, load */
+static const unsigned VIN[4] = {0, 1, 2, 3}; /* theta, omega, alpha, load; a drive's tau, load */
+
+/* Step k's inputs (how many) and step size. */
+static size_t inputs(const Run *r, int k, double u[4], double *h) {
+    if (r->drive) {
+        u[0] = r->w, u[1] = r->load;
+        *h = 1.0 / r->n;
+        return 2;
+    }
+    u[0] = 2.0 * M_PI * k / r->n, u[1] = r->w, u[2] = 0.0, u[3] = r->load;
+    /* Time follows the crank: one revolution at speed W takes 2*pi/W seconds. */
+    *h = 2.0 * M_PI / (r->w * r->n);
+    return 4;
+}
 
 static void print_step(const Run *r, double theta) {
     if (getenv("HOST_QUIET")) return; /* timing only: print no outputs */
@@ -107,18 +122,17 @@ static double run2(const Run *r, Library lib) {
                                   fmi2False, fmi2True);
     if (!c) die("fmi2Instantiate failed", uri);
 
-    /* Time follows the crank: one revolution at speed W takes 2*pi/W seconds. */
-    const double h = 2.0 * M_PI / (r->w * r->n);
     CHECK(SetupExperiment(c, fmi2False, 0.0, 0.0, fmi2False, 0.0));
     CHECK(EnterInitializationMode(c)); /* parameters keep their defaults */
     CHECK(ExitInitializationMode(c));
     const double t0 = seconds();
     for (int k = 0; k < r->n; k++) {
-        const double u[4] = {2.0 * M_PI * k / r->n, r->w, 0.0, r->load};
-        CHECK(SetReal(c, VIN, 4, u));
+        double u[4], h;
+        const size_t nu = inputs(r, k, u, &h);
+        CHECK(SetReal(c, VIN, nu, u));
         CHECK(DoStep(c, k * h, h, fmi2True));
         CHECK(GetReal(c, r->vout, r->nout, r->y));
-        print_step(r, u[0]);
+        print_step(r, r->drive ? (k + 1) * h : u[0]);
     }
     const double dt = seconds() - t0;
     CHECK(Terminate(c));
@@ -139,18 +153,18 @@ static double run3(const Run *r, Library lib) {
                                              NULL);
     if (!c) die("fmi3InstantiateCoSimulation failed", resources);
 
-    const double h = 2.0 * M_PI / (r->w * r->n);
     CHECK(EnterInitializationMode(c, fmi3False, 0.0, 0.0, fmi3False, 0.0));
     CHECK(ExitInitializationMode(c));
     const double t0 = seconds();
     for (int k = 0; k < r->n; k++) {
-        const double u[4] = {2.0 * M_PI * k / r->n, r->w, 0.0, r->load};
+        double u[4], h;
+        const size_t nu = inputs(r, k, u, &h);
         fmi3Boolean event, terminate, early;
         fmi3Float64 last;
-        CHECK(SetFloat64(c, VIN, 4, u, 4));
+        CHECK(SetFloat64(c, VIN, nu, u, nu));
         CHECK(DoStep(c, k * h, h, fmi3True, &event, &terminate, &early, &last));
         CHECK(GetFloat64(c, r->vout, r->nout, r->y, r->nout));
-        print_step(r, u[0]);
+        print_step(r, r->drive ? (k + 1) * h : u[0]);
     }
     const double dt = seconds() - t0;
     CHECK(Terminate(c));
@@ -161,10 +175,12 @@ static double run3(const Run *r, Library lib) {
 int main(int argc, char **argv) {
     const int fmi3 = argc > 1 && !strcmp(argv[1], "-3");
     argv += fmi3, argc -= fmi3;
-    if (argc < 8) die("usage", "host [-3] DIR MODEL GUID N W L VR...");
+    const int drive = argc > 1 && !strcmp(argv[1], "-d");
+    argv += drive, argc -= drive;
+    if (argc < 8) die("usage", "host [-3] [-d] DIR MODEL GUID N W L VR...");
     char dir[PATH_SIZE], path[PATH_SIZE + 256];
     if (!absolute_path(argv[1], dir)) die("no such folder", argv[1]);
-    Run r = {dir, argv[2], argv[3], atoi(argv[4]), atof(argv[5]), atof(argv[6]),
+    Run r = {dir, argv[2], argv[3], atoi(argv[4]), drive, atof(argv[5]), atof(argv[6]),
              (size_t)(argc - 7), NULL, NULL};
     if (r.n < 1 || !(r.w > 0)) die("N and W must be positive", NULL);
     r.vout = malloc(r.nout * sizeof *r.vout);
