@@ -202,7 +202,8 @@ def model_source(mech, rebuild) -> tuple[str, list[dict]]:
     outputs = kernels[0].outputs
     source = _C.get_template("model.c").render(
         model=mech.description.model,
-        kernels=[k.c_source(array=False, prefix=f"s{s}") for s, k in enumerate(kernels)],
+        kernels=[k.c_source(array=False, prefix=f"s{s}", tangent=True)
+                 for s, k in enumerate(kernels)],
         parameters=[vr_of[n] for n in mech.kernel_parameters],
         n_q=max(len(k.frozen) for k in kernels), built=words or "one structure",
         cond=outputs.index("cond") if "cond" in outputs else -1,
