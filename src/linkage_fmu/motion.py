@@ -11,8 +11,6 @@ A flywheel on the crank adds its constant inertia to ``J``.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from .errors import AssemblyError, SingularPositionError
