@@ -77,6 +77,7 @@ def generate(fmu: Path, preset: str, steps: int, seed: int) -> Plan:
     fixed_real = [vr for vr, t, c, var in v.values() if c == "parameter" and t == "Real"]
     n_vars = len(v)
     strings = [vr for vr, t, c, _ in v.values() if t == "String"]
+    provides = read_model_description(str(fmu)).coSimulation.providesDirectionalDerivative
     valid, invalid = PERTURB[preset]
     defaults = {p.name: p.default for p in presets.preset(preset).parameter_specs()}
     plan = Plan()
@@ -174,6 +175,21 @@ def generate(fmu: Path, preset: str, steps: int, seed: int) -> Plan:
                     add([name, "freeState", "d"], ("status", OK))
                     u = list(saved[slot])
                     add([name, "getReal", outs], ("read", preset, params, list(u), out_names))
+            elif r < 0.94:  # directional derivatives: of outputs along inputs, or refused
+                unknowns = [int(u_) for u_ in rng.choice(outs, int(rng.integers(1, 4)))]
+                knowns = [int(k_) for k_ in rng.choice(4, int(rng.integers(1, 4)))]
+                seeds = [float(x) for x in rng.uniform(-2, 2, len(knowns))]
+                kind = int(rng.integers(6))
+                if kind == 0:  # J_red and dMb/dalpha, which equals it for an effort on the crank
+                    unknowns, knowns, seeds = [v["J_red"][0], v["Mb"][0]], [2], [1.0]
+                elif kind == 1:  # an input as the unknown
+                    unknowns[0] = int(rng.integers(4))
+                elif kind == 2:  # a parameter or an output as a known, or no variable
+                    knowns[-1] = int(rng.choice([fixed_real[0], outs[0], n_vars + 3]))
+                elif kind == 3:
+                    seeds[0] = float(rng.choice(BAD_VALUES[:3]))
+                add([name, "derivative", unknowns, knowns, seeds],
+                    ("derivative", provides, kind, preset, params, list(u)))
             else:  # direct feedthrough: inputs read without a step; a value read is as set
                 u = [float(rng.uniform(-7, 7)), float(rng.uniform(-30, 30)), 0.0,
                      float(rng.uniform(-50, 50))]
@@ -233,6 +249,22 @@ def check(plan: Plan, results: list) -> Counter:
             names = list(presets.get(preset, **params).output_names)
             solvable = _solvable(preset, params, u, names)[0]
             assert status == (OK if solvable else DISCARD), (i, plan.ops[i], u, status)
+        elif c[0] == "derivative":  # refused by an FMU without them, or a bad request
+            _, provides, kind, preset, params, u = c
+            if not provides or kind in (1, 2, 3):
+                assert status == ERROR, (i, plan.ops[i], status)
+                continue
+            values = _solvable(preset, params, u, ["J_red"])[0]
+            got = np.array([math.nan if y is None else y for y in payload])
+            if values is None:
+                assert status == WARNING and np.isnan(got).all(), (i, u, status, payload)
+                tally["derivative nan"] += 1
+            else:
+                assert status == OK and np.isfinite(got).all(), (i, u, status, payload)
+                if kind == 0:  # d(J_red, Mb)/dalpha
+                    assert got[0] == 0.0 and abs(got[1] - values[0]) <= 1e-12 * values[0], (
+                        i, u, got, values)
+                tally["derivative"] += 1
         elif c[0] == "read":
             _, preset, params, u, names = c
             values, fragile = _solvable(preset, params, u, names)

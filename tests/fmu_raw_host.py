@@ -123,6 +123,13 @@ class Host:
             else:
                 values = list(arr)
             return status, values
+        if op == "derivative":  # directional derivatives: (unknowns, knowns, seeds)
+            unknowns, knowns, seeds = a
+            (vu, nu), (vk, nk) = self.vrs(unknowns), self.vrs(knowns)
+            out = (c_double * max(nu, 1))()
+            status = fn["fmi2GetDirectionalDerivative"](component, vu, nu, vk, nk,
+                                                        (c_double * max(nk, 1))(*seeds), out)
+            return status, [None if math.isnan(v) else v for v in out[:nu]]
         if op == "getState":
             (slot,) = a
             state = self.states.get(slot, c_void_p())

@@ -83,7 +83,7 @@ def test_plot_command_writes_each_picture(tmp_path):
     err = io.StringIO()
     with redirect_stderr(err):
         for what, name in ((["torque"], "t.png"), (["polar", "F21"], "p.svg"),
-                           (["mu"], "m.png"), (["shaking"], "s.png")):
+                           (["mu"], "m.png"), (["shaking"], "s.png"), (["speed"], "v.png")):
             assert main(["plot", "four_bar", "--what", *what, "--omega", "10",
                          "-o", str(tmp_path / name)]) == 0
         assert main(["plot", "crank_shaper", "--what", "linkage", "--theta-deg", "60",
@@ -91,8 +91,8 @@ def test_plot_command_writes_each_picture(tmp_path):
         assert main(["plot", "four_bar", "--what", "linkage", "-o", str(tmp_path / "x.png")]) == 2
         assert main(["plot", "four_bar", "--what", "pie", "-o", str(tmp_path / "x.png")]) == 2
     assert "needs one angle" in err.getvalue() and "expected torque [OUTPUT]" in err.getvalue()
-    assert "linkage, mu or shaking" in err.getvalue()
-    for name in ("t.png", "m.png", "l.png", "s.png"):
+    assert "linkage, mu, shaking or speed" in err.getvalue()
+    for name in ("t.png", "m.png", "l.png", "s.png", "v.png"):
         assert (tmp_path / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert b"<svg" in (tmp_path / "p.svg").read_bytes()[:400]
 
@@ -214,3 +214,85 @@ def test_the_plot_usage_says_one_kind_and_an_optional_name():
         main(["plot", "--help"])
     assert out.getvalue().startswith("usage: linkage-fmu plot LINKAGE --what KIND [NAME] -o FILE")
     assert "[KIND ...]" not in out.getvalue() and "[NAME] [KIND" not in out.getvalue()
+
+
+def test_plot_speed_takes_Cs_or_a_flywheel_and_nothing_of_the_other_kinds(tmp_path):
+    """--what speed draws the crank's speed at the mean speed --omega, with a flywheel
+    sized for --Cs or of inertia --flywheel; those options belong to it alone, and it
+    takes no angle or acceleration."""
+    import pytest
+
+    pytest.importorskip("matplotlib")
+    png = str(tmp_path / "v.png")
+    assert run(["plot", "examples/engine.toml", "--what", "speed", "--Cs", "0.02",
+                "-o", png])[0] == 0
+    assert (tmp_path / "v.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert run(["plot", "four_bar", "--what", "speed", "--flywheel", "2 kg*m**2", "--load",
+                "3", "-o", png])[0] == 0
+    for argv, message in (
+            (["--what", "torque", "--Cs", "0.02"], "--Cs and --flywheel are for --what speed"),
+            (["--what", "speed", "--Cs", "0.02", "--flywheel", "1"], "not both"),
+            (["--what", "speed", "--theta-deg", "0:90:1"], "no --theta-deg or --alpha"),
+            (["--what", "speed", "--Cs", "2"], "Cs must be between 0 and 1")):
+        status, _, err = run(["plot", "four_bar", *argv, "-o", png])
+        assert status == 2 and message in err, (argv, err)
+
+
+def test_simulate_command_prints_and_writes_the_motion(tmp_path):
+    """``simulate`` is Mechanism.simulate under a constant torque over linspace(0,
+    T_END, N), its start, flywheel and loads with units; --outputs picks columns, -o
+    writes every column."""
+    from linkage_fmu import presets
+
+    argv = ["simulate", "four_bar", "--tau", "2 N*m", "--t-end", "500 ms", "--n", "6",
+            "--theta0", "30 deg", "--omega0", "60 rpm", "--flywheel", "0.01", "--load", "0.5"]
+    status, out, _ = run(argv + ["--csv", "--outputs", "theta", "omega", "Mb"])
+    assert status == 0
+    df = pd.read_csv(io.StringIO(out), index_col="time")
+    ref = presets.get("four_bar").simulate(2.0, np.linspace(0.0, 0.5, 6), np.pi / 6,
+                                           2 * np.pi, flywheel=0.01, load=0.5)
+    assert list(df.columns) == ["theta", "omega", "Mb"]
+    np.testing.assert_array_equal(df.index.to_numpy(), ref.index.to_numpy())
+    for name in df.columns:
+        np.testing.assert_array_equal(df[name].to_numpy(), ref[name].to_numpy())
+    status, out, _ = run(argv + ["--outputs", "omega"])
+    assert status == 0 and out.splitlines()[0].split() == ["omega"]
+    assert len(out.splitlines()) == 8  # the header, the index name, 6 rows
+    status, _, err = run(argv + ["-o", str(tmp_path / "m.csv")])
+    assert status == 0 and "wrote 6 rows" in err
+    written = pd.read_csv(tmp_path / "m.csv", index_col="time")
+    assert list(written.columns) == list(ref.columns)
+    for argv_bad, message in (
+            (["--tau", "1", "--t-end", "0"], "--t-end must be > 0"),
+            (["--tau", "1", "--t-end", "1", "--n", "1"], "--n must be >= 2"),
+            (["--tau", "2 m", "--t-end", "1"], "--tau = '2 m' must be a moment"),
+            (["--tau", "1", "--t-end", "1", "--outputs", "Mx"], "--outputs Mx: not a column"),
+            (["--tau", "1", "--t-end", "1", "--flywheel", "-1"], "flywheel must be >= 0")):
+        status, _, err = run(["simulate", "four_bar", *argv_bad])
+        assert status == 2 and message in err, (argv_bad, err)
+
+
+def test_flywheel_command_prints_the_sizing_and_writes_the_motion(tmp_path):
+    """``flywheel`` prints Mechanism.flywheel's report (the mean speed with a unit, the
+    loads as options) and with -o writes the motion with the flywheel over the cycle."""
+    from linkage_fmu import presets
+
+    status, out, err = run(["flywheel", "four_bar", "--omega-mean", "95.5 rpm", "--Cs",
+                            "2 percent", "--load", "3", "-o", str(tmp_path / "f.csv")])
+    assert status == 0
+    expected = presets.get("four_bar").flywheel("95.5 rpm", 0.02, load=3.0)
+    assert out == str(expected) + "\n"
+    assert f"flywheel to add            I - J_red = {expected.flywheel:.6g} kg.m2" in out
+    written = pd.read_csv(tmp_path / "f.csv", index_col="time")
+    assert len(written) == 721 and "wrote 721 rows" in err
+    np.testing.assert_array_equal(written["omega"].to_numpy(), expected.motion["omega"])
+    status, out, _ = run(["flywheel", "examples/engine.toml", "--Cs", "0.02"])  # 3000 rpm
+    assert status == 0 and "over a cycle of 720 deg (2 revolutions)" in out
+    assert "(3000 rpm)" in out
+    for argv, message in ((["--Cs", "0"], "Cs must be between 0 and 1"),
+                          (["--Cs", "0.02", "--omega-mean", "3 m"],
+                           "--omega-mean = '3 m' must be an angular speed"),
+                          (["--Cs", "0.02", "--revolutions", "0"], "revolutions must be >= 1"),
+                          (["--Cs", "0.02", "--set", "l_AB=0.3"], "cannot be assembled")):
+        status, _, err = run(["flywheel", "four_bar", *argv])
+        assert status == 2 and message in err, (argv, err)

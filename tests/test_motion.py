@@ -127,6 +127,33 @@ def test_Mb_along_the_motion_is_the_driving_torque(tau):
     assert set(mech.output_names) <= set(run.columns)
 
 
+@pytest.mark.parametrize("name,params", FULL[:2])
+def test_a_flywheel_adds_its_inertia_to_the_linkage_s(name, params):
+    """With a flywheel I on the crank the work of the torque is the kinetic energy gained
+    by the linkage and the flywheel, (J_red + I) omega**2 / 2, and the linkage takes
+    Mb = tau - I alpha from the crank; "0.05 kg*m**2" is 0.05."""
+    mech, zero = unloaded(name, **params)
+    run = mech.simulate(2.0, T, theta0=0.3, omega0=5.0, flywheel="0.05 kg*m**2", **zero)
+    kinetic = 0.5 * (run["J_red"] + 0.05) * run["omega"] ** 2
+    done = 2.0 * (run["theta"] - run["theta"].iloc[0])
+    assert np.max(np.abs(kinetic - kinetic.iloc[0] - done)) <= 1e-8 * done.iloc[-1]
+    np.testing.assert_allclose(run["Mb"], 2.0 - 0.05 * run["alpha"], rtol=0, atol=1e-9)
+    assert run["J_red"].iloc[0] == mech.reduced_inertia(0.3)[0]  # the linkage's own
+    alone = mech.simulate(2.0, T, theta0=0.3, omega0=5.0, **zero)
+    assert run["theta"].iloc[-1] < alone["theta"].iloc[-1]  # the flywheel slows the run-up
+
+
+def test_a_flywheel_drives_a_massless_linkage():
+    """The scotch yoke with no mass has J_red = 0: the motion is not defined, unless a
+    flywheel gives the crank an inertia: then alpha = tau / I."""
+    yoke = presets.get("scotch_yoke", m2=0.0, m3=0.0)
+    with pytest.raises(ValueError, match=r"reduced to the crank is 0\.0 at theta = 0\.0 rad; "):
+        yoke.simulate(1.0, [0.0, 0.1], theta0=0.0, omega0=1.0, load=0.0)
+    run = yoke.simulate(1.0, [0.0, 0.1], theta0=0.0, omega0=1.0, flywheel=0.5, load=0.0)
+    np.testing.assert_allclose(run["alpha"], 2.0, rtol=1e-14)
+    np.testing.assert_allclose(run["omega"].iloc[-1], 1.2, rtol=1e-12)
+
+
 def test_the_array_torque_is_interpolated_linearly():
     """A torque ramp given at two times equals the ramp as a callable."""
     mech, zero = unloaded("four_bar")
@@ -166,6 +193,9 @@ def test_a_position_that_cannot_be_assembled_is_an_error_naming_time_and_angle()
     ({"theta0": "3 m"}, r"theta0"),
     ({"tau": lambda t, th, w: math.nan}, r"tau\(t, theta, omega\) must be a finite number"),
     ({"Mr": 1.0}, r"four_bar has no input 'Mr'"),
+    ({"flywheel": -1.0}, r"flywheel must be >= 0 \(a moment of inertia, kg m2\), got -1\.0"),
+    ({"flywheel": "2 m"}, r"flywheel = '2 m' must be a moment of inertia"),
+    ({"flywheel": np.nan}, r"flywheel must be a finite number"),
 ])
 def test_bad_inputs_are_named(kwargs, message):
     mech = presets.get("four_bar")

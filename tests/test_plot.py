@@ -662,6 +662,59 @@ def test_shaking_draws_into_the_axes_given_over_the_angles_given():
         plot.shaking(mech, ax=axes[0])
 
 
+# -- speed over a cycle --------------------------------------------------------------------
+@pytest.mark.parametrize("name, omega, loads", [("four_bar", 10.0, {"load": 3.0}),
+                                                ("slider_crank", 100.0, {"load": 200.0})])
+def test_speed_is_the_motion_with_the_sized_flywheel(tmp_path, name, omega, loads):
+    """--what speed with Cs: the curve is the flywheel sizing's integrated motion (angle in
+    degrees, speed), the mean line its mean speed, the max and min points its refined
+    extremes, the band the width Cs omega about the middle of the swing."""
+    mech = presets.get(name)
+    fig = plot.speed(mech, omega, Cs=0.05, **loads)
+    saved_png(fig, tmp_path / f"speed_{name}.png")
+    ax = fig.axes[0]
+    lines = by_gid(ax)
+    ref = mech.flywheel(omega, 0.05, **loads)
+    x, y = lines["omega"][0].get_data()
+    np.testing.assert_allclose(x, np.degrees(ref.motion["theta"]), rtol=RTOL, atol=0)
+    np.testing.assert_allclose(y, ref.motion["omega"], rtol=RTOL, atol=0)
+    assert x[0] == 0.0 and abs(x[-1] - 360.0) < 1e-6
+    np.testing.assert_array_equal(lines["mean"][0].get_ydata(), [omega] * 2)
+    for gid, w, th in (("max", ref.omega_max, ref.run.theta_omega_max),
+                       ("min", ref.omega_min, ref.run.theta_omega_min)):
+        np.testing.assert_allclose(np.ravel(lines[gid][0].get_data()), [np.degrees(th), w],
+                                   rtol=RTOL)
+        assert f"{w:.5g} rad/s" in lines[gid][0].get_label()
+    middle = 0.5 * (ref.omega_max + ref.omega_min)
+    band = sorted(line.get_ydata()[0] for line in lines["band"])
+    np.testing.assert_allclose(band, [middle - 0.025 * omega, middle + 0.025 * omega],
+                               rtol=RTOL)
+    # the swing overshoots the band by what the first-order sizing leaves (0.2 %)
+    assert abs((ref.omega_max - ref.omega_min) / (band[1] - band[0]) - 1) < 0.01
+    assert f"Cs = (ω_max - ω_min) / ω_mean = {ref.Cs_simulated:.4g}" in ax.get_title()
+    assert f"flywheel {ref.flywheel:.4g} kg·m²" in ax.get_title()
+    assert ax.get_ylabel() == "crank speed ω [rad/s]"
+    (rpm,) = ax.child_axes  # the secondary axis, in rpm
+    assert rpm.get_ylabel() == "[rpm]"
+
+
+def test_speed_of_the_free_scotch_yoke_without_a_flywheel():
+    """No Cs, no flywheel: the linkage alone. The scotch yoke with no load turns freely
+    (tau = 0), J omega**2 constant: the speed swings between sqrt(0.14 / 0.04) times its
+    lowest, highest at 90 and 270 degrees; with a flywheel of 1 kg m2 the ratio is
+    sqrt(1.14 / 1.04)."""
+    yoke = presets.get("scotch_yoke")
+    for flywheel, ratio in ((None, math.sqrt(0.14 / 0.04)), ("1 kg*m**2", math.sqrt(1.14 / 1.04))):
+        fig = plot.speed(yoke, "60 rpm", load=0.0, flywheel=flywheel)
+        lines = by_gid(fig.axes[0])
+        assert "band" not in lines
+        top, bottom = lines["max"][0].get_ydata()[0], lines["min"][0].get_ydata()[0]
+        assert top / bottom == pytest.approx(ratio, rel=1e-12)
+        assert lines["max"][0].get_xdata()[0] % 180.0 == pytest.approx(90.0, abs=1e-6)
+        np.testing.assert_allclose(lines["mean"][0].get_ydata(), 2 * math.pi, rtol=1e-15)
+    assert "no flywheel" in plot.speed(yoke, 1.0, load=0.0).axes[0].get_title()
+
+
 # -- bad input -----------------------------------------------------------------------------
 def test_bad_input_is_refused_with_the_choices():
     four = presets.get("four_bar")
@@ -683,6 +736,12 @@ def test_bad_input_is_refused_with_the_choices():
         plot.linkage(four, 0.3, scale=-1.0)
     with pytest.raises(ValueError, match="cannot be assembled at any"):
         plot.torque(presets.get("four_bar", l_AB=0.3), theta_deg=[170.0, 180.0, 190.0])
+    with pytest.raises(TypeError, match="give Cs .* or flywheel .*, not both"):
+        plot.speed(four, Cs=0.02, flywheel=1.0)
+    with pytest.raises(ValueError, match="Cs must be between 0 and 1"):
+        plot.speed(four, Cs=2.0)
+    with pytest.raises(ValueError, match="does not act on the crank"):
+        plot.speed(presets.get("six_bar", driver="KD"), 1.0)
 
 
 def test_missing_matplotlib_says_how_to_install(monkeypatch):

@@ -1,9 +1,10 @@
 """One command line over the library: ``linkage-fmu
-info|table|sweep|plot|build|check|reference``.
+info|table|sweep|plot|simulate|flywheel|build|check|reference``.
 
 Every command takes a description file or a preset name; ``--set NAME=VALUE`` overrides
 a parameter, and each load of the linkage is an option ``--NAME VALUE`` of ``table``,
-``sweep`` and ``plot`` (listed by their ``--help`` once the linkage is named). Values may
+``sweep``, ``plot``, ``simulate`` and ``flywheel`` (listed by their ``--help`` once the
+linkage is named). Values may
 carry units and be expressions, as in a description file: ``--set l_AB=120mm``, ``--set
 gamma=pi/2``, ``--omega "1800 rpm"``, ``--F_P "0.2 kN"``, ``--theta "0:360:15 deg"``;
 plain numbers are SI, angles in radians.
@@ -44,6 +45,9 @@ EPILOG = """examples:
   linkage-fmu plot four_bar --what polar F21 -o F21.svg
   linkage-fmu plot six_bar --what linkage --theta-deg 60 -o six_bar.png
   linkage-fmu plot four_bar --what mu --set l_AB=0.3 -o mu.png
+  linkage-fmu plot examples/engine.toml --what speed --Cs 0.02 -o speed.png
+  linkage-fmu simulate four_bar --tau 2 --t-end 1 --theta0 "30 deg" --omega0 5 --n 11
+  linkage-fmu flywheel examples/engine.toml --omega-mean "3000 rpm" --Cs 0.02
   linkage-fmu build four_bar --set l_AB=0.12 --out dist
   linkage-fmu build --native my_linkage.toml --out dist/native
   linkage-fmu build --native --fmi 3 four_bar
@@ -95,7 +99,7 @@ def speeds(args) -> tuple:
 
 
 #: the commands that take the loads of the linkage as options
-LOAD_COMMANDS = ("table", "sweep", "plot")
+LOAD_COMMANDS = ("table", "sweep", "plot", "simulate", "flywheel")
 
 
 def _load_options(parser: argparse.ArgumentParser, d: Description) -> None:
@@ -272,18 +276,64 @@ def main(argv: list[str] | None = None) -> int:
     sweep.add_argument("-o", "--output", help="write the table to FILE.csv or FILE.parquet")
 
     plot = sub.add_parser("plot", help="a picture: torque curve, force polar, the linkage "
-                                       "with its forces, transmission angles, shaking force",
+                                       "with its forces, transmission angles, shaking force, "
+                                       "speed over a cycle",
                           usage="linkage-fmu plot LINKAGE --what KIND [NAME] -o FILE [options]",
                           epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     _linkage(plot, linkage_help)
     plot.add_argument("--what", nargs="+", required=True, metavar=("KIND", "NAME"),
                       help="what to draw, one of: torque [OUTPUT] | polar [FORCE] | linkage | "
-                           "mu | shaking")
+                           "mu | shaking | speed")
     plot.add_argument("--theta-deg", dest="theta_deg",
                       help="angle(s) in degrees: a value (linkage), a list or START:STOP:STEP "
                            "(default a revolution in 0.5 degree steps)")
     _motion(plot)
+    plot.add_argument("--Cs", default=None, metavar="VALUE",
+                      help="with --what speed: size a flywheel for this coefficient of "
+                           "fluctuation of speed (--omega is the mean speed)")
+    plot.add_argument("--flywheel", default=None, metavar="VALUE",
+                      help="with --what speed: a flywheel of this inertia [kg.m2] (default "
+                           "none)")
     plot.add_argument("-o", "--output", required=True, help="FILE.png, .svg or .pdf")
+
+    simulate = sub.add_parser("simulate", help="the motion under a constant torque on the "
+                                               "crank, over time", epilog=EPILOG,
+                              formatter_class=argparse.RawDescriptionHelpFormatter)
+    _linkage(simulate, linkage_help)
+    simulate.add_argument("--tau", required=True, metavar="VALUE",
+                          help="the torque on the crank [N.m], counter-clockwise positive")
+    simulate.add_argument("--t-end", dest="t_end", required=True, metavar="VALUE",
+                          help="the end time [s] (or with a unit: \"500 ms\"); the motion "
+                               "starts at 0")
+    simulate.add_argument("--n", type=int, default=101,
+                          help="output times linspace(0, T_END, N) (default 101)")
+    for name, unit, example in (("theta0", "rad", "30 deg"), ("omega0", "rad/s", "100 rpm")):
+        simulate.add_argument(f"--{name}", default=None, metavar="VALUE",
+                              help=f"{name[:-1]} at time 0 [{unit}], or with a unit "
+                                   f"(\"{example}\"); default the linkage's start value")
+    simulate.add_argument("--flywheel", default=None, metavar="VALUE",
+                          help="a flywheel on the crank [kg.m2] (default none)")
+    simulate.add_argument("--outputs", nargs="+", default=None,
+                          help="the columns to show (default all: theta, omega, alpha, tau, "
+                               "every output, J_red)")
+    simulate.add_argument("--csv", action="store_true", help="print CSV instead of a table")
+    simulate.add_argument("-o", "--output", help="write the motion to FILE.csv or "
+                                                 "FILE.parquet")
+
+    fly = sub.add_parser("flywheel", help="size a flywheel for a coefficient of fluctuation of "
+                                          "speed, and check it by the equation of motion",
+                         epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    _linkage(fly, linkage_help)
+    fly.add_argument("--omega-mean", dest="omega_mean", default=None, metavar="VALUE",
+                     help="the mean speed [rad/s], or with a unit (\"3000 rpm\"); default "
+                          "the linkage's start speed")
+    fly.add_argument("--Cs", required=True, metavar="VALUE",
+                     help="the coefficient of fluctuation of speed, (omega_max - omega_min) "
+                          "/ omega_mean, e.g. 0.02")
+    fly.add_argument("--revolutions", type=int, default=None,
+                     help="revolutions in a cycle (default 1, or what a load's table needs)")
+    fly.add_argument("-o", "--output", help="write the motion with the flywheel over a cycle "
+                                            "to FILE.csv or FILE.parquet")
 
     build = sub.add_parser("build", help="build the linkage's FMU")
     _linkage(build, linkage_help)
@@ -316,7 +366,8 @@ def main(argv: list[str] | None = None) -> int:
     try:
         command, named = _named_linkage(argv)
         if named is not None:  # its loads are options of the command, in its --help
-            _load_options({"table": table, "sweep": sweep, "plot": plot}[command], named)
+            _load_options({"table": table, "sweep": sweep, "plot": plot, "simulate": simulate,
+                           "flywheel": fly}[command], named)
         args = parser.parse_args(argv)
         if args.command == "check":
             return _check(args)
@@ -329,6 +380,10 @@ def main(argv: list[str] | None = None) -> int:
             return _sweep(d, args)
         if args.command == "plot":
             return _plot(d, args)
+        if args.command == "simulate":
+            return _simulate(d, args)
+        if args.command == "flywheel":
+            return _flywheel(d, args)
         if args.command == "build":
             from .ccompiler import CompilerError
             from .fmi import build_fmu, build_native_fmu
@@ -510,10 +565,15 @@ def _plot(d: Description, args) -> int:
     mech = d.build(**dict(args.params))
     given = loads(args)
     kind, names = args.what[0], args.what[1:]
-    kinds = ("torque", "polar", "linkage", "mu", "shaking")
+    kinds = ("torque", "polar", "linkage", "mu", "shaking", "speed")
     if kind not in kinds or len(names) > 1 or (names and kind not in ("torque", "polar")):
         raise UsageError(f"--what {' '.join(args.what)}: expected torque [OUTPUT], polar "
-                         "[FORCE], linkage, mu or shaking")
+                         "[FORCE], linkage, mu, shaking or speed")
+    if kind != "speed" and (args.Cs is not None or args.flywheel is not None):
+        raise UsageError("--Cs and --flywheel are for --what speed")
+    if kind == "speed" and (args.theta_deg is not None or args.alpha is not None):
+        raise UsageError("--what speed draws a cycle of the steady motion at the mean speed "
+                         "--omega: no --theta-deg or --alpha")
     theta_deg = None
     if args.theta_deg is not None:
         theta_deg, unit = typed(args.theta_deg)
@@ -529,6 +589,10 @@ def _plot(d: Description, args) -> int:
                          **given)
     elif kind == "shaking":
         fig = plot.shaking(mech, theta_deg=theta_deg, **motion, **given)
+    elif kind == "speed":
+        if args.Cs is not None and args.flywheel is not None:
+            raise UsageError("give --Cs (to size a flywheel) or --flywheel, not both")
+        fig = plot.speed(mech, omega, Cs=args.Cs, flywheel=args.flywheel, **given)
     elif kind == "linkage":
         if theta_deg is None or theta_deg.size != 1:
             raise UsageError("--what linkage needs one angle: --theta-deg VALUE")
@@ -539,6 +603,47 @@ def _plot(d: Description, args) -> int:
         raise UsageError(f"-o {args.output}: the file must end in .png, .svg or .pdf")
     fig.savefig(args.output, dpi=120, bbox_inches="tight")
     print(f"wrote {args.output}", file=sys.stderr)
+    return 0
+
+
+def _simulate(d: Description, args) -> int:
+    mech = d.build(**dict(args.params))
+    t_end = evaluate(args.t_end, "s", "--t-end")
+    if not t_end > 0:
+        raise UsageError(f"--t-end must be > 0, got {args.t_end}")
+    if args.n < 2:
+        raise UsageError(f"--n must be >= 2, got {args.n}")
+    start = {name: None if getattr(args, name) is None else
+             evaluate(getattr(args, name), unit, f"--{name}")
+             for name, unit in (("theta0", "rad"), ("omega0", "rad/s"))}
+    flywheel = 0.0 if args.flywheel is None else evaluate(args.flywheel, "kg.m2", "--flywheel")
+    run = mech.simulate(evaluate(args.tau, "N.m", "--tau"), np.linspace(0.0, t_end, args.n),
+                        flywheel=flywheel, **start, **loads(args))
+    if args.outputs:
+        unknown = [c for c in args.outputs if c not in run.columns]
+        if unknown:
+            raise UsageError(f"--outputs {' '.join(unknown)}: not a column of the motion; "
+                             "they are: " + ", ".join(run.columns))
+        run = run[list(args.outputs)]
+    if args.output:
+        write_table(run, args.output)
+    elif args.csv:
+        _in_pieces(run, lambda part, first: sys.stdout.write(part.to_csv(header=first)))
+    else:
+        _in_pieces(run, lambda part, first: sys.stdout.write(part.to_string(
+            header=first, float_format=lambda v: f"{v:.6f}") + "\n"))
+    return 0
+
+
+def _flywheel(d: Description, args) -> int:
+    mech = d.build(**dict(args.params))
+    omega = None if args.omega_mean is None else evaluate(args.omega_mean, "rad/s",
+                                                          "--omega-mean")
+    sizing = mech.flywheel(omega, evaluate(args.Cs, "1", "--Cs"),
+                           revolutions=args.revolutions, **loads(args))
+    print(sizing)
+    if args.output:
+        write_table(sizing.motion, args.output)
     return 0
 
 

@@ -14,7 +14,7 @@ from typing import Callable, Iterable, Sequence
 
 import numpy as np
 
-from . import diagnostics, inertia, kinetostatics, motion, numerics
+from . import diagnostics, flywheel, inertia, kinetostatics, motion, numerics
 from .expressions import evaluate
 from .bodies import Body, Effort
 from .errors import AssemblyError
@@ -210,13 +210,16 @@ class Mechanism:
         return st
 
     def reduced_inertia(self, theta, xp=None) -> tuple:
-        """``(J, dJ)``: the inertia reduced to the crank and dJ/dtheta; see
-        :func:`linkage_fmu.inertia.reduced_inertia`."""
+        """``(J, dJ)``, the inertia reduced to the crank: :func:`.inertia.reduced_inertia`."""
         return inertia.reduced_inertia(self, theta, xp)
 
     def simulate(self, tau, t, theta0=None, omega0=None, **options):
         """The motion under the crank torque ``tau``: :func:`linkage_fmu.motion.simulate`."""
         return motion.simulate(self, tau, t, theta0, omega0, **options)
+
+    def flywheel(self, omega_mean, Cs, **options):
+        """The flywheel for ``Cs`` at ``omega_mean``: :func:`linkage_fmu.flywheel.flywheel`."""
+        return flywheel.flywheel(self, omega_mean, Cs, **options)
 
     # -- the formulas -----------------------------------------------------------
     def evaluate(self, plan, theta, omega, alpha, loads, xp) -> tuple[dict, KinematicState]:
@@ -336,6 +339,5 @@ class Mechanism:
                                  **named_loads)
 
     def kernel(self, outputs: Iterable[str] | None = None, static: bool = False):
-        """The traced kernel of the plan ``(outputs, static)``, made on first use:
-        :meth:`Solver.kernel <linkage_fmu.solver.Solver.kernel>`."""
+        """The traced kernel of the plan ``(outputs, static)``: :meth:`.Solver.kernel`."""
         return self.solver.kernel(outputs, static)

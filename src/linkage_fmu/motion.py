@@ -6,11 +6,10 @@ The balancing moment on the crank is affine in the crank acceleration,
 ``J`` the inertia reduced to the crank (:mod:`~linkage_fmu.inertia`), so a motor torque
 ``tau`` gives ``alpha = (tau - Mb(theta, omega, 0, loads)) / J(theta)`` (Eksergian's
 equation of motion; with no loads and no gravity ``Mb(theta, omega, 0) = dJ/2 omega**2``).
+A flywheel on the crank adds its constant inertia to ``J``.
 """
 
 from __future__ import annotations
-
-import math
 
 import numpy as np
 
@@ -20,13 +19,13 @@ from .numerics import finite_array, finite_float
 
 
 def simulate(mech, tau, t, theta0=None, omega0=None, rtol: float = 1e-10,
-             atol: float = 1e-10, **loads):
+             atol: float = 1e-10, flywheel=0.0, **loads):
     """The motion of the linkage driven by the moment ``tau`` on its crank, and every
     output of :meth:`~linkage_fmu.mechanism.Mechanism.solve` along it.
 
     Integrates ``theta' = omega``, ``omega' = (tau - Mb(theta, omega, 0, loads)) /
-    J(theta)`` with scipy's ``solve_ivp`` (DOP853), each step evaluating the balancing
-    moment alone (the effort-only plan) and the reduced inertia.
+    (J(theta) + flywheel)`` with scipy's ``solve_ivp`` (DOP853), each step evaluating the
+    balancing moment alone (the effort-only plan) and the reduced inertia.
 
     Parameters
     ----------
@@ -48,6 +47,9 @@ def simulate(mech, tau, t, theta0=None, omega0=None, rtol: float = 1e-10,
         ``omega`` [rad/s]). The default ``atol`` is not smaller on purpose: with
         ``atol = 1e-12`` a slider-crank at 470 rad/s took steps whose error DOP853
         misjudged (energy balance off by 3e-6 relative, 1.5e-9 with ``atol = 1e-10``).
+    flywheel : float or str
+        The moment of inertia of a flywheel on the crank [kg m2], >= 0 (text with a unit,
+        ``"2.5 kg*m**2"``, is taken in SI); default none.
     **loads : float or str
         The input loads by name, constant over the motion, as ``solve`` takes them (a
         load not given takes its start value; a load over the cycle is computed by the
@@ -58,13 +60,16 @@ def simulate(mech, tau, t, theta0=None, omega0=None, rtol: float = 1e-10,
     pandas.DataFrame
         Indexed by ``t`` (index name ``time``): ``theta``, ``omega``, ``alpha`` (of the
         motion), ``tau``, every output and diagnostic of ``solve`` at ``(theta, omega,
-        alpha)`` (so ``Mb`` equals ``tau`` up to rounding), and ``J_red`` [kg m2].
+        alpha)`` (so ``Mb`` equals ``tau - flywheel * alpha`` up to rounding: the moment
+        the linkage takes from the crank, the flywheel taking the rest), and ``J_red``
+        [kg m2], the linkage's own (the flywheel's not in it).
 
     Raises
     ------
     ValueError
-        ``t``, ``tau``, ``theta0``, ``omega0`` or a load invalid, naming it; a linkage
-        whose effort is not a moment on its crank, or with no inertia reduced to the crank.
+        ``t``, ``tau``, ``theta0``, ``omega0``, ``flywheel`` or a load invalid, naming
+        it; a linkage whose effort is not a moment on its crank, or with no inertia
+        reduced to the crank.
     AssemblyError, SingularPositionError
         The motion reaches (or the integrator tries) a crank angle at which the linkage
         cannot be assembled, or is singular: raised, naming the time and the angle, no
@@ -87,10 +92,7 @@ def simulate(mech, tau, t, theta0=None, omega0=None, rtol: float = 1e-10,
     import pandas as pd
     from scipy.integrate import solve_ivp
 
-    effort = mech.effort.name
-    if not mech.effort_on_crank:
-        raise ValueError(f"{mech.name}: its balancing effort {effort} does not act on the "
-                         "crank; simulate drives the crank with a moment")
+    effort = crank_moment(mech, "simulate drives the crank with a moment")
     t = np.asarray(finite_array("t", t), dtype=float)
     if t.ndim != 1 or t.size < 2:
         raise ValueError(f"t must be a 1-d array of at least 2 times, got shape {t.shape}")
@@ -102,20 +104,23 @@ def simulate(mech, tau, t, theta0=None, omega0=None, rtol: float = 1e-10,
     torque = _torque(tau, t)
     theta0 = _start(mech, "theta", theta0, "rad")
     omega0 = _start(mech, "omega", omega0, "rad/s")
-    values, given = mech.inputs(0.0, 0.0, (), loads)  # checks the names, converts text
-    named = {name: finite_float(name, v) for name, v in zip(
-        [ld.name for ld in mech.input_loads] + list(given), values[2:])}
+    extra = finite_float("flywheel", evaluate(flywheel, "kg.m2", "flywheel")
+                         if isinstance(flywheel, str) else flywheel)
+    if extra < 0.0:
+        raise ValueError(f"flywheel must be >= 0 (a moment of inertia, kg m2), got {extra!r}")
+    named = constant_loads(mech, loads)
 
     def acceleration(ti, th, w):
         try:
             m0 = mech.solve(th, w, 0.0, outputs=(effort,), **named)[effort]
-            J = mech.reduced_inertia(th)[0]
+            J = mech.reduced_inertia(th)[0] + extra
         except (AssemblyError, SingularPositionError) as err:
             raise type(err)(mech.name, th, f"{_why(err)} "
                             f"(reached at t = {ti:.9g} s)") from None
         if not J > 0.0:
+            with_flywheel = f" (a flywheel of {extra!r} kg m2 included)" if extra else ""
             raise ValueError(f"{mech.name}: the inertia reduced to the crank is {J!r} at "
-                             f"theta = {th!r} rad; the motion is not defined")
+                             f"theta = {th!r} rad{with_flywheel}; the motion is not defined")
         return (torque(ti, th, w) - m0) / J
 
     def rhs(ti, y):
@@ -134,6 +139,38 @@ def simulate(mech, tau, t, theta0=None, omega0=None, rtol: float = 1e-10,
     out.update((k, np.asarray(v)) for k, v in sol.items())
     out["J_red"] = mech.reduced_inertia(theta)[0]
     return pd.DataFrame(out, index=pd.Index(t, name="time"))
+
+
+def crank_moment(mech, job: str) -> str:
+    """The name of the balancing effort of ``mech``, or a ValueError saying that it
+    does not act on the crank as a moment, which ``job`` needs.
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets
+    >>> crank_moment(presets.get("four_bar"), "simulate drives the crank with a moment")
+    'Mb'
+    """
+    if not mech.effort_on_crank:
+        raise ValueError(f"{mech.name}: its balancing effort {mech.effort.name} does not act "
+                         f"on the crank; {job}")
+    return mech.effort.name
+
+
+def constant_loads(mech, loads: dict) -> dict:
+    """The loads given by name, checked (a TypeError names one the linkage does not
+    have), text with units taken in SI: each input load (its start value where not
+    given) and each load over the cycle that is given, as finite floats.
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets
+    >>> constant_loads(presets.get("four_bar"), {"load": "2 N*m"})
+    {'load': 2.0}
+    """
+    values, given = mech.inputs(0.0, 0.0, (), loads)
+    return {name: finite_float(name, v) for name, v in zip(
+        [ld.name for ld in mech.input_loads] + list(given), values[2:])}
 
 
 def _why(err) -> str:

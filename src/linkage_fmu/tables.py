@@ -105,6 +105,20 @@ class PeriodicTable:
     def c_definition(self) -> str:
         """The C function ``double <name>(double theta)``: the same operations as the
         float evaluation, in the same order."""
+        return self._c_function(self.name, self.coefficients,
+                                "((c0[i] * d + c1[i]) * d + c2[i]) * d + c3[i]")
+
+    def c_derivative(self) -> str:
+        """The C function ``double <name>_d(double theta)``: the derivative of the spline
+        with respect to ``theta`` (for the kernels' directional derivatives)."""
+        c = self.coefficients
+        return self._c_function(f"{self.name}_d", [[3.0 * v for v in c[0]],
+                                                    [2.0 * v for v in c[1]], c[2]],
+                                "(c0[i] * d + c1[i]) * d + c2[i]")
+
+    def _c_function(self, name: str, coefficients: list, value: str) -> str:
+        """A C function of ``theta`` that finds its piece and returns ``value`` of the
+        offset ``d`` and the piece's ``coefficients`` (arrays ``c0``, ``c1``, ...)."""
         from .kernels.c_source import c_literal
 
         n = len(self.breaks)
@@ -114,9 +128,9 @@ class PeriodicTable:
                 c_literal(v) for v in values) + "};"
 
         return "\n".join([
-            f"static double {self.name}(double theta) {{",
+            f"static double {name}(double theta) {{",
             array("b", self.breaks),
-            *(array(f"c{k}", row) for k, row in enumerate(self.coefficients)),
+            *(array(f"c{k}", row) for k, row in enumerate(coefficients)),
             f"    double t = theta - {c_literal(self.x0)};",
             f"    t = t - floor(t / {c_literal(self.period)}) * {c_literal(self.period)};",
             f"    int lo = 0, hi = {n};",
@@ -124,7 +138,7 @@ class PeriodicTable:
             "else lo = mid + 1; }",
             f"    const int i = lo - 1 < 0 ? 0 : lo - 1 > {n - 1} ? {n - 1} : lo - 1;",
             "    const double d = t - b[i];",
-            "    return ((c0[i] * d + c1[i]) * d + c2[i]) * d + c3[i];",
+            f"    return {value};",
             "}",
         ])
 

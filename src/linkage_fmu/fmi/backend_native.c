@@ -5,10 +5,14 @@
  * built for (a value of each branch and choice parameter), the kernel's parameter step
  * and state step and why each of their guards fails, and the tables this file reads.
  * The parameter step runs when the framework prepares a parameter set; the state step
- * once per change of the inputs. A state its guards refuse, or whose outputs are not
+ * once per change of the inputs, and its forward-mode twin (the same operations with
+ * their derivatives) for each directional derivative asked for. A state its guards refuse, or whose outputs are not
  * finite, has a reason in the same words as the Python library's.
  */
 #include "model.c"
+
+/* the drive FMU (continuous states) provides no directional derivatives */
+#define BACKEND_TANGENT (N_STATES == 0)
 
 typedef struct {
     int structure; /* kernel of the structure in force */
@@ -71,23 +75,30 @@ static Status backend_prepare(Instance *in, const Values *v, char *why, size_t s
     return LK_OK;
 }
 
-#if N_STATES > 0
-static Status drive_evaluate(Instance *in, const Values *v, double *y, char *why, size_t size);
-#endif
-
-static Status backend_evaluate(Instance *in, const Values *v, double *y, char *why,
-                               size_t size) {
-#if N_STATES > 0
-    return drive_evaluate(in, v, y, why, size);
-#else
-    const Model *m = (const Model *)in->model;
+#if N_STATES == 0
+/* The kernel's state step at the inputs in `v`: the outputs `y`, with `dx` (not NULL)
+ * their derivatives `dy` along it too; LK_DISCARD with why a guard fails. */
+static Status state_step(const Model *m, const Values *v, const double *dx, double *y,
+                         double *dy, char *why, size_t size) {
     double x[N_INPUTS + 1];
     for (int k = 0; k < N_INPUTS; k++) x[k] = v->real[INPUTS[k]];
-    const int code = ONE[m->structure](m->q, x, y);
+    const int code = dx ? TANGENT[m->structure](m->q, x, dx, y, dy)
+                        : ONE[m->structure](m->q, x, y);
     if (code) {
         set_text(why, size, REASONS[m->structure][code - 1]);
         return LK_DISCARD;
     }
+    return LK_OK;
+}
+
+static Status backend_tangent(Instance *in, const Values *v, const double *dx, double *y,
+                              double *dy, char *why, size_t size) {
+    return state_step((const Model *)in->model, v, dx, y, dy, why, size);
+}
+
+static Status backend_evaluate(Instance *in, const Values *v, double *y, char *why,
+                               size_t size) {
+    if (state_step((const Model *)in->model, v, NULL, y, NULL, why, size)) return LK_DISCARD;
     for (int k = 0; k < N_OUTPUTS; k++)
         if (CHECKED[k] && !isfinite(y[k])) {
             /* a finite condition: the position is fine, the inputs overflow */
@@ -98,8 +109,15 @@ static Status backend_evaluate(Instance *in, const Values *v, double *y, char *w
             return LK_DISCARD;
         }
     return LK_OK;
-#endif
 }
+#else
+static Status drive_evaluate(Instance *in, const Values *v, double *y, char *why, size_t size);
+
+static Status backend_evaluate(Instance *in, const Values *v, double *y, char *why,
+                               size_t size) {
+    return drive_evaluate(in, v, y, why, size);
+}
+#endif
 
 #if N_STATES > 0
 /* -- a linkage driven by a moment on its crank (the drive FMU) ----------------------------

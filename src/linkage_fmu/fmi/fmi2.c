@@ -212,9 +212,9 @@ fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReferenc
                                         size_t nUnknown, const fmi2ValueReference vKnown[],
                                         size_t nKnown, const fmi2Real dvKnown[],
                                         fmi2Real dvUnknown[]) {
-    (void)vUnknown, (void)nUnknown, (void)vKnown, (void)nKnown, (void)dvKnown, (void)dvUnknown;
-    return (fmi2Status)lk_refuse(c, "fmi2GetDirectionalDerivative", "providesDirectionalDerivative "
-                                 "is false");
+    return (fmi2Status)lk_directional(c, "fmi2GetDirectionalDerivative", VR(vUnknown), nUnknown,
+                                      VR(vKnown), nKnown, dvKnown, nKnown, dvUnknown,
+                                      nUnknown);
 }
 
 /* -- FMU states ------------------------------------------------------------------------ */

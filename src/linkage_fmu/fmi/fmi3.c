@@ -456,9 +456,9 @@ fmi3Status fmi3GetDirectionalDerivative(fmi3Instance instance,
                                         const fmi3ValueReference knowns[], size_t nKnowns,
                                         const fmi3Float64 seed[], size_t nSeed,
                                         fmi3Float64 sensitivity[], size_t nSensitivity) {
-    (void)unknowns, (void)nUnknowns, (void)knowns, (void)nKnowns, (void)seed, (void)nSeed;
-    (void)sensitivity, (void)nSensitivity;
-    UNSUPPORTED(fmi3GetDirectionalDerivative, "providesDirectionalDerivatives is false");
+    return (fmi3Status)lk_directional(instance, "fmi3GetDirectionalDerivative", VR(unknowns),
+                                      nUnknowns, VR(knowns), nKnowns, seed, nSeed, sensitivity,
+                                      nSensitivity);
 }
 
 fmi3Status fmi3GetAdjointDerivative(fmi3Instance instance, const fmi3ValueReference unknowns[],

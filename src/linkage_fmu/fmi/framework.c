@@ -416,8 +416,14 @@ static void *backend_instantiate(Instance *in, const char *resources, const char
 static void backend_free(Instance *in);
 static Status backend_prepare(Instance *in, const Values *v, char *why, size_t size);
 static Status backend_evaluate(Instance *in, const Values *v, double *y, char *why, size_t size);
+/* backend_tangent    (where the backend defines BACKEND_TANGENT 1) the outputs `y` and
+ *                    their derivatives `dy` along the direction `dx` of the inputs (in
+ *                    INPUTS order), as backend_evaluate */
 
 #include BACKEND
+#ifndef BACKEND_TANGENT
+#define BACKEND_TANGENT 0
+#endif
 
 #if N_STATES > 0
 static Status advance(Instance *in, const char *call, double t, double h);
@@ -710,6 +716,27 @@ static Status lk_reset(void *c, const char *call) {
 }
 
 /* -- values ----------------------------------------------------------------------------- */
+/* The outputs of the inputs in force, for a read: LK_OK; LK_WARNING, logged once, where
+ * the parameter set is invalid or the inputs cannot be solved (the outputs are NaN);
+ * LK_ERROR where the backend failed (and said so). */
+static Status read_outputs(Instance *in, const char *call) {
+    Status s = evaluate(in, call);
+    if (s == LK_ERROR && (in->machine == S_FAILED || in->prepared)) return LK_ERROR;
+    if (s == LK_ERROR) { /* an invalid parameter set: no outputs until it is fixed */
+        if (!in->parameters_reported)
+            say(in, LK_WARNING, "%s: the parameter set is invalid: %s; the outputs are NaN",
+                call, in->problem);
+        in->parameters_reported = 1;
+        for (int k = 0; k < N_OUTPUTS; k++) in->outputs[k] = NAN;
+        return LK_WARNING;
+    }
+    if (s == LK_DISCARD) {
+        report(in, LK_WARNING, call, in->time);
+        return LK_WARNING;
+    }
+    return LK_OK;
+}
+
 /* Outputs are read from the last evaluation: NaN with a Warning where the inputs cannot be
  * solved or the parameters are invalid. */
 static Status lk_get_real(void *c, const char *call, const ValueReference vr[], size_t nvr,
@@ -725,25 +752,67 @@ static Status lk_get_real(void *c, const char *call, const ValueReference vr[], 
             value[i] = in->values.real[vr[i]];
             continue;
         }
-        Status s = evaluate(in, call);
-        if (s == LK_ERROR && (in->machine == S_FAILED || in->prepared))
-            return LK_ERROR; /* the backend failed, and said so */
-        if (s == LK_ERROR) { /* an invalid parameter set: no outputs until it is fixed */
-            if (!in->parameters_reported)
-                say(in, LK_WARNING, "%s: the parameter set is invalid: %s; the outputs are NaN",
-                    call, in->problem);
-            in->parameters_reported = 1;
-            value[i] = NAN;
-            status = LK_WARNING;
-            continue;
-        }
-        if (s == LK_DISCARD) {
-            report(in, LK_WARNING, call, in->time);
-            status = LK_WARNING;
-        }
+        Status s = read_outputs(in, call);
+        if (s == LK_ERROR) return LK_ERROR;
+        if (s > status) status = s;
         value[i] = in->outputs[v->index];
     }
     return status;
+}
+
+/* Derivatives of the outputs `unknown` along the direction `seed` of the inputs `known`
+ * (`n_seed` and `n_out` values: one per variable, all scalars), exact, by forward mode
+ * through the backend's kernel (backend_tangent); NaN with a Warning where the outputs
+ * are (the parameter set is invalid, the inputs cannot be solved). */
+static Status lk_directional(void *c, const char *call, const ValueReference unknown[],
+                             size_t nu, const ValueReference known[], size_t nk,
+                             const double seed[], size_t n_seed, double out[], size_t n_out) {
+    INSTANCE(c, call);
+#if BACKEND_TANGENT
+    if (n_seed != nk || n_out != nu)
+        return say(in, LK_ERROR, "%s: %zu seeds for %zu knowns and %zu sensitivities for %zu "
+                   "unknowns: one per variable", call, n_seed, nk, n_out, nu);
+    if (require(in, call, READABLE) || check_refs(in, call, unknown, nu, out, T_REAL,
+                                                  TYPE_NAMES[T_REAL]) ||
+        check_refs(in, call, known, nk, seed, T_REAL, TYPE_NAMES[T_REAL]))
+        return LK_ERROR;
+    double dx[N_INPUTS + 1] = {0.0}, y[N_OUTPUTS + 1], dy[N_OUTPUTS + 1];
+    for (size_t i = 0; i < nu; i++)
+        if (VARIABLES[unknown[i]].kind != K_OUTPUT)
+            return say(in, LK_ERROR, "%s: unknown %zu, '%s' (value reference %u), is not an "
+                       "output: the derivatives are those of the outputs", call, i,
+                       VARIABLES[unknown[i]].name, (unsigned)unknown[i]);
+    for (size_t j = 0; j < nk; j++) {
+        const Variable *v = &VARIABLES[known[j]];
+        char value[32];
+        if (v->kind != K_INPUT)
+            return say(in, LK_ERROR, "%s: known %zu, '%s' (value reference %u), is not an "
+                       "input: the derivatives are with respect to the inputs", call, j,
+                       v->name, (unsigned)known[j]);
+        if (!isfinite(seed[j]))
+            return say(in, LK_ERROR, "%s: the seed of '%s' (entry %zu) = %s is not a finite "
+                       "number", call, v->name, j, shortest(seed[j], value, sizeof value));
+        dx[v->index] += seed[j];
+    }
+    Status s = read_outputs(in, call);
+    if (s == LK_OK) {
+        char why[512] = "";
+        s = answer(in, call, backend_tangent(in, &in->values, dx, y, dy, why, sizeof why));
+        if (s > LK_DISCARD)
+            return say(in, LK_ERROR, "%s: %s", call, why[0] ? why : "the backend failed");
+        if (s == LK_DISCARD) /* the outputs are solved, their derivatives are not */
+            say(in, LK_WARNING, "%s: no derivatives at these inputs: %s; they are NaN",
+                call, why);
+    }
+    if (s == LK_ERROR) return LK_ERROR;
+    for (size_t i = 0; i < nu; i++)
+        out[i] = s == LK_OK ? dy[VARIABLES[unknown[i]].index] : NAN;
+    return s == LK_OK ? LK_OK : LK_WARNING;
+#else
+    (void)unknown, (void)nu, (void)known, (void)nk, (void)seed, (void)n_seed, (void)out,
+        (void)n_out;
+    return say(in, LK_ERROR, "%s: this FMU provides no directional derivatives", call);
+#endif
 }
 
 static Status lk_get_integer(void *c, const char *call, const ValueReference vr[], size_t nvr,

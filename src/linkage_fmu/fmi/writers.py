@@ -268,7 +268,8 @@ def model_source(mech, rebuild, drive: bool = False) -> tuple[str, list[dict]]:
             alpha=index["alpha"], dtheta=index["der(theta)"], kernel_at=index[outputs[0]])
     source = _C.get_template("model.c").render(
         model=model_name(mech, drive),
-        kernels=[k.c_source(array=False, prefix=f"s{s}") for s, k in enumerate(kernels)],
+        kernels=[k.c_source(array=False, prefix=f"s{s}", tangent=not drive)
+                 for s, k in enumerate(kernels)],
         parameters=[vr_of[n] for n in mech.kernel_parameters],
         n_q=max(len(k.frozen) for k in kernels), built=words or "one structure",
         cond=outputs.index("cond") if "cond" in outputs else -1,

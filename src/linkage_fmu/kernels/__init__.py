@@ -108,11 +108,31 @@ class Kernel:
                 self.call = compiled.scalar_kernel(module, self.frozen, self.checked)
         return self.call is not self.function
 
-    def c_source(self, array: bool = True, prefix: str = "linkage") -> str:
+    def c_source(self, array: bool = True, prefix: str = "linkage",
+                 tangent: bool = False) -> str:
         """The kernel as C (:mod:`~linkage_fmu.kernels.c_source`), its functions named
-        ``<prefix>_...``."""
+        ``<prefix>_...``; with ``tangent``, its forward-mode derivatives too."""
         return c_source(self.tape, self.n_inputs, self.results,
-                        tuple(f"p{k}" for k in range(len(self.parameters))), prefix, array)
+                        tuple(f"p{k}" for k in range(len(self.parameters))), prefix, array,
+                        tangent)
+
+    def tangent(self):
+        """The compiled forward-mode kernel
+        (:class:`~linkage_fmu.kernels.compiled.TangentKernel`): ``tangent(x, dx)`` gives
+        the outputs and their derivatives along the direction ``dx`` of the inputs, exact
+        through the traced operations (what the native FMUs' directional derivatives
+        compute); built or loaded from the cache; None without a C compiler.
+
+        Examples
+        --------
+        >>> k = trace(lambda x, p: [x[0] * x[1] * p["a"]], [2.0, 5.0], {"a": 3.0}, ("y",))
+        >>> y, dy = k.tangent()([2.0, 5.0], [1.0, 0.0])   # d(3 x0 x1)/dx0 = 3 x1
+        >>> float(y[0]), float(dy[0])
+        (30.0, 15.0)
+        """
+        path = compiled.build(self.c_source(array=False, tangent=True))
+        return None if path is None else compiled.TangentKernel(
+            path, "linkage", self.n_inputs, len(self.outputs), self.frozen)
 
     def array(self):
         """The compiled array kernel (:class:`~linkage_fmu.kernels.compiled.ArrayKernel`),

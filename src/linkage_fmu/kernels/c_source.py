@@ -74,6 +74,92 @@ def _statements(tape: Tape, nodes: list, guards: dict, codes: dict, indent: str 
     return body
 
 
+def _tangent_statements(tape: Tape, nodes: list, indent: str = "    ") -> list:
+    """Forward mode: after the values, the derivative ``d<i>`` of each operation along
+    the direction ``dx`` of the inputs (the parameters' is zero: they are not inputs
+    here), by the rules of calculus applied to the operation the tape holds."""
+    body = []
+    zero = {i for i, n in enumerate(tape.nodes) if n.op == "const" or i in tape.fixed}
+
+    def d(j):  # the derivative of operand j as C text, None where it is zero
+        node = tape.nodes[j]
+        if j in zero:
+            return None
+        return f"d{node.value}" if node.op == "input" else f"d{j}"
+
+    def times(a, b):
+        return None if a is None or b is None else f"{a} * {b}"
+
+    def plus(a, b, minus=False):
+        if b is None:
+            return a
+        if a is None:
+            return f"-({b})" if minus else b
+        return f"{a} {'-' if minus else '+'} ({b})" if minus else f"{a} + {b}"
+
+    for i in nodes:
+        node = tape.nodes[i]
+        if node.op in _COMPARE:
+            continue
+        a = [operand(tape, j, c_literal) for j in node.args]
+        da = [d(j) for j in node.args]
+        t, op = f"t{i}", node.op
+        if op == "add":
+            e = plus(da[0], da[1])
+        elif op == "sub":
+            e = plus(da[0], da[1], minus=True)
+        elif op == "mul":
+            e = plus(times(da[0], a[1]), times(a[0], da[1]))
+        elif op == "div":
+            e = None if da[0] is None and da[1] is None else \
+                f"({plus(da[0], times(t, da[1]), minus=True)}) / {a[1]}"
+        elif op == "neg":
+            e = None if da[0] is None else f"-{da[0]}"
+        elif op == "sqrt":
+            e = None if da[0] is None else f"{da[0]} / (2.0 * {t})"
+        elif op == "sin":
+            e = times(f"cos({a[0]})", da[0])
+        elif op == "cos":
+            e = None if da[0] is None else f"-sin({a[0]}) * {da[0]}"
+        elif op == "tan":
+            e = times(f"(1.0 + {t} * {t})", da[0])
+        elif op in ("asin", "acos"):
+            e = None if da[0] is None else (
+                f"{'-' if op == 'acos' else ''}{da[0]} / sqrt(1.0 - {a[0]} * {a[0]})")
+        elif op == "atan":
+            e = None if da[0] is None else f"{da[0]} / (1.0 + {a[0]} * {a[0]})"
+        elif op == "atan2":  # atan2(y, x)
+            num = plus(times(a[1], da[0]), times(a[0], da[1]), minus=True)
+            e = None if num is None else f"({num}) / ({a[1]} * {a[1]} + {a[0]} * {a[0]})"
+        elif op == "hypot":
+            num = plus(times(a[0], da[0]), times(a[1], da[1]))
+            e = None if num is None else f"({num}) / {t}"
+        elif op == "abs":
+            e = None if da[0] is None else f"({a[0]} < 0.0 ? -{da[0]} : {da[0]})"
+        elif op == "pow":
+            parts = [None if da[0] is None else f"{a[1]} * pow({a[0]}, {a[1]} - 1.0) * {da[0]}",
+                     None if da[1] is None else f"{t} * log({a[0]}) * {da[1]}"]
+            e = plus(*parts)
+        elif op in ("max", "min"):  # the operand Python's max/min returns
+            pick = ">" if op == "max" else "<"
+            e = None if da[0] is None and da[1] is None else \
+                f"({a[1]} {pick} {a[0]} ? {da[1] or '0.0'} : {da[0] or '0.0'})"
+        elif op in _SCALE:
+            e = times(da[0], c_literal(_SCALE[op]))
+        elif op == "extern":
+            if len(a) != 1:
+                raise ValueError(f"no derivative of the outside function {node.value} of "
+                                 f"{len(a)} arguments")
+            e = times(f"{node.value}_d({a[0]})", da[0])
+        else:
+            raise ValueError(f"no derivative rule for the operation {op!r}")
+        if e is None:
+            zero.add(i)
+        else:
+            body.append(f"{indent}const double d{i} = {e};")
+    return body, zero
+
+
 #: the elementary functions with vector versions in glibc's libmvec
 _VECTOR = ("sin", "cos", "atan2")
 #: the array kernel's options (-D): LK_SIMD (the blocked loop), LK_MVEC_SINCOS and
@@ -199,7 +285,7 @@ def _array_source(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
 
 
 def c_source(tape: Tape, n_inputs: int, results: list, parameters: tuple = (),
-             prefix: str = "linkage", array: bool = True) -> str:
+             prefix: str = "linkage", array: bool = True, tangent: bool = False) -> str:
     """C functions of the traced ``results``:
 
     - ``int <prefix>_prepare(const double *p, double *q)``: the parameter step, from the
@@ -217,6 +303,11 @@ def c_source(tape: Tape, n_inputs: int, results: list, parameters: tuple = (),
       glibc's libmvec (within a few ulp of the scalar ones; without them every value
       is the one-state function's, bit for bit).
 
+    - with ``tangent``, ``int <prefix>_tangent(q, x, dx, y, dy)``: one state as
+      ``<prefix>_one``, and ``dy``, the derivatives of the outputs along the direction
+      ``dx`` of the inputs (forward mode through the same operations: exact, up to
+      rounding), or the code of the guard that fails.
+
     ``<PREFIX>_N_P``, ``_N_Q``, ``_N_X`` and ``_N_Y`` give the lengths of the four.
     """
     prog = program(tape, results)
@@ -229,6 +320,9 @@ def c_source(tape: Tape, n_inputs: int, results: list, parameters: tuple = (),
     # an outside function once per translation unit, whatever kernels share it
     externs = [f"#ifndef LK_DEFINED_{name}\n#define LK_DEFINED_{name}\n{f.c_definition()}\n#endif"
                for name, f in tape.externs.items()]
+    if tangent:  # and their derivatives
+        externs += [f"#ifndef LK_DEFINED_{name}_d\n#define LK_DEFINED_{name}_d\n"
+                    f"{f.c_derivative()}\n#endif" for name, f in tape.externs.items()]
     head = [
         "/* generated by linkage_fmu.kernels.c_source: do not edit */",
         "#include <math.h>",
@@ -260,6 +354,31 @@ def c_source(tape: Tape, n_inputs: int, results: list, parameters: tuple = (),
         "}",
         "",
     ]
+    if tangent:
+        derivatives, zero = _tangent_statements(tape, prog.state)
+
+        def d(r):
+            if not isinstance(r, Sym) or r.index in zero:
+                return "0.0"
+            node = tape.nodes[r.index]
+            return f"d{node.value}" if node.op == "input" else f"d{r.index}"
+
+        head += [
+            f"int {prefix}_tangent(const double *q, const double *x, const double *dx, "
+            "double *y, double *dy) {",
+            *(f"    const double {name} = q[{k}];" for k, name in enumerate(frozen)),
+            *(f"    const double x{k} = x[{k}], dx{k} = dx[{k}];" for k in range(n_inputs)
+              if f"x{k}" in used),
+            *_statements(tape, prog.state, prog.guards, prog.codes),
+            *derivatives,
+            *(f"    y[{k}] = {operand(tape, r.index, c_literal) if isinstance(r, Sym) else c_literal(r)};"
+              for k, r in enumerate(results)),
+            *(f"    dy[{k}] = {d(r)};" for k, r in enumerate(results)),
+            "    (void)q; (void)x; (void)dx; (void)y; (void)dy;",
+            "    return 0;",
+            "}",
+            "",
+        ]
     if not array:
         return "\n".join(head)
     return "\n".join([*head, *_array_source(tape, prog, prefix, n_inputs, results, frozen)])

@@ -168,6 +168,32 @@ class ArrayKernel:
         return out, ok.view(bool)
 
 
+class TangentKernel:
+    """The compiled forward-mode kernel ``<prefix>_tangent`` of the shared library at
+    ``path``: calling it with the inputs and a direction of the inputs returns the
+    outputs and their derivatives along it, or the code of the guard that fails."""
+
+    def __init__(self, path: Path, prefix: str, n_inputs: int, n_outputs: int, frozen=()):
+        self._tangent = getattr(_library(str(path)), f"{prefix}_tangent")
+        self._tangent.restype = ctypes.c_int
+        self._tangent.argtypes = [ctypes.c_void_p] * 5
+        self.n_inputs, self.n_outputs = n_inputs, n_outputs
+        self._q = np.concatenate([np.array(frozen, dtype=np.float64).reshape(-1), [0.0]])
+
+    def __call__(self, x, dx) -> tuple | int:
+        """``(y, dy)`` as arrays at the state ``x`` along ``dx`` (each ``n_inputs``
+        floats), or the failed guard's code."""
+        x = np.ascontiguousarray(x, dtype=np.float64)
+        dx = np.ascontiguousarray(dx, dtype=np.float64)
+        if x.shape != (self.n_inputs,) or dx.shape != (self.n_inputs,):
+            raise ValueError(f"x and dx must have {self.n_inputs} values each, got "
+                             f"{x.shape} and {dx.shape}")
+        y, dy = np.empty(self.n_outputs + 1), np.empty(self.n_outputs + 1)
+        code = self._tangent(_address(self._q), _address(x), _address(dx), _address(y),
+                             _address(dy))
+        return code if code else (y[:-1], dy[:-1])
+
+
 def _address(a: np.ndarray) -> int:
     # the array interface, not ndarray.ctypes, which builds a ctypes object per access
     return a.__array_interface__["data"][0]

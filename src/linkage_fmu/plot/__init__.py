@@ -1,5 +1,6 @@
 """Plots of a linkage's kinetostatics: driving torque, pin-force polars, the linkage
-with its joint forces and loads, transmission angles, and the shaking force and moment.
+with its joint forces and loads, transmission angles, the shaking force and moment, and
+the crank's speed over a cycle with a flywheel.
 
 Every public function returns a :class:`matplotlib.figure.Figure` and draws into the
 ``ax`` given, or into a new figure (made with :mod:`matplotlib.pyplot`, so ``plt.show()``
@@ -39,9 +40,10 @@ from .inputs import N_ANGLES
 from .parts import ForcePair, force_pairs, link_points
 from .picture import ARROW_FRACTION, MOMENT_FRACTION, linkage
 from .placement import place_boxes
+from .speed import speed
 from .transmission_angles import TOGGLE_TOL, toggles, transmission
 
-__all__ = ["torque", "polar", "linkage", "transmission", "shaking", "ForcePair",
+__all__ = ["torque", "polar", "linkage", "transmission", "shaking", "speed", "ForcePair",
            "force_pairs", "link_points", "revolution_mean", "rounded", "toggles",
            "place_boxes", "N_ANGLES", "ARROW_FRACTION", "MOMENT_FRACTION", "TOGGLE_TOL",
            "ZERO_FRACTION"]

@@ -42,6 +42,10 @@ static const char *const S{{ loop.index0 }}_REASONS[] = {
 static const char *const *const REASONS[N_STRUCTURES] = { {%- for s in structures %}S{{ loop.index0 }}_REASONS, {% endfor %}};
 static int (*const PREPARE[N_STRUCTURES])(const double *, double *) = { {%- for s in structures %}s{{ loop.index0 }}_prepare, {% endfor %}};
 static int (*const ONE[N_STRUCTURES])(const double *, const double *, double *) = { {%- for s in structures %}s{{ loop.index0 }}_one, {% endfor %}};
+{% if not drive %}
+static int (*const TANGENT[N_STRUCTURES])(const double *, const double *, const double *, double *,
+                                          double *) = { {%- for s in structures %}s{{ loop.index0 }}_tangent, {% endfor %}};
+{% endif %}
 {% if drive %}
 
 /* -- the drive FMU: the kernels of the derivatives, one per structure ------------------ */
