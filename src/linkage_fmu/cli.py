@@ -499,6 +499,11 @@ def _table(d: Description, args) -> int:
         if args.strict:
             raise UsageError(message)
         print(f"linkage-fmu: {message}; their rows are NaN", file=sys.stderr)
+    return _emit(df, args)
+
+
+def _emit(df, args) -> int:
+    """Write the table ``df`` to ``--output``, or print it (``--csv``: as CSV) in pieces."""
     if args.output:
         write_table(df, args.output)
     elif args.csv:
@@ -625,14 +630,7 @@ def _simulate(d: Description, args) -> int:
             raise UsageError(f"--outputs {' '.join(unknown)}: not a column of the motion; "
                              "they are: " + ", ".join(run.columns))
         run = run[list(args.outputs)]
-    if args.output:
-        write_table(run, args.output)
-    elif args.csv:
-        _in_pieces(run, lambda part, first: sys.stdout.write(part.to_csv(header=first)))
-    else:
-        _in_pieces(run, lambda part, first: sys.stdout.write(part.to_string(
-            header=first, float_format=lambda v: f"{v:.6f}") + "\n"))
-    return 0
+    return _emit(run, args)
 
 
 def _flywheel(d: Description, args) -> int:
