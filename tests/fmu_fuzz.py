@@ -7,6 +7,9 @@ every output read. Used by ``tests/test_fmu_fuzz.py`` (10^4 steps per FMU) and a
 script for longer runs::
 
     python tests/fmu_fuzz.py DIST_DIR --steps 100000 [--seed 1]
+    python tests/fmu_fuzz.py DIR_OF_DRIVE_FMUS --drive --steps 100000
+
+``generate_drive`` does the same for the drive FMUs.
 """
 
 from __future__ import annotations
@@ -28,6 +31,7 @@ from linkage_fmu import presets
 
 HOST = Path(__file__).with_name("fmu_raw_host.py")
 OK, WARNING, DISCARD, ERROR, FATAL = range(5)
+LAST_SUCCESSFUL_TIME, TERMINATED = 2, 3  # fmi2StatusKind
 #: parameter perturbations per preset: a valid one and one that exitInitialization rejects
 PERTURB = {
     "scotch_yoke": ({"l_AB": (0.05, 0.2), "m3": (1.0, 20.0)}, {"h2": -0.1}),
@@ -285,17 +289,167 @@ def check(plan: Plan, results: list) -> Counter:
     return tally
 
 
-def run(dist: Path, preset: str, steps: int, seed: int) -> tuple[Counter, dict]:
-    """Generate, run in a fresh host process, check. Returns the tally and host output."""
-    fmu = Path(dist) / f"{presets.preset(preset).model}.fmu"
-    plan = generate(fmu, preset, steps, seed)
+def generate_drive(fmu: Path, steps: int, seed: int) -> Plan:
+    """Random calls to a drive FMU (``linkage-fmu build --native --drive``) totalling
+    ``steps`` doStep calls, in episodes of up to 300 steps, each a fresh instance with
+    its own start values and tolerance: moments good, huge and not finite, steps of any
+    size and bad ones, states and parameters set as variables, FMU states saved,
+    serialized, corrupted and restored, directional derivatives (the drive has none),
+    last successful times. An episode ends at a step Discarded at the assembly limit."""
+    rng = np.random.default_rng(seed)
+    v = _variables(fmu)
+    outs = [vr for vr, t, c, _ in v.values() if c == "output"]
+    names = [n for n, (vr, t, c, _) in v.items() if c == "output"]
+    n_vars = len(v)
+    plan = Plan()
+    ops, checks = plan.ops, plan.checks
+    done = episode = 0
+
+    def add(op, check=None):
+        if check is not None:
+            checks[len(ops)] = check
+        ops.append(op)
+
+    while done < steps:
+        name = f"e{episode}"
+        episode += 1
+        add([name, "new", "M"], ("status", OK))
+        add([name, "setup", 0.0, None], ("status", OK))
+        entered = rng.random() < 0.2
+        if entered:  # a tolerance out of range: exitInitialization refuses it, then fixed
+            bad = float(rng.choice([0.0, -1e-8, 1e-300, 1e-15, 0.5, math.nan, math.inf]))
+            add([name, "setReal", [v["tolerance"][0]], [bad]], ("status", OK))
+            add([name, "enter"], ("status", OK))
+            add([name, "exit"], ("status", ERROR))
+            add([name, "doStep", 0.0, 0.01], ("status", ERROR))
+        start = {"theta0": float(rng.uniform(-1.0, 1.0)), "omega0": float(rng.uniform(-20, 20)),
+                 "tolerance": float(10.0 ** rng.uniform(-12, -3))}
+        add([name, "setReal", [v[k][0] for k in start], list(start.values())], ("status", OK))
+        if not entered:
+            add([name, "enter"], ("status", OK))
+        add([name, "exit"], ("status", OK))
+        t, tau, saved = 0.0, 0.0, {}  # slot -> the moment in force when it was saved
+        for _ in range(min(300, steps - done)):
+            r = rng.random()
+            if r < 0.62:  # a moment, a step, a read
+                tau = float(rng.uniform(-20, 20))
+                if rng.random() < 0.08:
+                    tau = float(rng.choice(BAD_VALUES))
+                h = float(10.0 ** rng.uniform(-4, -1.3))
+                add([name, "setReal", [v["tau"][0]], [tau]], ("status", OK))
+                add([name, "doStep", t, h], ("drive step", tau))
+                add([name, "getReal", outs], ("drive read", tau, names))
+                add([name, "realStatus", LAST_SUCCESSFUL_TIME], ("status in", (OK,)))
+                done += 1
+                if math.isfinite(tau):  # a moment not finite discards at the step's start
+                    t += h
+            elif r < 0.70:  # bad steps: refused, nothing changes
+                h, t0 = [(0.0, t), (-0.01, t), (math.nan, t), (0.01, math.nan), (math.inf, t)][
+                    int(rng.integers(5))]
+                add([name, "doStep", t0, h], ("status", ERROR))
+            elif r < 0.75:  # a state, an output, a fixed parameter or no variable set
+                vr = int(rng.choice([v["theta"][0], v["omega"][0], outs[-1], v["theta0"][0],
+                                     n_vars + 7]))
+                add([name, "setReal", [vr], [0.5]], ("status", ERROR))
+            elif r < 0.83:  # save and serialize
+                slot = f"{name}:s{int(rng.integers(2))}"
+                add([name, "getState", slot], ("status", OK))
+                add([name, "serialize", slot, slot], ("status", OK))
+                saved[slot] = tau
+            elif r < 0.90 and saved:  # restore, whole or corrupted
+                slot = sorted(saved)[int(rng.integers(len(saved)))]
+                edit = [None, ["flip", int(rng.integers(0, 10_000)), int(rng.integers(1, 256))],
+                        ["cut", -int(rng.integers(1, 100))]][int(rng.integers(3))]
+                add([name, "deserialize", slot, "d", edit], ("status", OK if edit is None
+                                                              else ERROR))
+                if edit is None:
+                    add([name, "setState", "d"], ("status", OK))
+                    add([name, "freeState", "d"], ("status", OK))
+                    add([name, "getReal", outs], ("drive read", saved[slot], names))
+                    break  # its time is the saved one's: a fresh episode goes on
+            elif r < 0.93:
+                add([name, "derivative", [outs[0]], [v["tau"][0]], [1.0]], ("status", ERROR))
+            else:
+                add([name, "getReal", outs], ("drive read", tau, names))
+        add([name, "terminate"], ("status in", (OK, ERROR)))
+        add([name, "free"], ("status", OK))
+    return plan
+
+
+def check_drive(plan: Plan, results: list) -> Counter:
+    """Compare every answer of a :func:`generate_drive` run with its check: no Fatal;
+    a step OK, or Discard (at the assembly limit, or at its start for a moment that is
+    not finite); after it the reads OK with finite outputs and ``Mb`` equal to ``tau``
+    (1e-12 of the larger of ``tau`` and ``J_red alpha``), or NaN with a Warning where the
+    moment is not finite. After a
+    Discard at the limit an episode's later steps are not compared (they start from
+    another time)."""
+    tally = Counter()
+    stopped = set()  # instances discarded at the limit
+    for i, (status, payload) in enumerate(results):
+        assert status != FATAL, (i, plan.ops[i])
+        tally[("status", status)] += 1
+        c = plan.checks.get(i)
+        name = plan.ops[i][0]
+        if c is None:
+            continue
+        if name in stopped and c[0] != "status":
+            continue
+        if c[0] == "status":
+            assert status == c[1] or name in stopped, (i, plan.ops[i], status, c[1])
+        elif c[0] == "status in":
+            assert status in c[1], (i, plan.ops[i], status, c[1])
+        elif c[0] == "drive step":
+            tau = c[1]
+            if not math.isfinite(tau):
+                assert status == DISCARD, (i, plan.ops[i], status)
+                tally["discard: moment not finite"] += 1
+            else:
+                assert status in (OK, DISCARD), (i, plan.ops[i], status)
+                if status == DISCARD:  # the assembly limit, or a moment so large the
+                    stopped.add(name)    # substep falls below the time's resolution
+                    tally["discard in the step"] += 1
+        elif c[0] == "drive read":
+            tau, names = c[1], c[2]
+            got = np.array([math.nan if y is None else y for y in payload])
+            if not math.isfinite(tau):
+                assert status == WARNING, (i, status)
+                tally["nan read"] += 1
+                continue
+            assert status == OK and np.isfinite(got).all(), (i, status, payload)
+            # Mb = J_red alpha + Mb(alpha = 0): near a toggle both terms are large and
+            # cancel, so the scale of the comparison is the larger of them
+            Mb = got[names.index("Mb")]
+            inertial = got[names.index("J_red")] * got[names.index("alpha")]
+            assert abs(Mb - tau) <= 1e-12 * max(1.0, abs(tau), abs(inertial)), (i, Mb, tau)
+            tally["Mb equal to tau"] += 1
+    return tally
+
+
+def run_drive(fmu: Path, steps: int, seed: int) -> tuple[Counter, dict]:
+    """:func:`generate_drive` on the drive FMU ``fmu``, run in a fresh host process,
+    :func:`check_drive`."""
+    plan = generate_drive(fmu, steps, seed)
+    out = _host(fmu, plan)
+    return check_drive(plan, out["results"]), out
+
+
+def _host(fmu: Path, plan: Plan) -> dict:
+    """The host's output of ``plan``'s calls to ``fmu``, from a fresh process."""
     with tempfile.TemporaryDirectory(prefix="linkage_fmu_fuzz_") as cwd:
         job = Path(cwd) / "job.json"
         job.write_text(json.dumps({"fmus": {"M": str(fmu)}, "ops": plan.ops, "keep_log": 20}))
         proc = subprocess.run([sys.executable, str(HOST), str(job)], cwd=cwd,
                               capture_output=True, text=True)
     assert proc.returncode == 0, f"host died ({proc.returncode}): {proc.stderr[-3000:]}"
-    out = json.loads(proc.stdout.splitlines()[-1])
+    return json.loads(proc.stdout.splitlines()[-1])
+
+
+def run(dist: Path, preset: str, steps: int, seed: int) -> tuple[Counter, dict]:
+    """Generate, run in a fresh host process, check. Returns the tally and host output."""
+    fmu = Path(dist) / f"{presets.preset(preset).model}.fmu"
+    plan = generate(fmu, preset, steps, seed)
+    out = _host(fmu, plan)
     return check(plan, out["results"]), out
 
 
@@ -304,7 +458,21 @@ def main(argv=None) -> int:
     parser.add_argument("dist", type=Path, help="folder with the built FMUs")
     parser.add_argument("--steps", type=int, default=100_000, help="doStep calls per FMU")
     parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--drive", action="store_true",
+                        help="DIST holds drive FMUs (linkage-fmu build --native --drive): "
+                             "fuzz each")
     args = parser.parse_args(argv)
+    if args.drive:
+        for fmu in sorted(Path(args.dist).glob("*Drive.fmu")):
+            tally, out = run_drive(fmu, args.steps, args.seed)
+            statuses = {s: tally[("status", s)] for s in range(5)}
+            print(f"{fmu.name}: {sum(statuses.values())} calls, statuses "
+                  f"OK/Warning/Discard/Error/Fatal = {'/'.join(map(str, statuses.values()))}; "
+                  f"{tally['Mb equal to tau']} reads with Mb equal to tau, "
+                  f"{tally['discard in the step']} steps discarded inside, "
+                  f"{tally['nan read']} NaN reads; peak memory {out['peak_kib'] / 1024:.0f} MiB",
+                  flush=True)
+        return 0
     for preset in presets.names():
         tally, out = run(args.dist, preset, args.steps, args.seed)
         statuses = {s: tally[("status", s)] for s in range(5)}

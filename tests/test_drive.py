@@ -30,6 +30,7 @@ from fmpy.validation import validate_fmu
 from linkage_fmu import presets, ranges
 from linkage_fmu.cli import main
 from linkage_fmu.fmi import build_native_fmu
+from fmu_fuzz import run_drive
 from test_c_host import compile_host, model_outputs
 
 HOST = Path(__file__).with_name("drive_host.py")
@@ -320,3 +321,20 @@ def test_cli(tmp_path, capsys):
     assert main(["build", "--native", "--drive", "six_bar", "--set", "driver=D",
                  "--out", str(tmp_path)]) == 2
     assert "cannot be driven by a torque" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("which", (2, "limit2"))
+def test_fuzz(fmus, which):
+    """3,000 fuzzed steps from a fresh process (``fmu_fuzz.generate_drive``): moments good,
+    huge and not finite, steps of any size and bad ones, tolerances out of range, states
+    and parameters set as variables, FMU states restored whole or corrupted, directional
+    derivatives asked for: no Fatal and no crash; each bad call Error; each read after a
+    step OK with every output finite and Mb equal to tau (1e-12 of the larger of tau and
+    J_red alpha), or NaN with a Warning
+    where tau is not finite (the step Discarded at its start)."""
+    tally, _ = run_drive(fmus[which], 3000, seed=11)
+    assert tally[("status", FATAL)] == 0
+    assert tally["Mb equal to tau"] > 1000 and tally["nan read"] > 20
+    assert tally[("status", ERROR)] > 500 and tally["discard: moment not finite"] > 20
+    if which == "limit2":  # the crank reaches the ends of its range
+        assert tally["discard in the step"] > 20

@@ -271,7 +271,9 @@ def test_the_engine_fmus_carry_their_pressure_table(dist, tmp_path, flavour):
         assert "table = [[0.0, -0.05], [2.0, -0.05]," in description
         if flavour == "native":
             model_c = archive.read("sources/model.c").decode()
-            assert model_c.count("static double lk_table_") == 1
+            # the spline once, and its derivative once (for the directional derivatives)
+            assert model_c.count("static double lk_table_") == 2
+            assert model_c.count("_d(double theta) {") == 1
     check = subprocess.run([sys.executable, "-m", "linkage_fmu", "check", str(fmu)],
                            cwd=tmp_path, capture_output=True, text=True, timeout=300)
     assert check.returncode == 0, check.stdout + check.stderr

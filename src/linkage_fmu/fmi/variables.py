@@ -140,8 +140,9 @@ def _parameters(mech) -> list[Variable]:
     return table
 
 
-#: the drive FMU's default integrator tolerance (relative and absolute)
-TOLERANCE = 1e-8
+#: the drive FMU's default integrator tolerance (relative and absolute), and the smallest
+#: it takes: below it float64's rounding of theta and omega exceeds the error it asks for
+TOLERANCE, FINEST = 1e-8, 1e-14
 
 
 def drive_variables(mech) -> list[Variable]:
@@ -174,7 +175,7 @@ def drive_variables(mech) -> list[Variable]:
     table.append(Variable("tolerance", "Real", "parameter", "fixed", "1", "",
                           "the co-simulation integrator's tolerance, relative and absolute, "
                           "on theta [rad] and omega [rad/s]", TOLERANCE, index=n + 2,
-                          rule="> 0", maximum=0.1))
+                          rule="> 0", minimum=FINEST, maximum=0.1))
     moved = ("theta", "omega", "tau") + tuple(load.name for load in mech.input_loads)
     for k, name in enumerate(("theta", "omega")):
         unit, display, text = _MOTION_INFO[name]
