@@ -277,3 +277,27 @@ def test_a_motor_coupled_by_newton_on_the_loop_reproduces_the_library_motion(fmu
     assert y[0] == pytest.approx(run["theta"].iloc[-1], rel=2e-10)
     assert y[1] == pytest.approx(run["omega"].iloc[-1], rel=2e-8)
     assert y[1] > 10.0  # the motor did spin the linkage up
+
+
+def test_a_state_deserialized_but_not_set_leaves_the_derivatives_alone(tmp_path):
+    """Deserializing a state checks its parameter set with the kernels' parameter step,
+    and leaves the instance's own in force: the derivatives after it are those before
+    (a state of another l_AB, taken from a second instance, deserialized, never set)."""
+    fmu = build_native_fmu("slotted_lever", tmp_path)
+    a, b = Slave(fmu, 2), Slave(fmu, 2)
+    try:
+        u = dict(theta=2.3, omega=-6.0, alpha=5.0, load=40.0)
+        a.set(**u)
+        before = a.derivative(["Mb"], ["alpha"], [1.0])
+        b.fmu.terminate()
+        b.fmu.reset()
+        b.fmu.setReal([b.vr["l_AB"]], [0.08])
+        b.fmu.enterInitializationMode()
+        b.fmu.exitInitializationMode()
+        other = b.fmu.serializeFMUstate(b.fmu.getFMUstate())
+        a.fmu.deSerializeFMUstate(other)  # a new state of a's, not set
+        assert a.derivative(["Mb"], ["alpha"], [1.0])[0] == before[0]
+        assert before[0] == pytest.approx(a.get(["J_red"])[0], rel=1e-14)
+    finally:
+        a.free()
+        b.free()

@@ -795,6 +795,9 @@ static Status lk_directional(void *c, const char *call, const ValueReference unk
         dx[v->index] += seed[j];
     }
     Status s = read_outputs(in, call);
+    /* outputs still current need no parameter step, but the kernel's twin does: the
+     * backend may hold another set's (a deserialized state's, checked) since */
+    if (s == LK_OK) s = prepare(in, call);
     if (s == LK_OK) {
         char why[512] = "";
         s = answer(in, call, backend_tangent(in, &in->values, dx, y, dy, why, sizeof why));
