@@ -303,7 +303,7 @@ def kinepy_four_bar(params: dict, theta: np.ndarray, omega: float, alpha: float,
     """
     p = _parameters("four_bar", params)
     out = _run(_four_bar_system, p, theta, omega, alpha, load, step, extrapolate)
-    return {k: out[k] for k in presets.get("four_bar").output_names}
+    return {k: out[k] for k in presets.get("four_bar").output_names if k in out}
 
 
 def kinepy_slider_crank(params: dict, theta: np.ndarray, omega: float, alpha: float,
@@ -332,7 +332,7 @@ def kinepy_slider_crank(params: dict, theta: np.ndarray, omega: float, alpha: fl
     """
     p = _parameters("slider_crank", params)
     out = _run(_slider_crank_system, p, theta, omega, alpha, load, step, extrapolate)
-    return {k: out[k] for k in presets.get("slider_crank").output_names}
+    return {k: out[k] for k in presets.get("slider_crank").output_names if k in out}
 
 
 def kinepy_history(preset: str, params: dict, theta: np.ndarray, dt: float,
@@ -368,7 +368,7 @@ def kinepy_history(preset: str, params: dict, theta: np.ndarray, dt: float,
         system, pick = _SYSTEMS[preset](p, q, slice(None))
         system.solve_dynamics(th, t=dt * th.size)
         out = pick()
-    return {k: out[k] for k in presets.get(preset).output_names}
+    return {k: out[k] for k in presets.get(preset).output_names if k in out}
 
 
 # -- verification ------------------------------------------------------------------

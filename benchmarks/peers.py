@@ -184,7 +184,8 @@ def fourbarhinge_four_bar(params: dict, theta: np.ndarray, omega: float, alpha: 
         r = res.reactions
         out[k] = (-r["B"][0], -r["B"][1], -r["C"][0], -r["C"][1], r["D"][0], r["D"][1],
                   -r["A"][0], -r["A"][1], res.actuator_value)
-    names = presets.get("four_bar").output_names  # the order of the columns above
+    # the order of the columns above: the seed's outputs (the shaking ones are not)
+    names = [n for n in presets.get("four_bar").output_names if not n.startswith("shake_")]
     return {name: out[:, i].reshape(theta.shape) for i, name in enumerate(names)}
 
 
@@ -432,7 +433,8 @@ def exudyn_run(preset: str, steps_per_rev: int, omega: float = 10.0,
         out["F43x"], out["F43y"] = -F["F34"][:, 1], -F["F34"][:, 2]
     else:
         out["N43"] = -F["-N43"][:, 1]
-    out = {k: np.ascontiguousarray(out[k]) for k in presets.get(preset).output_names}
+    out = {k: np.ascontiguousarray(out[k]) for k in presets.get(preset).output_names
+           if k in out}
     drift = float(np.max(np.abs(theta - omega * crank[:, 0])))
     t3 = time.perf_counter()
     return theta, out, {"setup_s": t1 - t0, "solve_s": t2 - t1, "post_s": t3 - t2,
