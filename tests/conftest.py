@@ -157,3 +157,17 @@ def fmu2(request) -> Path:
 
 #: preset -> model identifier of its FMU
 MODELS = {name: presets.preset(name).model for name in presets.names()}
+
+
+def run_host(script: Path, job: dict, tmp_path: Path, timeout: float = 600) -> dict:
+    """Run the host ``script`` on ``job`` (written as JSON) in a fresh process, so that a
+    crash of an FMU fails the test instead of ending pytest; its last line of output,
+    parsed (NaN and infinities as floats)."""
+    import json
+
+    path = tmp_path / "job.json"
+    path.write_text(json.dumps(job))
+    run = subprocess.run([sys.executable, str(script), str(path)], capture_output=True,
+                         text=True, timeout=timeout)
+    assert run.returncode == 0, f"host exited with {run.returncode}:\n{run.stderr[-3000:]}"
+    return json.loads(run.stdout.splitlines()[-1], parse_constant=float)

@@ -51,6 +51,12 @@ class Plan:
     ops: list = field(default_factory=list)
     checks: dict = field(default_factory=dict)
 
+    def add(self, op: list, check: tuple | None = None) -> None:
+        """Append the call ``op``, and what its answer must be."""
+        if check is not None:
+            self.checks[len(self.ops)] = check
+        self.ops.append(op)
+
 
 def _variables(fmu: Path) -> dict:
     md = read_model_description(str(fmu))
@@ -85,14 +91,9 @@ def generate(fmu: Path, preset: str, steps: int, seed: int) -> Plan:
     valid, invalid = PERTURB[preset]
     defaults = {p.name: p.default for p in presets.preset(preset).parameter_specs()}
     plan = Plan()
-    ops, checks = plan.ops, plan.checks
+    add = plan.add
     done = 0
     episode = 0
-
-    def add(op, check=None):
-        if check is not None:
-            checks[len(ops)] = check
-        ops.append(op)
 
     while done < steps:
         name = f"e{episode}"
@@ -302,13 +303,8 @@ def generate_drive(fmu: Path, steps: int, seed: int) -> Plan:
     names = [n for n, (vr, t, c, _) in v.items() if c == "output"]
     n_vars = len(v)
     plan = Plan()
-    ops, checks = plan.ops, plan.checks
+    add = plan.add
     done = episode = 0
-
-    def add(op, check=None):
-        if check is not None:
-            checks[len(ops)] = check
-        ops.append(op)
 
     while done < steps:
         name = f"e{episode}"

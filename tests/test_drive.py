@@ -13,12 +13,10 @@ Raw calls (FMU states, bad calls, the discard) run in a fresh process
 
 from __future__ import annotations
 
-import json
 import math
 import os
 import shutil
 import subprocess
-import sys
 import zipfile
 from pathlib import Path
 
@@ -27,6 +25,7 @@ import pytest
 from fmpy import simulate_fmu
 from fmpy.validation import validate_fmu
 
+from conftest import run_host
 from linkage_fmu import presets, ranges
 from linkage_fmu.cli import main
 from linkage_fmu.fmi import build_native_fmu
@@ -76,12 +75,7 @@ def relative_error(result, ref, name) -> float:
 
 
 def host(job: dict, tmp_path: Path) -> dict:
-    path = tmp_path / "job.json"
-    path.write_text(json.dumps(job))
-    run = subprocess.run([sys.executable, str(HOST), str(path)], capture_output=True,
-                         text=True, timeout=300)
-    assert run.returncode == 0, f"host exited with {run.returncode}:\n{run.stderr[-3000:]}"
-    return json.loads(run.stdout.splitlines()[-1])
+    return run_host(HOST, job, tmp_path, timeout=300)
 
 
 @pytest.mark.parametrize("version", (2, 3))

@@ -19,15 +19,13 @@ process (``state_host.py``) so that a crash fails the test.
 
 from __future__ import annotations
 
-import json
 import math
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from conftest import run_host
 from linkage_fmu import presets
 from linkage_fmu.fmi import build_fmu, build_native_fmu
 from linkage_fmu.fmi.variables import variables
@@ -52,12 +50,7 @@ def fourbar(tmp_path_factory):
 
 
 def host(job: dict, tmp_path: Path) -> dict:
-    path = tmp_path / "job.json"
-    path.write_text(json.dumps(job))
-    run = subprocess.run([sys.executable, str(HOST), str(path)], capture_output=True,
-                         text=True, timeout=600)
-    assert run.returncode == 0, f"host exited with {run.returncode}:\n{run.stderr[-3000:]}"
-    return json.loads(run.stdout.splitlines()[-1], parse_constant=float)
+    return run_host(HOST, job, tmp_path, timeout=600)
 
 
 def table(flavour):
