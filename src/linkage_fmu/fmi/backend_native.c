@@ -22,6 +22,21 @@ typedef struct {
 #endif
 } Model;
 
+/* LK_OK if every output the kernel must keep finite (CHECKED) is, in the kernel's
+ * outputs `y`; else LK_DISCARD saying why: an overflow where the condition estimate is
+ * finite (the position is fine, an input too large), else a singular position. */
+static Status finite_outputs(const double *y, char *why, size_t size) {
+    for (int k = 0; k < N_KERNEL_OUTPUTS; k++)
+        if (CHECKED[k] && !isfinite(y[k])) {
+            set_text(why, size, COND_OUTPUT >= 0 && isfinite(y[COND_OUTPUT])
+                     ? "the outputs overflow float64: an input is too large in magnitude"
+                     : "the linkage is at a singular position: the equations have no unique "
+                       "solution");
+            return LK_DISCARD;
+        }
+    return LK_OK;
+}
+
 static int backend_ready(char *why, size_t size) {
     (void)why, (void)size;
     return 1;
@@ -99,16 +114,7 @@ static Status backend_tangent(Instance *in, const Values *v, const double *dx, d
 static Status backend_evaluate(Instance *in, const Values *v, double *y, char *why,
                                size_t size) {
     if (state_step((const Model *)in->model, v, NULL, y, NULL, why, size)) return LK_DISCARD;
-    for (int k = 0; k < N_OUTPUTS; k++)
-        if (CHECKED[k] && !isfinite(y[k])) {
-            /* a finite condition: the position is fine, the inputs overflow */
-            set_text(why, size, COND_OUTPUT >= 0 && isfinite(y[COND_OUTPUT])
-                     ? "the outputs overflow float64: an input is too large in magnitude"
-                     : "the linkage is at a singular position: the equations have no unique "
-                       "solution");
-            return LK_DISCARD;
-        }
-    return LK_OK;
+    return finite_outputs(y, why, size);
 }
 #else
 static Status drive_evaluate(Instance *in, const Values *v, double *y, char *why, size_t size);
@@ -167,11 +173,11 @@ static Status backend_derivatives(Instance *in, const Values *v, const double *x
  * (theta, omega, alpha, loads). */
 static Status drive_evaluate(Instance *in, const Values *v, double *y, char *why, size_t size) {
     const Model *m = (const Model *)in->model;
-    double x[N_STATES], u[N_INPUTS + 3], mb0, J;
+    double x[N_STATES], dx[N_STATES], u[N_INPUTS + 3];
     for (int k = 0; k < N_STATES; k++) x[k] = v->real[STATES[k]];
-    Status s = moment_and_inertia(m, v, x, &mb0, &J, why, size);
+    Status s = backend_derivatives(in, v, x, dx, why, size);
     if (s != LK_OK) return s;
-    const double alpha = (v->real[INPUTS[0]] - mb0) / J; /* as backend_derivatives */
+    const double alpha = dx[1];
     u[0] = x[0], u[1] = x[1], u[2] = alpha;
     for (int k = 1; k < N_INPUTS; k++) u[2 + k] = v->real[INPUTS[k]];
     double *z = y + KERNEL_OUTPUTS;
@@ -182,19 +188,6 @@ static Status drive_evaluate(Instance *in, const Values *v, double *y, char *why
     }
     y[ALPHA_OUTPUT] = alpha;
     y[DTHETA_OUTPUT] = x[1];
-    for (int k = 0; k < N_KERNEL_OUTPUTS; k++)
-        if (CHECKED[k] && !isfinite(z[k])) {
-            set_text(why, size, COND_OUTPUT >= 0 && isfinite(z[COND_OUTPUT])
-                     ? "the outputs overflow float64: an input is too large in magnitude"
-                     : "the linkage is at a singular position: the equations have no unique "
-                       "solution");
-            return LK_DISCARD;
-        }
-    if (!isfinite(alpha)) {
-        set_text(why, size, "the crank's acceleration overflows float64: an input is too large "
-                 "in magnitude");
-        return LK_DISCARD;
-    }
-    return LK_OK;
+    return finite_outputs(z, why, size);
 }
 #endif

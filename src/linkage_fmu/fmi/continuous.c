@@ -256,18 +256,14 @@ static Status lk_get_event_indicators(void *c, const char *call, size_t n) {
 static Status lk_enter_continuous_time_mode(void *c, const char *call) {
     INSTANCE(c, call);
     if (!in->exchange) return say(in, LK_ERROR, "%s: the instance is for co-simulation", call);
-    if (require(in, call, IN(S_EVENT))) return LK_ERROR;
-    in->machine = S_CONTINUOUS;
-    return LK_OK;
+    return move(in, call, IN(S_EVENT), S_CONTINUOUS);
 }
 
 /* Model exchange's event mode, entered from continuous-time mode (the model has no events:
  * nothing changes but the mode). */
 static Status lk_exchange_event_mode(void *c, const char *call) {
     INSTANCE(c, call);
-    if (require(in, call, IN(S_CONTINUOUS))) return LK_ERROR;
-    in->machine = S_EVENT;
-    return LK_OK;
+    return move(in, call, IN(S_CONTINUOUS), S_EVENT);
 }
 
 /* Nothing happens at the end of an integrator step: no event, no end. */

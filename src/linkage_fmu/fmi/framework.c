@@ -651,11 +651,16 @@ static Status lk_setup(void *c, const char *call, int tolerance_defined, double 
     return LK_OK;
 }
 
+/* A change of mode with nothing else to it: from one of the modes `from` to `to`. */
+static Status move(Instance *in, const char *call, unsigned from, Machine to) {
+    if (require(in, call, from)) return LK_ERROR;
+    in->machine = to;
+    return LK_OK;
+}
+
 static Status lk_enter_initialization(void *c, const char *call) {
     INSTANCE(c, call);
-    if (require(in, call, IN(S_INSTANTIATED))) return LK_ERROR;
-    in->machine = S_INIT;
-    return LK_OK;
+    return move(in, call, IN(S_INSTANTIATED), S_INIT);
 }
 
 static Status lk_exit_initialization(void *c, const char *call) {
@@ -685,17 +690,13 @@ static inline Status lk_enter_event_mode(void *c, const char *call) {
     INSTANCE(c, call);
     if (!in->event_mode_used)
         return say(in, LK_ERROR, "%s: the instance was made with eventModeUsed = false", call);
-    if (require(in, call, IN(S_STEP))) return LK_ERROR;
-    in->machine = S_EVENT;
-    return LK_OK;
+    return move(in, call, IN(S_STEP), S_EVENT);
 }
 
 static inline Status lk_enter_step_mode(void *c, const char *call) {
     INSTANCE(c, call);
     if (in->exchange) return say(in, LK_ERROR, "%s: the instance is for model exchange", call);
-    if (require(in, call, IN(S_EVENT))) return LK_ERROR;
-    in->machine = S_STEP;
-    return LK_OK;
+    return move(in, call, IN(S_EVENT), S_STEP);
 }
 
 /* No discrete state changes: one call settles an event. */
