@@ -70,3 +70,36 @@ def test_a_linkage_that_turns_part_of_a_revolution_is_checked_where_it_assembles
     ref = mech.solve(*(u[n] for n in mech.input_names), method="direct")
     np.testing.assert_allclose(rows["Mb"][~bad], ref["Mb"][~bad], rtol=1e-12,
                                atol=1e-12 * np.nanmax(np.abs(ref["Mb"])))
+
+
+def test_an_fmu_with_fmpys_default_logger_logs_safely_after_a_run(native_dist, tmp_path):
+    """run_fmu registers its own logger with fmpy's logger proxy, which forwards every
+    FMI 2.0 instance's messages in the process to the last logger registered; after the
+    run the proxy is fmpy's printing logger again. A fresh process runs the FMU, then
+    makes an instance with fmpy's default callbacks and a call it refuses with a log:
+    before, that log called the run's freed logger and the process died (SIGSEGV)."""
+    import subprocess
+    import sys
+
+    fmu = native_dist / "FourBar.fmu"
+    script = f"""
+from fmpy import extract, read_model_description
+from fmpy.fmi1 import FMICallException
+from fmpy.fmi2 import FMU2Slave
+from linkage_fmu.fmi.run import run_fmu
+import gc
+run_fmu({str(fmu)!r}, steps=8)
+gc.collect()
+md = read_model_description({str(fmu)!r})
+s = FMU2Slave(guid=md.guid, modelIdentifier="FourBar", unzipDirectory=extract({str(fmu)!r}))
+s.instantiate(loggingOn=True)
+try:
+    s.doStep(0.0, 0.1)  # not initialised: refused with an Error, and a log
+except FMICallException as err:
+    print("refused", err.status)
+s.freeInstance()
+"""
+    run = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                         cwd=tmp_path, timeout=120)
+    assert run.returncode == 0, run.stderr[-2000:]
+    assert "refused 3" in run.stdout and "fmi2DoStep is not allowed in state" in run.stdout

@@ -17,6 +17,9 @@ Examples
 
 from __future__ import annotations
 
+import ctypes
+import functools
+
 import math
 import shutil
 import xml.etree.ElementTree as ET
@@ -151,11 +154,37 @@ def step_fmu(fmu: str | Path, inputs: np.ndarray, start_values: dict | None = No
     finally:
         slave.freeInstance()
         shutil.rmtree(unzipped, ignore_errors=True)
+        if not fmi3:
+            _default_logger()
     rows = pd.DataFrame({n: inputs[n][:-1] for n in inputs.dtype.names})
     rows["solved"] = solved
     for j, name in enumerate(names):
         rows[name] = result[:, j]
     return rows, messages
+
+
+@functools.lru_cache(maxsize=None)
+def _printing_logger():
+    # kept for the life of the process: the proxy holds its address
+    from fmpy.fmi2 import fmi2CallbackLoggerTYPE, printLogMessage
+
+    return fmi2CallbackLoggerTYPE(printLogMessage)
+
+
+def _default_logger() -> None:
+    """Point fmpy's logger proxy back at fmpy's own printing logger. The proxy (it
+    formats the variadic message in C) forwards the messages of every FMI 2.0 instance
+    in the process to the last logger registered with it, so after ours is gone an
+    instance made with fmpy's default callbacks would call freed memory when it logs."""
+    try:
+        from fmpy.logging import addLoggerProxy
+    except Exception:  # no proxy on this platform: nothing was registered
+        return
+    from fmpy.fmi2 import fmi2CallbackFunctions
+
+    callbacks = fmi2CallbackFunctions()  # the proxy takes the logger out of it
+    callbacks.logger = _printing_logger()
+    addLoggerProxy(ctypes.byref(callbacks))
 
 
 def run_fmu(fmu: str | Path, inputs: np.ndarray | None = None, steps: int = 360,
