@@ -15,13 +15,14 @@ Examples
 from pathlib import Path
 
 from . import presets
-from .errors import AssemblyError, OverflowInputError, SingularPositionError
+from .errors import AssemblyError, OverflowInputError, SelfLockingError, SingularPositionError
 from .mechanism import Mechanism, Solution
 from .spec import Description, DescriptionError
 
 __version__ = "0.1.0"
 __all__ = ["presets", "load", "Description", "DescriptionError", "Mechanism", "Solution",
-           "AssemblyError", "SingularPositionError", "OverflowInputError", "__version__"]
+           "AssemblyError", "SingularPositionError", "OverflowInputError", "SelfLockingError",
+           "__version__"]
 
 
 def load(path: str | Path, **parameters) -> Mechanism:

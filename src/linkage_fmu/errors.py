@@ -53,6 +53,32 @@ class SingularPositionError(ValueError):
         super().__init__(f"{mechanism} is singular at {_angle(theta)}: {detail}")
 
 
+class SelfLockingError(ValueError):
+    """Friction locks the linkage: no finite balancing effort moves it at this position.
+
+    Raised for scalar inputs; array inputs get NaN in those states and
+    ``status == LOCKED`` (:data:`linkage_fmu.solver.LOCKED`).
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets, SelfLockingError
+    >>> mech = presets.get("slider_crank", mu_guide=5.0)
+    >>> try:
+    ...     mech.solve(1.2, omega=10.0)
+    ... except SelfLockingError as err:
+    ...     print(str(err).split(":")[0])
+    slider_crank locks at theta = 1.2 rad (68.75 deg)
+    """
+
+    def __init__(self, mechanism: str, theta: float, what: str = ""):
+        self.mechanism = mechanism
+        self.theta = theta
+        #: why, as the FMUs say it (the same words as the kernels' guards, no numbers)
+        self.reason = Reason("locking", what)
+        super().__init__(f"{mechanism} locks at {_angle(theta)}: {what}" if what else
+                         f"{mechanism} locks at {_angle(theta)}")
+
+
 class OverflowInputError(ValueError):
     """Finite inputs whose magnitudes make the outputs overflow float64 (``omega = 1e160``).
 

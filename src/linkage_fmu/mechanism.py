@@ -18,6 +18,7 @@ from . import diagnostics, flywheel, inertia, kinetostatics, motion, numerics
 from .expressions import evaluate
 from .bodies import Body, Effort
 from .errors import AssemblyError
+from .friction import Declared, outputs as friction_outputs, resolve as resolve_friction
 from .groups import FRAME, OWNER, Group, Joint, KinematicState
 from .loads import Load, wrenches
 from .numerics import ARRAY, SCALAR, finite_array, finite_float
@@ -65,13 +66,15 @@ class Mechanism:
         arguments (:mod:`~linkage_fmu.kernels`); None: the parameters are constants.
     start : dict, optional
         Input name -> start value: what an input not given takes (default 0).
+    friction : Declared, optional
+        The friction in its joints (:mod:`~linkage_fmu.friction`); none by default.
     """
 
     def __init__(self, name: str, frame: str, frame_points: dict, groups: Sequence,
                  bodies: Sequence[Body], effort: Effort, outputs: Sequence,
                  loads: Sequence[Load], g: float, parameters: dict | None = None,
                  description=None, rebuild: Callable[[dict], "Mechanism"] | None = None,
-                 start: dict | None = None):
+                 start: dict | None = None, friction: Declared = Declared()):
         self.name, self.frame = name, frame
         self.g = numerics.real(g)
         self.frame_points = {k: (numerics.real(x), numerics.real(y))
@@ -108,6 +111,8 @@ class Mechanism:
         self.cg = {b.name: b.cg for b in self.bodies}
         self.owner = owner
         self.joints = tuple(self._resolve(j) for grp in groups for j in grp.joints)
+        #: the friction in its joints (:class:`~linkage_fmu.friction.LinkageFriction`)
+        self.friction = resolve_friction(self, friction)
         self.effort_on_crank = effort.direction is None and effort.body == groups[0].link
         self.crank = groups[0]
         #: a length of the linkage's size: its fixed link lengths, and, where a group's
@@ -141,7 +146,8 @@ class Mechanism:
         self.input_units = {"theta": "rad", "omega": "rad/s", "alpha": "rad/s2",
                             **{load.name: load.unit for load in self.loads}}
         # every linkage reports what its moving links put on the frame
-        outputs = tuple(outputs) + tuple(Shaking(n, c) for n, c in zip(SHAKING, "xyM"))
+        outputs = tuple(outputs) + friction_outputs(self) + tuple(
+            Shaking(n, c) for n, c in zip(SHAKING, "xyM"))
         #: (name, fn(R, effort, st)) of every output, in output order
         self.output_functions = tuple((o.name, o.bind(self)) for o in outputs)
         #: output name -> (unit, description), diagnostics included
@@ -150,9 +156,11 @@ class Mechanism:
         self.output_names = tuple(o.name for o in outputs)
         self.diagnostic_names = tuple(f"mu_{d.key}" for d in self.dyads) + diagnostics.NAMES
         #: the real-valued parameters, the arguments of its kernels (a branch or a choice
-        #: is structure); none for a linkage built without a description
+        #: is structure, as is a friction with every mu 0); none for a linkage built
+        #: without a description
         self.kernel_parameters = () if rebuild is None else tuple(
-            n for n, v in self.parameters.items() if type(v) is float)
+            n for n, v in self.parameters.items() if type(v) is float and (
+                friction.active or n not in friction.parameters))
         self.output_info.update(diagnostics.info(self))
         #: solves it: plans, kernels, methods (:class:`~linkage_fmu.solver.Solver`)
         self.solver = Solver(self)
@@ -236,7 +244,8 @@ class Mechanism:
         if plan.reactions or plan.effort:
             if not plan.static:
                 order = 2
-            elif not plan.reactions or (plan.method != "direct" and not self.effort_on_crank):
+            elif not plan.reactions or self.friction.active or (
+                    plan.method != "direct" and not self.effort_on_crank):
                 order = 1
         order = max(order, diagnostics.order(self, plan.outputs))
         st = self.kinematics(theta, order, xp)
@@ -248,12 +257,7 @@ class Mechanism:
                 loads = [given.get(ld.name) if ld.computed else next(inputs)
                          for ld in self.loads]
             W = wrenches(self, st, omega, alpha, loads, plan.static)
-            if plan.reactions and plan.method == "direct":
-                R, effort = kinetostatics.direct(self, st, W, xp, 1 if xp.scalar else theta.size)
-            elif plan.reactions:
-                R, effort = kinetostatics.closed_form(self, st, W)
-            else:
-                effort = kinetostatics.virtual_effort(self, st, W)
+            R, effort = kinetostatics.solve(self, st, W, plan, omega, xp)
         out = {}
         for name, fn in self.output_functions:
             if name in plan.outputs:

@@ -68,8 +68,8 @@ def simulate(mech, tau, t, theta0=None, omega0=None, rtol: float = 1e-10,
     ------
     ValueError
         ``t``, ``tau``, ``theta0``, ``omega0``, ``flywheel`` or a load invalid, naming
-        it; a linkage whose effort is not a moment on its crank, or with no inertia
-        reduced to the crank.
+        it; a linkage whose effort is not a moment on its crank, with no inertia
+        reduced to the crank, or with friction in its joints (not modelled here yet).
     AssemblyError, SingularPositionError
         The motion reaches (or the integrator tries) a crank angle at which the linkage
         cannot be assembled, or is singular: raised, naming the time and the angle, no
@@ -154,6 +154,9 @@ def crank_moment(mech, job: str) -> str:
     if not mech.effort_on_crank:
         raise ValueError(f"{mech.name}: its balancing effort {mech.effort.name} does not act "
                          f"on the crank; {job}")
+    if mech.friction.active:  # the acceleration would solve a nonlinear equation
+        raise ValueError(f"{mech.name}: its joints have friction (a mu is not 0), which the "
+                         f"equations of motion do not model yet; {job} without it")
     return mech.effort.name
 
 

@@ -21,6 +21,8 @@ _REAL_KINDS = {
     "force": ("N", "finite", lambda v: True),
     "moment": ("N.m", "finite", lambda v: True),
     "number": ("1", "finite", lambda v: True),
+    "friction": ("1", ">= 0", lambda v: v >= 0.0),
+    "sign": ("1", "+1 or -1", lambda v: v in (1.0, -1.0)),
 }
 #: kind -> the rule of a value of the kinds that are not real numbers
 _OTHER_KINDS = {"branch": "+1 or -1", "choice": "one of its choices"}
@@ -66,7 +68,8 @@ class Parameter:
     """One parameter of a preset: name, default, kind and meaning.
 
     ``kind`` is one of ``length, distance, coordinate, angle, mass, inertia, density,
-    gravity, force, moment, number`` (real numbers with a unit and a rule),
+    gravity, force, moment, number, friction`` (a coefficient, >= 0), ``sign`` (a real
+    +1 or -1: a direction) (real numbers with a unit and a rule),
     ``branch`` (+1 or -1) or ``choice`` (one of ``choices``). ``minimum`` and
     ``maximum``, when given, bound a real value (inclusive). A real value may be given
     as text: a number with a unit of its kind (``"120 mm"``), or an expression of

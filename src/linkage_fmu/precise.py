@@ -31,6 +31,7 @@ def lu_solve(n: int, a: list, b: list):
 #: the direct method solves its linear system with :func:`lu_solve`
 MP = SimpleNamespace(scalar=True, sqrt=mpmath.sqrt, cos=mpmath.cos, sin=mpmath.sin,
                      atan2=mpmath.atan2, abs=abs, maximum=max, lu_solve=lu_solve,
+                     eps=lambda: mpmath.mp.eps * 1000,
                      functions={"sqrt": mpmath.sqrt, "sin": mpmath.sin, "cos": mpmath.cos,
                                 "tan": mpmath.tan, "asin": mpmath.asin, "acos": mpmath.acos,
                                 "atan": mpmath.atan, "atan2": mpmath.atan2,

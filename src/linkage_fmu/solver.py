@@ -29,7 +29,7 @@ import numpy as np
 
 from . import diagnostics, ranges
 from .expressions import evaluate
-from .errors import AssemblyError, OverflowInputError, SingularPositionError
+from .errors import AssemblyError, OverflowInputError, SelfLockingError, SingularPositionError
 from .kernels import TRACE, Kernel, trace
 from .kernels.trace import Reason
 from .numerics import ARRAY, SCALAR, finite_array, finite_float
@@ -46,9 +46,11 @@ WITNESS_ANGLES = (0.3, 1.1, 2.3, 4.0, 5.5, 0.0, 3.0)
 #: states per block of an array solve: its temporaries stay in the CPU caches
 CHUNK = 8192
 #: the status of a state in an array solve
-SOLVED, UNASSEMBLED, SINGULAR, OVERFLOW = 0, 1, 2, 3
+SOLVED, UNASSEMBLED, SINGULAR, OVERFLOW, LOCKED = 0, 1, 2, 3, 4
 STATUS_NAMES = {SOLVED: "solved", UNASSEMBLED: "cannot be assembled", SINGULAR: "singular",
-                OVERFLOW: "overflow"}
+                OVERFLOW: "overflow", LOCKED: "self-locking"}
+#: the errors of a state without outputs
+STATE_ERRORS = (AssemblyError, SingularPositionError, OverflowInputError, SelfLockingError)
 
 
 class Plan(NamedTuple):
@@ -130,7 +132,8 @@ class ArraySolution(Solution):
     @property
     def status(self) -> np.ndarray:
         """Per state: :data:`SOLVED`, :data:`UNASSEMBLED`, :data:`SINGULAR` (the outputs
-        are unbounded) or :data:`OVERFLOW` (an input too large), as int8."""
+        are unbounded), :data:`OVERFLOW` (an input too large) or :data:`LOCKED` (friction
+        locks it), as int8."""
         if self._status is None:
             self._status, self._problems = self._classify(self)
         return self._status
@@ -215,9 +218,11 @@ class Solver:
         if plan is None:
             mech = self.mech
             diag, efforts = set(mech.diagnostic_names), mech.effort_outputs
+            effort = any(n in efforts for n in outputs)
             plan = self._plans[key] = Plan(
-                outputs, static, method, any(n in efforts for n in outputs),
-                any(n not in diag and n not in efforts for n in outputs),
+                outputs, static, method, effort,
+                any(n not in diag and n not in efforts for n in outputs) or (
+                    effort and mech.friction.active),  # the effort needs the reactions
                 bool(diag.intersection(outputs)),
                 tuple(n for n in outputs if n in mech.output_info and n not in diag), given)
         return plan
@@ -484,12 +489,13 @@ class Solver:
             r, k = self._kernel_call(values, wanted)
             if type(r) is tuple and (math.isfinite(sum(r)) or finite([r[i] for i in k.checked])):
                 return r
-            if type(r) is int and r > 0 and k.reasons[r - 1].kind in ("assembly", "singular"):
+            if type(r) is int and r > 0 and \
+                    k.reasons[r - 1].kind in ("assembly", "singular", "locking"):
                 return k.reasons[r - 1]
             method = "interpreted"  # the formulas decide what the kernel does not
         try:
             out = self._interpreted_one(values, method, wanted)
-        except (AssemblyError, SingularPositionError, OverflowInputError) as err:
+        except STATE_ERRORS as err:
             return err.reason
         return tuple(out[n] for n in wanted)
 
@@ -545,8 +551,10 @@ class Solver:
             self._interpreted_arrays([a[rows] for a in flat], "interpreted", ("cond",), out,
                                      np.empty(rows.size, bool), slice(0, rows.size), given)
             status[rows] = np.where(np.isfinite(out["cond"]), OVERFLOW, SINGULAR)
+            if self.mech.friction.active:
+                status[rows[self._locked([a[rows] for a in flat], wanted, given)]] = LOCKED
         problems = {}
-        for code in (UNASSEMBLED, SINGULAR, OVERFLOW):
+        for code in (UNASSEMBLED, SINGULAR, OVERFLOW, LOCKED):
             where = np.flatnonzero(status == code)
             if where.size:
                 i = int(where[0])
@@ -554,8 +562,15 @@ class Solver:
                 try:
                     self._interpreted_one(state, "interpreted", wanted, given)
                     error = None
-                except (AssemblyError, SingularPositionError, OverflowInputError) as err:
+                except STATE_ERRORS as err:
                     error = err
                 reason = error.reason if error is not None else Reason("branch")
                 problems[code] = Problem(reason, str(error or reason.text), i, int(where.size))
         return status.reshape(np.shape(sol.valid)), problems
+
+    def _locked(self, flat, wanted, given=()) -> np.ndarray:
+        """Which of the states ``flat`` friction locks (the formulas on arrays)."""
+        with np.errstate(all="ignore"):
+            plan = self.plan(wanted, False, "interpreted", given)
+            _, st = self.mech.evaluate(plan, flat[0], flat[1], flat[2], flat[3:], ARRAY)
+        return np.zeros(flat[0].size, bool) if st.locked is None else st.locked

@@ -140,7 +140,7 @@ def _assembling(source, parameters: dict):
     ValueError, saying why at theta = 0, if the linkage assembles at no crank angle."""
     mech = linkage(source, **parameters)
     d = mech.description.with_defaults(mech.parameters)
-    mech = d.build()
+    mech = d.fmu_build()
     if not ranges.assembles(mech):
         try:
             mech.kinematics(0.0, order=0)
@@ -255,9 +255,10 @@ def build_native_fmu(source, out: str | Path | None = None, fmi_version: int = 2
     _check_version(fmi_version)
     chosen = select(platforms, fmi_version)
     d, mech = _assembling(source, parameters)
-    if drive:  # refused before anything is traced or compiled
+    if drive:  # refused before anything is traced or compiled; no friction (its mu are 0)
+        mech = d.build(**{n: 0.0 for n in d.friction_parameters(("mu",))})
         writers.table_of(mech, "native", drive)
-    model_c, _ = writers.model_source(mech, d.build, drive)
+    model_c, _ = writers.model_source(mech, d.fmu_build if not drive else d.build, drive)
     model = writers.model_name(mech, drive)
     guid = str(uuid.uuid4())
     out = Path(out or ("dist/native" if fmi_version == 2 else "dist/native3"))

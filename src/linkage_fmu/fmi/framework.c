@@ -283,6 +283,9 @@ static const char *unfit_real(const Variable *v, double value, char *why, size_t
     else if (v->rule == RULE_NONNEGATIVE && !(value >= 0.0))
         snprintf(why, size, "%s must be >= 0 (%s), got %s", v->name, v->meaning,
                  shortest(value, a, sizeof a));
+    else if (v->rule == RULE_SIGN && !(value == 1.0 || value == -1.0))
+        snprintf(why, size, "%s must be +1 or -1 (%s), got %s", v->name, v->meaning,
+                 shortest(value, a, sizeof a));
     else if (value < v->min)
         snprintf(why, size, "%s must be >= %s (%s), got %s", v->name, shortest(v->min, b, sizeof b),
                  v->meaning, shortest(value, a, sizeof a));

@@ -24,7 +24,7 @@ enum { T_REAL, T_INTEGER, T_BOOLEAN, T_STRING };
  * the values, set only by the model-exchange call or from its start parameter) */
 enum { K_INPUT, K_FIXED, K_TUNABLE, K_OUTPUT, K_OTHER, K_STATE };
 /* the rule a real parameter's value meets */
-enum { RULE_FINITE, RULE_POSITIVE, RULE_NONNEGATIVE };
+enum { RULE_FINITE, RULE_POSITIVE, RULE_NONNEGATIVE, RULE_SIGN };
 
 typedef struct {
     int type;

@@ -118,8 +118,9 @@ def _output(mech, name: str, inputs: tuple, index: int) -> Variable:
                     text, None, depends, index=index)
 
 
-def _parameters(mech) -> list[Variable]:
-    """The variables of the parameters of the linkage's description."""
+def _parameters(mech, zero: frozenset = frozenset()) -> list[Variable]:
+    """The variables of the parameters of the linkage's description; those in ``zero``
+    are 0 and can only be 0."""
     table = []
     for k, p in enumerate(mech.description.parameter_specs()):
         value = mech.parameters[p.name]
@@ -131,6 +132,10 @@ def _parameters(mech) -> list[Variable]:
                                   f"{p.description} (one of {', '.join(map(str, p.choices))})",
                                   str(value), index=k, rule=_one_of(p.choices),
                                   options=tuple(map(str, p.choices))))
+        elif p.name in zero:
+            table.append(Variable(p.name, "Real", "parameter", "fixed", p.unit, "",
+                                  f"{p.description} (0 here: this model has no friction)",
+                                  0.0, index=k, rule=p.rule, minimum=0.0, maximum=0.0))
         else:
             table.append(Variable(
                 p.name, "Real", "parameter", "fixed", p.unit, "deg" if p.unit == "rad" else "",
@@ -148,7 +153,9 @@ TOLERANCE, FINEST = 1e-8, 1e-14
 def drive_variables(mech) -> list[Variable]:
     """The variable table of the drive FMU of ``mech``: the linkage driven by a moment
     ``tau`` on its crank, its motion integrated from ``theta0`` and ``omega0`` (the
-    linkage's start values) to the tolerance ``tolerance``.
+    linkage's start values) to the tolerance ``tolerance``. Its equations of motion have
+    no joint friction: its coefficients of friction are parameters fixed at 0 (another
+    value is refused).
 
     Raises
     ------
@@ -166,7 +173,7 @@ def drive_variables(mech) -> list[Variable]:
         text = load.description or f"{load.kind} on link {load.body}"
         table.append(Variable(load.name, "Real", "input", "continuous", load.unit, "", text,
                               float(load.start), index=k))
-    table += _parameters(mech)
+    table += _parameters(mech, mech.description.friction_parameters(("mu",)))
     n = len(mech.description.parameters)
     for k, name in enumerate(("theta", "omega")):
         unit, display, text = _MOTION_INFO[name]

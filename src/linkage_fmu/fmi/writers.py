@@ -57,7 +57,7 @@ LOG_CATEGORIES = ("logStatusWarning", "logStatusDiscard", "logStatusError", "log
 #: the C framework's names of the types, kinds and rules
 _TYPES = {"Real": "REAL", "Integer": "INTEGER", "Boolean": "BOOLEAN", "String": "STRING"}
 _TYPES3 = {"Real": "Float64", "Integer": "Int32", "Boolean": "Boolean", "String": "String"}
-_RULES = {"finite": "FINITE", "> 0": "POSITIVE", ">= 0": "NONNEGATIVE"}
+_RULES = {"finite": "FINITE", "> 0": "POSITIVE", ">= 0": "NONNEGATIVE", "+1 or -1": "SIGN"}
 _TOOLS = {"pythonfmu": "pythonfmu {pythonfmu} behind the linkage_fmu FMI framework",
           "native": "linkage_fmu {version} (native C kernels)"}
 

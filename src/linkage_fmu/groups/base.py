@@ -54,12 +54,15 @@ class KinematicState:
         Link name -> unit direction ``(cos phi, sin phi)``, ``phi'``, ``phi''``.
     invalid : ndarray of bool or None
         For arrays, the states that could not be assembled.
+    locked : ndarray of bool or None
+        For arrays, the states that friction locks (:mod:`~linkage_fmu.friction`).
     on_invalid : callable
         ``on_invalid(condition, what)`` raises for a scalar state (set by the mechanism):
         ``condition`` says what failed with its numbers, ``what`` without them.
     """
 
-    __slots__ = ("theta", "xp", "p", "d1", "d2", "u", "w1", "w2", "invalid", "on_invalid")
+    __slots__ = ("theta", "xp", "p", "d1", "d2", "u", "w1", "w2", "invalid", "locked",
+                 "on_invalid")
 
     def __init__(self, theta: Number, xp, on_invalid: Callable[[str], None] | None = None):
         self.theta = theta
@@ -71,6 +74,7 @@ class KinematicState:
         self.w1: dict = {}
         self.w2: dict = {}
         self.invalid = None
+        self.locked = None
         self.on_invalid = on_invalid or _raise_value_error
 
     def velocity(self, point: str, omega: Number) -> Vec:

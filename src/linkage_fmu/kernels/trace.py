@@ -47,7 +47,8 @@ class Node:
 @dataclass(frozen=True)
 class Reason:
     """Why a guard fails: ``kind`` is ``'assembly'`` (the state cannot be assembled),
-    ``'singular'`` (the reactions are unbounded), ``'parameter'`` (a check of the
+    ``'singular'`` (the reactions are unbounded), ``'locking'`` (friction locks the
+    linkage: no finite balancing effort), ``'parameter'`` (a check of the
     parameter step) or ``'branch'`` (the state takes a branch the trace did not), and
     ``what`` says which condition, without numbers.
 
@@ -67,6 +68,7 @@ class Reason:
                 "singular": "the linkage is at a singular position",
                 "parameter": "the parameter set is invalid",
                 "branch": "the state takes another branch than the kernel was traced on",
+                "locking": "friction locks the linkage",
                 "overflow": "the outputs overflow float64"}[self.kind]
         return f"{head}: {self.what}" if self.what else head
 

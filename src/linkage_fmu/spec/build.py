@@ -13,16 +13,20 @@ from ..loads import Load
 from ..mechanism import Mechanism
 from ..outputs import Couple, Derived, EffortOutput, Force, Magnitude, Normal
 from ..expressions import Expression
+from ..friction import Declared, Friction
 from ..parameters import resolve
 from ..tables import PeriodicTable
 
 
-def build(d, given: dict, symbols: dict | None = None) -> Mechanism:
+def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -> Mechanism:
     """The linkage ``d`` (checked) with the parameter values ``given`` over its defaults.
 
     With ``symbols`` (parameter name -> traced number, see
     :mod:`~linkage_fmu.kernels.trace`), those parameters enter as the traced numbers:
     everything computed from them is recorded, so a kernel takes them as arguments.
+    The friction of the joints is solved where a ``mu`` is not 0, or with ``friction``
+    (an FMU, whose parameters change after it is built); otherwise its parameters are
+    no kernel arguments (:class:`~linkage_fmu.friction.Declared`).
     Their values were checked as floats (``given``); the rules on computed values (every
     one finite, a length > 0) are recorded as checks of the kernel's parameter step, so
     that it refuses exactly the parameter sets this function refuses. The mechanism can
@@ -54,13 +58,21 @@ def build(d, given: dict, symbols: dict | None = None) -> Mechanism:
             if rule == "length":
                 x > 0.0  # noqa: B015
                 numerics.label(x, Reason("parameter", f"{where} = {source!r} must be > 0"))
+            elif rule in ("friction", "distance"):
+                x >= 0.0  # noqa: B015
+                numerics.label(x, Reason("parameter", f"{where} = {source!r} must be >= 0"))
+            elif rule == "sign":
+                abs(abs(x) - 1.0) <= 0.0  # noqa: B015 -- an order comparison: recorded
+                numerics.label(x, Reason("parameter", f"{where} = {source!r} must be +1 or -1"))
             return x
         if not math.isfinite(x):
             raise ValueError(f"{d.name}: {where} = {source!r} = {x!r} is not finite")
         if rule == "length" and not x > 0.0:
             raise ValueError(f"{d.name}: {where} = {source!r} = {x!r} must be > 0")
-        if rule == "branch" and x not in (1.0, -1.0):
+        if rule in ("branch", "sign") and x not in (1.0, -1.0):
             raise ValueError(f"{d.name}: {where} = {source!r} = {x!r} must be +1 or -1")
+        if rule in ("friction", "distance") and not x >= 0.0:
+            raise ValueError(f"{d.name}: {where} = {source!r} = {x!r} must be >= 0")
         return x
 
     def start(where: str, source) -> float:
@@ -156,12 +168,30 @@ def build(d, given: dict, symbols: dict | None = None) -> Mechanism:
                 if unit == "N.m" else "balancing force")))
         else:
             outputs.append(Derived(name, spec["expression"], spec.get("unit", "N"), text))
+    declared = _friction(d, number, friction)
+
     def rebuild(traced: dict) -> Mechanism:
-        return build(d, given, traced)
+        return build(d, given, traced, declared.active)
 
     return Mechanism(d.name, d.frame, frame_points, groups, bodies, effort, outputs, loads,
                      number("[linkage] gravity", d.gravity), params, d, rebuild,
-                     {k: start(f"[inputs] {k}", v) for k, v in d.inputs.items()})
+                     {k: start(f"[inputs] {k}", v) for k, v in d.inputs.items()}, declared)
+
+
+def _friction(d, number, forced: bool) -> Declared:
+    """The friction of the description ``d``'s joints, its values by ``number``."""
+    if not d.friction:
+        return Declared()
+    frictions = []
+    for joint, spec in d.friction.items():
+        where = f"[friction.{joint}]"
+        frictions.append(Friction(joint, number(f"{where} mu", spec["mu"], "friction"),
+                                  *(number(f"{where} {k}", spec[k], rule)
+                                    if k in spec else None
+                                    for k, rule in (("radius", "distance"), ("length", "length")))))
+    drive = number("[linkage] drive", d.drive, "sign")
+    active = forced or any(hasattr(f.mu, "traced") or f.mu != 0.0 for f in frictions)
+    return Declared(tuple(frictions), drive, active, d.friction_parameters())
 
 
 @functools.lru_cache(maxsize=32)

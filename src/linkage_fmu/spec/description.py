@@ -87,6 +87,8 @@ TABLES: dict[str, tuple[str, str]] = {
                            "force), or which effort each value of a choice parameter takes"),
     "outputs": ("[[outputs]]", "what the linkage reports besides the outputs every linkage "
                                "has"),
+    "friction": ("[friction.J]", "Coulomb friction in the pair J: its coefficient, and a "
+                                 "revolute pair's pin radius or a slider's length"),
     "inputs": ("[inputs]", "start values of the crank's motion"),
 }
 #: key of [linkage] -> what it is
@@ -97,6 +99,16 @@ LINKAGE_KEYS = {
     "frame": "name of the frame body in output names (default \"0\")",
     "gravity": "gravitational acceleration along -y, m/s2 (default 0; usually the "
                "parameter g)",
+    "drive": "the crank's drive direction, +1 (counter-clockwise, default) or -1: where "
+             "the crank stands, friction opposes the motion it would start this way",
+}
+#: key of a [friction.J] table -> what it is
+FRICTION_KEYS = {
+    "mu": "coefficient of friction, >= 0 (required)",
+    "radius": "pin radius of a revolute pair, m, >= 0 (required for a revolute pair): "
+              "friction moment mu * radius * |R|",
+    "length": "length of the slider of a prismatic pair, m, > 0 (optional): friction "
+              "mu * (|N1| + |N2|) from its two end contacts, mu * |N| without it",
 }
 #: key of a parameter's table in [parameters] -> what it is
 PARAMETER_KEYS = {
@@ -244,6 +256,8 @@ class Description:
         Name of the frame body in output names.
     gravity : number or expression
         Gravitational acceleration along -y (usually the parameter ``g``).
+    drive : number or expression
+        The crank's drive direction, +1 or -1 (see :mod:`~linkage_fmu.friction`).
     source : str
         Where the description came from, for messages (a file path).
     """
@@ -253,6 +267,7 @@ class Description:
     model: str = ""
     frame: str = "0"
     gravity: Any = 0.0
+    drive: Any = 1.0
     source: str = field(default="<python>", compare=False)
     parameters: dict = field(default_factory=dict)
     points: dict = field(default_factory=dict)
@@ -262,6 +277,7 @@ class Description:
     efforts: dict = field(default_factory=dict)
     outputs: list = field(default_factory=list)
     inputs: dict = field(default_factory=lambda: dict.fromkeys(INPUT_NAMES, 0.0))
+    friction: dict = field(default_factory=dict)
     _checked: bool = field(default=False, repr=False, compare=False)
 
     # -- the builder -----------------------------------------------------------------
@@ -338,6 +354,15 @@ class Description:
         self.outputs.append({"kind": kind, **fields})
         return self._changed()
 
+    def joint_friction(self, joint: str, mu: Any, radius: Any = None,
+                       length: Any = None) -> "Description":
+        """Coulomb friction in the pair ``joint``: coefficient ``mu``, and the pin
+        ``radius`` of a revolute pair or the ``length`` of a prismatic pair's slider."""
+        spec = {"mu": mu}
+        spec.update({k: v for k, v in (("radius", radius), ("length", length)) if v is not None})
+        self.friction[joint] = spec
+        return self._changed()
+
     def start(self, **values: float) -> "Description":
         """Start values of the inputs theta, omega, alpha."""
         self.inputs.update(values)
@@ -368,7 +393,7 @@ class Description:
                                 f"{', '.join(LINKAGE_KEYS)}")
         d = cls(name=str(head.get("name", Path(source).stem)), title=str(head.get("title", "")),
                 model=str(head.get("model", "")), frame=str(head.get("frame", "0")),
-                gravity=head.get("gravity", 0.0), source=source)
+                gravity=head.get("gravity", 0.0), drive=head.get("drive", 1.0), source=source)
         problems += _read_tables(d, data)
         checker = _Checker(d)
         problems += checker.problems()  # every problem at once, not the reading ones first
@@ -413,6 +438,29 @@ class Description:
 
         return build(self.check(), parameters)
 
+    def fmu_build(self, **parameters) -> "Mechanism":  # noqa: F821
+        """:meth:`build` for an FMU: the friction of the joints is solved even where every
+        ``mu`` is 0 now, since an FMU's parameters change after it is built."""
+        from .build import build
+
+        return build(self.check(), parameters, friction=True)
+
+    def friction_parameters(self, keys: tuple = ("mu", "radius", "length")) -> frozenset:
+        """The parameters the ``keys`` of the [friction.J] tables use (with ``radius``,
+        also those of ``drive``).
+
+        Examples
+        --------
+        >>> from linkage_fmu import presets
+        >>> sorted(presets.preset("slider_crank").friction_parameters(("mu",)))
+        ['mu_A', 'mu_B', 'mu_O', 'mu_guide']
+        """
+        names = {n for spec in self.friction.values() for k, v in spec.items() if k in keys
+                 for n in Expression(v).names}
+        if "radius" in keys:
+            names.update(Expression(self.drive).names)
+        return frozenset(names)
+
     def copy(self) -> "Description":
         return copy.deepcopy(self)
 
@@ -438,6 +486,8 @@ class Description:
         lines += [f"{k} = {_toml(v)}" for k, v in (("name", self.name), ("title", self.title),
                                                    ("model", self.model), ("frame", self.frame),
                                                    ("gravity", self.gravity))]
+        if self.drive != 1.0:
+            lines.append(f"drive = {_toml(self.drive)}")
         lines += ["", "[parameters]"]
         for name, p in self.parameters.items():
             spec = {"default": p["default"], "kind": p["kind"], "description": p["description"]}
@@ -463,6 +513,8 @@ class Description:
         for spec in self.outputs:
             lines += ["", "[[outputs]]"] + [f"{_key(k)} = {_toml(v)}" for k, v in spec.items()]
         lines += ["", "[inputs]"] + [f"{k} = {_toml(v)}" for k, v in self.inputs.items()]
+        for joint, spec in self.friction.items():
+            lines += ["", f"[friction.{_key(joint)}]"] + [f"{k} = {_toml(v)}" for k, v in spec.items()]
         return "\n".join(lines) + "\n"
 
 
@@ -536,6 +588,12 @@ def _read_tables(d: Description, data: dict) -> list[str]:
             problems.append(f"[[outputs]] #{k + 1}: must be a table")
             continue
         d.outputs.append(dict(spec))
+    for joint, spec in table("friction").items():
+        where = f"[friction.{joint}]"
+        if not isinstance(spec, dict):
+            problems.append(f"{where}: must be a table {{ mu, radius }} or {{ mu, length }}")
+            continue
+        d.friction[joint] = dict(spec)
     inputs = table("inputs")
     for key, value in inputs.items():
         if key not in INPUT_NAMES:
@@ -591,6 +649,7 @@ class _Checker:
         self.placed: dict[str, str] = {}  # point -> where it was placed
         self.links: dict[str, str] = {}  # moving link -> where it was added
         self.joints: dict[str, str] = {}  # pair -> where it was made
+        self.prismatic: set = set()  # the pairs that slide
         self.load_names: list = []
         # names a load or output cannot take: inputs, parameters, the outputs every
         # linkage has
@@ -603,7 +662,7 @@ class _Checker:
     def problems(self) -> list[str]:
         """Check every table (once per checker); the problems, in the order of the tables."""
         for table in (self.linkage, self.parameters, self.inputs, self.points, self.groups,
-                      self.bodies, self.loads, self.effort, self.outputs):
+                      self.bodies, self.loads, self.effort, self.outputs, self.friction):
             table()
         return self.found
 
@@ -654,6 +713,7 @@ class _Checker:
             self.found.append(f"[linkage] model: {self.d.model!r} must be a C identifier (the "
                               "FMU's model identifier)")
         self.expr("[linkage] gravity", self.d.gravity, unit="m/s2")
+        self.expr("[linkage] drive", self.d.drive)
 
     def parameters(self) -> None:
         for name, p in self.d.parameters.items():
@@ -755,6 +815,32 @@ class _Checker:
                                   f"{self.joints[joint]}: a point may join two links only; "
                                   "name the points apart")
             self.joints[joint] = where
+        self.prismatic.update(spec[k] for k, f in cls.FIELDS.items()
+                              if f.role == "new joint" and isinstance(spec.get(k), str))
+
+    def friction(self) -> None:
+        for joint, spec in self.d.friction.items():
+            where = f"[friction.{joint}]"
+            if joint not in self.joints:
+                self.found.append(f"{where}: {joint!r} is no pair of the linkage; its pairs "
+                                  f"are {', '.join(self.joints) or 'none'}")
+                continue
+            unknown = set(spec) - set(FRICTION_KEYS)
+            if unknown:
+                self.found.append(f"{where}: unknown key(s) {', '.join(sorted(unknown))}; the "
+                                  f"keys are {', '.join(FRICTION_KEYS)}")
+            sliding = joint in self.prismatic
+            needed = ("mu",) if sliding else ("mu", "radius")
+            for key in needed:
+                if key not in spec:
+                    self.found.append(f"{where} {key}: missing")
+            wrong = "radius" if sliding else "length"
+            if wrong in spec:
+                self.found.append(f"{where} {wrong}: a {'prismatic' if sliding else 'revolute'} "
+                                  f"pair has no {wrong}")
+            for key, unit in (("mu", ""), ("radius", "m"), ("length", "m")):
+                if key in spec and key != wrong:
+                    self.expr(f"{where} {key}", spec[key], unit=unit)
 
     def field(self, where: str, f: Field, value: Any, added: dict[str, list]) -> None:
         """One field of a group, by its role; new points and links go to ``added``."""

@@ -1,0 +1,689 @@
+"""Coulomb friction in the joints: the friction of each pair, solved with the reactions.
+
+A revolute pair of pin radius ``r`` and coefficient ``mu`` resists the relative rotation
+of its two links with a moment ``mu * r * |R|``; a prismatic pair resists their relative
+sliding with a force ``mu * |N|``, or, for a slider of length ``l``, ``mu * (|N1| +
+|N2|)`` with ``N1, N2 = N/2 -+ M/l`` its two end contacts (the two coincide with
+``mu * |N|`` until the couple ``M`` cocks the slider). Each friction value is reported
+as the action of the pair's body ``a`` on its body ``b``: a moment (revolute) or a force
+along the pair's tangent ``t`` (prismatic, ``t`` the direction whose left normal is the
+pair's normal), applied at the pair's point.
+
+The friction opposes the relative motion ``c * omega``, ``c`` the first-order
+coefficient of the relative rotation or sliding; where the crank stands (``omega = 0``,
+a static scene) it opposes the motion the crank would start in its drive direction
+``drive`` (+1 counter-clockwise, -1 clockwise); a pair with no relative motion (``c =
+0``) has none.
+
+The friction values depend on the reactions, which depend on them: the equations are
+nonlinear. :func:`closed_form` keeps the frictionless solution's structure, group by
+group from the last back to the crank: a group's reactions are affine in the friction of
+its own joints (its statics is linear in its links' wrenches), so each group solves a
+Newton iteration on its own friction values (at most three) from the frictionless
+solution, and then its statics once with them. A balancing effort away from the crank
+is found by a secant iteration on the virtual power balance over those group solves.
+:func:`direct` is the reference: Newton on the whole assembled system of equations.
+Every path takes the same :data:`ITERATIONS` steps first (a traced kernel takes exactly
+those, then checks that they converged), so that the floats are the same everywhere; a
+state they do not settle continues up to :data:`MAX_ITERATIONS`. A position at which
+the iteration has no solution reached from the frictionless one (the Jacobian's
+determinant falls to zero on the way: the reactions grow without bound) is
+self-locking: :class:`~linkage_fmu.errors.SelfLockingError` for one state, NaN and
+:attr:`KinematicState.locked <linkage_fmu.groups.KinematicState>` for arrays.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+from . import numerics
+from .groups.base import Joint, KinematicState, push
+from .kernels.trace import Reason
+from .numerics import ARRAY
+
+#: Newton steps every path takes, the traced kernels' exactly (then they check them)
+ITERATIONS = 5
+#: steps at most, for a state the first ones do not settle
+MAX_ITERATIONS = 60
+#: converged: the last step is at most this fraction of the friction values' size
+TOLERANCE = 1e-13
+#: the smallest positive double: ``x / max(|x|, TINY)`` is the sign of ``x``, 0 at 0
+TINY = 5e-324
+
+
+@dataclass(frozen=True)
+class Friction:
+    """The friction of the pair ``joint`` as declared: its coefficient ``mu`` (>= 0), and
+    for a revolute pair the pin ``radius`` (>= 0), for a prismatic pair optionally the
+    slider's ``length`` (> 0). Values may be traced numbers (kernel parameters)."""
+
+    joint: str
+    mu: float
+    radius: float | None = None
+    length: float | None = None
+
+
+class JointFriction(NamedTuple):
+    """A friction resolved on the linkage: the pair, its values, the output's name."""
+
+    joint: Joint
+    mu: float
+    radius: float
+    length: float | None
+
+    @property
+    def revolute(self) -> bool:
+        return self.joint.normal is None
+
+    @property
+    def output(self) -> str:
+        """``Mf_<joint>`` (a moment, N.m) or ``Ff_<joint>`` (a force, N)."""
+        return f"{'Mf' if self.revolute else 'Ff'}_{self.joint.name}"
+
+
+class Declared(NamedTuple):
+    """The friction a linkage is built with: each pair's (:class:`Friction`), the crank's
+    ``drive`` direction, whether it is ``active`` (False: every ``mu`` is 0, and the
+    linkage is solved without it, its outputs zero), and the ``parameters`` that only
+    the friction uses (constants of the kernels while it is not active)."""
+
+    frictions: tuple = ()
+    drive: float = 1.0
+    active: bool = False
+    parameters: frozenset = frozenset()
+
+
+class LinkageFriction(NamedTuple):
+    """The friction of a linkage: every pair's, per group the pairs it closes, whether
+    it is solved (``active``) and the crank's ``drive`` direction."""
+
+    joints: tuple  # JointFriction
+    groups: tuple  # per group of the mechanism: tuple of JointFriction
+    active: bool = False
+    drive: float = 1.0
+
+
+NONE = LinkageFriction((), ())
+
+
+def resolve(mech, declared: Declared) -> LinkageFriction:
+    """The friction ``declared`` on ``mech``'s resolved joints.
+
+    Raises
+    ------
+    ValueError
+        A friction of a pair the linkage does not have, declared twice, or with values
+        that do not fit its pair (a radius on a prismatic pair, a length on a revolute).
+    """
+    if not declared.frictions:
+        return NONE
+    joints = {j.name: j for j in mech.joints}
+    by_name = {}
+    for f in declared.frictions:
+        j = joints.get(f.joint)
+        if j is None:
+            raise ValueError(f"{mech.name}: friction of {f.joint!r}, which is no pair of the "
+                             f"linkage; its pairs are: {', '.join(joints)}")
+        if f.joint in by_name:
+            raise ValueError(f"{mech.name}: the friction of {f.joint} is given twice")
+        if j.normal is None and (f.length is not None or f.radius is None):
+            raise ValueError(f"{mech.name}: friction of {f.joint}: a revolute pair has a "
+                             "mu and a radius (no length)")
+        if j.normal is not None and f.radius is not None:
+            raise ValueError(f"{mech.name}: friction of {f.joint}: a prismatic pair has a "
+                             "mu and optionally a length (no radius)")
+        by_name[f.joint] = JointFriction(j, f.mu, f.radius, f.length)
+    groups, k = [], 0
+    for grp in mech.groups:
+        n = len(grp.joints)
+        groups.append(tuple(by_name[j.name] for j in mech.joints[k:k + n] if j.name in by_name))
+        k += n
+    return LinkageFriction(tuple(by_name[j.name] for j in mech.joints if j.name in by_name),
+                           tuple(groups), declared.active, declared.drive)
+
+
+class Reactions(dict):
+    """Reactions by joint name (as :mod:`~linkage_fmu.kinetostatics` gives them), with
+    the friction: ``friction`` (joint name -> moment or force of body a on body b),
+    ``P_loss`` (the power it dissipates), ``ideal`` (the balancing effort without it,
+    by virtual power) and ``direction`` (the sign of the crank's motion)."""
+
+    __slots__ = ("friction", "P_loss", "ideal", "direction")
+
+
+# -- the pieces, on any kind of number ---------------------------------------------------
+def sign(xp, x):
+    """-1, 0 or +1 as ``x``; NaN for NaN. No comparison: the kernels trace it as two
+    operations, the same on every path."""
+    return x / xp.maximum(xp.abs(x), TINY)
+
+
+def direction(drive, omega, static: bool, xp):
+    """The sign of the crank's motion: of ``omega``, or ``drive`` where it is 0."""
+    if static:
+        return drive
+    s = sign(xp, omega)
+    return s + (1.0 - xp.abs(s)) * drive
+
+
+def _velocity(mech, st: KinematicState, body: str, point: str):
+    """First-order coefficient of the velocity of ``body``'s material point at ``point``."""
+    if body == mech.frame:
+        return 0.0, 0.0
+    cg = mech.cg[body]
+    (vx, vy), (px, py), (sx, sy) = st.d1[cg], st.p[point], st.p[cg]
+    w = st.w1[body]
+    return vx - w * (py - sy), vy + w * (px - sx)
+
+
+def _omega(mech, st: KinematicState, body: str):
+    return 0.0 if body == mech.frame else st.w1[body]
+
+
+def tangent(j: Joint, st: KinematicState):
+    """The tangent of a prismatic pair: the direction whose left normal is its normal."""
+    nx, ny = j.normal_at(st)
+    return ny, -nx
+
+
+def coefficient(mech, st: KinematicState, jf: JointFriction):
+    """First-order coefficient of the relative motion of the pair: ``phi_b' - phi_a'``
+    (revolute), or the sliding of ``b`` on ``a`` along the tangent (prismatic)."""
+    j = jf.joint
+    if jf.revolute:
+        return _omega(mech, st, j.b) - _omega(mech, st, j.a)
+    (ax, ay), (bx, by) = _velocity(mech, st, j.a, j.point), _velocity(mech, st, j.b, j.point)
+    tx, ty = tangent(j, st)
+    return (bx - ax) * tx + (by - ay) * ty
+
+
+def apply(mech, st: KinematicState, W: dict, jf: JointFriction, f) -> None:
+    """Add the friction ``f`` of the pair (on body b; ``-f`` on body a) to the wrenches."""
+    j = jf.joint
+    if jf.revolute:
+        for body, v in ((j.b, f), (j.a, -f)):
+            if body != mech.frame:
+                W[body][2] = W[body][2] + v
+        return
+    tx, ty = tangent(j, st)
+    push(mech, st, W, j.b, j.point, f * tx, f * ty)
+    push(mech, st, W, j.a, j.point, -f * tx, -f * ty)
+
+
+def law(xp, jf: JointFriction, s, reaction):
+    """The friction of the pair for its reaction (``(Fx, Fy)`` or ``(N, M)``) and
+    motion sign ``s``, and its derivatives by the reaction's two components."""
+    a, b = reaction
+    if jf.revolute:
+        size = xp.sqrt(a * a + b * b)
+        k = -jf.mu * jf.radius * s
+        inv = 1.0 / xp.maximum(size, TINY)
+        return k * size, k * a * inv, k * b * inv
+    k = -jf.mu * s
+    if jf.length is None:
+        return k * xp.abs(a), k * sign(xp, a), 0.0 * a
+    n1, n2 = 0.5 * a - b / jf.length, 0.5 * a + b / jf.length
+    s1, s2 = sign(xp, n1), sign(xp, n2)
+    return k * (xp.abs(n1) + xp.abs(n2)), k * 0.5 * (s1 + s2), k * (s2 - s1) / jf.length
+
+
+def _solve(J: list, g: list) -> list:
+    """``J^-1 g`` for a small system, by elimination without pivoting (``J`` is the
+    identity plus friction terms: its diagonal stays near 1 until self-locking)."""
+    n = len(g)
+    J = [list(row) for row in J]
+    g = list(g)
+    for k in range(n):
+        for i in range(k + 1, n):
+            r = J[i][k] / J[k][k]
+            for c in range(k + 1, n):
+                J[i][c] = J[i][c] - r * J[k][c]
+            g[i] = g[i] - r * g[k]
+    x = [0.0] * n
+    for i in reversed(range(n)):
+        v = g[i]
+        for c in range(i + 1, n):
+            v = v - J[i][c] * x[c]
+        x[i] = v / J[i][i]
+    return x
+
+
+def _determinant(J: list):
+    n = len(J)
+    if n == 1:
+        return J[0][0]
+    if n == 2:
+        return J[0][0] * J[1][1] - J[0][1] * J[1][0]
+    return sum(J[0][c] * _determinant([row[:c] + row[c + 1:] for row in J[1:]]) * (-1.0) ** c
+               for c in range(n))
+
+
+def _tolerance(xp) -> float:
+    eps = getattr(xp, "eps", None)
+    return TOLERANCE if eps is None else eps()
+
+
+# -- the iterations: the same steps on floats, arrays, mpmath and traced numbers ----------
+def _label(reason: Reason, *values) -> None:
+    for v in values:
+        if hasattr(v, "tape"):
+            numerics.label(v, reason)
+            return
+
+
+def iterate(xp, x: list, step, fail, what: str) -> list:
+    """``x <- x - d`` with ``(d, det) = step(x)``: :data:`ITERATIONS` steps, then more
+    (to :data:`MAX_ITERATIONS`) while the last step exceeds :data:`TOLERANCE` of ``x``;
+    ``det`` (or None) must stay > 0. On floats (and traced numbers, where the checks are
+    the kernel's guards) ``fail()`` raises where it does not converge or ``det <= 0``;
+    on arrays, those states get NaN and ``fail(bad)`` is told which."""
+    tol = TOLERANCE if getattr(xp, "eps", None) is None else xp.eps()
+    reason = Reason("locking", what)
+    done = det = None
+    for k in range(MAX_ITERATIONS):
+        d, det = step(x)
+        if done is None:
+            x = [a - b for a, b in zip(x, d)]
+        else:  # arrays: the states converged stay as they are
+            x = [np.where(done, a, a - b) for a, b in zip(x, d)]
+        if k + 1 < ITERATIONS:
+            continue
+        moved, size = sum(xp.abs(b) for b in d), sum(xp.abs(a) for a in x)
+        converged = moved <= tol * size
+        if xp.scalar:
+            _label(reason, moved, size)
+            if converged:
+                break
+        else:
+            done = converged if done is None else done | converged
+            if done.all():
+                break
+    else:
+        if xp.scalar:
+            fail()
+        else:
+            fail(~done)
+            x = [np.where(done, a, np.nan) for a in x]
+    if det is not None:
+        held = det > 0.0
+        if xp.scalar:
+            _label(reason, det)
+            if not held:
+                fail()
+        elif not held.all():
+            fail(~held)
+            x = [np.where(held, a, np.nan) for a in x]
+    return x
+
+
+def _scratch(W: dict | None, links) -> dict:
+    """Wrenches for a trial solve of a group: its links' (copies, or zeros), and zeros
+    for the bodies its statics pushes reactions onto."""
+    out = _Zeros()
+    for link in links:
+        out[link] = list(W[link]) if W is not None else [0.0, 0.0, 0.0]
+    return out
+
+
+class _Zeros(dict):
+    def __missing__(self, key):
+        value = self[key] = [0.0, 0.0, 0.0]
+        return value
+
+
+def solve_group(mech, st: KinematicState, grp, pairs: tuple, W: dict, R: dict,
+                s: dict) -> object:
+    """The statics of ``grp`` with the friction of its ``pairs`` (signs of motion ``s``
+    by joint name): its reactions are ``R0 + K m`` in the friction values ``m`` (one
+    trial solve each), ``m`` solves ``m = law(R0 + K m)`` by Newton from 0, then the
+    statics runs once with the friction applied. Returns what the statics returns."""
+    if not pairs:
+        return grp.statics(mech, st, W, R)
+    xp = st.xp
+    names = [jf.joint.name for jf in pairs]
+    trial: dict = {}
+    grp.statics(mech, st, _scratch(W, grp.links), trial)
+    r0 = [trial[n] for n in names]
+    K = []
+    for jf in pairs:
+        unit, trial = _scratch(None, grp.links), {}
+        apply(mech, st, unit, jf, 1.0)
+        grp.statics(mech, st, unit, trial)
+        K.append([trial[n] for n in names])
+    n = len(pairs)
+
+    def step(m):
+        first = m[0] is None
+        laws = []
+        for i, jf in enumerate(pairs):
+            a, b = r0[i]
+            if not first:
+                for k in range(n):
+                    a, b = a + m[k] * K[k][i][0], b + m[k] * K[k][i][1]
+            laws.append(law(xp, jf, s[jf.joint.name], (a, b)))
+        g = [f[0] if first else m[i] - f[0] for i, f in enumerate(laws)]
+        J = [[(1.0 if i == k else 0.0) - (laws[i][1] * K[k][i][0] + laws[i][2] * K[k][i][1])
+              for k in range(n)] for i in range(n)]
+        d = _solve(J, g)
+        return ([-v for v in d] if first else d), _determinant(J)
+
+    def first_step(m):  # from m = 0 without its products: -d is the first iterate
+        return step([None] * n)
+
+    what = _locks(grp, pairs)
+    m = iterate(xp, [0.0] * n, _Steps(first_step, step), _failure(mech, st, what), what)
+    for jf, v in zip(pairs, m):
+        apply(mech, st, W, jf, v)
+        R.friction[jf.joint.name] = v
+    return grp.statics(mech, st, W, R)
+
+
+class _Steps:
+    """The first step, then the others."""
+
+    def __init__(self, first, then):
+        self.first, self.then, self.started = first, then, False
+
+    def __call__(self, x):
+        if self.started:
+            return self.then(x)
+        self.started = True
+        return self.first(x)
+
+
+# -- the solutions --------------------------------------------------------------------------
+def motion_signs(mech, st: KinematicState, omega, static: bool) -> tuple[dict, dict]:
+    """Per pair with friction: its relative motion's coefficient ``c`` and the sign
+    ``s`` of its motion (of ``c * omega``, or ``c * drive`` where ``omega = 0``)."""
+    xp = st.xp
+    fr = mech.friction
+    d = direction(fr.drive, omega, static, xp)
+    c = {jf.joint.name: coefficient(mech, st, jf) for jf in fr.joints}
+    return c, {name: sign(xp, v) * d for name, v in c.items()}
+
+
+def _failure(mech, st: KinematicState, what: str):
+    """What :func:`iterate` calls where it fails: raise for one state, or mark ``bad``."""
+    def fail(bad=None):
+        if bad is None:
+            from .errors import SelfLockingError
+            raise SelfLockingError(mech.name, st.theta, what)
+        st.locked = bad if st.locked is None else st.locked | bad
+    return fail
+
+
+def closed_form(mech, st: KinematicState, W: dict, omega, static: bool):
+    """Reactions (a :class:`Reactions`) and balancing effort with friction, group by
+    group from the last back to the crank; ``W`` is consumed.
+
+    With the effort on the crank, the crank's moment equation gives it last. Elsewhere,
+    the effort ``e`` solves ``e = e0 - sum(f c) / q'`` (the virtual power of the loads
+    and of the friction values ``f`` over the relative motions ``c``; ``e0`` the
+    frictionless effort) by a secant iteration, each of its values solved through the
+    groups.
+    """
+    from .kinetostatics import add_effort, effort_coefficient, virtual_effort
+
+    xp = st.xp
+    fr = mech.friction
+    c, s = motion_signs(mech, st, omega, static)
+    ideal = virtual_effort(mech, st, W)
+
+    def through(Wc: dict):
+        R = Reactions()
+        R.friction = {}
+        moment = None
+        for grp, pairs in zip(reversed(mech.groups), reversed(fr.groups)):
+            moment = solve_group(mech, st, grp, pairs, Wc, R, s)
+        return R, moment
+
+    if mech.effort_on_crank:
+        R, effort = through(W)
+    else:
+        q1 = effort_coefficient(mech, st)
+
+        def run(e):
+            Wc = {k: list(v) for k, v in W.items()}
+            add_effort(mech, st, Wc, e)
+            R, _ = through(Wc)
+            return R, ideal - virtual_power(R.friction, c) / q1
+
+        history = []
+
+        def step(x):
+            _, phi = run(x[0])
+            h = phi - x[0]
+            if not history:  # the fixed-point step first, then secants
+                history.append((x[0], h))
+                return [-h], None
+            e_prev, h_prev = history[-1]
+            history.append((x[0], h))
+            return [-h * (x[0] - e_prev) * _inverse(xp, h - h_prev)], None
+
+        what = "friction locks the linkage against its driver"
+        effort = iterate(xp, [ideal], step, _failure(mech, st, what), what)[0]
+        W = {k: list(v) for k, v in W.items()}
+        add_effort(mech, st, W, effort)
+        R, _ = through(W)
+    R.ideal, R.direction = ideal, direction(fr.drive, omega, static, xp)
+    R.P_loss = 0.0 if static else -omega * virtual_power(R.friction, c)
+    return R, effort
+
+
+def _locks(grp, pairs) -> str:
+    names = ", ".join(jf.joint.name for jf in pairs)
+    return f"friction at {names} locks the group of link {grp.links[0]}"
+
+
+def virtual_power(friction: dict, c: dict):
+    """``sum(f c)``: the virtual power of the friction values over the relative motions."""
+    total = 0.0
+    for name, f in friction.items():
+        total = total + f * c[name]
+    return total
+
+
+def _inverse(xp, x):
+    """``1 / x``, and 0 for ``x = 0`` (no comparison, see :func:`sign`)."""
+    return sign(xp, x) / xp.maximum(xp.abs(x), TINY)
+
+
+def direct(mech, st: KinematicState, W: dict, omega, static: bool, xp, n_states: int = 1):
+    """Reactions and balancing effort with friction by Newton on the whole assembled
+    system ``A x + w(x) = b`` (``w`` the friction's wrenches, the rows of
+    :func:`~linkage_fmu.kinetostatics.equilibrium_entries`), from its frictionless
+    solution: the reference for :func:`closed_form`, which shares only the friction
+    law and the signs of motion with it. The floats go through numpy (batched over
+    states), mpmath numbers (``xp.lu_solve``) through mpmath. Self-locking where it
+    does not converge or the determinant of the Jacobian changes sign from ``A``'s."""
+    from .kinetostatics import equilibrium_entries, unknowns, virtual_effort
+
+    fr = mech.friction
+    c, s = motion_signs(mech, st, omega, static)
+    ideal = virtual_effort(mech, st, W)
+    n, entries, rhs = equilibrium_entries(mech, st, W)
+    L = mech.length_scale
+    rows = {b.name: 3 * i for i, b in enumerate(mech.bodies)}
+    column = {j.name: 2 * k for k, j in enumerate(mech.joints)}
+    pattern = []  # per pair: its column, and the rows of its unit friction
+    for jf in fr.joints:
+        unit = {b.name: [0.0, 0.0, 0.0] for b in mech.bodies}
+        apply(mech, st, _Zeros(unit), jf, 1.0)
+        u = [(rows[b] + i, v / L if i == 2 else v) for b, w in unit.items()
+             for i, v in enumerate(w)]
+        pattern.append((jf, column[jf.joint.name], u))
+    scale = lambda jf: L if not jf.revolute else 1.0  # noqa: E731 -- a couple's column
+
+    precise = getattr(xp, "lu_solve", None) is not None
+    on = xp if precise else ARRAY
+
+    def friction(x):
+        """f per pair at the unknowns ``x``, and its derivatives by its two columns."""
+        return [law(on, jf, s[jf.joint.name], (x[col], x[col + 1] * scale(jf)))
+                for jf, col, _ in pattern]
+
+    if precise:
+        import mpmath
+        A, B = mpmath.zeros(n, n), mpmath.zeros(n, 1)
+        for r, k, v in entries:
+            A[r, k] = v
+        for r, v in rhs:
+            B[r] = v
+        x = mpmath.lu_solve(A, B)
+        tol = xp.eps()
+    else:
+        A = np.zeros((n_states, n, n))
+        for r, k, v in entries:
+            A[:, r, k] = v
+        B = np.empty((n_states, n))
+        for r, v in rhs:
+            B[:, r] = v
+        x = np.linalg.solve(A, B[..., None])[..., 0].T  # x[k]: unknown k over states
+        tol = TOLERANCE
+    sign_A = _det_sign(A, precise)
+    done = np.zeros(n_states, bool)
+    held = np.ones(n_states, bool)
+    for k in range(MAX_ITERATIONS):
+        laws = friction(x)
+        if precise:
+            G, J = A * x - B, A.copy()
+            for (jf, col, u), f in zip(pattern, laws):
+                for r, v in u:
+                    G[r] += f[0] * v
+                    J[r, col] += f[1] * v
+                    J[r, col + 1] += f[2] * v * scale(jf)
+            d = mpmath.lu_solve(J, G)
+            x = x - d
+            held[:] = _det_sign(J, True) == sign_A
+            if k + 1 >= ITERATIONS and mpmath.norm(d, 1) <= tol * mpmath.norm(x, 1):
+                done[:] = True
+                break
+            continue
+        G = np.einsum("sij,js->si", A, x) - B
+        J = A.copy()
+        for (jf, col, u), f in zip(pattern, laws):
+            f0, fa, fb = (np.broadcast_to(v, (n_states,)) for v in f)
+            for r, v in u:
+                v = np.broadcast_to(v, (n_states,))
+                G[:, r] += f0 * v
+                J[:, r, col] += fa * v
+                J[:, r, col + 1] += fb * v * scale(jf)
+        with np.errstate(all="ignore"):
+            d = np.linalg.solve(J, G[..., None])[..., 0].T
+            held = np.where(done, held, _det_sign(J, False) == sign_A)
+            x = np.where(done, x, x - d)
+            if k + 1 >= ITERATIONS:
+                done |= np.abs(d).sum(axis=0) <= tol * np.abs(x).sum(axis=0)
+                if done.all():
+                    break
+    ok = done & held
+    if xp.scalar and not ok[0]:
+        from .errors import SelfLockingError
+        raise SelfLockingError(mech.name, st.theta, "friction locks the linkage")
+    if not precise and not ok.all():
+        _failure(mech, st, "friction locks the linkage")(~ok)
+        x = np.where(ok, x, np.nan)
+    if precise:
+        x = [x[k] for k in range(n)]
+    R, effort = unknowns(mech, x)
+    out = Reactions(R)
+    out.friction = {jf.joint.name: f[0] for (jf, _, _), f in zip(pattern, friction(x))}
+    if xp.scalar and not precise:  # one state: floats
+        out.update({k: (float(a[0]), float(b[0])) for k, (a, b) in R.items()})
+        out.friction = {k: float(np.asarray(v).reshape(-1)[0]) for k, v in out.friction.items()}
+        effort = float(effort[0])
+    out.ideal, out.direction = ideal, direction(fr.drive, omega, static, xp)
+    out.P_loss = 0.0 if static else -omega * virtual_power(out.friction, c)
+    return out, effort
+
+
+def _det_sign(A, precise: bool):
+    if precise:
+        import mpmath
+        return mpmath.sign(mpmath.det(A))
+    return np.sign(np.linalg.det(A))
+
+
+# -- outputs ----------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class FrictionOutput:
+    """Output: the friction of the pair ``joint`` (of body a on body b): a moment
+    (revolute, N.m) or a force along the pair's tangent (prismatic, N)."""
+
+    name: str
+    joint: str
+    revolute: bool
+
+    @property
+    def unit(self) -> str:
+        return "N.m" if self.revolute else "N"
+
+    @property
+    def description(self) -> str:
+        if self.revolute:
+            return (f"friction moment in the pin {self.joint} (of its first link on its "
+                    "second), counter-clockwise positive")
+        return (f"friction force in the prismatic pair {self.joint} (of its first link on "
+                "its second) along the pair's direction")
+
+    def bind(self, mech):
+        return lambda R, E, st: R.friction[self.joint]
+
+
+@dataclass(frozen=True)
+class LossOutput:
+    """Output: ``P_loss``, the power the friction dissipates (>= 0, 0 in a static
+    scene), or ``eta``, the instantaneous efficiency of the power's flow through the
+    linkage: where the crank drives (its effort's power ``E q' omega`` > 0; at ``omega =
+    0``, ``E q' drive`` > 0), the power delivered to the loads and inertia over the
+    power put in, ``E0 / E`` (``E0`` the effort without friction); where the loads drive
+    the crank, the power the crank receives over the power they put in, ``E / E0``; 0
+    where the effort is 0. Without friction it is 1 wherever the effort is not 0."""
+
+    name: str
+
+    unit = property(lambda self: "W" if self.name == "P_loss" else "1")
+
+    @property
+    def description(self) -> str:
+        if self.name == "P_loss":
+            return "power dissipated by friction in the joints"
+        return ("instantaneous efficiency: power delivered over power put in, by the crank "
+                "where it drives, by the loads where they drive it")
+
+    def bind(self, mech):
+        if self.name == "P_loss":
+            return lambda R, E, st: R.P_loss
+        from .kinetostatics import effort_coefficient
+
+        def eta(R, E, st):
+            # no comparison (the kernels trace it as it is): each ratio's denominator is 1
+            # where it is 0, and p (1 where the crank drives, else 0) picks one
+            xp, E0 = st.xp, R.ideal
+            p = xp.maximum(sign(xp, E * effort_coefficient(mech, st) * R.direction), 0.0)
+            forward = E0 / (E + (1.0 - xp.abs(sign(xp, E))))
+            backward = E / (E0 + (1.0 - xp.abs(sign(xp, E0))))
+            return p * forward + (1.0 - p) * backward
+
+        return eta
+
+
+def outputs(mech) -> tuple:
+    """The friction outputs of ``mech``: each pair's, ``P_loss`` and ``eta``."""
+    if not mech.friction.joints:
+        return ()
+    return tuple(FrictionOutput(jf.output, jf.joint.name, jf.revolute)
+                 for jf in mech.friction.joints) + (LossOutput("P_loss"), LossOutput("eta"))
+
+
+def unsolved(mech, st: KinematicState, R: dict, effort, omega, static: bool) -> Reactions:
+    """The frictionless reactions ``R`` as :class:`Reactions` with no friction: what a
+    linkage whose every ``mu`` is 0 reports."""
+    out = Reactions(R)
+    out.friction = dict.fromkeys((jf.joint.name for jf in mech.friction.joints), 0.0)
+    out.P_loss, out.ideal = 0.0, effort
+    out.direction = direction(mech.friction.drive, omega, static, st.xp)
+    return out
