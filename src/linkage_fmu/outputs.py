@@ -14,6 +14,11 @@ from . import numerics
 from .expressions import Expression
 
 
+def has_friction(mech, joint: str) -> bool:
+    """Whether the pair ``joint`` of ``mech`` has friction declared."""
+    return any(jf.joint.name == joint for jf in mech.friction.joints)
+
+
 def joint_between(mech, by: str, on: str, output: str):
     """The joint between bodies ``by`` and ``on``, and +1 if it is declared as the
     action of ``by`` on ``on``, -1 if the other way round."""
@@ -43,6 +48,13 @@ class Force:
         j, sign = joint_between(mech, self.by, self.on, self.name)
         if j.normal is None:
             return lambda R, E, st, name=j.name: sign * R[name][i]
+        if has_friction(mech, j.name):  # the normal force and the friction along the pair
+
+            def force(R, E, st, name=j.name):
+                nx, ny = j.normal_at(st)
+                return sign * (R[name][0] * (nx, ny)[i] + R.friction[name] * (ny, -nx)[i])
+
+            return force
         if isinstance(j.normal, str):  # a guide on a moving link
             return lambda R, E, st, name=j.name: sign * j.normal_at(st)[i] * R[name][0]
         k = sign * j.normal[i]
@@ -155,11 +167,11 @@ SHAKING = ("shake_x", "shake_y", "shake_M")
 @dataclass(frozen=True)
 class Shaking:
     """Output: the shaking force (``component`` 'x' or 'y') or moment ('M'): the
-    resultant of what the moving links exert on the frame, through its joints and
-    through the driver (the reaction of the balancing effort, which the frame applies),
-    the moment about the crank's pivot, counter-clockwise positive. It equals the
-    external loads, weights and d'Alembert forces of the moving links together (their
-    momentum balance); a load whose reaction also acts on the frame (gas pressure on a
+    resultant of what the moving links exert on the frame, through its joints (their
+    friction included) and through the driver (the reaction of the balancing effort,
+    which the frame applies), the moment about the crank's pivot, counter-clockwise
+    positive. It equals the external loads, weights and d'Alembert forces of the moving
+    links together (their momentum balance: friction is internal); a load whose reaction also acts on the frame (gas pressure on a
     cylinder head) is not subtracted."""
 
     name: str
@@ -183,16 +195,23 @@ class Shaking:
         joints = [(j, 1.0 if j.b == mech.frame else -1.0) for j in mech.joints
                   if mech.frame in (j.a, j.b)]
         pivot, effort = mech.crank.pivot, mech.effort
+        rubbing = {j.name for j, _ in joints if has_friction(mech, j.name)}
 
         def forces(R, E, st):
             """(fx, fy, point or None, couple) of each action on the frame."""
             for j, sign in joints:
+                rubs = j.name in rubbing  # its friction: a couple, or a force along it
                 if j.normal is None:
-                    yield sign * R[j.name][0], sign * R[j.name][1], j.point, 0.0
+                    yield (sign * R[j.name][0], sign * R[j.name][1], j.point,
+                           sign * R.friction[j.name] if rubs else 0.0)
                 else:
                     nx, ny = j.normal_at(st)
                     n = sign * R[j.name][0]
-                    yield n * nx, n * ny, j.point, sign * R[j.name][1]
+                    fx, fy = n * nx, n * ny
+                    if rubs:
+                        f = sign * R.friction[j.name]
+                        fx, fy = fx + f * ny, fy - f * nx
+                    yield fx, fy, j.point, sign * R[j.name][1]
             if effort.direction is None:  # the driver's reaction: a couple
                 yield 0.0, 0.0, None, -E
             else:

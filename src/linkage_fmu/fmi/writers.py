@@ -50,6 +50,7 @@ UNITS = {
     "kg.m2/rad": ({"kg": 1, "m": 2, "rad": -1}, []),
     "N": ({"kg": 1, "m": 1, "s": -2}, []),
     "N.m": ({"kg": 1, "m": 2, "s": -2}, []),
+    "W": ({"kg": 1, "m": 2, "s": -3}, []),
     "1": ({}, []),
 }
 LOG_CATEGORIES = ("logStatusWarning", "logStatusDiscard", "logStatusError", "logStatusFatal",

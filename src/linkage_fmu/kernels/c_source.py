@@ -74,12 +74,18 @@ def _statements(tape: Tape, nodes: list, guards: dict, codes: dict, indent: str 
     return body
 
 
-def _tangent_statements(tape: Tape, nodes: list, indent: str = "    ") -> list:
+def _tangent_statements(tape: Tape, nodes: list, results: list, indent: str = "    ") -> list:
     """Forward mode: after the values, the derivative ``d<i>`` of each operation along
     the direction ``dx`` of the inputs (the parameters' is zero: they are not inputs
-    here), by the rules of calculus applied to the operation the tape holds."""
+    here), by the rules of calculus applied to the operation the tape holds; only for
+    the operations a result's derivative needs (not those only a guard reads)."""
     body = []
     zero = {i for i, n in enumerate(tape.nodes) if n.op == "const" or i in tape.fixed}
+    needed = {r.index for r in results if isinstance(r, Sym)}
+    for i in reversed(nodes):
+        if i in needed:
+            needed.update(tape.nodes[i].args)
+    zero.update(i for i in nodes if i not in needed)
 
     def d(j):  # the derivative of operand j as C text, None where it is zero
         node = tape.nodes[j]
@@ -99,7 +105,7 @@ def _tangent_statements(tape: Tape, nodes: list, indent: str = "    ") -> list:
 
     for i in nodes:
         node = tape.nodes[i]
-        if node.op in _COMPARE:
+        if node.op in _COMPARE or i not in needed:
             continue
         a = [operand(tape, j, c_literal) for j in node.args]
         da = [d(j) for j in node.args]
@@ -355,7 +361,7 @@ def c_source(tape: Tape, n_inputs: int, results: list, parameters: tuple = (),
         "",
     ]
     if tangent:
-        derivatives, zero = _tangent_statements(tape, prog.state)
+        derivatives, zero = _tangent_statements(tape, prog.state, results)
 
         def d(r):
             if not isinstance(r, Sym) or r.index in zero:
