@@ -461,7 +461,7 @@ def closed_form(mech, st: KinematicState, W: dict, omega, static: bool):
                 return [-h], None
             e_prev, h_prev = history[-1]
             history.append((x[0], h))
-            return [-h * (x[0] - e_prev) * _inverse(xp, h - h_prev)], None
+            return [h * (x[0] - e_prev) * _inverse(xp, h - h_prev)], None
 
         what = "friction locks the linkage against its driver"
         effort = iterate(xp, [ideal], step, _failure(mech, st, what), what)[0]
@@ -683,7 +683,8 @@ def unsolved(mech, st: KinematicState, R: dict, effort, omega, static: bool) -> 
     """The frictionless reactions ``R`` as :class:`Reactions` with no friction: what a
     linkage whose every ``mu`` is 0 reports."""
     out = Reactions(R)
-    out.friction = dict.fromkeys((jf.joint.name for jf in mech.friction.joints), 0.0)
-    out.P_loss, out.ideal = 0.0, effort
+    zero = 0.0 * effort  # NaN where the state has no outputs
+    out.friction = dict.fromkeys((jf.joint.name for jf in mech.friction.joints), zero)
+    out.P_loss, out.ideal = zero, effort
     out.direction = direction(mech.friction.drive, omega, static, st.xp)
     return out
