@@ -1,5 +1,6 @@
 """Presets carry exactly the parameter names, defaults and output names of MECHANISMS.md,
-and every one of them is a description file that reads back what it writes."""
+plus the friction's (``mu_<pair>``, ``r_<pin>``, ``drive``; ``Mf_<pin>``, ``Ff_<slide>``,
+``P_loss``, ``eta``), and every one of them is a description file that reads back what it writes."""
 
 from __future__ import annotations
 
@@ -50,13 +51,41 @@ SPEC = {
 }
 
 
+#: the pairs with friction, in output order: pins (moment Mf_, radius r_) and slides (Ff_)
+FRICTION = {
+    "scotch_yoke": (("A", "pin"), ("B", "pin"), ("slot", "slide"), ("guide", "slide")),
+    "four_bar": (("A", "pin"), ("B", "pin"), ("C", "pin"), ("D", "pin")),
+    "six_bar": (("O", "pin"), ("A", "pin"), ("B", "pin"), ("O1", "pin"), ("K", "pin"),
+                ("D", "pin"), ("guide", "slide")),
+    "slider_crank": (("O", "pin"), ("A", "pin"), ("B", "pin"), ("guide", "slide")),
+    "slotted_lever": (("A", "pin"), ("B", "pin"), ("slot", "slide"), ("C", "pin")),
+    "crank_shaper": (("A", "pin"), ("B", "pin"), ("slot", "slide"), ("C", "pin"), ("D", "pin"),
+                     ("E", "pin"), ("guide", "slide")),
+}
+
+
+def _with_friction(name):
+    """SPEC's names plus the friction's: mu_J (and r_J of a pin) default 0, drive +1;
+    the outputs Mf_J / Ff_J, P_loss and eta after the specification's."""
+    params, outputs, inputs = SPEC[name]
+    params = dict(params)
+    for j, kind in FRICTION[name]:
+        params[f"mu_{j}"] = 0.0
+        if kind == "pin":
+            params[f"r_{j}"] = 0.0
+    params["drive"] = 1.0
+    outputs = outputs + tuple(f"{'Mf' if kind == 'pin' else 'Ff'}_{j}"
+                              for j, kind in FRICTION[name]) + ("P_loss", "eta")
+    return params, outputs, inputs
+
+
 @pytest.mark.parametrize("name", list(SPEC))
 def test_names_defaults_and_outputs(name):
-    params, outputs, inputs = SPEC[name]
+    params, outputs, inputs = _with_friction(name)
     spec = presets.preset(name)
     assert {p.name: p.default for p in spec.parameter_specs()} == params
     mech = presets.get(name)
-    # the specification's outputs, then the shaking force and moment every linkage has
+    # the specification's outputs, the friction's, then the shaking force and moment every linkage has
     assert mech.output_names == outputs + ("shake_x", "shake_y", "shake_M")
     assert mech.parameters == params
     i = spec.inputs

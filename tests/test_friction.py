@@ -1,0 +1,382 @@
+"""Coulomb friction in the joints (linkage_fmu.friction): mu = 0 is the frictionless
+linkage bit for bit; the power balance and the friction laws hold at random states;
+the solution paths agree with each other and with the mpmath reference; a hand-derived
+slider-crank and its self-locking angle; an independent fsolve formulation of the
+slider-crank with pin and slide friction; the description's checks."""
+
+from __future__ import annotations
+
+import math
+import zlib
+
+import numpy as np
+import pytest
+from scipy.optimize import fsolve
+
+from conftest import IDS, VARIANTS
+from linkage_fmu import SelfLockingError, presets, solver
+from linkage_fmu.kinetostatics import effort_coefficient
+from linkage_fmu.precise import reference
+from linkage_fmu.spec.description import Description, DescriptionError
+
+NAMES = presets.names()
+STATES = [(0.3, 7.0, -20.0, 30.0), (1.7, -4.0, 3.0, 0.0), (4.4, 0.0, 0.0, 50.0),
+          (5.9, 12.0, 0.0, -10.0)]
+
+#: per preset: pair -> the outputs holding its reaction ((x, y) of a pin, N of a slide),
+#: where the preset reports it
+REACTIONS = {
+    "scotch_yoke": {"A": ("F41x", "F41y"), "B": ("F12x", "F12y")},
+    "four_bar": {"A": ("F14x", "F14y"), "B": ("F21x", "F21y"), "C": ("F32x", "F32y"),
+                 "D": ("F43x", "F43y")},
+    "six_bar": {"O": ("XO", "YO"), "A": ("XA", "YA"), "B": ("XB", "YB"), "O1": ("XO1", "YO1"),
+                "K": ("XK", "YK"), "D": ("XD", "YD"), "guide": ("N4",)},
+    "slider_crank": {"O": ("F14x", "F14y"), "A": ("F21x", "F21y"), "B": ("F32x", "F32y"),
+                     "guide": ("N43",)},
+    "slotted_lever": {"A": ("F01x", "F01y"), "B": ("F12x", "F12y"), "slot": ("N23",),
+                      "C": ("F03x", "F03y")},
+    "crank_shaper": {"A": ("F01x", "F01y"), "B": ("F12x", "F12y"), "slot": ("N23",),
+                     "C": ("F03x", "F03y"), "D": ("F34x", "F34y"), "E": ("F45x", "F45y"),
+                     "guide": ("N05",)},
+}
+
+
+def _friction_params(name, rng, base=None):
+    """Random mu in [0, 0.3] on every pair, pin radii in [0, 0.05] of the length scale."""
+    mech = presets.get(name, **(base or {}))
+    L = mech.length_scale
+    p = {}
+    for jf in mech.friction.joints:
+        j = jf.joint.name
+        p[f"mu_{j}"] = float(rng.uniform(0.0, 0.3))
+        if jf.revolute:
+            p[f"r_{j}"] = float(rng.uniform(0.0, 0.05) * L)
+    return p
+
+
+def _random_states(rng, n):
+    th = rng.uniform(0.0, 2 * math.pi, n)
+    om = rng.uniform(-15.0, 15.0, n)
+    om[:2] = 0.0  # static scenes too (the drive direction decides)
+    al = rng.uniform(-50.0, 50.0, n)
+    ld = rng.uniform(-100.0, 100.0, n)
+    return th, om, al, ld
+
+
+def _frictionless(name):
+    d = presets.preset(name).copy()
+    d.friction = {}
+    return d
+
+
+# -- a. mu = 0 is the frictionless linkage ----------------------------------------------------
+@pytest.mark.parametrize("name", NAMES)
+def test_zero_mu_is_bit_identical_to_no_friction(name):
+    """Reference: the same description without [friction.J] tables. Tolerance: exact (==)
+    for every common output, scalars by closed_form, interpreted and direct, arrays by
+    closed_form; also with mu_X = 0 and a pin radius of 0.01 (X the first pair)."""
+    bare = _frictionless(name).build()
+    first = presets.get(name).friction.joints[0]
+    extra = {f"mu_{first.joint.name}": 0.0}
+    if first.revolute:
+        extra[f"r_{first.joint.name}"] = 0.01
+    common = [n for n in bare.output_names]
+    th = np.array([s[0] for s in STATES])
+    for mech in (presets.get(name), presets.get(name, **extra)):
+        assert not mech.friction.active
+        assert set(common) <= set(mech.output_names)
+        for state in STATES:
+            for method in ("closed_form", "interpreted", "direct"):
+                a, b = mech.solve(*state, method=method), bare.solve(*state, method=method)
+                for n in common:
+                    assert a[n] == b[n] or (math.isnan(a[n]) and math.isnan(b[n])), (state, method, n)
+        for om in (0.0, 9.0):
+            a, b = mech.solve(th, om, 2.0, 30.0), bare.solve(th, om, 2.0, 30.0)
+            for n in common:
+                np.testing.assert_array_equal(a[n], b[n], err_msg=n)
+
+
+# -- b. the power balance and the friction laws ----------------------------------------------
+def _relative_motion(mech, st, jf):
+    """First-order coefficient of the pair's relative motion, computed here: pins
+    w1[b] - w1[a]; slides (v_b(P) - v_a(P)) . t, t = (ny, -nx)."""
+    j = jf.joint
+
+    def w(body):
+        return 0.0 if body == mech.frame else st.w1[body]
+
+    if jf.revolute:
+        return w(j.b) - w(j.a)
+    px, py = st.p[j.point]
+
+    def v(body):
+        if body == mech.frame:
+            return 0.0, 0.0
+        cg = mech.cg[body]
+        (vx, vy), (sx, sy) = st.d1[cg], st.p[cg]
+        return vx - w(body) * (py - sy), vy + w(body) * (px - sx)
+
+    nx, ny = j.normal_at(st)
+    (ax, ay), (bx, by) = v(j.a), v(j.b)
+    return (bx - ax) * ny + (by - ay) * (-nx)
+
+
+@pytest.mark.parametrize("method", ["closed_form", "direct"])
+@pytest.mark.parametrize("variant", VARIANTS, ids=IDS)
+def test_power_balance_and_friction_laws(variant, method):
+    """Reference: the virtual power balance (E - E0) q' omega = P_loss (E0 at mu = 0) and
+    P_loss = sum |Mf| |w_rel| + sum |Ff| |v_rel| with the relative motions computed here,
+    P_loss >= 0; |Mf| = mu r |R|, |Ff| = mu |N| from the reported reactions. 20 seeded
+    random states, random mu, radii. Tolerance: 1e-10 relative to the largest term."""
+    name, base = variant
+    rng = np.random.default_rng(zlib.crc32(str(variant).encode()))
+    fp = _friction_params(name, rng, base)
+    mech, ideal = presets.get(name, **base, **fp), presets.get(name, **base)
+    assert mech.friction.active
+    th, om, al, ld = _random_states(rng, 20)
+    sol, sol0 = mech.solve(th, om, al, ld, method=method), ideal.solve(th, om, al, ld)
+    ok = sol.status == solver.SOLVED
+    assert ok.sum() >= 15, sol.status
+    st = mech.kinematics(th, 1)
+    E, E0 = sol[mech.effort.name], sol0[mech.effort.name]
+    q = effort_coefficient(mech, st)
+    P = sol["P_loss"]
+    assert np.all(P[ok] >= 0.0)
+    assert np.all(P[om == 0.0] == 0.0)
+    scale = np.abs(E * q * om) + np.abs(E0 * q * om) + P + 1e-300
+    np.testing.assert_array_less(np.abs((E - E0) * q * om - P)[ok], 1e-10 * scale[ok] + 1e-12)
+    total = np.zeros_like(th)
+    for jf in mech.friction.joints:
+        f = sol[jf.output]
+        total += np.abs(f) * np.abs(_relative_motion(mech, st, jf) * om)
+        outs = REACTIONS[name].get(jf.joint.name)
+        if outs is None:
+            continue
+        size = np.hypot(*(sol[o] for o in outs)) if len(outs) == 2 else np.abs(sol[outs[0]])
+        law = jf.mu * (jf.radius if jf.revolute else 1.0) * size
+        np.testing.assert_allclose(np.abs(f)[ok], law[ok], rtol=1e-12, atol=1e-12 * (1 + law.max()),
+                                   err_msg=jf.output)
+    np.testing.assert_allclose(total[ok], P[ok], rtol=1e-10, atol=1e-10 * scale.max())
+
+
+# -- c. the paths agree --------------------------------------------------------------------
+@pytest.mark.parametrize("variant", VARIANTS, ids=IDS)
+def test_paths_agree_and_match_the_mpmath_reference(variant):
+    """Reference: the direct Newton (method="direct") and the mpmath reference
+    (linkage_fmu.precise.reference, 40 digits). Tolerance: 1e-12 of the outputs' scale
+    (the largest |output| of the same unit at the state). closed_form and interpreted,
+    scalars and arrays, at 6 random states (3 against mpmath)."""
+    name, base = variant
+    rng = np.random.default_rng(1 + zlib.crc32(str(variant).encode()))
+    mech = presets.get(name, **base, **_friction_params(name, rng, base))
+    th, om, al, ld = _random_states(rng, 6)
+    arrays = {m: mech.solve(th, om, al, ld, method=m) for m in ("closed_form", "direct")}
+    units = mech.output_info
+    checked = 0
+    for i in range(th.size):
+        state = (th[i], om[i], al[i], ld[i])
+        try:
+            ref = mech.solve(*state, method="direct")
+        except SelfLockingError:
+            assert arrays["closed_form"].status[i] == solver.LOCKED
+            continue
+        scale = {}
+        for n in mech.output_names:
+            u = units[n][0]
+            scale[u] = max(scale.get(u, 0.0), abs(ref[n]))
+        got = [mech.solve(*state, method=m) for m in ("closed_form", "interpreted")]
+        got += [{n: a[n][i] for n in mech.output_names} for a in arrays.values()]
+        if i < 3:
+            got.append({n: float(v) for n, v in reference(mech, *state).items()})
+        for g in got:
+            for n in mech.output_names:
+                tol = 1e-12 * max(scale[units[n][0]], 1e-9)
+                if n == "eta":
+                    tol = 1e-12
+                assert abs(g[n] - ref[n]) <= tol, (i, n, g[n], ref[n])
+        checked += 1
+    assert checked >= 4
+
+
+# -- d. the massless slider-crank by hand -----------------------------------------------------
+L1, L2 = 0.18, 0.2
+P_LOAD = 250.0
+
+
+def _hand(theta, omega, mu, e=0.0, drive=1.0):
+    """Rod force F (compression), crank torque, guide friction on the piston along +x.
+
+    Piston: F cos(phi) - P + f = 0, F sin(phi) + N = 0 (N on the piston along y),
+    f = -mu |N| s, s = sign of the piston's velocity (dxB/dtheta * omega, or * drive
+    where omega = 0). Hence F = P / (cos(phi) - mu |sin(phi)| s). Crank: Mb = F l1
+    sin(phi - theta), the moment about O balancing the rod's push -F u at A."""
+    sphi = (e - L1 * math.sin(theta)) / L2
+    cphi = math.sqrt(1.0 - sphi * sphi)
+    phi = math.atan2(sphi, cphi)
+    dxb = L1 * math.sin(phi - theta) / cphi
+    s = math.copysign(1.0, dxb * (omega if omega != 0.0 else drive))
+    F = P_LOAD / (cphi - mu * abs(sphi) * s)
+    return F, F * L1 * math.sin(phi - theta), -mu * F * abs(sphi) * s, -F * sphi
+
+
+def _massless(mu, **kw):
+    return presets.get("slider_crank", m1=0.0, J1=0.0, m2=0.0, J2=0.0, m3=0.0, g=0.0,
+                       l_OA=L1, l_AB=L2, mu_guide=mu, **kw)
+
+
+@pytest.mark.parametrize("e", [0.0, 0.03])
+def test_massless_slider_crank_by_hand(e):
+    """Reference: the hand solution of _hand (two-force rod), checked first at mu = 0
+    against the library. Tolerance: 1e-12 relative, Mb, |rod force|, N43 and Ff_guide,
+    omega > 0, < 0 and 0 with drive +1 and -1, several angles."""
+    for theta in (0.4, 1.3, 2.2, 3.5, 4.2, 5.6):
+        for omega, drive in ((5.0, 1.0), (-5.0, 1.0), (0.0, 1.0), (0.0, -1.0)):
+            for mu in (0.0, 0.2):
+                mech = _massless(mu, e=e, drive=drive)
+                s = mech.solve(theta, omega, 0.0, P_LOAD)
+                F, Mb, f, N = _hand(theta, omega, mu, e, drive)
+                assert s["Mb"] == pytest.approx(Mb, rel=1e-12, abs=1e-12 * abs(F))
+                assert math.hypot(s["F32x"], s["F32y"]) == pytest.approx(abs(F), rel=1e-12)
+                assert s["N43"] == pytest.approx(N, rel=1e-12, abs=1e-12 * abs(F))
+                # t = (ny, -nx) = (1, 0) for gamma = 0: Ff_guide is the x-force on the piston
+                assert s["Ff_guide"] == pytest.approx(f, rel=1e-12, abs=1e-12 * abs(F))
+
+
+def test_massless_slider_crank_self_locks_where_the_denominator_vanishes():
+    """Reference: cos(phi) - mu |sin(phi)| = 0 while the piston moves out against the
+    load (theta in (pi, 3 pi / 2) for omega > 0, e = 0), found by bisection to 1e-14.
+    Tolerance: SelfLockingError at theta* + 1e-7, a solution at theta* - 1e-7 (its rod
+    force by hand to 1e-6 relative, the denominator being ~1e-7 there); arrays: status
+    LOCKED past, SOLVED before."""
+    mu = 0.6
+    mech = _massless(mu)
+
+    def g(theta):
+        sphi = -L1 * math.sin(theta) / L2
+        return math.sqrt(1.0 - sphi * sphi) - mu * abs(sphi)
+
+    lo, hi = math.pi, 1.5 * math.pi
+    assert g(lo) > 0 > g(hi)
+    while hi - lo > 1e-14:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if g(mid) > 0 else (lo, mid)
+    star = 0.5 * (lo + hi)
+    before = mech.solve(star - 1e-7, 5.0, 0.0, P_LOAD)
+    F = _hand(star - 1e-7, 5.0, mu)[0]
+    assert math.hypot(before["F32x"], before["F32y"]) == pytest.approx(F, rel=1e-6)
+    with pytest.raises(SelfLockingError):
+        mech.solve(star + 1e-7, 5.0, 0.0, P_LOAD)
+    # omega < 0: the piston moves in, the load drives it: no locking there
+    mech.solve(star + 1e-7, -5.0, 0.0, P_LOAD)
+    arr = mech.solve(np.array([star - 1e-7, star + 1e-7]), 5.0, 0.0, P_LOAD)
+    assert list(arr.status) == [solver.SOLVED, solver.LOCKED]
+    assert np.isnan(arr["Mb"][1]) and np.isfinite(arr["Mb"][0])
+
+
+# -- e. an independent formulation: fsolve on the slider-crank's equations --------------------
+SC = dict(l_OA=0.05, l_AB=0.2, e=0.015, m1=0.5, J1=1e-3, l_OS1=0.02, m2=0.8, J2=0.004,
+          l_AS2=0.06, m3=0.6, g=9.81)
+MU = dict(mu_O=0.12, r_O=0.01, mu_A=0.2, r_A=0.008, mu_B=0.15, r_B=0.006, mu_guide=0.1)
+
+
+def _cross(a, b):
+    return a[0] * b[1] - a[1] * b[0]
+
+
+def _fsolve_slider_crank(theta, omega, alpha, P, mu=MU):
+    """Equilibrium of the slider-crank (gamma = 0) written from scratch: unknowns R_O
+    (frame on crank), R_A (crank on rod), R_B (rod on piston), N (guide on piston along
+    y), M (guide couple on piston), Mb. Pin friction on body b: -mu r |R| sgn(w_b - w_a);
+    guide friction on the piston along x: -mu |N| sgn(vB)."""
+    p = SC
+    l1, l2, e, g = p["l_OA"], p["l_AB"], p["e"], p["g"]
+    sphi = (e - l1 * math.sin(theta)) / l2
+    cphi = math.sqrt(1 - sphi * sphi)
+    phid = -l1 * math.cos(theta) * omega / (l2 * cphi)
+    phidd = (l1 * (math.sin(theta) * omega ** 2 - math.cos(theta) * alpha)
+             + l2 * sphi * phid ** 2) / (l2 * cphi)
+    et, en = np.array([math.cos(theta), math.sin(theta)]), np.array([-math.sin(theta), math.cos(theta)])
+    ep, epn = np.array([cphi, sphi]), np.array([-sphi, cphi])
+    A = l1 * et
+    S1 = p["l_OS1"] * et
+    S2 = A + p["l_AS2"] * ep
+    B = A + l2 * ep
+    aS1 = p["l_OS1"] * (alpha * en - omega ** 2 * et)
+    aA = l1 * (alpha * en - omega ** 2 * et)
+    aS2 = aA + p["l_AS2"] * (phidd * epn - phid ** 2 * ep)
+    aB = aA + l2 * (phidd * epn - phid ** 2 * ep)
+    vB = (l1 * omega * en + l2 * phid * epn)[0]
+    grav = np.array([0.0, -g])
+    sg = np.sign
+
+    def eqs(x):
+        RO, RA, RB = x[0:2], x[2:4], x[4:6]
+        N, M, Mb = x[6], x[7], x[8]
+        fO = -mu["mu_O"] * mu["r_O"] * np.hypot(*RO) * sg(omega)           # on crank
+        fA = -mu["mu_A"] * mu["r_A"] * np.hypot(*RA) * sg(phid - omega)    # on rod
+        fB = -mu["mu_B"] * mu["r_B"] * np.hypot(*RB) * sg(0.0 - phid)      # on piston
+        fg = -mu["mu_guide"] * abs(N) * sg(vB)                             # on piston, x
+        r1 = RO - RA + p["m1"] * (grav - aS1)
+        m1 = (_cross(-S1, RO) + _cross(A - S1, -RA) + Mb + fO - fA - p["J1"] * alpha)
+        r2 = RA - RB + p["m2"] * (grav - aS2)
+        m2 = _cross(A - S2, RA) + _cross(B - S2, -RB) + fA - fB - p["J2"] * phidd
+        r3 = RB + np.array([fg, N]) + p["m3"] * (grav - aB) + np.array([-P, 0.0])
+        m3 = fB + M
+        return np.array([*r1, m1, *r2, m2, *r3, m3])
+
+    x0 = fsolve(eqs, np.ones(9), xtol=1e-14, full_output=True)[0]  # residual checked below
+    x = fsolve(eqs, x0, xtol=1e-14, full_output=True)[0]
+    assert np.max(np.abs(eqs(x))) < 1e-9 * (1 + np.max(np.abs(x)))
+    return x, dict(Mf_O=-mu["mu_O"] * mu["r_O"] * np.hypot(*x[0:2]) * sg(omega),
+                   Mf_A=-mu["mu_A"] * mu["r_A"] * np.hypot(*x[2:4]) * sg(phid - omega),
+                   Mf_B=-mu["mu_B"] * mu["r_B"] * np.hypot(*x[4:6]) * sg(-phid),
+                   Ff_guide=-mu["mu_guide"] * abs(x[6]) * sg(vB))
+
+
+@pytest.mark.parametrize("state", [(0.5, 10.0, 3.0, 200.0), (2.0, -8.0, 40.0, -150.0),
+                                   (3.9, 15.0, -20.0, 80.0), (5.5, -3.0, 0.0, 300.0)])
+def test_slider_crank_against_an_independent_fsolve_formulation(state):
+    """Reference: _fsolve_slider_crank (scipy fsolve, xtol 1e-14) on equations written
+    here, with masses, inertia, gravity, pin friction at O, A, B and guide friction.
+    Tolerance: 1e-10 relative to the largest force (moments: times l_AB)."""
+    mech = presets.get("slider_crank", **SC, **MU)
+    s = mech.solve(*state)
+    x, fr = _fsolve_slider_crank(*state)
+    F = float(np.max(np.abs(x[:7])))
+    tol = 1e-10 * F
+    assert s["Mb"] == pytest.approx(x[8], abs=tol * SC["l_AB"])
+    assert math.hypot(s["F14x"], s["F14y"]) == pytest.approx(math.hypot(*x[0:2]), abs=tol)
+    assert math.hypot(s["F21x"], s["F21y"]) == pytest.approx(math.hypot(*x[2:4]), abs=tol)
+    # F32 is the force of the piston on the rod: -R_B
+    assert (s["F32x"], s["F32y"]) == pytest.approx((-x[4], -x[5]), abs=tol)
+    assert s["N43"] == pytest.approx(x[6], abs=tol)
+    for n, v in fr.items():
+        assert s[n] == pytest.approx(v, abs=tol * (SC["l_AB"] if n.startswith("Mf") else 1))
+
+
+# -- f. the description's checks ---------------------------------------------------------------
+@pytest.mark.parametrize("table, spec, message", [
+    ("X", {"mu": "mu_O", "radius": "r_O"}, r"\[friction\.X\].*no pair"),
+    ("O", {"mu": "mu_O"}, r"\[friction\.O\] radius: missing"),
+    ("guide", {"mu": "mu_guide", "radius": "r_O"}, r"\[friction\.guide\] radius"),
+    ("O", {"mu": "mu_O", "radius": "r_O", "grip": 1.0}, r"\[friction\.O\].*unknown key.*grip"),
+])
+def test_bad_friction_tables_are_description_errors(table, spec, message):
+    """Reference: the format's rules (docs/description.md). Tolerance: the error names
+    the table."""
+    d = presets.preset("slider_crank").copy()
+    d.friction[table] = spec
+    text = d.to_toml()  # read back: the text's tables are checked
+    with pytest.raises(DescriptionError, match=message):
+        Description.from_toml(text).build()
+
+
+def test_bad_friction_values_are_refused():
+    """Reference: parameter kinds friction (>= 0) and sign (+1 or -1). Tolerance: a
+    ValueError naming the parameter."""
+    with pytest.raises(ValueError, match="mu_A"):
+        presets.get("slider_crank", mu_A=-0.1)
+    with pytest.raises(ValueError, match="drive"):
+        presets.get("slider_crank", drive=0.5)
+    with pytest.raises(ValueError, match="r_A"):
+        presets.get("slider_crank", r_A=-0.01)
