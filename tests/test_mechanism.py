@@ -40,17 +40,19 @@ def test_static_scene_skips_derivatives_and_matches_full_path(mech):
     spies = [mock.patch.object(cls, name, side_effect=AssertionError(f"{cls.__name__}.{name}"))
              for cls in (groups.RRR, groups.RRP, groups.RPP, groups.RPR)
              for name in ("first", "second")]
+    # eta needs the first-order coefficients (which way the power flows)
+    names = tuple(n for n in mech.output_names if n != "eta")
     if mech.effort_on_crank:  # otherwise the effort needs first-order coefficients
         with contextlib.ExitStack() as stack:
             for spy in spies:
                 stack.enter_context(spy)
-            fast = mech.solve(TH, 0.0, 0.0, 30.0, outputs=mech.output_names)
+            fast = mech.solve(TH, 0.0, 0.0, 30.0, outputs=names)
     else:
-        fast = mech.solve(TH, 0.0, 0.0, 30.0, outputs=mech.output_names)
+        fast = mech.solve(TH, 0.0, 0.0, 30.0, outputs=names)
     R, effort = _full_path(mech, TH, 0.0, 0.0, 30.0)
     st = mech.kinematics(TH, order=2)
     full = {name: fn(R, effort, st) for name, fn in mech.output_functions}
-    for name in mech.output_names:
+    for name in names:
         np.testing.assert_allclose(fast[name], full[name], rtol=1e-13, atol=1e-12, err_msg=name)
 
 

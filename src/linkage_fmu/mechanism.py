@@ -244,7 +244,7 @@ class Mechanism:
         if plan.reactions or plan.effort:
             if not plan.static:
                 order = 2
-            elif not plan.reactions or self.friction.joints or (
+            elif not plan.reactions or self.friction.active or "eta" in plan.outputs or (
                     plan.method != "direct" and not self.effort_on_crank):
                 order = 1
         order = max(order, diagnostics.order(self, plan.outputs))
