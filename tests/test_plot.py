@@ -622,6 +622,61 @@ def test_shaking_is_the_solved_shaking_force_and_moment(tmp_path, name, params, 
     assert moment_ax.get_ylabel() == "shake_M [N.m]"
 
 
+# -- friction losses -----------------------------------------------------------------------
+@pytest.mark.parametrize("name, params, inputs", [
+    ("slider_crank", dict(mu_guide=0.1, mu_A=0.1, r_A=0.01, mu_B=0.1, r_B=0.01),
+     dict(omega=10.0, alpha=0.0, load=100.0)),
+    ("four_bar", dict(mu_A=0.1, r_A=0.01, mu_B=0.2, r_B=0.01, drive=-1.0),
+     dict(omega=-12.0, alpha=3.0, load=4.0)),
+], ids=["slider_crank", "four_bar_clockwise"])
+def test_loss_is_the_solved_power_loss_and_efficiency(tmp_path, name, params, inputs):
+    """P_loss and eta as drawn are solve's to 1e-12; the mean, peak and minimum are the
+    numpy reductions of them."""
+    mech = presets.get(name, **params)
+    fig = plot.loss(mech, **inputs)
+    saved_png(fig, tmp_path / f"loss_{name}.png")
+    power_ax, eta_ax = fig.axes
+    ref = solve_deg(mech, DEG, **dict(inputs))
+    p, eta = ref["P_loss"], ref["eta"]
+    assert np.all(p >= 0.0) and np.max(p) > 0.0
+
+    lines = by_gid(power_ax)
+    x, y = lines["P_loss"][0].get_data()
+    np.testing.assert_array_equal(x, DEG)
+    np.testing.assert_allclose(y, p, rtol=RTOL, atol=0)
+    # the trapezoidal mean: at a dead centre (0 and 360 deg) P_loss can differ at the ends
+    mean = np.sum(0.5 * (p[:-1] + p[1:]) * np.diff(np.radians(DEG))) / (2.0 * np.pi)
+    np.testing.assert_allclose(lines["mean"][0].get_ydata(), [mean] * 2, rtol=1e-9)
+    i = int(np.argmax(p))
+    np.testing.assert_allclose(np.ravel(lines["peak"][0].get_data()), [DEG[i], p[i]],
+                               rtol=RTOL)
+    assert power_ax.get_ylabel() == "P_loss [W]"
+
+    lines = by_gid(eta_ax)
+    x, y = lines["eta"][0].get_data()
+    np.testing.assert_array_equal(x, DEG)
+    np.testing.assert_allclose(y, eta, rtol=RTOL, atol=0)
+    i = int(np.argmin(eta))
+    np.testing.assert_allclose(np.ravel(lines["min"][0].get_data()), [DEG[i], eta[i]],
+                               rtol=RTOL)
+    np.testing.assert_array_equal(lines["ideal"][0].get_ydata(), [1.0, 1.0])
+    assert f"at θ = {DEG[i]:.1f}°" in "".join(t.get_text() for t in eta_ax.texts)
+
+
+def test_loss_without_friction_is_zero_and_needs_friction_tables():
+    """At mu = 0 nothing is lost (eta 1 where the effort is not 0); a linkage without
+    [friction.J] tables has nothing to draw."""
+    fig = plot.loss(presets.get("four_bar"), omega=10.0, load=3.0)
+    power_ax, eta_ax = fig.axes
+    assert np.all(by_gid(power_ax)["P_loss"][0].get_ydata() == 0.0)
+    d = presets.preset("four_bar").copy()
+    d.friction.clear()
+    with pytest.raises(ValueError, match="no friction in its joints"):
+        plot.loss(d.build(), omega=10.0)
+    with pytest.raises(TypeError, match="pair of Axes"):
+        plot.loss(presets.get("four_bar"), ax=power_ax)
+
+
 def test_shaking_of_the_scotch_yoke_by_hand():
     """The scotch yoke (crank r with J1, block m2 at its pin B, yoke m3 moving
     y = r sin(theta) along the y axis through A, a force F along -y on it, no gravity)
