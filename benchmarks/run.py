@@ -11,6 +11,8 @@ Common states: 360 crank angles over a revolution, omega = 10 rad/s, alpha = 0, 
 3 N.m (four-bar, on the rocker) or 50 N (slider-crank, on the piston). Error is the
 normwise relative error per state (:func:`linkage_fmu.precise.relative_error`), its
 maximum over the states. Times are the best of several repeats (this machine is noisy).
+The friction rows: the slider-crank with mu = 0.1 in every pair and 0.01 m pins against
+its default (mu = 0), arrays and the compiled one-state kernel, the error on 50 states.
 """
 
 from __future__ import annotations
@@ -109,6 +111,42 @@ def ours(preset: str, load: float, ref: dict, static_ref: dict, big: int) -> lis
         err = relative_error(table(theta, OMEGA, ALPHA, load), ref).max()
         rows.append(row(preset, "table", f"{size} grid angles", t, err,
                         f"built once in {build * 1e3:.1f} ms"))
+    return rows
+
+
+#: the slider-crank with friction in every pair: mu on each, a pin radius on each pin
+FRICTION = dict(mu_O=0.1, mu_A=0.1, mu_B=0.1, mu_guide=0.1, r_O=0.01, r_A=0.01, r_B=0.01)
+FRICTION_STATES = 50  # states of its mpmath reference (each one a Newton in mpmath)
+
+
+def friction_rows(big: int = 100_000) -> list[dict]:
+    """The cost of Coulomb friction per state: the slider-crank with :data:`FRICTION`
+    against its default (every mu 0, friction not solved), both by the compiled array
+    kernel over ``big`` states and by the compiled one-state kernel (hot: after
+    HOT_CALLS calls), each with its error against the mpmath reference on
+    :data:`FRICTION_STATES` states."""
+    from linkage_fmu.solver import HOT_CALLS
+
+    preset, load = "slider_crank", PRESETS["slider_crank"]
+    theta = angles(FRICTION_STATES)
+    many = np.random.default_rng(0).uniform(0.0, 2 * math.pi, big)
+    rows = []
+    for label, params in (("no friction (mu = 0)", {}), ("friction, mu = 0.1", FRICTION)):
+        mech = presets.get(preset, **params)
+        ref = references(mech, theta, OMEGA, ALPHA, load)
+        mech.solve(many[:10], OMEGA, ALPHA, load)  # trace and compile first
+        t = best_time(lambda: mech.solve(many, OMEGA, ALPHA, load), 9) / big
+        err = relative_error(mech.solve(theta, OMEGA, ALPHA, load), ref).max()
+        rows.append(row(preset, f"{label}, vectorised", f"{big} angles", t, err,
+                        f"error on {FRICTION_STATES} states"))
+        for x in many[:HOT_CALLS + 10]:  # the plan gets hot: its compiled kernel
+            mech.solve(float(x), OMEGA, ALPHA, load)
+        sols = [mech.solve(float(x), OMEGA, ALPHA, load) for x in theta]
+        got = {n: np.array([s[n] for s in sols]) for n in mech.output_names}
+        t = best_time(lambda: [mech.solve(float(x), OMEGA, ALPHA, load) for x in many[:2000]],
+                      5) / 2000
+        rows.append(row(preset, f"{label}, scalar", "compiled one-state kernel", t,
+                        relative_error(got, ref).max(), f"error on {FRICTION_STATES} states"))
     return rows
 
 
@@ -550,6 +588,8 @@ def main(argv=None) -> int:
         work += ours(preset, load, ref, static_ref, big)
         work.append(seeds_way(preset, load, ref))
         work += peer_rows(preset, load, ref)
+    print("friction ...", flush=True)
+    work += friction_rows(10_000 if args.quick else 100_000)
     with tempfile.TemporaryDirectory(prefix="linkage_bench_") as tmp:
         tmp = Path(tmp)
         print("FMUs ...", flush=True)

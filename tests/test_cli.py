@@ -83,7 +83,8 @@ def test_plot_command_writes_each_picture(tmp_path):
     err = io.StringIO()
     with redirect_stderr(err):
         for what, name in ((["torque"], "t.png"), (["polar", "F21"], "p.svg"),
-                           (["mu"], "m.png"), (["shaking"], "s.png"), (["speed"], "v.png")):
+                           (["mu"], "m.png"), (["shaking"], "s.png"), (["speed"], "v.png"),
+                           (["loss"], "f.png")):
             assert main(["plot", "four_bar", "--what", *what, "--omega", "10",
                          "-o", str(tmp_path / name)]) == 0
         assert main(["plot", "crank_shaper", "--what", "linkage", "--theta-deg", "60",
@@ -91,7 +92,7 @@ def test_plot_command_writes_each_picture(tmp_path):
         assert main(["plot", "four_bar", "--what", "linkage", "-o", str(tmp_path / "x.png")]) == 2
         assert main(["plot", "four_bar", "--what", "pie", "-o", str(tmp_path / "x.png")]) == 2
     assert "needs one angle" in err.getvalue() and "expected torque [OUTPUT]" in err.getvalue()
-    assert "linkage, mu, shaking or speed" in err.getvalue()
+    assert "linkage, mu, shaking, speed or loss" in err.getvalue()
     for name in ("t.png", "m.png", "l.png", "s.png", "v.png"):
         assert (tmp_path / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert b"<svg" in (tmp_path / "p.svg").read_bytes()[:400]

@@ -33,6 +33,14 @@ def expected(preset: str, params: dict, omega: float, load: float) -> dict:
             if name.endswith("x") and name[:-1] + "y" in mech.output_names:
                 out[name[:-1].rstrip("_") + "_peak"] = np.max(np.hypot(sol[name][ok],
                                                            sol[name[:-1] + "y"][ok]))
+        if "P_loss" in mech.output_names:
+            loss = sol["P_loss"][ok]
+            out["P_loss_peak"] = np.max(loss)
+            out["P_loss_mean"] = np.mean(loss)
+            out["eta_min"] = np.min(sol["eta"][ok])
+            for name in mech.output_names:
+                if name.startswith(("Mf_", "Ff_")):
+                    out[name + "_peak"] = np.max(np.abs(sol[name][ok]))
         for name in mech.diagnostic_names:
             if name.startswith("mu_"):
                 mu = np.degrees(sol[name][ok])
@@ -89,6 +97,30 @@ def test_a_structure_parameter_can_be_swept():
     check_rows("crank_shaper", table, 5.0, 100.0)
     table = sweep("slider_crank", {"e": [0.0, 0.01, -0.02]}, THETA, 20.0, 0.0, 50.0)
     check_rows("slider_crank", table, 20.0, 50.0)
+
+
+def test_friction_summaries_equal_the_direct_solver_of_each_design():
+    """Designs with and without friction in one sweep (friction with every mu 0 is
+    solved without it, so they need two kernels): each design's P_loss_peak,
+    P_loss_mean, eta_min and friction peaks equal numpy's over its own direct solve to
+    1e-12; a design with every mu 0 loses nothing (P_loss 0, eta 1)."""
+    designs = grid(mu_guide=[0.0, 0.1], mu_A=[0.0, 0.1], r_A=[0.01, 0.02])
+    table = sweep("slider_crank", designs, THETA, 10.0, 0.0, 100.0)
+    assert table["valid"].all()
+    for name in ("P_loss_peak", "P_loss_mean", "eta_min", "Ff_guide_peak", "Mf_A_peak"):
+        assert name in table.columns
+    check_rows("slider_crank", table, 10.0, 100.0)
+    none = (table["mu_guide"] == 0.0) & (table["mu_A"] == 0.0)
+    assert (table.loc[none, "P_loss_peak"] == 0.0).all()
+    assert (table.loc[none, "P_loss_mean"] == 0.0).all()
+    assert (table.loc[none, "eta_min"] == 1.0).all()
+    assert (table.loc[~none, "P_loss_mean"] > 0.0).all()
+    # a four-bar driven clockwise, friction in every pin
+    designs = grid(mu_A=[0.1], r_A=[0.01], mu_B=[0.0, 0.15], r_B=[0.01], mu_C=[0.1],
+                   r_C=[0.005], drive=[-1.0])
+    table = sweep("four_bar", designs, THETA, -10.0, 0.0, 3.0)
+    assert table["valid"].all()
+    check_rows("four_bar", table, -10.0, 3.0)
 
 
 def test_bad_arguments_name_themselves():

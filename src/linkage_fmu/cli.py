@@ -46,6 +46,7 @@ EPILOG = """examples:
   linkage-fmu plot six_bar --what linkage --theta-deg 60 -o six_bar.png
   linkage-fmu plot four_bar --what mu --set l_AB=0.3 -o mu.png
   linkage-fmu plot examples/engine.toml --what speed --Cs 0.02 -o speed.png
+  linkage-fmu plot slider_crank --what loss --set mu_guide=0.1 --omega 10 --load 100 -o loss.png
   linkage-fmu simulate four_bar --tau 2 --t-end 1 --theta0 "30 deg" --omega0 5 --n 11
   linkage-fmu flywheel examples/engine.toml --omega-mean "3000 rpm" --Cs 0.02
   linkage-fmu build four_bar --set l_AB=0.12 --out dist
@@ -277,13 +278,13 @@ def main(argv: list[str] | None = None) -> int:
 
     plot = sub.add_parser("plot", help="a picture: torque curve, force polar, the linkage "
                                        "with its forces, transmission angles, shaking force, "
-                                       "speed over a cycle",
+                                       "speed over a cycle, friction losses",
                           usage="linkage-fmu plot LINKAGE --what KIND [NAME] -o FILE [options]",
                           epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     _linkage(plot, linkage_help)
     plot.add_argument("--what", nargs="+", required=True, metavar=("KIND", "NAME"),
                       help="what to draw, one of: torque [OUTPUT] | polar [FORCE] | linkage | "
-                           "mu | shaking | speed")
+                           "mu | shaking | speed | loss")
     plot.add_argument("--theta-deg", dest="theta_deg",
                       help="angle(s) in degrees: a value (linkage), a list or START:STOP:STEP "
                            "(default a revolution in 0.5 degree steps)")
@@ -570,10 +571,10 @@ def _plot(d: Description, args) -> int:
     mech = d.build(**dict(args.params))
     given = loads(args)
     kind, names = args.what[0], args.what[1:]
-    kinds = ("torque", "polar", "linkage", "mu", "shaking", "speed")
+    kinds = ("torque", "polar", "linkage", "mu", "shaking", "speed", "loss")
     if kind not in kinds or len(names) > 1 or (names and kind not in ("torque", "polar")):
         raise UsageError(f"--what {' '.join(args.what)}: expected torque [OUTPUT], polar "
-                         "[FORCE], linkage, mu, shaking or speed")
+                         "[FORCE], linkage, mu, shaking, speed or loss")
     if kind != "speed" and (args.Cs is not None or args.flywheel is not None):
         raise UsageError("--Cs and --flywheel are for --what speed")
     if kind == "speed" and (args.theta_deg is not None or args.alpha is not None):
@@ -594,6 +595,11 @@ def _plot(d: Description, args) -> int:
                          **given)
     elif kind == "shaking":
         fig = plot.shaking(mech, theta_deg=theta_deg, **motion, **given)
+    elif kind == "loss":
+        try:
+            fig = plot.loss(mech, theta_deg=theta_deg, **motion, **given)
+        except ValueError as err:
+            raise UsageError(f"--what loss: {err}") from None
     elif kind == "speed":
         if args.Cs is not None and args.flywheel is not None:
             raise UsageError("give --Cs (to size a flywheel) or --flywheel, not both")

@@ -659,6 +659,11 @@ class LossOutput:
             return lambda R, E, st: R.P_loss
         from .kinetostatics import effort_coefficient
 
+        if not mech.friction.active:
+            # E0 = E: both ratios are 1 where E is not 0, 0 where it is; no q' needed (a
+            # static plan without friction has no velocity analysis to take it from)
+            return lambda R, E, st: st.xp.abs(sign(st.xp, E))
+
         def eta(R, E, st):
             # no comparison (the kernels trace it as it is): each ratio's denominator is 1
             # where it is 0, and p (1 where the crank drives, else 0) picks one

@@ -18,6 +18,10 @@ Each design's row holds its parameter values and:
 - ``<force>_peak``: each pin force's largest magnitude (``F21_peak`` from ``F21x``,
   ``F21y``; ``shake_peak``, the shaking force's, from ``shake_x``, ``shake_y``), and the
   largest magnitude of every other output (``<name>_peak``: ``shake_M_peak``, ...);
+- with friction in the joints (:mod:`~linkage_fmu.friction`): ``P_loss_peak`` (above)
+  and ``P_loss_mean``, the power friction dissipates, its largest value and its mean
+  over the angles that assemble, and ``eta_min``, the instantaneous efficiency's
+  smallest value;
 - ``mu_<joint>_min_deg``: each transmission angle's minimum distance from a toggle,
   ``min(mu, 180 - mu)`` in degrees.
 
@@ -182,16 +186,21 @@ def solve_chunk(text: str, columns: Mapping[str, list], inputs: list,
             continue
         rows.append(({**base, **params}, ""))
     structural = [p.name for p in specs.values() if p.kind in ("branch", "choice")]
+    # friction with every mu 0 is structure too (its parameters are then no kernel
+    # arguments): a design with a mu not 0 needs a kernel that solves the friction
+    frictional = sorted(d.friction_parameters(("mu",)))
     results: list[dict] = [None] * n
     groups: dict[tuple, list[int]] = {}
     for i, (params, problem) in enumerate(rows):
         if params is None:
             results[i] = {"valid": False, "problem": problem}
         else:
-            groups.setdefault(tuple(params[k] for k in structural), []).append(i)
+            key = tuple(params[k] for k in structural)
+            groups.setdefault((key, any(params[k] != 0.0 for k in frictional)), []).append(i)
     theta = inputs[0]
-    for key, members in groups.items():
-        mech, kernel, array = _structure(text, tuple(zip(structural, key)), over_cycle)
+    for (key, friction), members in groups.items():
+        mech, kernel, array = _structure(text, tuple(zip(structural, key)), over_cycle,
+                                         friction)
         outputs = kernel.outputs
         block = np.full((len(outputs), len(members), theta.size), np.nan)
         valid = np.zeros((len(members), theta.size), dtype=bool)
@@ -212,12 +221,13 @@ def solve_chunk(text: str, columns: Mapping[str, list], inputs: list,
 
 
 @functools.lru_cache(maxsize=64)
-def _structure(text: str, structure: tuple, given: tuple = ()):
+def _structure(text: str, structure: tuple, given: tuple = (), friction: bool = False):
     """The mechanism, kernel (all outputs, moving; the loads over the cycle ``given``
-    as inputs) and array kernel of one structure of a linkage; kept per process, so a
-    worker traces and loads each once."""
+    as inputs) and array kernel of one structure of a linkage (its friction solved, and
+    its parameters kernel arguments, with ``friction``); kept per process, so a worker
+    traces and loads each once."""
     d = Description.from_toml(text, "<sweep>")
-    mech = d.build(**dict(structure))
+    mech = (d.fmu_build if friction else d.build)(**dict(structure))
     kernel = mech.solver.kernel(None, False, given)
     array = kernel.array()
     if array is None:
@@ -255,6 +265,10 @@ def _summaries(mech, outputs: tuple, block: np.ndarray, valid: np.ndarray,
             if name not in paired and name != effort:
                 table[f"{name}_peak"] = np.nanmax(np.where(ok, np.abs(block[index[name]]),
                                                            np.nan), axis=1)
+        if "P_loss" in index:
+            loss = np.where(ok, block[index["P_loss"]], np.nan)
+            table["P_loss_mean"] = np.nanmean(loss, axis=1)
+            table["eta_min"] = np.nanmin(np.where(ok, block[index["eta"]], np.nan), axis=1)
         for name in mech.diagnostic_names:
             if name.startswith("mu_"):
                 mu = np.degrees(np.where(ok, block[index[name]], np.nan))

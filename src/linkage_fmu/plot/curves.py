@@ -332,3 +332,91 @@ def shaking(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     moment_ax.set_title(f"shaking moment about the crank pivot {mech.crank.pivot}, "
                         "counter-clockwise positive", fontsize=10)
     return fig
+
+
+# -- friction losses ---------------------------------------------------------------------
+def loss(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta_deg=None,
+         ax=None, **named_loads) -> "Figure":
+    """What friction in the joints costs over the crank angles: the power it dissipates,
+    ``P_loss`` [W], with its mean and peak (as :func:`torque` draws an output), and
+    below, the instantaneous efficiency ``eta`` (:mod:`~linkage_fmu.friction`) with
+    its minimum marked and the frictionless 1.
+
+    Parameters
+    ----------
+    mech : Mechanism
+        A linkage with friction in its joints (a ``[friction.J]`` table; every preset).
+    theta, omega, alpha, *loads, theta_deg, **named_loads
+        As for :func:`torque`.
+    ax : pair of matplotlib Axes, optional
+        Where to draw ``P_loss`` and ``eta``; a new figure with the two one above the
+        other (the angle axis shared) if None.
+
+    Returns
+    -------
+    Figure
+        The figure of the axes. The first axes hold lines (gid) ``"P_loss"`` (against
+        the angle in degrees), ``"mean"``, ``"peak"`` and ``"zero"``, as
+        :func:`torque`; the second, ``"eta"``, ``"min"`` (one point at its smallest
+        value, annotated) and ``"ideal"`` (horizontal at 1, no friction).
+
+    Raises
+    ------
+    TypeError
+        ``ax`` is not a pair of axes.
+    ValueError
+        The linkage has no friction in its joints, or it cannot be assembled at any
+        angle.
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> from linkage_fmu import plot, presets
+    >>> mech = presets.get("slider_crank", mu_guide=0.1, mu_A=0.1, r_A=0.01)
+    >>> fig = plot.loss(mech, omega=10.0, load=100.0)
+    >>> power, eta = fig.axes
+    >>> [line.get_gid() for line in power.lines]
+    ['P_loss', 'mean', 'peak', 'zero']
+    >>> [line.get_gid() for line in eta.lines]
+    ['eta', 'ideal', 'min']
+    """
+    if "P_loss" not in mech.output_names:
+        raise ValueError(f"{mech.name} has no friction in its joints (no [friction.J] "
+                         "table): no P_loss or eta to draw")
+    if ax is not None:
+        try:
+            power_ax, eta_ax = ax
+        except (TypeError, ValueError):
+            raise TypeError("ax must be a pair of Axes: (P_loss's, eta's), "
+                            f"got {ax!r}") from None
+    rad, deg = crank_angles(theta, theta_deg)
+    inputs = input_values(mech, omega, alpha, loads, named_loads)
+    sol = solve_at(mech, rad, inputs)
+    power, eta = (np.asarray(sol[n], dtype=float) for n in ("P_loss", "eta"))
+    finite_or_fail(mech, power, deg)
+
+    if ax is None:
+        fig, (power_ax, eta_ax) = pyplot().subplots(2, 1, figsize=(8.0, 7.0), sharex=True,
+                                                    layout="constrained")
+    else:
+        fig = power_ax.figure
+    _draw_curve(power_ax, rad, deg, power, "P_loss", mech.output_info["P_loss"][0])
+    power_ax.set_title(f"{mech.name}: {mech.output_info['P_loss'][1]}\n"
+                       f"{inputs_text(mech, inputs)}", fontsize=10)
+    finite = np.isfinite(eta)
+    i = int(np.flatnonzero(finite)[np.argmin(eta[finite])]) if finite.any() else None
+    eta_ax.plot(deg, eta, color="C0", lw=1.6, label="η", gid="eta")
+    eta_ax.axhline(1.0, color="0.6", ls=":", lw=1.0, label="no friction", gid="ideal")
+    if i is not None:
+        eta_ax.plot([deg[i]], [eta[i]], "o", color="C3", ms=7, label=f"min η {eta[i]:.4g}",
+                    gid="min")
+        eta_ax.annotate(f"{eta[i]:.4g}\nat θ = {deg[i]:.1f}°", (deg[i], eta[i]),
+                        xytext=(12, 14), textcoords="offset points", va="bottom",
+                        fontsize=9, gid="min label")
+    degree_axis(eta_ax, deg)
+    eta_ax.set_ylabel("η [1]")
+    eta_ax.set_title("instantaneous efficiency: power delivered over power put in",
+                     fontsize=10)
+    eta_ax.legend(loc="best", fontsize=9)
+    return fig
