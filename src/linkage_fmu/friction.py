@@ -422,8 +422,8 @@ def closed_form(mech, st: KinematicState, W: dict, omega, static: bool):
     With the effort on the crank, the crank's moment equation gives it last. Elsewhere,
     the effort ``e`` solves ``e = e0 - sum(f c) / q'`` (the virtual power of the loads
     and of the friction values ``f`` over the relative motions ``c``; ``e0`` the
-    frictionless effort) by a secant iteration, each of its values solved through the
-    groups.
+    frictionless effort) by a Newton step then secants from ``e0``, each of its values
+    solved through the groups.
     """
     from .kinetostatics import add_effort, effort_coefficient, virtual_effort
 
@@ -456,9 +456,14 @@ def closed_form(mech, st: KinematicState, W: dict, omega, static: bool):
         def step(x):
             _, phi = run(x[0])
             h = phi - x[0]
-            if not history:  # the fixed-point step first, then secants
+            if not history:
+                # a Newton step first (its slope from a probe 1e-6 away), then secants: the
+                # fixed-point step overshoots where |dphi/de| > 1 and can reach a solution
+                # that does not continue the frictionless one
+                delta = 1e-6 * (xp.abs(x[0]) + xp.abs(h))
+                _, probe = run(x[0] + delta)
                 history.append((x[0], h))
-                return [-h], None
+                return [h * delta * _inverse(xp, probe - (x[0] + delta) - h)], None
             e_prev, h_prev = history[-1]
             history.append((x[0], h))
             return [h * (x[0] - e_prev) * _inverse(xp, h - h_prev)], None
