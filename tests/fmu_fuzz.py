@@ -44,6 +44,24 @@ PERTURB = {
 BAD_VALUES = (math.nan, math.inf, -math.inf, 1e300, 1e160)
 
 
+#: preset -> its friction coefficients' parameters
+FRICTION = {name: sorted(presets.preset(name).friction_parameters(("mu",)))
+            for name in presets.names()}
+
+
+def friction(preset: str, rng) -> dict:
+    """Random friction in every pair of ``preset``: mu in [0, 0.3], pin radii in [0, 0.05]
+    of the length scale, a random drive direction (self-locking states among them)."""
+    d = presets.preset(preset)
+    scale = presets.get(preset).length_scale
+    params = {"drive": float(rng.choice((-1.0, 1.0)))}
+    for spec in d.friction.values():
+        params[spec["mu"]] = float(rng.uniform(0.0, 0.3))
+        if "radius" in spec:
+            params[spec["radius"]] = float(rng.uniform(0.0, 0.05) * scale)
+    return params
+
+
 @dataclass
 class Plan:
     """The calls, and what each answer must be: ``checks[i]`` for op ``i``."""
@@ -99,6 +117,8 @@ def generate(fmu: Path, preset: str, steps: int, seed: int) -> Plan:
         name = f"e{episode}"
         episode += 1
         params = {k: float(rng.uniform(lo, hi)) for k, (lo, hi) in valid.items()}
+        if rng.random() < 0.5:
+            params.update(friction(preset, rng))
         add([name, "new", "M"], ("status", OK))
         add([name, "setup", 0.0, None], ("status", OK))
         add([name, "enter"], ("status", OK))
@@ -287,6 +307,8 @@ def check(plan: Plan, results: list) -> Counter:
                 assert np.all(np.abs(got - ref) <= 1e-9 * scale), (
                     i, u, list(zip(names, got, ref)))
                 tally["read equal to the direct solver"] += 1
+                if any(params.get(k, 0.0) for k in FRICTION[preset]):
+                    tally["read with friction"] += 1
     return tally
 
 

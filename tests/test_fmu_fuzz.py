@@ -2,7 +2,8 @@
 (``fmu_fuzz.py``): NaN, infinite and overflowing inputs, unassemblable angles, invalid
 parameter sets, outputs and unknown references set, fixed parameters set after
 initialisation, wrong types, strings that are not UTF-8, bad step sizes, state round
-trips, directional derivatives (good requests and bad ones: an input as the unknown, a
+trips, friction in every pair in half the episodes (self-locking states
+among them), directional derivatives (good requests and bad ones: an input as the unknown, a
 parameter or an output as the known, a seed that is not finite), corrupted states, and
 forged states (bytes written into a serialized state and its
 CRC-32 made valid again: each refused, or taken as a state the FMU could have made, and the
@@ -28,6 +29,7 @@ STEPS = 10_000
 def test_fuzz(fmu2, preset):
     tally, _ = run(fmu2, preset, STEPS, seed=sum(map(ord, preset)))
     assert tally["read equal to the direct solver"] > STEPS // 2
+    assert tally["read with friction"] > STEPS // 5  # half the episodes have friction
     assert tally["value read as set"] > STEPS // 20
     assert tally[("status", ERROR)] > STEPS // 10  # the bad calls were made and refused
     assert tally[("status", DISCARD)] > 100 and tally[("status", WARNING)] > 100
