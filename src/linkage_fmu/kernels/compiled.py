@@ -20,6 +20,7 @@ import sys
 import sysconfig
 import tempfile
 import warnings
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 from typing import Callable
 
@@ -166,6 +167,59 @@ class ArrayKernel:
         ok = np.empty(n, dtype=np.uint8)
         self._array(n, _address(q), x, step, y, _address(ok))
         return out, ok.view(bool)
+
+
+class SummaryKernel:
+    """The compiled reductions ``<prefix>_summary`` of the shared library at ``path``
+    (see :func:`~linkage_fmu.kernels.c_source.c_source`): calling it with a matrix of
+    parameter sets and the inputs of ``n`` states returns one row per parameter set,
+    ``width`` values each."""
+
+    def __init__(self, path: Path, prefix: str, n_parameters: int, width: int):
+        self._summary = getattr(_library(str(path)), f"{prefix}_summary")
+        self._summary.restype = None
+        self._summary.argtypes = [ctypes.c_size_t, ctypes.c_void_p, ctypes.c_size_t,
+                                  ctypes.POINTER(ctypes.c_void_p),
+                                  ctypes.POINTER(ctypes.c_size_t), ctypes.c_void_p]
+        self.n_parameters, self.width, self.path = n_parameters, width, path
+
+    def __call__(self, parameters, inputs: list, n: int, threads: int = 1) -> np.ndarray:
+        """The rows of the parameter sets ``parameters`` (an array of shape (sets,
+        ``n_parameters``)) over the states ``inputs`` (float64 arrays of ``n`` entries
+        or of one, broadcast), the sets split into ``threads`` blocks solved at once
+        (the call releases the GIL)."""
+        p = np.ascontiguousarray(parameters, dtype=np.float64)
+        if p.ndim != 2 or p.shape[1] != self.n_parameters:
+            raise ValueError(f"parameters must have shape (sets, {self.n_parameters}), got "
+                             f"{p.shape}")
+        if not isinstance(threads, int) or threads < 1:
+            raise ValueError(f"threads must be a positive integer, got {threads!r}")
+        arrays = [np.ascontiguousarray(a, dtype=np.float64).reshape(-1) for a in inputs]
+        for k, a in enumerate(arrays):
+            if a.size not in (1, n):
+                raise ValueError(f"input {k} has {a.size} values, not 1 or {n}")
+        x = (ctypes.c_void_p * max(len(arrays), 1))(*(_address(a) for a in arrays))
+        step = (ctypes.c_size_t * max(len(arrays), 1))(*(0 if a.size == 1 else 1
+                                                         for a in arrays))
+        sets = p.shape[0]
+        p = np.concatenate([p.reshape(-1), [0.0]])  # never an empty buffer
+        out = np.empty((sets, self.width))
+        row, bytes_ = self.n_parameters * 8, self.width * 8
+        base_p, base_s = _address(p), _address(out)
+        blocks = [(b * sets // threads, (b + 1) * sets // threads) for b in range(threads)]
+        blocks = [(a, b) for a, b in blocks if b > a]
+
+        def run(block):
+            a, b = block
+            self._summary(b - a, base_p + a * row, n, x, step, base_s + a * bytes_)
+
+        if len(blocks) <= 1:
+            for block in blocks:
+                run(block)
+        else:
+            with ThreadPoolExecutor(len(blocks)) as pool:
+                list(pool.map(run, blocks))
+        return out
 
 
 class TangentKernel:
