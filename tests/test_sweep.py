@@ -143,3 +143,47 @@ def test_a_two_worker_local_cluster_gives_the_in_process_table():
                       states_per_task=500)
     pd.testing.assert_frame_equal(here, there)
     assert (~here["valid"]).any() and here["valid"].any()
+
+
+@pytest.mark.parametrize("preset", presets.names())
+def test_fused_summaries_equal_numpy_over_the_materialised_block(preset):
+    """On every preset, the summaries computed in the C (the default) against the
+    reference, numpy over every output of every state (``fused=False``), to 1e-12
+    relative with NaN in the same places and the same columns in the same order: the
+    first length at its default, 3 times it (angles that cannot be assembled where the
+    linkage does not turn) and negative (an invalid design), each without and with
+    friction in the crank's pin (mu_A = 0.1, r_A = 0.01); two threads give the table one
+    thread gives."""
+    mech = presets.get(preset)
+    length = next(p for p in mech.description.parameter_specs() if p.kind == "length")
+    designs = grid(**{length.name: [length.default, 3.0 * length.default, -length.default]},
+                   mu_A=[0.0, 0.1], r_A=[0.01])
+    reference = sweep(preset, designs, THETA, 10.0, 0.0, 3.0, fused=False)
+    fused = sweep(preset, designs, THETA, 10.0, 0.0, 3.0, threads=1)
+    pd.testing.assert_frame_equal(fused, reference, check_exact=False, rtol=REL, atol=0.0)
+    assert (~fused["valid"]).any() and fused["valid"].any()
+    assert fused["P_loss_mean"].max() > 0.0
+    pd.testing.assert_frame_equal(sweep(preset, designs, THETA, 10.0, 0.0, 3.0, threads=2),
+                                  fused, check_exact=True)
+
+
+def test_fused_four_bar_with_a_crank_too_long_to_assemble():
+    """Four-bars that cannot be assembled over part of the revolution (l_AB = 0.3) or
+    any of it (l_AB = 2), both assembly modes, with friction: the C's summaries equal
+    numpy's over the materialised block to 1e-12 (NaN summaries where no angle
+    assembles, every angle counted unassembled, the first at 0 deg)."""
+    designs = grid(l_AB=[0.1, 0.3, 2.0], branch=[1, -1], mu_B=[0.0, 0.15], r_B=[0.01])
+    reference = sweep("four_bar", designs, THETA, 10.0, 0.0, 3.0, fused=False)
+    fused = sweep("four_bar", designs, THETA, 10.0, 0.0, 3.0)
+    pd.testing.assert_frame_equal(fused, reference, check_exact=False, rtol=REL, atol=0.0)
+    never = fused[fused["l_AB"] == 2.0]
+    assert (never["unassembled"] == THETA.size).all()
+    assert (never["first_unassembled_deg"] == 0.0).all() and never["Mb_peak"].isna().all()
+    partial = fused[fused["l_AB"] == 0.3]
+    assert ((partial["unassembled"] > 0) & (partial["unassembled"] < THETA.size)).all()
+    assert partial["Mb_peak"].notna().all()
+
+
+def test_threads_must_be_a_positive_integer():
+    with pytest.raises(ValueError, match="threads must be a positive integer, got 0"):
+        sweep("four_bar", {"l_AB": [0.1]}, THETA, threads=0)
