@@ -362,3 +362,27 @@ def test_summary_refuses_what_it_cannot_reduce():
         summary([[1.0]], [np.zeros(2)], 3)
     with pytest.raises(ValueError, match="threads must be a positive integer"):
         summary([[1.0]], [np.zeros(3)], 3, threads=0)
+
+
+def test_array_kernel_writes_the_rows_of_one_block():
+    """The array kernel into the rows of one 2-D block (as a sweep's numpy path passes a
+    design's slice of its block): the same floats, bit for bit, as into a list of arrays;
+    a block of another shape or with overlapping rows is refused, naming ``out``."""
+    mech = presets.get("four_bar")
+    k = mech.kernel()
+    array = k.array()
+    if array is None:
+        pytest.skip("no C compiler")
+    theta = np.linspace(0.0, 2 * np.pi, 50)
+    inputs = [theta, np.full(1, 10.0), np.full(1, 1.0), np.full(1, 3.0)]
+    listed, ok = array(inputs, theta.size)
+    block = np.full((len(k.outputs), 3, theta.size), -1.0)
+    rows, ok2 = array(inputs, theta.size, block[:, 1])
+    assert rows.shape == (len(k.outputs), theta.size) and np.array_equal(ok, ok2)
+    np.testing.assert_array_equal(block[:, 1], np.array(listed))
+    assert (block[:, [0, 2]] == -1.0).all()  # its neighbours untouched
+    with pytest.raises(ValueError, match="out must be a float64 array of shape"):
+        array(inputs, theta.size, np.empty((len(k.outputs), theta.size + 1)))
+    with pytest.raises(ValueError, match="out must be a float64 array of shape"):
+        array(inputs, theta.size, np.lib.stride_tricks.as_strided(
+            np.empty(theta.size + len(k.outputs)), (len(k.outputs), theta.size), (8, 8)))

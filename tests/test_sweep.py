@@ -187,3 +187,20 @@ def test_fused_four_bar_with_a_crank_too_long_to_assemble():
 def test_threads_must_be_a_positive_integer():
     with pytest.raises(ValueError, match="threads must be a positive integer, got 0"):
         sweep("four_bar", {"l_AB": [0.1]}, THETA, threads=0)
+
+
+def test_a_column_of_numbers_and_text_with_units():
+    """A column mixing text with units and numbers: "100 mm" is the design 0.1 (the
+    same row as the number 0.1, to the bit, and as the direct solver's), an invalid one
+    says why, and the fused and numpy paths give one table."""
+    designs = {"l_AB": ["100 mm", 0.1, "-1 m", 0.08]}
+    fused = sweep("four_bar", designs, THETA, 10.0, 0.0, 3.0)
+    reference = sweep("four_bar", designs, THETA, 10.0, 0.0, 3.0, fused=False)
+    pd.testing.assert_frame_equal(fused, reference, check_exact=False, rtol=REL, atol=0.0)
+    summaries = fused.columns[fused.columns.get_loc("valid"):]
+    pd.testing.assert_series_equal(fused.loc[0, summaries], fused.loc[1, summaries],
+                                   check_names=False)
+    assert fused.loc[2, "problem"].startswith("l_AB must be > 0")
+    assert fused.loc[[0, 1, 3], "valid"].all()
+    ref = expected("four_bar", {"l_AB": 0.08}, 10.0, 3.0)
+    assert abs(fused.loc[3, "Mb_peak"] - ref["Mb_peak"]) <= REL * ref["Mb_peak"]

@@ -147,7 +147,8 @@ def sweep(source, designs: pd.DataFrame | Mapping[str, Sequence], theta=None,
     if fused and scheduler is None and not progress:
         per = max(len(designs), 1)
     chunks = [designs.iloc[i:i + per] for i in range(0, len(designs), per)] or [designs]
-    args = [(text, chunk.to_dict("list"), inputs, given, fused, threads) for chunk in chunks]
+    args = [(text, {name: chunk[name].to_numpy() for name in chunk.columns}, inputs, given,
+             fused, threads) for chunk in chunks]
     if scheduler is None:
         parts = []
         iterator = args
@@ -200,14 +201,27 @@ def _layout(text: str) -> tuple:
     return specs, base, structural, tuple(sorted(d.friction_parameters(("mu",))))
 
 
-def _validated(spec, values: list) -> tuple[list, list]:
-    """Each value of one parameter's column checked by ``spec`` (each distinct value
-    once): the checked values, and why each is refused ('' where it is not)."""
+def _validated(spec, values) -> tuple[list | np.ndarray, list]:
+    """Each value of one parameter's column checked by ``spec``, each distinct value
+    once: the checked values (an array where they are floats, NaN where refused), and
+    why each is refused ('' where it is not)."""
+    a = values if isinstance(values, np.ndarray) else None
+    if a is not None and a.dtype == np.float64 and a.ndim == 1:
+        # distinct by the bits: -0.0 is 0.0 to np.unique, not to every formula
+        bits, first, inverse = np.unique(a.view(np.int64), return_index=True,
+                                         return_inverse=True)
+        out, why = np.empty(bits.size), []
+        for u, f in enumerate(first):
+            try:
+                out[u], reason = spec.validate(float(a[f])), ""
+            except (TypeError, ValueError) as err:
+                out[u], reason = math.nan, str(err)
+            why.append(reason)
+        return out[inverse], [why[u] for u in inverse] if any(why) else [""] * a.size
     seen: dict = {}
     out, problems = [], []
-    for v in values:
+    for v in (a.tolist() if a is not None else values):  # Python's numbers, not numpy's
         try:
-            # -0.0 is 0.0 to a dict, not to every formula
             key = (type(v), v, math.copysign(1.0, v) if type(v) is float else 0.0)
             hit = seen.get(key)
         except TypeError:  # unhashable: checked as it is (and refused)
@@ -236,11 +250,12 @@ def solve_chunk(text: str, columns: Mapping[str, list], inputs: list,
     n = len(next(iter(columns.values()))) if columns else 1
     checked, problems = {}, [""] * n
     for k in names:  # a design's problem is that of its first column refused
-        checked[k], refused = _validated(specs[k], list(columns[k]))
+        checked[k], refused = _validated(specs[k], columns[k])
         problems = [p or r for p, r in zip(problems, refused)]
     if fused:
         return _fused_chunk(text, n, checked, problems, base, structural, frictional, inputs,
                             over_cycle, threads)
+    checked = {k: v.tolist() if isinstance(v, np.ndarray) else v for k, v in checked.items()}
     rows = [(None, problem) if problem else
             ({**base, **{k: checked[k][i] for k in names}}, "")
             for i, problem in enumerate(problems)]
@@ -266,8 +281,7 @@ def solve_chunk(text: str, columns: Mapping[str, list], inputs: list,
             if frozen is None or not np.isfinite(frozen).all():
                 problems[j] = _UNBUILT
                 continue
-            _, valid[j] = array(inputs, theta.size, [block[k, j] for k in range(len(outputs))],
-                                frozen)
+            _, valid[j] = array(inputs, theta.size, block[:, j], frozen)
         summary = _summaries(mech, outputs, block, valid, theta, problems)
         for j, row in enumerate(summary.to_dict("records")):
             results[members[j]] = row
@@ -282,15 +296,20 @@ def _fused_chunk(text: str, n: int, checked: dict, problems: list, base: dict,
     theta = inputs[0]
     degrees = np.degrees(theta)
 
-    def value(k, i):
-        return checked[k][i] if k in checked else base[k]
-
+    friction = np.full(n, any(base[k] != 0.0 for k in frictional if k not in checked))
+    for k in frictional:
+        if k in checked:
+            friction |= np.array([v != 0.0 for v in checked[k]], dtype=bool)
+    swept = [k for k in structural if k in checked]
+    fixed = tuple(base[k] for k in structural)
+    keys = zip(*(checked[k] for k in swept)) if swept else None
     groups: dict[tuple, list[int]] = {}
-    for i, problem in enumerate(problems):
+    for i, (problem, f) in enumerate(zip(problems, friction.tolist())):
+        if keys is not None:
+            row = dict(zip(swept, next(keys)))
         if not problem:
-            key = tuple(value(k, i) for k in structural)
-            friction = any(value(k, i) != 0.0 for k in frictional)
-            groups.setdefault((key, friction), []).append(i)
+            key = fixed if keys is None else tuple(row.get(k, base[k]) for k in structural)
+            groups.setdefault((key, f), []).append(i)
     invalid = [i for i, p in enumerate(problems) if p]
     parts = []  # (rows, columns: name -> values)
     if invalid:
@@ -302,7 +321,7 @@ def _fused_chunk(text: str, n: int, checked: dict, problems: list, base: dict,
         summary = kernel.summary(reductions)
         params = np.empty((len(members), len(kernel.parameters)))
         for c, k in enumerate(kernel.parameters):
-            params[:, c] = [checked[k][i] for i in members] if k in checked else base[k]
+            params[:, c] = np.asarray(checked[k])[members] if k in checked else base[k]
         s = summary(params, inputs, theta.size, threads)
         bad = s[:, 0] != 0.0
         count = s[:, 1].astype(np.int64)

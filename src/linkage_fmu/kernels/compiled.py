@@ -151,10 +151,14 @@ class ArrayKernel:
         self.frozen = np.array(frozen, dtype=np.float64).reshape(-1)
         self._q = np.concatenate([self.frozen, [0.0]])  # never an empty buffer
 
-    def __call__(self, inputs: list, n: int, out: list | None = None, frozen=None):
-        """The outputs (into ``out``, a list of contiguous float64 arrays of ``n``
-        entries, if given) and the mask; ``frozen``: another parameter set's values of
-        the parameter step (:meth:`Kernel.prepare <linkage_fmu.kernels.Kernel>`)."""
+    def __call__(self, inputs: list, n: int, out: list | np.ndarray | None = None,
+                 frozen=None):
+        """The outputs and the mask; ``out``, if given, where the outputs go: a list of
+        contiguous float64 arrays of ``n`` entries, or a float64 array of shape
+        (outputs, ``n``) whose rows are contiguous and apart (returned as it is: its rows'
+        addresses are one step apart, no per-array look-up); ``frozen``: another parameter
+        set's values of the parameter step (:meth:`Kernel.prepare
+        <linkage_fmu.kernels.Kernel>`)."""
         q = self._q if frozen is None else np.ascontiguousarray(
             np.append(np.asarray(frozen, dtype=np.float64), 0.0))
         if q.size != self._q.size:
@@ -162,8 +166,18 @@ class ArrayKernel:
         arrays = [np.ascontiguousarray(a, dtype=np.float64) for a in inputs]
         x = (ctypes.c_void_p * len(arrays))(*(_address(a) for a in arrays))
         step = (ctypes.c_size_t * len(arrays))(*(0 if a.size == 1 else 1 for a in arrays))
-        out = out if out is not None else [np.empty(n) for _ in range(self.n_outputs)]
-        y = (ctypes.c_void_p * max(len(out), 1))(*(_address(a) for a in out))
+        if out is None:  # one block, its rows the outputs
+            block = np.empty((max(self.n_outputs, 1), n))
+            y, out = _rows(block), list(block[:self.n_outputs])
+        elif isinstance(out, np.ndarray):
+            if (out.dtype != np.float64 or out.shape != (self.n_outputs, n)
+                    or (n > 1 and out.strides[1] != 8) or (n and out.strides[0] < 8 * n)):
+                raise ValueError(f"out must be a float64 array of shape ({self.n_outputs}, "
+                                 f"{n}) with contiguous rows apart, got {out.dtype} "
+                                 f"{out.shape} with strides {out.strides}")
+            y = _rows(out)
+        else:
+            y = (ctypes.c_void_p * max(len(out), 1))(*(_address(a) for a in out))
         ok = np.empty(n, dtype=np.uint8)
         self._array(n, _address(q), x, step, y, _address(ok))
         return out, ok.view(bool)
@@ -213,13 +227,19 @@ class SummaryKernel:
             a, b = block
             self._summary(b - a, base_p + a * row, n, x, step, base_s + a * bytes_)
 
-        if len(blocks) <= 1:
-            for block in blocks:
-                run(block)
-        else:
-            with ThreadPoolExecutor(len(blocks)) as pool:
-                list(pool.map(run, blocks))
+        others = [_pool(len(blocks) - 1).submit(run, b) for b in blocks[1:]]
+        for block in blocks[:1]:  # the first here, the others in the pool meanwhile
+            run(block)
+        for future in others:
+            future.result()
         return out
+
+
+@functools.lru_cache(maxsize=None)
+def _pool(workers: int) -> ThreadPoolExecutor:
+    """Threads kept for the calls that split their work (starting threads per call
+    costs a millisecond or more where the cores are busy)."""
+    return ThreadPoolExecutor(max(workers, 1), thread_name_prefix="linkage_fmu")
 
 
 class TangentKernel:
@@ -246,6 +266,14 @@ class TangentKernel:
         code = self._tangent(_address(self._q), _address(x), _address(dx), _address(y),
                              _address(dy))
         return code if code else (y[:-1], dy[:-1])
+
+
+def _rows(block: np.ndarray):
+    """The addresses of the rows of a 2-D array, as a C array of pointers."""
+    base, step = _address(block), block.strides[0]
+    k = max(block.shape[0], 1)
+    return (ctypes.c_void_p * k)(*range(base, base + k * step, step)) if step else \
+        (ctypes.c_void_p * k)(*([base] * k))
 
 
 def _address(a: np.ndarray) -> int:
