@@ -56,7 +56,7 @@ from .spec import Description
 
 #: states a task solves at least (Dask's per-task overhead is 0.2 to 1 ms)
 STATES_PER_TASK = 50_000
-#: threads solving the designs of a task in this process (each a block of designs)
+#: threads solving the designs of a task in this process
 THREADS = 2
 
 

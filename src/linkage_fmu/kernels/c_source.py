@@ -452,7 +452,10 @@ def _summary_source(prefix: str, n_inputs: int, n_out: int, summary: list) -> li
         "}",
         "",
         f"void {prefix}_summary(size_t nd, const double *p, size_t n, const double *const *x,",
-        "                      const size_t *step, double *s) {",
+        "                      const size_t *step, double *s, int threads) {",
+        "#if defined(_OPENMP) /* the array kernel's team: no second set of threads */",
+        "#pragma omp parallel for schedule(dynamic, 4) num_threads(threads) if (threads > 1)",
+        "#endif",
         "    for (size_t d = 0; d < nd; d++) {",
         f"        double *sd = s + d * {width};",
         f"        double q[{upper}_N_Q + 1];",
@@ -466,7 +469,7 @@ def _summary_source(prefix: str, n_inputs: int, n_out: int, summary: list) -> li
         "        }",
         f"        {prefix}_reduce(q, n, x, step, sd);",
         "    }",
-        "    (void)p;",
+        "    (void)p; (void)threads;",
         "}",
         "",
     ]
@@ -498,7 +501,8 @@ def c_source(tape: Tape, n_inputs: int, results: list, parameters: tuple = (),
       rounding), or the code of the guard that fails.
 
     - with ``summary`` (and ``array``), a list of ``(kind, positions)`` of the results,
-      ``void <prefix>_summary(nd, p, n, x, step, s)``: for each of ``nd`` parameter sets
+      ``void <prefix>_summary(nd, p, n, x, step, s, threads)``: for each of ``nd``
+      parameter sets (split between ``threads`` OpenMP threads where built with it)
       (row ``d`` of ``p``, ``<PREFIX>_N_P`` values each), the parameter step, then the
       ``n`` states (``x`` and ``step`` as in the array function) in blocks, each
       reduced as it comes into row ``d`` of ``s`` (``3 + len(summary)`` values): the

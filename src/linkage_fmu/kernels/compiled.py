@@ -20,7 +20,6 @@ import sys
 import sysconfig
 import tempfile
 import warnings
-from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 from typing import Callable
 
@@ -194,19 +193,21 @@ class SummaryKernel:
         self._summary.restype = None
         self._summary.argtypes = [ctypes.c_size_t, ctypes.c_void_p, ctypes.c_size_t,
                                   ctypes.POINTER(ctypes.c_void_p),
-                                  ctypes.POINTER(ctypes.c_size_t), ctypes.c_void_p]
+                                  ctypes.POINTER(ctypes.c_size_t), ctypes.c_void_p,
+                                  ctypes.c_int]
         self.n_parameters, self.width, self.path = n_parameters, width, path
 
     def __call__(self, parameters, inputs: list, n: int, threads: int = 1) -> np.ndarray:
         """The rows of the parameter sets ``parameters`` (an array of shape (sets,
         ``n_parameters``)) over the states ``inputs`` (float64 arrays of ``n`` entries
-        or of one, broadcast), the sets split into ``threads`` blocks solved at once
-        (the call releases the GIL)."""
+        or of one, broadcast), the sets shared between ``threads`` threads (the array
+        kernel's OpenMP threads: a second set of threads would compete with theirs,
+        which wait spinning after each call)."""
         p = np.ascontiguousarray(parameters, dtype=np.float64)
         if p.ndim != 2 or p.shape[1] != self.n_parameters:
             raise ValueError(f"parameters must have shape (sets, {self.n_parameters}), got "
                              f"{p.shape}")
-        if not isinstance(threads, int) or threads < 1:
+        if isinstance(threads, bool) or not isinstance(threads, int) or threads < 1:
             raise ValueError(f"threads must be a positive integer, got {threads!r}")
         arrays = [np.ascontiguousarray(a, dtype=np.float64).reshape(-1) for a in inputs]
         for k, a in enumerate(arrays):
@@ -218,28 +219,8 @@ class SummaryKernel:
         sets = p.shape[0]
         p = np.concatenate([p.reshape(-1), [0.0]])  # never an empty buffer
         out = np.empty((sets, self.width))
-        row, bytes_ = self.n_parameters * 8, self.width * 8
-        base_p, base_s = _address(p), _address(out)
-        blocks = [(b * sets // threads, (b + 1) * sets // threads) for b in range(threads)]
-        blocks = [(a, b) for a, b in blocks if b > a]
-
-        def run(block):
-            a, b = block
-            self._summary(b - a, base_p + a * row, n, x, step, base_s + a * bytes_)
-
-        others = [_pool(len(blocks) - 1).submit(run, b) for b in blocks[1:]]
-        for block in blocks[:1]:  # the first here, the others in the pool meanwhile
-            run(block)
-        for future in others:
-            future.result()
+        self._summary(sets, _address(p), n, x, step, _address(out), min(threads, max(sets, 1)))
         return out
-
-
-@functools.lru_cache(maxsize=None)
-def _pool(workers: int) -> ThreadPoolExecutor:
-    """Threads kept for the calls that split their work (starting threads per call
-    costs a millisecond or more where the cores are busy)."""
-    return ThreadPoolExecutor(max(workers, 1), thread_name_prefix="linkage_fmu")
 
 
 class TangentKernel:
