@@ -204,3 +204,22 @@ def test_a_column_of_numbers_and_text_with_units():
     assert fused.loc[[0, 1, 3], "valid"].all()
     ref = expected("four_bar", {"l_AB": 0.08}, 10.0, 3.0)
     assert abs(fused.loc[3, "Mb_peak"] - ref["Mb_peak"]) <= REL * ref["Mb_peak"]
+
+
+@pytest.mark.parametrize("preset, parameter", [("six_bar", "l_OA"), ("slider_crank", "l_AB"),
+                                               ("four_bar", "l_BC")])
+def test_a_parameter_set_the_parameter_step_cannot_build(preset, parameter):
+    """A length of 1e300 passes the parameter's own check but not the kernel's parameter
+    step (a check of it fails, a value it computes overflows, or in Python its square
+    raises): the design's row says the set cannot be built, counts every angle
+    unassembled and has NaN summaries, in the C's table and numpy's alike; the default
+    beside it is valid."""
+    mech = presets.get(preset)
+    designs = {parameter: [1e300, mech.parameters[parameter]]}
+    fused = sweep(preset, designs, THETA, 10.0, 0.0, 3.0)
+    reference = sweep(preset, designs, THETA, 10.0, 0.0, 3.0, fused=False)
+    pd.testing.assert_frame_equal(fused, reference, check_exact=False, rtol=REL, atol=0.0)
+    assert fused.loc[0, "problem"].startswith("the parameter set cannot be built")
+    assert fused.loc[0, "unassembled"] == THETA.size and not fused.loc[0, "valid"]
+    assert math.isnan(fused.loc[0, f"{mech.effort.name}_peak"])
+    assert fused.loc[1, "valid"] and fused.loc[1, "problem"] == ""

@@ -277,7 +277,10 @@ def solve_chunk(text: str, columns: Mapping[str, list], inputs: list,
         problems = [""] * len(members)
         for j, i in enumerate(members):
             params = rows[i][0]
-            frozen = kernel.prepare(*(params[k] for k in kernel.parameters))
+            try:
+                frozen = kernel.prepare(*(params[k] for k in kernel.parameters))
+            except (OverflowError, ZeroDivisionError):  # the C gets inf or NaN there
+                frozen = None
             if frozen is None or not np.isfinite(frozen).all():
                 problems[j] = _UNBUILT
                 continue
@@ -296,15 +299,15 @@ def _fused_chunk(text: str, n: int, checked: dict, problems: list, base: dict,
     theta = inputs[0]
     degrees = np.degrees(theta)
 
-    friction = np.full(n, any(base[k] != 0.0 for k in frictional if k not in checked))
+    rubbing = np.full(n, any(base[k] != 0.0 for k in frictional if k not in checked))
     for k in frictional:
         if k in checked:
-            friction |= np.array([v != 0.0 for v in checked[k]], dtype=bool)
+            rubbing |= np.array([v != 0.0 for v in checked[k]], dtype=bool)
     swept = [k for k in structural if k in checked]
     fixed = tuple(base[k] for k in structural)
     keys = zip(*(checked[k] for k in swept)) if swept else None
     groups: dict[tuple, list[int]] = {}
-    for i, (problem, f) in enumerate(zip(problems, friction.tolist())):
+    for i, (problem, f) in enumerate(zip(problems, rubbing.tolist())):
         if keys is not None:
             row = dict(zip(swept, next(keys)))
         if not problem:
@@ -335,17 +338,17 @@ def _fused_chunk(text: str, n: int, checked: dict, problems: list, base: dict,
     # the columns in the order the rows first give them, as a table of row dicts would
     parts.sort(key=lambda part: part[0][0])
     order = list(dict.fromkeys(name for _, table in parts for name in table))
-    table = {}
+    columns = {}
     for name in order:
         having = [(rows, t[name]) for rows, t in parts if name in t]
         if len(having) == 1 and len(having[0][0]) == n:
-            table[name] = having[0][1]
+            columns[name] = having[0][1]
             continue
-        column = np.full(n, np.nan, dtype=object)
+        column = np.full(n, np.nan, dtype=object)  # NaN where a row has no such column
         for rows, values in having:
             column[rows] = list(values)
-        table[name] = column.tolist()
-    return pd.DataFrame(table, index=range(n))
+        columns[name] = column.tolist()
+    return pd.DataFrame(columns, index=range(n))
 
 
 #: why a design's parameter set is refused by the kernel's parameter step
