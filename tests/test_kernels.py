@@ -14,6 +14,7 @@ from hypothesis import strategies as st_
 
 from conftest import IDS, VARIANTS
 from linkage_fmu import AssemblyError, SingularPositionError, presets
+from linkage_fmu.kernels import TRACE, trace
 
 STATES = st_.tuples(
     st_.floats(0.0, 2 * math.pi),
@@ -220,7 +221,7 @@ def test_parameters_are_arguments_of_one_kernel_source():
     assert ka.frozen != kb.frozen
     # the friction's parameters are constants while every mu is 0 (friction not solved)
     assert ka.parameters == tuple(k for k, v in a.parameters.items()
-                                  if k != "branch" and not k.startswith(("mu_", "r_", "drive")))
+                                  if k != "branch" and not k.startswith(("mu_", "muf_", "r_", "drive")))
     for mech, k in ((a, ka), (b, kb)):
         ref = mech.solve(0.7, 5.0, 1.0, 2.0, method="interpreted")
         assert k(0.7, 5.0, 1.0, 2.0) == tuple(ref[n] for n in k.outputs)
@@ -285,3 +286,103 @@ def test_the_kernel_cache_keeps_the_most_recently_used(monkeypatch, tmp_path):
         time.sleep(0.05)
     left = set(tmp_path.glob("kernel-*.so"))
     assert left == {paths[0], paths[3], paths[4]}
+
+
+def _reduced(kernel, outputs, rows, x) -> np.ndarray:
+    """numpy's NaN-skipping reductions over the array kernel's outputs, design by design,
+    in the layout of ``Kernel.summary`` (code, failed states, first failed, values)."""
+    out = []
+    for row in rows:
+        q = kernel.prepare(*row)
+        if q is None or not np.isfinite(q).all():
+            out.append([None, x.size, -1] + [math.nan] * 6)
+            continue
+        ys, ok = kernel.array()([x], x.size, None, q)
+        u, v, w = (np.where(ok, ys[kernel.index[n]], np.nan) for n in outputs)
+        g = np.degrees(u)
+        with np.errstate(invalid="ignore", over="ignore"):
+            out.append([0.0, int((~ok).sum()), int(np.argmin(ok)) if (~ok).any() else -1,
+                        np.nanmax(np.abs(u)), np.nanmax(np.hypot(u, v)),
+                        np.sqrt(np.nanmean(u * u)), np.nanmean(w), np.nanmin(w),
+                        np.nanmin(np.minimum(g, 180.0 - g))])
+    return out
+
+
+def test_summary_reductions_equal_numpy_over_the_array_kernel():
+    """``Kernel.summary`` against numpy's nanmax, hypot, nanmean and nanmin over the
+    array kernel's outputs (NaN where a guard fails), to 1e-12 relative: states past a
+    guard (x > 5) counted and the first one found; an output NaN at states that pass
+    (x > 1.79: inf - inf) skipped; x^2 + y^2 overflowing (1e200) left to hypot; a
+    parameter set the parameter step refuses (a <= 0) and one whose values are not
+    finite (a = inf) reported with NaN summaries; threads give the same rows."""
+
+    def f(x, p):
+        if x[0] > 5.0:  # a guard: the witness takes the other way
+            pass
+        if p["a"] > 0.0:  # a check of the parameter step
+            pass
+        u = p["a"] * TRACE.sin(3.0 * x[0]) + 0.2
+        t = x[0] * p["big"]
+        return [u, p["b"] * TRACE.cos(x[0]), (t - t) + x[0] - 1.0]
+
+    k = trace(f, [1.0], {"a": 2.0, "b": 1.0, "big": 1e308}, ("u", "v", "w"))
+    summary = k.summary([("peak", ("u",)), ("peak_pair", ("u", "v")), ("rms", ("u",)),
+                         ("mean", ("w",)), ("min", ("w",)), ("toggle_deg", ("u",))])
+    if summary is None:
+        pytest.skip("no C compiler")
+    x = np.linspace(0.0, 6.0, 1001)
+    rows = [[2.0, 1.0, 1e308], [0.5, 1e200, 1e308], [1.0, 3.0, 1.0], [-1.0, 1.0, 1e308],
+            [math.inf, 1.0, 1e308]]
+    got = summary(rows, [x], x.size)
+    want = _reduced(k, ("u", "v", "w"), rows, x)
+    assert got[3, 0] > 0 and got[4, 0] == -1.0  # refused by a check; values not finite
+    for g, w in zip(got, want):
+        if w[0] is not None:
+            assert g[0] == 0.0
+        assert g[1] == w[1] and g[2] == w[2]
+        for a, b in zip(g[3:], w[3:]):
+            assert (math.isnan(a) and math.isnan(b)) or abs(a - b) <= 1e-12 * abs(b), (g, w)
+    assert got[0, 1] == 167 and got[0, 2] == 834  # x = 5.004 .. 6 (0.006 apart) fail
+    assert not math.isnan(got[0, 6]) and 1e200 <= got[1, 4] < math.inf  # NaN skipped; hypot
+    np.testing.assert_array_equal(summary(rows, [x], x.size, threads=2), got)
+
+
+def test_summary_refuses_what_it_cannot_reduce():
+    k = trace(lambda x, p: [x[0] * p["a"]], [1.0], {"a": 2.0}, ("y",))
+    with pytest.raises(ValueError, match="no output 'z'"):
+        k.summary([("peak", ("z",))])
+    with pytest.raises(ValueError, match="'median' of 1 outputs is not one of"):
+        k.summary([("median", ("y",))])
+    summary = k.summary([("peak", ("y",))])
+    if summary is None:
+        pytest.skip("no C compiler")
+    with pytest.raises(ValueError, match=r"parameters must have shape \(sets, 1\)"):
+        summary([[1.0, 2.0]], [np.zeros(3)], 3)
+    with pytest.raises(ValueError, match="input 0 has 2 values, not 1 or 3"):
+        summary([[1.0]], [np.zeros(2)], 3)
+    with pytest.raises(ValueError, match="threads must be a positive integer"):
+        summary([[1.0]], [np.zeros(3)], 3, threads=0)
+
+
+def test_array_kernel_writes_the_rows_of_one_block():
+    """The array kernel into the rows of one 2-D block (as a sweep's numpy path passes a
+    design's slice of its block): the same floats, bit for bit, as into a list of arrays;
+    a block of another shape or with overlapping rows is refused, naming ``out``."""
+    mech = presets.get("four_bar")
+    k = mech.kernel()
+    array = k.array()
+    if array is None:
+        pytest.skip("no C compiler")
+    theta = np.linspace(0.0, 2 * np.pi, 50)
+    inputs = [theta, np.full(1, 10.0), np.full(1, 1.0), np.full(1, 3.0)]
+    listed, ok = array(inputs, theta.size)
+    block = np.full((len(k.outputs), 3, theta.size), -1.0)
+    rows, ok2 = array(inputs, theta.size, block[:, 1])
+    assert rows.shape == (len(k.outputs), theta.size) and np.array_equal(ok, ok2)
+    np.testing.assert_array_equal(block[:, 1], np.array(listed))
+    assert (block[:, [0, 2]] == -1.0).all()  # its neighbours untouched
+    with pytest.raises(ValueError, match="out must be a float64 array of shape"):
+        array(inputs, theta.size, np.empty((len(k.outputs), theta.size + 1)))
+    with pytest.raises(ValueError, match="out must be a float64 array of shape"):
+        array(inputs, theta.size, np.lib.stride_tricks.as_strided(
+            np.empty(theta.size + len(k.outputs)), (len(k.outputs), theta.size), (8, 8)))

@@ -143,3 +143,83 @@ def test_a_two_worker_local_cluster_gives_the_in_process_table():
                       states_per_task=500)
     pd.testing.assert_frame_equal(here, there)
     assert (~here["valid"]).any() and here["valid"].any()
+
+
+@pytest.mark.parametrize("preset", presets.names())
+def test_fused_summaries_equal_numpy_over_the_materialised_block(preset):
+    """On every preset, the summaries computed in the C (the default) against the
+    reference, numpy over every output of every state (``fused=False``), to 1e-12
+    relative with NaN in the same places and the same columns in the same order: the
+    first length at its default, 3 times it (angles that cannot be assembled where the
+    linkage does not turn) and negative (an invalid design), each without and with
+    friction in the crank's pin (mu_A = 0.1, r_A = 0.01); two threads give the table one
+    thread gives."""
+    mech = presets.get(preset)
+    length = next(p for p in mech.description.parameter_specs() if p.kind == "length")
+    designs = grid(**{length.name: [length.default, 3.0 * length.default, -length.default]},
+                   mu_A=[0.0, 0.1], r_A=[0.01])
+    reference = sweep(preset, designs, THETA, 10.0, 0.0, 3.0, fused=False)
+    fused = sweep(preset, designs, THETA, 10.0, 0.0, 3.0, threads=1)
+    pd.testing.assert_frame_equal(fused, reference, check_exact=False, rtol=REL, atol=0.0)
+    assert (~fused["valid"]).any() and fused["valid"].any()
+    assert fused["P_loss_mean"].max() > 0.0
+    pd.testing.assert_frame_equal(sweep(preset, designs, THETA, 10.0, 0.0, 3.0, threads=2),
+                                  fused, check_exact=True)
+
+
+def test_fused_four_bar_with_a_crank_too_long_to_assemble():
+    """Four-bars that cannot be assembled over part of the revolution (l_AB = 0.3) or
+    any of it (l_AB = 2), both assembly modes, with friction: the C's summaries equal
+    numpy's over the materialised block to 1e-12 (NaN summaries where no angle
+    assembles, every angle counted unassembled, the first at 0 deg)."""
+    designs = grid(l_AB=[0.1, 0.3, 2.0], branch=[1, -1], mu_B=[0.0, 0.15], r_B=[0.01])
+    reference = sweep("four_bar", designs, THETA, 10.0, 0.0, 3.0, fused=False)
+    fused = sweep("four_bar", designs, THETA, 10.0, 0.0, 3.0)
+    pd.testing.assert_frame_equal(fused, reference, check_exact=False, rtol=REL, atol=0.0)
+    never = fused[fused["l_AB"] == 2.0]
+    assert (never["unassembled"] == THETA.size).all()
+    assert (never["first_unassembled_deg"] == 0.0).all() and never["Mb_peak"].isna().all()
+    partial = fused[fused["l_AB"] == 0.3]
+    assert ((partial["unassembled"] > 0) & (partial["unassembled"] < THETA.size)).all()
+    assert partial["Mb_peak"].notna().all()
+
+
+def test_threads_must_be_a_positive_integer():
+    with pytest.raises(ValueError, match="threads must be a positive integer, got 0"):
+        sweep("four_bar", {"l_AB": [0.1]}, THETA, threads=0)
+
+
+def test_a_column_of_numbers_and_text_with_units():
+    """A column mixing text with units and numbers: "100 mm" is the design 0.1 (the
+    same row as the number 0.1, to the bit, and as the direct solver's), an invalid one
+    says why, and the fused and numpy paths give one table."""
+    designs = {"l_AB": ["100 mm", 0.1, "-1 m", 0.08]}
+    fused = sweep("four_bar", designs, THETA, 10.0, 0.0, 3.0)
+    reference = sweep("four_bar", designs, THETA, 10.0, 0.0, 3.0, fused=False)
+    pd.testing.assert_frame_equal(fused, reference, check_exact=False, rtol=REL, atol=0.0)
+    summaries = fused.columns[fused.columns.get_loc("valid"):]
+    pd.testing.assert_series_equal(fused.loc[0, summaries], fused.loc[1, summaries],
+                                   check_names=False)
+    assert fused.loc[2, "problem"].startswith("l_AB must be > 0")
+    assert fused.loc[[0, 1, 3], "valid"].all()
+    ref = expected("four_bar", {"l_AB": 0.08}, 10.0, 3.0)
+    assert abs(fused.loc[3, "Mb_peak"] - ref["Mb_peak"]) <= REL * ref["Mb_peak"]
+
+
+@pytest.mark.parametrize("preset, parameter", [("six_bar", "l_OA"), ("slider_crank", "l_AB"),
+                                               ("four_bar", "l_BC")])
+def test_a_parameter_set_the_parameter_step_cannot_build(preset, parameter):
+    """A length of 1e300 passes the parameter's own check but not the kernel's parameter
+    step (a check of it fails, a value it computes overflows, or in Python its square
+    raises): the design's row says the set cannot be built, counts every angle
+    unassembled and has NaN summaries, in the C's table and numpy's alike; the default
+    beside it is valid."""
+    mech = presets.get(preset)
+    designs = {parameter: [1e300, mech.parameters[parameter]]}
+    fused = sweep(preset, designs, THETA, 10.0, 0.0, 3.0)
+    reference = sweep(preset, designs, THETA, 10.0, 0.0, 3.0, fused=False)
+    pd.testing.assert_frame_equal(fused, reference, check_exact=False, rtol=REL, atol=0.0)
+    assert fused.loc[0, "problem"].startswith("the parameter set cannot be built")
+    assert fused.loc[0, "unassembled"] == THETA.size and not fused.loc[0, "valid"]
+    assert math.isnan(fused.loc[0, f"{mech.effort.name}_peak"])
+    assert fused.loc[1, "valid"] and fused.loc[1, "problem"] == ""

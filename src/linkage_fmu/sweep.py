@@ -1,11 +1,15 @@
 """Design sweeps: many parameter sets of one linkage, a revolution each, summarised.
 
 A sweep solves every design (a row of parameter values) at every crank angle with the
-linkage's compiled array kernel: its parameters are arguments of the kernel (see
+linkage's compiled kernel: its parameters are arguments of the kernel (see
 :mod:`~linkage_fmu.kernels`), so one compilation serves every design of a structure
-(a value of each branch and choice parameter). Designs go in chunks, each one task
-solving thousands of states: in this process, or on a Dask cluster (``pip install
-"linkage_fmu[sweep]"``) for more cores or machines than this one.
+(a value of each branch and choice parameter). The summaries are computed in the C as
+the states are solved (:meth:`Kernel.summary <linkage_fmu.kernels.Kernel.summary>`:
+only the outputs they read, no state's outputs kept), the designs split between
+threads; ``fused=False`` keeps every output of every state of a chunk of designs (the
+array kernel) and summarises them with numpy, the reference. Designs go in chunks, each
+one task solving thousands of states: in this process, or on a Dask cluster
+(``pip install "linkage_fmu[sweep]"``) for more cores or machines than this one.
 
 Each design's row holds its parameter values and:
 
@@ -52,6 +56,8 @@ from .spec import Description
 
 #: states a task solves at least (Dask's per-task overhead is 0.2 to 1 ms)
 STATES_PER_TASK = 50_000
+#: threads solving the designs of a task in this process
+THREADS = 2
 
 
 def grid(**axes: Sequence) -> pd.DataFrame:
@@ -70,6 +76,7 @@ def grid(**axes: Sequence) -> pd.DataFrame:
 def sweep(source, designs: pd.DataFrame | Mapping[str, Sequence], theta=None,
           omega: float | None = None, alpha: float | None = None, *loads: float, scheduler=None,
           states_per_task: int = STATES_PER_TASK, progress: bool = False,
+          fused: bool = True, threads: int | None = None,
           **named_loads: float) -> pd.DataFrame:
     """Summaries of the linkage ``source`` (preset, description file, Description or a
     Mechanism built from one) at each design over the crank angles ``theta``.
@@ -90,9 +97,18 @@ def sweep(source, designs: pd.DataFrame | Mapping[str, Sequence], theta=None,
         None solves in this process; "local" starts a local Dask cluster (one worker
         per core); a Client or an address (``tcp://host:8786``) uses that cluster.
     states_per_task : int
-        Designs per task: this many states, rounded up to whole designs.
+        Designs per task: this many states, rounded up to whole designs (in this
+        process without a progress bar, the summaries computed in the C take every
+        design in one task: they keep no state's outputs).
     progress : bool
         A progress bar (tqdm) while the chunks are solved in this process.
+    fused : bool
+        Compute the summaries in the C as the states are solved (default); False keeps
+        every output of every state of a chunk and summarises them with numpy (the
+        reference: the same table, to rounding).
+    threads : int, optional
+        Threads solving each task's designs with ``fused``: default :data:`THREADS`
+        in this process, 1 on Dask (its workers are the parallelism).
 
     Returns
     -------
@@ -104,9 +120,14 @@ def sweep(source, designs: pd.DataFrame | Mapping[str, Sequence], theta=None,
     ------
     TypeError, ValueError
         A column that is not a parameter of the linkage, an angle or load that is not
-        finite: naming it. An invalid parameter value is not an error: its design's row
-        says why (``problem``).
+        finite, a number of threads that is not a positive integer: naming it. An
+        invalid parameter value is not an error: its design's row says why
+        (``problem``).
     """
+    if threads is None:
+        threads = THREADS if scheduler is None else 1
+    if isinstance(threads, bool) or not isinstance(threads, int) or threads < 1:
+        raise ValueError(f"threads must be a positive integer, got {threads!r}")
     mech = linkage(source)
     designs = pd.DataFrame(designs).reset_index(drop=True)
     specs = {p.name: p for p in mech.description.parameter_specs()}
@@ -123,8 +144,11 @@ def sweep(source, designs: pd.DataFrame | Mapping[str, Sequence], theta=None,
             raise ValueError(f"{name} must be finite")
     text = mech.description.with_defaults(mech.parameters).to_toml()
     per = max(1, -(-states_per_task // max(theta.size, 1)))
+    if fused and scheduler is None and not progress:
+        per = max(len(designs), 1)
     chunks = [designs.iloc[i:i + per] for i in range(0, len(designs), per)] or [designs]
-    args = [(text, chunk.to_dict("list"), inputs, given) for chunk in chunks]
+    args = [(text, {name: chunk[name].to_numpy() for name in chunk.columns}, inputs, given,
+             fused, threads) for chunk in chunks]
     if scheduler is None:
         parts = []
         iterator = args
@@ -164,31 +188,77 @@ def _on_dask(scheduler, args: list) -> list:
             cluster.close()
 
 
+@functools.lru_cache(maxsize=16)
+def _layout(text: str) -> tuple:
+    """The parameters of the linkage described by ``text`` (name -> spec), their values
+    there, the structural ones (branch and choice), and the friction coefficients
+    (friction with every mu 0 is structure too: its parameters are then no kernel
+    arguments, and a design with a mu not 0 needs a kernel that solves the friction)."""
+    d = Description.from_toml(text, "<sweep>")
+    specs = {p.name: p for p in d.parameter_specs()}
+    base = resolve(tuple(specs.values()), {}, d.name)
+    structural = tuple(p.name for p in specs.values() if p.kind in ("branch", "choice"))
+    return specs, base, structural, tuple(sorted(d.friction_parameters(("mu",))))
+
+
+def _validated(spec, values) -> tuple[list | np.ndarray, list]:
+    """Each value of one parameter's column checked by ``spec``, each distinct value
+    once: the checked values (an array where they are floats, NaN where refused), and
+    why each is refused ('' where it is not)."""
+    a = values if isinstance(values, np.ndarray) else None
+    if a is not None and a.dtype == np.float64 and a.ndim == 1:
+        # distinct by the bits: -0.0 is 0.0 to np.unique, not to every formula
+        bits, first, inverse = np.unique(a.view(np.int64), return_index=True,
+                                         return_inverse=True)
+        out, why = np.empty(bits.size), []
+        for u, f in enumerate(first):
+            try:
+                out[u], reason = spec.validate(float(a[f])), ""
+            except (TypeError, ValueError) as err:
+                out[u], reason = math.nan, str(err)
+            why.append(reason)
+        return out[inverse], [why[u] for u in inverse] if any(why) else [""] * a.size
+    seen: dict = {}
+    out, problems = [], []
+    for v in (a.tolist() if a is not None else values):  # Python's numbers, not numpy's
+        try:
+            key = (type(v), v, math.copysign(1.0, v) if type(v) is float else 0.0)
+            hit = seen.get(key)
+        except TypeError:  # unhashable: checked as it is (and refused)
+            key, hit = None, None
+        if hit is None:
+            try:
+                hit = (spec.validate(v), "")
+            except (TypeError, ValueError) as err:
+                hit = (None, str(err))
+            if key is not None:
+                seen[key] = hit
+        out.append(hit[0])
+        problems.append(hit[1])
+    return out, problems
+
+
 def solve_chunk(text: str, columns: Mapping[str, list], inputs: list,
-                over_cycle: tuple = ()) -> pd.DataFrame:
+                over_cycle: tuple = (), fused: bool = True, threads: int = 1) -> pd.DataFrame:
     """The summaries of the designs ``columns`` (parameter -> values) of the linkage
     described by ``text`` (a description file's text, its defaults the base
     parameters), at the flat ``inputs`` (theta, omega, alpha, the input loads, then the
     loads over the cycle named in ``over_cycle``; arrays of the angles' length or of one):
-    one task of :func:`sweep`."""
-    d = Description.from_toml(text, "<sweep>")
-    specs = {p.name: p for p in d.parameter_specs()}
+    one task of :func:`sweep` (``fused`` and ``threads`` as there)."""
+    specs, base, structural, frictional = _layout(text)
     names = list(columns)
     n = len(next(iter(columns.values()))) if columns else 1
-    rows = []
-    base = resolve(tuple(specs.values()), {}, d.name)
-    for i in range(n):
-        given = {k: columns[k][i] for k in names}
-        try:
-            params = {k: specs[k].validate(v) for k, v in given.items()}
-        except (TypeError, ValueError) as err:
-            rows.append((None, str(err)))
-            continue
-        rows.append(({**base, **params}, ""))
-    structural = [p.name for p in specs.values() if p.kind in ("branch", "choice")]
-    # friction with every mu 0 is structure too (its parameters are then no kernel
-    # arguments): a design with a mu not 0 needs a kernel that solves the friction
-    frictional = sorted(d.friction_parameters(("mu",)))
+    checked, problems = {}, [""] * n
+    for k in names:  # a design's problem is that of its first column refused
+        checked[k], refused = _validated(specs[k], columns[k])
+        problems = [p or r for p, r in zip(problems, refused)]
+    if fused:
+        return _fused_chunk(text, n, checked, problems, base, structural, frictional, inputs,
+                            over_cycle, threads)
+    checked = {k: v.tolist() if isinstance(v, np.ndarray) else v for k, v in checked.items()}
+    rows = [(None, problem) if problem else
+            ({**base, **{k: checked[k][i] for k in names}}, "")
+            for i, problem in enumerate(problems)]
     results: list[dict] = [None] * n
     groups: dict[tuple, list[int]] = {}
     for i, (params, problem) in enumerate(rows):
@@ -207,17 +277,107 @@ def solve_chunk(text: str, columns: Mapping[str, list], inputs: list,
         problems = [""] * len(members)
         for j, i in enumerate(members):
             params = rows[i][0]
-            frozen = kernel.prepare(*(params[k] for k in kernel.parameters))
+            try:
+                frozen = kernel.prepare(*(params[k] for k in kernel.parameters))
+            except (OverflowError, ZeroDivisionError):  # the C gets inf or NaN there
+                frozen = None
             if frozen is None or not np.isfinite(frozen).all():
-                problems[j] = ("the parameter set cannot be built (a computed length is not "
-                               "positive, or a value is not finite)")
+                problems[j] = _UNBUILT
                 continue
-            _, valid[j] = array(inputs, theta.size, [block[k, j] for k in range(len(outputs))],
-                                frozen)
+            _, valid[j] = array(inputs, theta.size, block[:, j], frozen)
         summary = _summaries(mech, outputs, block, valid, theta, problems)
         for j, row in enumerate(summary.to_dict("records")):
             results[members[j]] = row
     return pd.DataFrame(results)
+
+
+def _fused_chunk(text: str, n: int, checked: dict, problems: list, base: dict,
+                 structural: tuple, frictional: tuple, inputs: list, over_cycle: tuple,
+                 threads: int) -> pd.DataFrame:
+    """:func:`solve_chunk` with the summaries computed in the C: the ``n`` designs'
+    checked values ``checked`` (parameter -> values) and ``problems``."""
+    theta = inputs[0]
+    degrees = np.degrees(theta)
+
+    rubbing = np.full(n, any(base[k] != 0.0 for k in frictional if k not in checked))
+    for k in frictional:
+        if k in checked:
+            rubbing |= np.array([v != 0.0 for v in checked[k]], dtype=bool)
+    swept = [k for k in structural if k in checked]
+    fixed = tuple(base[k] for k in structural)
+    keys = zip(*(checked[k] for k in swept)) if swept else None
+    groups: dict[tuple, list[int]] = {}
+    for i, (problem, f) in enumerate(zip(problems, rubbing.tolist())):
+        if keys is not None:
+            row = dict(zip(swept, next(keys)))
+        if not problem:
+            key = fixed if keys is None else tuple(row.get(k, base[k]) for k in structural)
+            groups.setdefault((key, f), []).append(i)
+    invalid = [i for i, p in enumerate(problems) if p]
+    parts = []  # (rows, columns: name -> values)
+    if invalid:
+        parts.append((invalid, {"valid": [False] * len(invalid),
+                                "problem": [problems[i] for i in invalid]}))
+    for (key, friction), members in groups.items():
+        mech, kernel, _ = _structure(text, tuple(zip(structural, key)), over_cycle, friction)
+        names, reductions = _reductions(mech, kernel.outputs)
+        summary = kernel.summary(reductions)
+        params = np.empty((len(members), len(kernel.parameters)))
+        for c, k in enumerate(kernel.parameters):
+            params[:, c] = np.asarray(checked[k])[members] if k in checked else base[k]
+        s = summary(params, inputs, theta.size, threads)
+        bad = s[:, 0] != 0.0
+        count = s[:, 1].astype(np.int64)
+        first = s[:, 2].astype(np.int64)
+        table = {"valid": ~bad & (count == 0),
+                 "problem": [_UNBUILT if b else "" for b in bad], "unassembled": count,
+                 "first_unassembled_deg": np.where(first >= 0, degrees[first], np.nan)}
+        for k, name in enumerate(names):
+            table[name] = s[:, 3 + k]
+        parts.append((members, table))
+    # the columns in the order the rows first give them, as a table of row dicts would
+    parts.sort(key=lambda part: part[0][0])
+    order = list(dict.fromkeys(name for _, table in parts for name in table))
+    columns = {}
+    for name in order:
+        having = [(rows, t[name]) for rows, t in parts if name in t]
+        if len(having) == 1 and len(having[0][0]) == n:
+            columns[name] = having[0][1]
+            continue
+        column = np.full(n, np.nan, dtype=object)  # NaN where a row has no such column
+        for rows, values in having:
+            column[rows] = list(values)
+        columns[name] = column.tolist()
+    return pd.DataFrame(columns, index=range(n))
+
+
+#: why a design's parameter set is refused by the kernel's parameter step
+_UNBUILT = ("the parameter set cannot be built (a computed length is not positive, or a "
+            "value is not finite)")
+
+
+def _reductions(mech, outputs: tuple) -> tuple[list, list]:
+    """The summary columns of a structure (the names :func:`_summaries` gives them, in
+    its order) and the reductions computing them (:meth:`Kernel.summary
+    <linkage_fmu.kernels.Kernel.summary>`)."""
+    index = set(outputs)
+    effort = mech.effort.name
+    pairs = [name[:-1] for name in mech.output_names
+             if name.endswith("x") and name[:-1] + "y" in index]
+    paired = {p + a for p in pairs for a in "xy"}
+    columns = {f"{effort}_peak": ("peak", (effort,)), f"{effort}_rms": ("rms", (effort,))}
+    for p in pairs:
+        columns[f"{p.rstrip('_')}_peak"] = ("peak_pair", (p + "x", p + "y"))
+    for name in mech.output_names:
+        if name not in paired and name != effort:
+            columns[f"{name}_peak"] = ("peak", (name,))
+    if "P_loss" in index:
+        columns["P_loss_mean"] = ("mean", ("P_loss",))
+        columns["eta_min"] = ("min", ("eta",))
+    for name in mech.diagnostic_names:
+        if name.startswith("mu_"):
+            columns[f"{name}_min_deg"] = ("toggle_deg", (name,))
+    return list(columns), list(columns.values())
 
 
 @functools.lru_cache(maxsize=64)

@@ -62,6 +62,7 @@ class Kernel:
     results: list = field(default_factory=list, repr=False)
     n_inputs: int = 0
     _array: object = field(default=False, repr=False)
+    _summary_kernels: dict = field(default_factory=dict, repr=False)
     #: the Python kernel of a state, with :attr:`frozen` bound
     function: Callable = field(default=None, repr=False)
     #: what a one-state solve calls: the Python kernel, or once compiled, the C one
@@ -133,6 +134,41 @@ class Kernel:
         path = compiled.build(self.c_source(array=False, tangent=True))
         return None if path is None else compiled.TangentKernel(
             path, "linkage", self.n_inputs, len(self.outputs), self.frozen)
+
+    def summary(self, reductions: Sequence[tuple[str, tuple[str, ...]]]):
+        """The compiled reductions over states
+        (:class:`~linkage_fmu.kernels.compiled.SummaryKernel`) of the outputs named in
+        ``reductions``, each ``(kind, names)`` with a kind of
+        :data:`~linkage_fmu.kernels.c_source.SUMMARY_KINDS`: the C computes only the
+        outputs they read (and every guard); built or loaded from the cache on first
+        use; None without a C compiler.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> k = trace(lambda x, p: [x[0] * p["a"], x[0] - 1.0], [1.0], {"a": 3.0},
+        ...           ("y", "z"))
+        >>> s = k.summary([("peak", ("y",)), ("mean", ("z",))])
+        >>> s([[3.0], [-2.0]], [np.array([1.0, 2.0, 4.0])], 3).tolist()
+        [[0.0, 0.0, -1.0, 12.0, 1.3333333333333333], [0.0, 0.0, -1.0, 8.0, 1.3333333333333333]]
+        """
+        key = tuple((kind, tuple(names)) for kind, names in reductions)
+        if key not in self._summary_kernels:
+            for _, names in key:
+                for name in names:
+                    if name not in self.index:
+                        raise ValueError(f"the kernel has no output {name!r}; its outputs "
+                                         "are: " + ", ".join(self.outputs))
+            used = list(dict.fromkeys(name for _, names in key for name in names))
+            results = [self.results[self.index[name]] for name in used]
+            spec = [(kind, tuple(used.index(name) for name in names)) for kind, names in key]
+            source = c_source(self.tape, self.n_inputs, results,
+                              tuple(f"p{k}" for k in range(len(self.parameters))), "linkage",
+                              True, False, spec)
+            path = compiled.build(source)
+            self._summary_kernels[key] = None if path is None else compiled.SummaryKernel(
+                path, "linkage", len(self.parameters), 3 + len(key))
+        return self._summary_kernels[key]
 
     def array(self):
         """The compiled array kernel (:class:`~linkage_fmu.kernels.compiled.ArrayKernel`),

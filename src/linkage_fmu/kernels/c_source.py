@@ -57,10 +57,10 @@ def _statements(tape: Tape, nodes: list, guards: dict, codes: dict, indent: str 
             body.append(f"{indent}const double t{i} = -{a[0]};")
         elif node.op == "extern":
             body.append(f"{indent}const double t{i} = {node.value}({', '.join(a)});")
-        elif node.op == "max":  # Python's max(a, b): b only if b > a
-            body.append(f"{indent}const double t{i} = {a[1]} > {a[0]} ? {a[1]} : {a[0]};")
-        elif node.op == "min":  # Python's min(a, b): b only if b < a
-            body.append(f"{indent}const double t{i} = {a[1]} < {a[0]} ? {a[1]} : {a[0]};")
+        elif node.op in ("max", "min"):  # Python's max(a, b): b only if b > a (min: <)
+            test = f"{a[1]} {'>' if node.op == 'max' else '<'} {a[0]}"
+            pick = f"lk_pick({test}, {a[1]}, {a[0]})" if simd else f"{test} ? {a[1]} : {a[0]}"
+            body.append(f"{indent}const double t{i} = {pick};")
         elif node.op in _SCALE:
             body.append(f"{indent}const double t{i} = {a[0]} * {c_literal(_SCALE[node.op])};")
         else:
@@ -190,6 +190,18 @@ _SIMD_HEAD = """\
 #define LK_CLONES
 #endif
 """
+#: c ? b : a by the bits, without a branch: GCC 12 if-converts no loop that calls a
+#: vector function (a branch there keeps the whole loop scalar), nor some conditional sums
+_PICK = """\
+static inline double lk_pick(int c, double b, double a) {
+    union { double d; unsigned long long u; } x, y;
+    const unsigned long long mask = 0ULL - (unsigned long long)(c != 0);
+    x.d = b;
+    y.d = a;
+    x.u = (x.u & mask) | (y.u & ~mask);
+    return x.d;
+}
+"""
 _VECTOR_DECLARATIONS = {
     "sin": ("LK_MVEC_SINCOS", "double lk_sin(double)", "sin", "(double v) { return sin(v); }"),
     "cos": ("LK_MVEC_SINCOS", "double lk_cos(double)", "cos", "(double v) { return cos(v); }"),
@@ -285,13 +297,187 @@ def _array_source(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
         "    }",
         "}",
     ]
-    return [_SIMD_HEAD, *declarations, "", *block, *blocked,
+    return [_PICK, _SIMD_HEAD, *declarations, "", *block, *blocked,
             "#else /* one state after the other, through the one-state function */",
             *plain, "#endif", ""]
 
 
+#: the reductions of a summary (:func:`c_source`): kind -> the outputs it reads
+SUMMARY_KINDS = {"peak": 1, "peak_pair": 2, "rms": 1, "mean": 1, "min": 1, "toggle_deg": 1}
+
+
+def _simd(clauses: str, indent: str) -> list:
+    """An ``omp simd`` loop with reductions (lanes kept apart, sums reassociated), where
+    the build has OpenMP."""
+    return ["#if defined(_OPENMP)", f"#pragma omp simd {clauses}", "#endif"]
+
+
+def _reduction(i: int, kind: str, y: list) -> tuple[list, list, list]:
+    """The declarations, the reduction of one block of states and the final value of
+    summary ``i`` of ``kind`` over the block's results ``y`` (NaN where a state's guards
+    fail: NaN values are skipped)."""
+    ind = "            "
+    loop = f"{ind}    for (size_t j = 0; j < m; j++) {{"
+    if kind in ("peak", "peak_pair"):
+        # a peak starts below every magnitude (a NaN never compares greater)
+        init = [f"        double a{i} = -1.0;"]
+        if kind == "peak":
+            block = [f"{ind}{{", f"{ind}    double b = -1.0;", *_simd("reduction(max:b)", ind),
+                     loop, f"{ind}        const double v = fabs({y[0]});",
+                     f"{ind}        b = v > b ? v : b;", f"{ind}    }}"]
+        else:  # the largest x^2 + y^2, its root; hypot itself where that is not exact
+            block = [f"{ind}{{", f"{ind}    double b = -1.0, c = 0.0;",
+                     *_simd("reduction(max:b) reduction(+:c)", ind), loop,
+                     f"{ind}        const double v = {y[0]} * {y[0]} + {y[1]} * {y[1]};",
+                     f"{ind}        b = v > b ? v : b;",
+                     f"{ind}        c += v != v ? 1.0 : 0.0;", f"{ind}    }}",
+                     f"{ind}    /* over- or underflow, or a NaN beside an infinity */",
+                     f"{ind}    if (c != (double)nbad || !(b < 1e300) || (b > 0.0 && b < 1e-290)) {{",
+                     f"{ind}        b = -1.0;",
+                     f"{ind}        for (size_t j = 0; j < m; j++) {{",
+                     f"{ind}            const double v = hypot({y[0]}, {y[1]});",
+                     f"{ind}            if (v > b) b = v;",
+                     f"{ind}        }}",
+                     f"{ind}    }} else if (b >= 0.0) {{",
+                     f"{ind}        b = sqrt(b);",
+                     f"{ind}    }}"]
+        block += [f"{ind}    if (b > a{i}) a{i} = b;", f"{ind}}}"]
+        final = [f"        sd[{3 + i}] = a{i} < 0.0 ? NAN : a{i};"]
+    elif kind in ("rms", "mean"):
+        init = [f"        double a{i} = 0.0, c{i} = 0.0;"]
+        block = [f"{ind}{{", f"{ind}    double b = 0.0, c = 0.0;",
+                 *_simd("reduction(+:b, c)", ind), loop,
+                 f"{ind}        const double v = {y[0]};",
+                 f"{ind}        const double w = {'v * v' if kind == 'rms' else 'v'};",
+                 f"{ind}        b += lk_pick(v == v, w, 0.0);",
+                 f"{ind}        c += lk_pick(v == v, 1.0, 0.0);",
+                 f"{ind}    }}", f"{ind}    a{i} += b;", f"{ind}    c{i} += c;", f"{ind}}}"]
+        mean = f"a{i} / c{i}"
+        final = [f"        sd[{3 + i}] = c{i} > 0.0 ? "
+                 f"{f'sqrt({mean})' if kind == 'rms' else mean} : NAN;"]
+    else:
+        if kind == "min":
+            value = [f"const double v = {y[0]};"]
+        else:  # min(g, 180 - g) of the angle in degrees g (numpy's np.degrees)
+            value = [f"const double g = {y[0]} * {c_literal(_SCALE['degrees'])};",
+                     "const double h = 180.0 - g;", "const double v = h < g ? h : g;"]
+        init = [f"        double a{i} = INFINITY, c{i} = 0.0;"]
+        block = [f"{ind}{{", f"{ind}    double b = INFINITY, c = 0.0;",
+                 *_simd("reduction(min:b) reduction(+:c)", ind), loop,
+                 *(f"{ind}        {line}" for line in value),
+                 f"{ind}        b = v < b ? v : b;", f"{ind}        c += v == v ? 1.0 : 0.0;",
+                 f"{ind}    }}", f"{ind}    if (b < a{i}) a{i} = b;", f"{ind}    c{i} += c;",
+                 f"{ind}}}"]
+        final = [f"        sd[{3 + i}] = c{i} > 0.0 ? a{i} : NAN;"]
+    return init, block, final
+
+
+def _summary_source(prefix: str, n_inputs: int, n_out: int, summary: list) -> list:
+    """``<prefix>_summary``: the array kernel's blocks of states, one parameter set after
+    the other, each block reduced as it comes (its results stay in buffers of the
+    block's size)."""
+    upper = prefix.upper()
+    width = 3 + len(summary)
+    init, update, final = [], [], []
+    for i, (kind, args) in enumerate(summary):
+        if kind not in SUMMARY_KINDS or len(args) != SUMMARY_KINDS[kind]:
+            raise ValueError(f"summary {i}: {kind!r} of {len(args)} outputs is not one of "
+                             + ", ".join(f"{k} ({n})" for k, n in SUMMARY_KINDS.items()))
+        for k in args:
+            if not 0 <= k < n_out:
+                raise ValueError(f"summary {i}: output {k} is not one of the {n_out} results")
+        a, b, c = _reduction(i, kind, [f"yb[{k}][j]" for k in args])
+        init += a
+        update += b
+        final += c
+    ys = "".join(f", yb[{k}]" for k in range(n_out))
+    return [
+        "#ifndef LK_BLOCK",
+        "#define LK_BLOCK 256",
+        "#endif",
+        "#ifndef LK_CLONES",
+        "#define LK_CLONES",
+        "#endif",
+        f"static void {prefix}_states(size_t m, const double *q, const double *const *xb,",
+        "                           double (*yb)[LK_BLOCK], unsigned char *ok) {",
+        "#if defined(LK_SIMD) && LK_SIMD",
+        f"    {prefix}_block(m, q" + "".join(f", xb[{k}]" for k in range(n_inputs))
+        + ys + ", ok);",
+        "#else",
+        "    for (size_t j = 0; j < m; j++) {",
+        f"        double xi[{max(n_inputs, 1)}], yi[{max(n_out, 1)}];",
+        f"        for (int k = 0; k < {n_inputs}; k++) xi[k] = xb[k][j];",
+        f"        const int good = {prefix}_one(q, xi, yi) == 0;",
+        "        ok[j] = (unsigned char)good;",
+        f"        for (int k = 0; k < {n_out}; k++) yb[k][j] = good ? yi[k] : NAN;",
+        "    }",
+        "#endif",
+        "    (void)xb; (void)yb;",
+        "}",
+        "",
+        "LK_CLONES __attribute__((noinline))",
+        f"static void {prefix}_reduce(const double *q, size_t n, const double *const *x,",
+        "                           const size_t *step, double *sd) {",
+        "    size_t bad = 0, first = 0;",
+        *init,
+        "    for (size_t i0 = 0; i0 < n; i0 += LK_BLOCK) {",
+        "        const size_t m = n - i0 < LK_BLOCK ? n - i0 : LK_BLOCK;",
+        f"        double xbuf[{max(n_inputs, 1)}][LK_BLOCK], yb[{max(n_out, 1)}][LK_BLOCK];",
+        "        unsigned char ok[LK_BLOCK];",
+        f"        const double *xb[{max(n_inputs, 1)}];",
+        f"        for (int k = 0; k < {n_inputs}; k++) {{",
+        "            if (step[k] == 1) {",
+        "                xb[k] = x[k] + i0;",
+        "            } else {",
+        "                for (size_t j = 0; j < m; j++) xbuf[k][j] = x[k][(i0 + j) * step[k]];",
+        "                xb[k] = xbuf[k];",
+        "            }",
+        "        }",
+        f"        {prefix}_states(m, q, xb, yb, ok);",
+        "        size_t nbad = 0;",
+        "        for (size_t j = 0; j < m; j++) nbad += !ok[j];",
+        "        if (nbad && !bad)",
+        "            for (size_t j = 0; j < m; j++)",
+        "                if (!ok[j]) {",
+        "                    first = i0 + j;",
+        "                    break;",
+        "                }",
+        "        bad += nbad;",
+        "        if (nbad < m) { /* the outputs of the failed states are NaN, skipped */",
+        *update,
+        "        }",
+        "    }",
+        "    sd[0] = 0.0; sd[1] = (double)bad; sd[2] = bad ? (double)first : -1.0;",
+        *(line[4:] for line in final),
+        "}",
+        "",
+        f"void {prefix}_summary(size_t nd, const double *p, size_t n, const double *const *x,",
+        "                      const size_t *step, double *s, int threads) {",
+        "#if defined(_OPENMP) /* the array kernel's team: no second set of threads */",
+        "#pragma omp parallel for schedule(dynamic, 4) num_threads(threads) if (threads > 1)",
+        "#endif",
+        "    for (size_t d = 0; d < nd; d++) {",
+        f"        double *sd = s + d * {width};",
+        f"        double q[{upper}_N_Q + 1];",
+        f"        int code = {prefix}_prepare(p + d * {upper}_N_P, q);",
+        f"        for (int k = 0; k < {upper}_N_Q && code == 0; k++)",
+        "            if (!isfinite(q[k])) code = -1;",
+        "        if (code != 0) {",
+        "            sd[0] = (double)code; sd[1] = (double)n; sd[2] = -1.0;",
+        f"            for (int k = 3; k < {width}; k++) sd[k] = NAN;",
+        "            continue;",
+        "        }",
+        f"        {prefix}_reduce(q, n, x, step, sd);",
+        "    }",
+        "    (void)p; (void)threads;",
+        "}",
+        "",
+    ]
+
+
 def c_source(tape: Tape, n_inputs: int, results: list, parameters: tuple = (),
-             prefix: str = "linkage", array: bool = True, tangent: bool = False) -> str:
+             prefix: str = "linkage", array: bool = True, tangent: bool = False,
+             summary: list | None = None) -> str:
     """C functions of the traced ``results``:
 
     - ``int <prefix>_prepare(const double *p, double *q)``: the parameter step, from the
@@ -313,6 +499,21 @@ def c_source(tape: Tape, n_inputs: int, results: list, parameters: tuple = (),
       ``<prefix>_one``, and ``dy``, the derivatives of the outputs along the direction
       ``dx`` of the inputs (forward mode through the same operations: exact, up to
       rounding), or the code of the guard that fails.
+
+    - with ``summary`` (and ``array``), a list of ``(kind, positions)`` of the results,
+      ``void <prefix>_summary(nd, p, n, x, step, s, threads)``: for each of ``nd``
+      parameter sets (split between ``threads`` OpenMP threads where built with it)
+      (row ``d`` of ``p``, ``<PREFIX>_N_P`` values each), the parameter step, then the
+      ``n`` states (``x`` and ``step`` as in the array function) in blocks, each
+      reduced as it comes into row ``d`` of ``s`` (``3 + len(summary)`` values): the
+      parameter step's code (-1 where it passes but a value it computes is not
+      finite), the number of states whose guards fail and the first of them (-1 if
+      none; after a parameter step that fails: ``n`` and -1, and the rest NaN), then
+      one value per entry over the states that pass, NaN values skipped (NaN if none is
+      left), of the kinds in :data:`SUMMARY_KINDS`: ``peak`` (largest magnitude),
+      ``peak_pair`` (largest ``hypot`` of two results), ``rms`` (root mean square),
+      ``mean``, ``min``, and ``toggle_deg`` (smallest ``min(d, 180 - d)`` of the
+      result ``d`` in degrees: a transmission angle's distance from a toggle).
 
     ``<PREFIX>_N_P``, ``_N_Q``, ``_N_X`` and ``_N_Y`` give the lengths of the four.
     """
@@ -387,4 +588,6 @@ def c_source(tape: Tape, n_inputs: int, results: list, parameters: tuple = (),
         ]
     if not array:
         return "\n".join(head)
-    return "\n".join([*head, *_array_source(tape, prog, prefix, n_inputs, results, frozen)])
+    tail = [] if summary is None else _summary_source(prefix, n_inputs, n_out, list(summary))
+    return "\n".join([*head, *_array_source(tape, prog, prefix, n_inputs, results, frozen),
+                      *tail])

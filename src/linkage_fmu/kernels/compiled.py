@@ -150,10 +150,14 @@ class ArrayKernel:
         self.frozen = np.array(frozen, dtype=np.float64).reshape(-1)
         self._q = np.concatenate([self.frozen, [0.0]])  # never an empty buffer
 
-    def __call__(self, inputs: list, n: int, out: list | None = None, frozen=None):
-        """The outputs (into ``out``, a list of contiguous float64 arrays of ``n``
-        entries, if given) and the mask; ``frozen``: another parameter set's values of
-        the parameter step (:meth:`Kernel.prepare <linkage_fmu.kernels.Kernel>`)."""
+    def __call__(self, inputs: list, n: int, out: list | np.ndarray | None = None,
+                 frozen=None):
+        """The outputs and the mask; ``out``, if given, where the outputs go: a list of
+        contiguous float64 arrays of ``n`` entries, or a float64 array of shape
+        (outputs, ``n``) whose rows are contiguous and apart (returned as it is: its rows'
+        addresses are one step apart, no per-array look-up); ``frozen``: another parameter
+        set's values of the parameter step (:meth:`Kernel.prepare
+        <linkage_fmu.kernels.Kernel>`)."""
         q = self._q if frozen is None else np.ascontiguousarray(
             np.append(np.asarray(frozen, dtype=np.float64), 0.0))
         if q.size != self._q.size:
@@ -161,11 +165,62 @@ class ArrayKernel:
         arrays = [np.ascontiguousarray(a, dtype=np.float64) for a in inputs]
         x = (ctypes.c_void_p * len(arrays))(*(_address(a) for a in arrays))
         step = (ctypes.c_size_t * len(arrays))(*(0 if a.size == 1 else 1 for a in arrays))
-        out = out if out is not None else [np.empty(n) for _ in range(self.n_outputs)]
-        y = (ctypes.c_void_p * max(len(out), 1))(*(_address(a) for a in out))
+        if out is None:  # one block, its rows the outputs
+            block = np.empty((max(self.n_outputs, 1), n))
+            y, out = _rows(block), list(block[:self.n_outputs])
+        elif isinstance(out, np.ndarray):
+            if (out.dtype != np.float64 or out.shape != (self.n_outputs, n)
+                    or (n > 1 and out.strides[1] != 8) or (n and out.strides[0] < 8 * n)):
+                raise ValueError(f"out must be a float64 array of shape ({self.n_outputs}, "
+                                 f"{n}) with contiguous rows apart, got {out.dtype} "
+                                 f"{out.shape} with strides {out.strides}")
+            y = _rows(out)
+        else:
+            y = (ctypes.c_void_p * max(len(out), 1))(*(_address(a) for a in out))
         ok = np.empty(n, dtype=np.uint8)
         self._array(n, _address(q), x, step, y, _address(ok))
         return out, ok.view(bool)
+
+
+class SummaryKernel:
+    """The compiled reductions ``<prefix>_summary`` of the shared library at ``path``
+    (see :func:`~linkage_fmu.kernels.c_source.c_source`): calling it with a matrix of
+    parameter sets and the inputs of ``n`` states returns one row per parameter set,
+    ``width`` values each."""
+
+    def __init__(self, path: Path, prefix: str, n_parameters: int, width: int):
+        self._summary = getattr(_library(str(path)), f"{prefix}_summary")
+        self._summary.restype = None
+        self._summary.argtypes = [ctypes.c_size_t, ctypes.c_void_p, ctypes.c_size_t,
+                                  ctypes.POINTER(ctypes.c_void_p),
+                                  ctypes.POINTER(ctypes.c_size_t), ctypes.c_void_p,
+                                  ctypes.c_int]
+        self.n_parameters, self.width, self.path = n_parameters, width, path
+
+    def __call__(self, parameters, inputs: list, n: int, threads: int = 1) -> np.ndarray:
+        """The rows of the parameter sets ``parameters`` (an array of shape (sets,
+        ``n_parameters``)) over the states ``inputs`` (float64 arrays of ``n`` entries
+        or of one, broadcast), the sets shared between ``threads`` threads (the array
+        kernel's OpenMP threads: a second set of threads would compete with theirs,
+        which wait spinning after each call)."""
+        p = np.ascontiguousarray(parameters, dtype=np.float64)
+        if p.ndim != 2 or p.shape[1] != self.n_parameters:
+            raise ValueError(f"parameters must have shape (sets, {self.n_parameters}), got "
+                             f"{p.shape}")
+        if isinstance(threads, bool) or not isinstance(threads, int) or threads < 1:
+            raise ValueError(f"threads must be a positive integer, got {threads!r}")
+        arrays = [np.ascontiguousarray(a, dtype=np.float64).reshape(-1) for a in inputs]
+        for k, a in enumerate(arrays):
+            if a.size not in (1, n):
+                raise ValueError(f"input {k} has {a.size} values, not 1 or {n}")
+        x = (ctypes.c_void_p * max(len(arrays), 1))(*(_address(a) for a in arrays))
+        step = (ctypes.c_size_t * max(len(arrays), 1))(*(0 if a.size == 1 else 1
+                                                         for a in arrays))
+        sets = p.shape[0]
+        p = np.concatenate([p.reshape(-1), [0.0]])  # never an empty buffer
+        out = np.empty((sets, self.width))
+        self._summary(sets, _address(p), n, x, step, _address(out), min(threads, max(sets, 1)))
+        return out
 
 
 class TangentKernel:
@@ -192,6 +247,14 @@ class TangentKernel:
         code = self._tangent(_address(self._q), _address(x), _address(dx), _address(y),
                              _address(dy))
         return code if code else (y[:-1], dy[:-1])
+
+
+def _rows(block: np.ndarray):
+    """The addresses of the rows of a 2-D array, as a C array of pointers."""
+    base, step = _address(block), block.strides[0]
+    k = max(block.shape[0], 1)
+    return (ctypes.c_void_p * k)(*range(base, base + k * step, step)) if step else \
+        (ctypes.c_void_p * k)(*([base] * k))
 
 
 def _address(a: np.ndarray) -> int:
