@@ -189,12 +189,10 @@ def solve_chunk(text: str, columns: Mapping[str, list], inputs: list,
     parameters), at the flat ``inputs`` (theta, omega, alpha, the input loads, then the
     loads over the cycle named in ``over_cycle``; arrays of the angles' length or of one):
     one task of :func:`sweep`."""
-    d = Description.from_toml(text, "<sweep>")
-    specs = {p.name: p for p in d.parameter_specs()}
+    specs, base, structural, frictional = _described(text)
     names = list(columns)
     n = len(next(iter(columns.values()))) if columns else 1
     rows = []
-    base = resolve(tuple(specs.values()), {}, d.name)
     for i in range(n):
         given = {k: columns[k][i] for k in names}
         try:
@@ -203,10 +201,6 @@ def solve_chunk(text: str, columns: Mapping[str, list], inputs: list,
             rows.append((None, str(err)))
             continue
         rows.append(({**base, **params}, ""))
-    structural = [p.name for p in specs.values() if p.kind in ("branch", "choice")]
-    # friction with every mu 0 is structure too (its parameters are then no kernel
-    # arguments): a design with a mu not 0 needs a kernel that solves the friction
-    frictional = sorted(d.friction_parameters(("mu",)))
     results: list[dict] = [None] * n
     groups: dict[tuple, list[int]] = {}
     for i, (params, problem) in enumerate(rows):
@@ -236,6 +230,22 @@ def solve_chunk(text: str, columns: Mapping[str, list], inputs: list,
         for j, row in enumerate(summary.to_dict("records")):
             results[members[j]] = row
     return pd.DataFrame(results)
+
+
+@functools.lru_cache(maxsize=64)
+def _described(text: str) -> tuple:
+    """What every chunk of a linkage's sweep needs of its description ``text``: its
+    parameters by name, their base values, the structural ones (branch and choice) and
+    the coefficients of friction; kept per process, so that a search sweeping a few
+    designs at a time does not parse the description each time."""
+    d = Description.from_toml(text, "<sweep>")
+    specs = {p.name: p for p in d.parameter_specs()}
+    base = resolve(tuple(specs.values()), {}, d.name)
+    structural = [p.name for p in specs.values() if p.kind in ("branch", "choice")]
+    # friction with every mu 0 is structure too (its parameters are then no kernel
+    # arguments): a design with a mu not 0 needs a kernel that solves the friction
+    frictional = sorted(d.friction_parameters(("mu",)))
+    return specs, base, structural, frictional
 
 
 @functools.lru_cache(maxsize=64)
