@@ -113,7 +113,7 @@ class Constraint:
         return np.where(np.isnan(x), 1.0, np.maximum(beyond, 0.0))
 
 
-_CONSTRAINT = re.compile(r"\s*([A-Za-z_]\w*)\s*(<=|>=|<|>)\s*(\S+)\s*")
+_CONSTRAINT = re.compile(r"\s*([A-Za-z_]\w*)\s*(<=|>=|<|>)\s*([^\s<>=]+)\s*")
 
 
 def parse_constraint(spec: str | Constraint | tuple) -> Constraint:
@@ -543,7 +543,7 @@ def _evolve(search: _Search, population: int, budget: int, maxiter: int, popsize
     if progress:
         from tqdm import tqdm
 
-        bar = tqdm(total=generations + 1, desc="generations", unit="gen")
+        bar = tqdm(total=generations + 1, desc="generations (at most)", unit="gen")
         search.on_step = lambda: (bar.update(), bar.set_postfix(best=search.rows[-1]["best"]))
     # scipy >= 1.15 names the seed rng (seed= warns there); earlier ones know only seed
     key = "rng" if "rng" in inspect.signature(differential_evolution).parameters else "seed"
@@ -556,6 +556,8 @@ def _evolve(search: _Search, population: int, budget: int, maxiter: int, popsize
     finally:
         search.on_step = None
         if bar is not None:
+            bar.total = bar.n  # converged before the last generation: the bar ends full
+            bar.refresh()
             bar.close()
 
 

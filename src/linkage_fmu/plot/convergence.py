@@ -19,8 +19,8 @@ if TYPE_CHECKING:  # pragma: no cover
 def convergence(result: "OptimizationResult", ax: "Axes | None" = None) -> "Figure":
     """The best feasible value of the objective of ``result``
     (:func:`~linkage_fmu.optimize.optimize`) against the generation: a step line over
-    the global search (a grid is one generation) and a point for the polish. The top
-    axis gives the evaluations so far.
+    the global search (a grid is one generation) and a point for the polish, one
+    generation after it.
 
     Parameters
     ----------
@@ -60,21 +60,15 @@ def convergence(result: "OptimizationResult", ax: "Axes | None" = None) -> "Figu
     if len(polish):
         g = float(polish["generation"].iloc[-1])
         ax.plot([generation[-1], g], [best[-1], float(polish["best"].iloc[-1])], color="C1",
-                lw=1.2, ls="--", marker="o", label="after the polish (Nelder-Mead)",
+                lw=1.2, ls="--", marker="o", markevery=[1], label="after the polish (Nelder-Mead)",
                 gid="polish")
     last = float(history["generation"].iloc[-1])
     ax.plot([last], [result.value], "*", color="C3", ms=12,
             label=f"optimum {name} = {result.value:.6g}", gid="optimum")
-    ax.set_xlabel("generation")
+    ax.set_xlabel("generation" + (" (the last: the polish)" if len(polish) else ""))
     ax.set_ylabel(name)
     ax.grid(True, alpha=0.3)
     ax.legend(loc="best", fontsize=9)
-    evaluations = history["evaluations"].to_numpy(dtype=np.float64)
-    at = history["generation"].to_numpy(dtype=np.float64)
-    if at.size > 1:  # evaluations so far, read off the generation
-        top = ax.secondary_xaxis("top", functions=(
-            lambda x: np.interp(x, at, evaluations), lambda e: np.interp(e, evaluations, at)))
-        top.set_xlabel("evaluations")
     subject = ", ".join(map(str, result.constraints)) or "no constraint"
     what = "maximise" if result.objective.startswith("-") else "minimise"
     ax.set_title(f"{what} {name} subject to {subject}\n{result.evaluations} evaluations, "
