@@ -281,7 +281,10 @@ def optimize(source, vary: Mapping[str, tuple], minimize: str,
         differential evolution it caps the generations at ``budget // population - 1``.
     maxiter, popsize, tol
         Differential evolution's generations after the first at most, population per
-        parameter, and relative tolerance of convergence (as scipy takes them).
+        parameter, and relative tolerance of convergence (as scipy takes them). With
+        scipy's default tol, 0.01, the search may stop at a local optimum: the
+        four-bar over four lengths (``benchmarks/optimize_timing.py``) stopped in one of
+        two basins depending on the seed; ``tol=0`` runs every generation.
     seed : int, optional
         The random generator's seed: with it, the same result every run.
     polish : bool
