@@ -297,3 +297,48 @@ def test_flywheel_command_prints_the_sizing_and_writes_the_motion(tmp_path):
                           (["--Cs", "0.02", "--set", "l_AB=0.3"], "cannot be assembled")):
         status, _, err = run(["flywheel", "four_bar", *argv])
         assert status == 2 and message in err, (argv, err)
+
+
+def test_optimize_command_prints_the_librarys_optimum_and_writes_its_history(tmp_path):
+    """``optimize`` gives the library's ``optimize`` with the same inputs (the bounds
+    typed with a unit, --method grid, --budget): the design printed to 10 digits, the
+    history written by --csv equal to the result's, a PNG by --plot."""
+    from linkage_fmu.optimize import optimize
+
+    theta = np.linspace(0.0, 2.0 * np.pi, 36, endpoint=False)
+    ref = optimize("four_bar", {"l_BC": (0.3, 0.45), "l_CD": (0.25, 0.4)}, "Mb_peak",
+                   ["mu_C_min_deg >= 45", "valid"], theta=theta, omega=10.0, loads=(2.0,),
+                   method="grid", budget=25)
+    status, out, err = run(["optimize", "four_bar", "--vary", "l_BC=0.3:0.45", "--vary",
+                            "l_CD=250mm:400mm", "--minimize", "Mb_peak", "--subject-to",
+                            "mu_C_min_deg >= 45", "--subject-to", "valid", "--n", "36",
+                            "--omega", "10", "--load", "2", "--method", "grid",
+                            "--budget", "25", "--csv", str(tmp_path / "h.csv"),
+                            "--plot", str(tmp_path / "c.png")])
+    assert status == 0, err
+    assert f"l_BC = {ref.design['l_BC']:.10g}\n" in out
+    assert f"l_CD = {ref.design['l_CD']:.10g}\n" in out
+    assert f"Mb_peak = {ref.value:.10g}\n" in out and "(grid, " in out
+    history = pd.read_csv(tmp_path / "h.csv")
+    np.testing.assert_array_equal(history["best"], ref.history["best"])
+    np.testing.assert_array_equal(history["evaluations"], ref.history["evaluations"])
+    assert (tmp_path / "c.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_optimize_command_names_bad_input_and_no_feasible_design():
+    """A --vary without bounds, a bad constraint, an unknown summary: status 2 with the
+    reason; no feasible design: status 1, the closest printed, the reason on stderr."""
+    base = ["optimize", "four_bar", "--n", "12", "--minimize", "Mb_peak"]
+    status, _, err = run(base + ["--vary", "l_AB=0.1"])
+    assert status == 2 and "--vary 'l_AB=0.1': expected NAME=LO:HI" in err
+    status, _, err = run(base + ["--vary", "l_AB=0.05:0.15", "--subject-to", "mu_C_min_deg"])
+    assert status == 2 and "constraint 'mu_C_min_deg': expected NAME OP VALUE" in err
+    status, _, err = run(["optimize", "four_bar", "--vary", "l_AB=0.05:0.15", "--minimize",
+                          "Mb_max"])
+    assert status == 2 and "'Mb_max' is not a numeric summary" in err
+    status, _, err = run(base + ["--vary", "l_AB=0.15:0.05"])
+    assert status == 2 and "l_AB needs lo < hi" in err
+    status, out, err = run(base + ["--vary", "l_AB=0.05:0.15", "--subject-to",
+                                   "mu_C_min_deg <= 5", "--method", "grid", "--budget", "5"])
+    assert status == 1 and "breaks mu_C_min_deg <= 5" in err
+    assert "no design meets every constraint; the one that breaks them least:" in out

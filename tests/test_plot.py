@@ -748,3 +748,29 @@ def test_missing_matplotlib_says_how_to_install(monkeypatch):
     monkeypatch.setitem(sys.modules, "matplotlib.pyplot", None)  # import fails
     with pytest.raises(ImportError, match=r'pip install "linkage_fmu\[plot\]"'):
         plot.torque(presets.get("four_bar"))
+
+
+def test_convergence_is_the_optimisations_history(tmp_path):
+    """plot.convergence draws the history of ``optimize``: the step line is the best
+    feasible objective of each generation of the search (its values exactly), the
+    polish a point one generation later, the optimum the value returned."""
+    from linkage_fmu.optimize import optimize
+
+    res = optimize("four_bar", {"l_AB": (0.05, 0.15), "l_BC": (0.3, 0.4)}, "Mb_peak",
+                   ["mu_C_min_deg >= 40", "valid"], theta=np.radians(np.arange(0, 360, 10)),
+                   omega=10.0, maxiter=4, seed=2)
+    fig = plot.convergence(res)
+    ax = fig.axes[0]
+    lines = {line.get_gid(): line for line in ax.lines}
+    assert list(lines) == ["best", "polish", "optimum"]
+    search = res.history[res.history["stage"] == "global"]
+    x, y = lines["best"].get_data()
+    np.testing.assert_array_equal(x, search["generation"].to_numpy())
+    np.testing.assert_array_equal(y, search["best"].to_numpy())
+    x, y = lines["polish"].get_data()
+    assert list(x) == [len(search) - 1, len(search)] and y[1] == res.history["best"].iloc[-1]
+    assert list(lines["optimum"].get_data()[1]) == [res.value]
+    assert "minimise Mb_peak subject to mu_C_min_deg >= 40, valid" in ax.get_title()
+    fig.savefig(tmp_path / "c.png")
+    assert (tmp_path / "c.png").read_bytes()[:8] == PNG
+    plt.close(fig)

@@ -1,9 +1,9 @@
 """One command line over the library: ``linkage-fmu
-info|table|sweep|plot|simulate|flywheel|build|check|reference``.
+info|table|sweep|optimize|plot|simulate|flywheel|build|check|reference``.
 
 Every command takes a description file or a preset name; ``--set NAME=VALUE`` overrides
 a parameter, and each load of the linkage is an option ``--NAME VALUE`` of ``table``,
-``sweep``, ``plot``, ``simulate`` and ``flywheel`` (listed by their ``--help`` once the
+``sweep``, ``optimize``, ``plot``, ``simulate`` and ``flywheel`` (listed by their ``--help`` once the
 linkage is named). Values may
 carry units and be expressions, as in a description file: ``--set l_AB=120mm``, ``--set
 gamma=pi/2``, ``--omega "1800 rpm"``, ``--F_P "0.2 kN"``, ``--theta "0:360:15 deg"``;
@@ -41,6 +41,8 @@ EPILOG = """examples:
   linkage-fmu table four_bar --theta 0:360:0.001 --deg -o revolution.parquet
   linkage-fmu sweep four_bar --grid l_AB=0.05:0.15:0.01 --grid l_BC=0.3,0.35 --omega 10 -o designs.csv
   linkage-fmu sweep four_bar --samples designs.csv --scheduler local
+  linkage-fmu optimize four_bar --vary l_BC=0.3:0.45 --vary l_CD=0.25:0.4 --minimize Mb_peak \
+      --subject-to "mu_C_min_deg >= 45" --subject-to valid --seed 1 --plot convergence.png
   linkage-fmu plot four_bar --what torque --omega 10 -o torque.png
   linkage-fmu plot four_bar --what polar F21 -o F21.svg
   linkage-fmu plot six_bar --what linkage --theta-deg 60 -o six_bar.png
@@ -100,7 +102,7 @@ def speeds(args) -> tuple:
 
 
 #: the commands that take the loads of the linkage as options
-LOAD_COMMANDS = ("table", "sweep", "plot", "simulate", "flywheel")
+LOAD_COMMANDS = ("table", "sweep", "optimize", "plot", "simulate", "flywheel")
 
 
 def _load_options(parser: argparse.ArgumentParser, d: Description) -> None:
@@ -276,6 +278,47 @@ def main(argv: list[str] | None = None) -> int:
                                            "this process")
     sweep.add_argument("-o", "--output", help="write the table to FILE.csv or FILE.parquet")
 
+    opt = sub.add_parser("optimize", help="the design within bounds that minimises a sweep's "
+                                          "summary subject to constraints on the summaries",
+                         epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    _linkage(opt, linkage_help)
+    opt.add_argument("--vary", metavar="NAME=LO:HI", action="append", default=[],
+                     help="a parameter varied between bounds (repeatable; SI, or with a "
+                          "unit: l_AB=50mm:150mm)")
+    opt.add_argument("--minimize", required=True, metavar="SUMMARY",
+                     help="the summary minimised (Mb_peak, F21_peak, ...; -NAME maximises it)")
+    opt.add_argument("--subject-to", dest="subject_to", metavar="CONSTRAINT", action="append",
+                     default=[], help="a constraint (repeatable): 'NAME OP VALUE' with OP "
+                                      "one of <=, >=, <, > ('mu_C_min_deg >= 40'), or 'valid' "
+                                      "(the design assembles at every angle)")
+    opt.add_argument("--theta", help="angle(s): a list a,b,c or START:STOP:STEP")
+    opt.add_argument("--deg", action="store_true", help="--theta in degrees")
+    opt.add_argument("--n", type=int, default=360,
+                     help="without --theta: N angles over a revolution (default 360)")
+    _motion(opt)
+    opt.add_argument("--method", choices=("de", "grid"), default="de",
+                     help="differential evolution (de, default) or a grid of --budget designs, "
+                          "each followed by a Nelder-Mead polish")
+    opt.add_argument("--budget", type=int, default=None,
+                     help="designs evaluated by the search at most (default: popsize x "
+                          "parameters x (maxiter + 1))")
+    opt.add_argument("--maxiter", type=int, default=100,
+                     help="generations of differential evolution at most (default 100)")
+    opt.add_argument("--popsize", type=int, default=15,
+                     help="population per parameter (default 15)")
+    opt.add_argument("--seed", type=int, default=None, help="the random seed: the same "
+                                                            "result every run")
+    opt.add_argument("--no-polish", dest="polish", action="store_false",
+                     help="no Nelder-Mead polish after the search")
+    opt.add_argument("--plot", metavar="FILE", help="draw the convergence to FILE.png, .svg "
+                                                    "or .pdf")
+    opt.add_argument("--csv", metavar="FILE", help="write the convergence history to FILE.csv")
+    opt.add_argument("--progress", action="store_true", help="a progress bar over the "
+                                                             "generations")
+    opt.add_argument("--scheduler", help="'local' for a local Dask cluster, or a Dask "
+                                         "scheduler's address (tcp://host:8786); default: "
+                                         "this process")
+
     plot = sub.add_parser("plot", help="a picture: torque curve, force polar, the linkage "
                                        "with its forces, transmission angles, shaking force, "
                                        "speed over a cycle, friction losses",
@@ -367,8 +410,8 @@ def main(argv: list[str] | None = None) -> int:
     try:
         command, named = _named_linkage(argv)
         if named is not None:  # its loads are options of the command, in its --help
-            _load_options({"table": table, "sweep": sweep, "plot": plot, "simulate": simulate,
-                           "flywheel": fly}[command], named)
+            _load_options({"table": table, "sweep": sweep, "optimize": opt, "plot": plot,
+                           "simulate": simulate, "flywheel": fly}[command], named)
         args = parser.parse_args(argv)
         if args.command == "check":
             return _check(args)
@@ -379,6 +422,8 @@ def main(argv: list[str] | None = None) -> int:
             return _info(d)
         if args.command == "sweep":
             return _sweep(d, args)
+        if args.command == "optimize":
+            return _optimize(d, args)
         if args.command == "plot":
             return _plot(d, args)
         if args.command == "simulate":
@@ -674,6 +719,58 @@ def _sweep(d: Description, args) -> int:
     else:
         print(table.to_csv(index=False))
     return 0
+
+
+def _bounds(spec: str) -> tuple[str, tuple]:
+    """``NAME=LO:HI`` of ``--vary``: the name and the two bounds as typed (numbers, or
+    text with a unit, checked by the linkage)."""
+    name, sep, text = spec.partition("=")
+    parts = text.split(":")
+    if not sep or not name or len(parts) != 2 or not all(p.strip() for p in parts):
+        raise UsageError(f"--vary {spec!r}: expected NAME=LO:HI, as in l_AB=0.05:0.15")
+    return name, tuple(_parameter(f"{name}={p.strip()}")[1] for p in parts)
+
+
+def _optimize(d: Description, args) -> int:
+    from .optimize import NoFeasibleDesignError, optimize
+
+    if not args.vary:
+        raise UsageError("give the parameters varied as --vary NAME=LO:HI (repeatable)")
+    vary = dict(map(_bounds, args.vary))
+    if len(vary) != len(args.vary):
+        raise UsageError("--vary: a parameter is given twice")
+    if args.plot and not args.plot.endswith((".png", ".svg", ".pdf")):
+        raise UsageError(f"--plot {args.plot}: the file must end in .png, .svg or .pdf")
+    if args.csv and not args.csv.endswith(".csv"):
+        raise UsageError(f"--csv {args.csv}: the file must end in .csv")
+    mech = d.build(**dict(args.params))
+    theta = (np.linspace(0.0, 2.0 * np.pi, args.n, endpoint=False) if args.theta is None
+             else angles(args.theta, 0, args.deg))
+    omega, alpha = speeds(args)
+    status = 0
+    try:
+        result = optimize(mech, vary, args.minimize, args.subject_to, theta=theta,
+                          omega=omega, alpha=alpha,
+                          method="grid" if args.method == "grid" else "differential_evolution",
+                          budget=args.budget, maxiter=args.maxiter, popsize=args.popsize,
+                          seed=args.seed, polish=args.polish, scheduler=args.scheduler,
+                          progress=args.progress, **loads(args))
+    except NoFeasibleDesignError as err:
+        print(f"linkage-fmu: {err}", file=sys.stderr)
+        result, status = err.result, 1
+    print(result)
+    if args.csv:
+        result.history.to_csv(args.csv, index=False)
+        print(f"wrote {len(result.history)} rows to {args.csv}", file=sys.stderr)
+    if args.plot:
+        try:
+            import matplotlib
+        except ImportError:
+            raise UsageError('plots need matplotlib: pip install "linkage_fmu[plot]"') from None
+        matplotlib.use("Agg")
+        result.plot().savefig(args.plot, dpi=120, bbox_inches="tight")
+        print(f"wrote {args.plot}", file=sys.stderr)
+    return status
 
 
 if __name__ == "__main__":

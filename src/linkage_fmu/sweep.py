@@ -41,11 +41,12 @@ Examples
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import itertools
 import math
 import warnings
-from typing import Mapping, Sequence
+from typing import Iterator, Mapping, Sequence
 
 import numpy as np
 import pandas as pd
@@ -165,25 +166,42 @@ def sweep(source, designs: pd.DataFrame | Mapping[str, Sequence], theta=None,
 
 
 def _on_dask(scheduler, args: list) -> list:
+    with dask_client(scheduler) as client:
+        futures = client.map(lambda a: solve_chunk(*a), args, pure=False)
+        return client.gather(futures)
+
+
+@contextlib.contextmanager
+def dask_client(scheduler) -> Iterator:
+    """The Dask client of ``scheduler`` for the duration of a ``with`` block, so that
+    many sweeps share one cluster: "local" starts a local cluster (one worker process
+    per core), an address (``tcp://host:8786``) connects to that scheduler, a
+    ``Client`` is used as it is. What is started here is closed at the end of the block;
+    a given ``Client`` is left open.
+
+    Raises
+    ------
+    ImportError
+        dask.distributed is not installed, saying how to install it.
+    """
     try:
         from dask.distributed import Client, LocalCluster
     except ImportError:
         raise ImportError('a sweep on Dask needs dask.distributed: pip install '
                           '"linkage_fmu[sweep]"') from None
-    cluster = None
     if isinstance(scheduler, Client):
-        client, own = scheduler, False
-    elif scheduler == "local":
+        yield scheduler
+        return
+    cluster = None
+    if scheduler == "local":
         cluster = LocalCluster(threads_per_worker=1, processes=True, dashboard_address=None)
-        client, own = Client(cluster), True
+        client = Client(cluster)
     else:
-        client, own = Client(scheduler), True
+        client = Client(scheduler)
     try:
-        futures = client.map(lambda a: solve_chunk(*a), args, pure=False)
-        return client.gather(futures)
+        yield client
     finally:
-        if own:
-            client.close()
+        client.close()
         if cluster is not None:
             cluster.close()
 
