@@ -12,7 +12,14 @@ slave only computes, and says why it cannot:
 * ``get_real`` of the outputs: one call of the solver
   (:meth:`Solver.attempt <linkage_fmu.solver.Solver.attempt>`) at the inputs, every output
   at once; a state without outputs gives NaN and its reason, logged with fmi2Discard,
-  in the words the native kernels use.
+  in the words the native kernels use. Once the solver has compiled its kernel of every
+  output, ``get_real`` calls that kernel itself, and the solver only where the kernel
+  does not take the state.
+
+The framework calls ``set_real`` (every input, in order) and ``get_real`` (every output,
+in order) once per change of the inputs, and nothing between its steps: those two calls
+are the slave's share of a step, and do no more than pass the inputs to the kernel and
+its outputs back.
 
 Nothing escapes to the wrapper: a Python exception in a callback would be its fmi2Fatal,
 after which it cannot be called again; every callback logs it with fmi2Error instead.
@@ -145,13 +152,20 @@ class LinkageSlave(Fmi2Slave):
         self._description = Description.read(folder / self.DESCRIPTION)
         mech = self._description.build()
         table = variables(mech)
-        self._values = {vr: v.start for vr, v in enumerate(table) if v.causality != "output"}
+        self._values = {vr: v.start for vr, v in enumerate(table)
+                        if v.causality == "parameter"}
         self._parameters = {vr: v.name for vr, v in enumerate(table)
                             if v.causality == "parameter"}
+        # the backend sets the inputs, and reads the outputs, in these orders
         self._inputs = [vr for vr, v in enumerate(table) if v.causality == "input"]
-        self._outputs = {vr: k for k, vr in enumerate(
-            vr for vr, v in enumerate(table) if v.causality == "output")}
+        self._output_vrs = [vr for vr, v in enumerate(table) if v.causality == "output"]
+        self._input_index = {vr: k for k, vr in enumerate(self._inputs)}
+        self._outputs = {vr: k for k, vr in enumerate(self._output_vrs)}
+        self._x = [table[vr].start for vr in self._inputs]  # the inputs in force
         self._mech, self._method = None, "closed_form"
+        # the compiled kernels of every output, by static (omega = alpha = 0); None until
+        # the solver has compiled them
+        self._hot: list = [None, None]
 
     # -- logging: no leak ---------------------------------------------------------------
     def log(self, msg, status=Fmi2Status.ok, category=None, debug=None):
@@ -184,16 +198,29 @@ class LinkageSlave(Fmi2Slave):
         self.log(f"{call} failed: {err!r}", Fmi2Status.error)
 
     # -- what the framework asks ----------------------------------------------------------
+    # set_real and get_real run once each per change of the inputs (the framework keeps the
+    # outputs until an input changes), so they do no more than that needs.
     def _set(self, call: str, vrs, values) -> None:
-        self._release_logged()
+        if self._logged:
+            self._release_logged()
         try:
+            x, index = self._x, self._input_index
             for vr, value in zip(vrs, values):
-                self._values[vr] = value
+                k = index.get(vr)
+                if k is None:
+                    self._values[vr] = value
+                else:
+                    x[k] = value
         except Exception as err:
             self._failed(call, err)
 
     def set_real(self, vrs, values):
-        self._set("setReal", vrs, values)
+        if vrs == self._inputs:  # an evaluation's: every input in order, a list of our own
+            if self._logged:
+                self._release_logged()
+            self._x = values
+        else:
+            self._set("setReal", vrs, values)
 
     def set_integer(self, vrs, values):
         self._set("setInteger", vrs, values)
@@ -204,8 +231,9 @@ class LinkageSlave(Fmi2Slave):
     def exit_initialization_mode(self):
         """Build the linkage of the parameters set; an invalid set is an fmi2Error with
         its reason."""
-        self._release_logged()
-        self._mech = None
+        if self._logged:
+            self._release_logged()
+        self._mech, self._hot = None, [None, None]
         try:
             params = {self._parameters[vr]: self._values[vr] for vr in self._parameters}
             self._method = params.pop("method")
@@ -218,19 +246,56 @@ class LinkageSlave(Fmi2Slave):
     def get_real(self, vrs):
         """The outputs ``vrs`` at the inputs set: one solve of every output; NaN and the
         reason (logged with fmi2Discard) where the state has none."""
-        self._release_logged()
+        if self._logged:
+            self._release_logged()
+        x = self._x
+        static = x[1] == 0.0 and x[2] == 0.0
+        call = self._hot[static]
+        if call is not None:
+            # The compiled kernel checks what the solver would: a tuple is the outputs
+            # (finite where they must be); anything else, the solver classifies.
+            r = call(*x)
+            if type(r) is tuple:
+                if vrs == self._output_vrs:
+                    return list(r)
+                return self._pick(r, vrs)
+        return self._solve(x, static, vrs)
+
+    def _solve(self, x: list, static: bool, vrs) -> list:
+        """The outputs ``vrs`` by the solver, which decides which kernel or formulas to
+        use; NaN and the reason, logged with fmi2Discard, where the state has none."""
         try:
             if self._mech is None:
                 raise RuntimeError("the outputs are read before a parameter set was taken")
-            r = self._mech.solver.attempt([self._values[vr] for vr in self._inputs], None,
-                                          self._method)
+            solver = self._mech.solver
+            r = solver.attempt(x, None, self._method)
+            if self._method == "closed_form" and self._hot[static] is None:
+                self._hot[static] = _compiled(solver, static)
             if type(r) is not tuple:
                 self.log(r.text, Fmi2Status.discard)
                 return [math.nan] * len(vrs)
-            return [r[self._outputs[vr]] for vr in vrs]
+            return self._pick(r, vrs)
+        except Exception as err:
+            self._failed("getReal", err)
+            return [math.nan] * len(vrs)
+
+    def _pick(self, r: tuple, vrs) -> list:
+        try:
+            outputs = self._outputs
+            return [r[outputs[vr]] for vr in vrs]
         except Exception as err:
             self._failed("getReal", err)
             return [math.nan] * len(vrs)
 
     def do_step(self, current_time, step_size):
         return True  # the framework steps; the slave has no state of its own
+
+
+def _compiled(solver, static: bool):
+    """The compiled one-state kernel of every output of ``solver`` (``static``: omega =
+    alpha = 0), once the solver has compiled it; else None."""
+    try:
+        k = solver.kernel(None, static)
+    except ValueError:  # no kernel: the formulas serve every state
+        return None
+    return k.call if k.compiled else None
