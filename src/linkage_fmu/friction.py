@@ -339,12 +339,27 @@ class _Zeros(dict):
         return value
 
 
+def unit_responses(mech, st: KinematicState, grp, pairs: tuple) -> list:
+    """``K[k][i]``: the reaction at pair ``i`` of ``grp`` to a unit friction value at its
+    pair ``k`` alone (one trial solve each, on no other wrench: it does not depend on
+    the loads, so one computation serves every solve of the group at a state)."""
+    names = [jf.joint.name for jf in pairs]
+    K = []
+    for jf in pairs:
+        unit, trial = _scratch(None, grp.links), {}
+        apply(mech, st, unit, jf, 1.0)
+        grp.statics(mech, st, unit, trial)
+        K.append([trial[n] for n in names])
+    return K
+
+
 def solve_group(mech, st: KinematicState, grp, pairs: tuple, W: dict, R: dict,
-                s: dict) -> object:
+                s: dict, K: list | None = None) -> object:
     """The statics of ``grp`` with the friction of its ``pairs`` (signs of motion ``s``
-    by joint name): its reactions are ``R0 + K m`` in the friction values ``m`` (one
-    trial solve each), ``m`` solves ``m = law(R0 + K m)`` by Newton from 0, then the
-    statics runs once with the friction applied. Returns what the statics returns."""
+    by joint name): its reactions are ``R0 + K m`` in the friction values ``m`` (``K``
+    from :func:`unit_responses`, computed here if not given), ``m`` solves
+    ``m = law(R0 + K m)`` by Newton from 0, then the statics runs once with the
+    friction applied. Returns what the statics returns."""
     if not pairs:
         return grp.statics(mech, st, W, R)
     xp = st.xp
@@ -352,12 +367,8 @@ def solve_group(mech, st: KinematicState, grp, pairs: tuple, W: dict, R: dict,
     trial: dict = {}
     grp.statics(mech, st, _scratch(W, grp.links), trial)
     r0 = [trial[n] for n in names]
-    K = []
-    for jf in pairs:
-        unit, trial = _scratch(None, grp.links), {}
-        apply(mech, st, unit, jf, 1.0)
-        grp.statics(mech, st, unit, trial)
-        K.append([trial[n] for n in names])
+    if K is None:
+        K = unit_responses(mech, st, grp, pairs)
     n = len(pairs)
 
     def step(m):
@@ -436,12 +447,16 @@ def closed_form(mech, st: KinematicState, W: dict, omega, static: bool):
     fr = mech.friction
     c, s = motion_signs(mech, st, omega, static)
 
+    order = list(zip(reversed(mech.groups), reversed(fr.groups)))
+    # computed once: the effort's iteration below solves the groups several times
+    responses = [unit_responses(mech, st, grp, pairs) for grp, pairs in order]
+
     def through(Wc: dict):
         R = Reactions()
         R.friction = {}
         moment = None
-        for grp, pairs in zip(reversed(mech.groups), reversed(fr.groups)):
-            moment = solve_group(mech, st, grp, pairs, Wc, R, s)
+        for (grp, pairs), K in zip(order, responses):
+            moment = solve_group(mech, st, grp, pairs, Wc, R, s, K)
         return R, moment
 
     if mech.effort_on_crank:
