@@ -286,9 +286,19 @@ def check(plan: Plan, results: list) -> Counter:
                 tally["derivative nan"] += 1
             else:
                 assert status == OK and np.isfinite(got).all(), (i, u, status, payload)
-                if kind == 0:  # d(J_red, Mb)/dalpha
+                if kind == 0 and not any(params.get(k, 0.0) for k in FRICTION[preset]):
+                    # d(J_red, Mb)/dalpha; with friction Mb is not affine in alpha
                     assert got[0] == 0.0 and abs(got[1] - values[0]) <= 1e-12 * values[0], (
                         i, u, got, values)
+                elif kind == 0:  # with friction: the central difference of the direct solver
+                    h = 1e-4 * max(1.0, abs(u[2]))
+                    ends = [_solvable(preset, params, [u[0], u[1], u[2] + t, *u[3:]], ["Mb"])[0]
+                            for t in (h, -h)]
+                    if None not in ends:
+                        fd = (ends[0][0] - ends[1][0]) / (2 * h)
+                        assert got[0] == 0.0 and abs(got[1] - fd) <= 1e-6 * max(abs(fd), 1.0), (
+                            i, u, got, fd)
+                        tally["derivative with friction"] += 1
                 tally["derivative"] += 1
         elif c[0] == "read":
             _, preset, params, u, names = c

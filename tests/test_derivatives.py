@@ -302,3 +302,29 @@ def test_a_state_deserialized_but_not_set_leaves_the_derivatives_alone(tmp_path)
     finally:
         a.free()
         b.free()
+
+
+@pytest.mark.parametrize("name", presets.names())
+def test_the_kernel_tangent_with_friction_against_central_differences(name):
+    """Friction in every pair (mu 0.15, pins of 0.02 of the length scale), the kernel's
+    tangent through its Newton steps on the friction values: central differences of the
+    kernel's outputs (1e-7 of the outputs' scale), at two moving states."""
+    base = presets.get(name)
+    d = presets.preset(name)
+    params = {spec["mu"]: 0.15 for spec in d.friction.values()}
+    params.update({spec["radius"]: 0.02 * base.length_scale for spec in d.friction.values()
+                   if "radius" in spec})
+    mech = presets.get(name, **params)
+    k = mech.solver.kernel()
+    tangent = k.tangent()
+    n = k.n_inputs
+    for theta, omega, alpha in STATES[:2]:
+        x = np.array([theta, omega, alpha] + [35.0] * (n - 3))
+        if k(*x) is None:
+            continue
+        for j in range(n):
+            y, dy = tangent(x, np.eye(n)[j])
+            np.testing.assert_array_equal(y, k(*x))
+            fd = central(lambda z: k(*z), x, j)
+            np.testing.assert_allclose(dy, fd, rtol=0, atol=1e-7 * scales(k, x).max(),
+                                       err_msg=f"{name}: input {j}")

@@ -218,10 +218,15 @@ def law(xp, jf: JointFriction, s, reaction):
     motion sign ``s``, and its derivatives by the reaction's two components."""
     a, b = reaction
     if jf.revolute:
-        size = xp.sqrt(a * a + b * b)
+        # |R| scaled by its larger component, so that no square overflows (a reaction
+        # over 1e154: with mu = 0, inf * 0 would be NaN); the ratios are the unit
+        # vector's, and 0 for R = 0 (where the root is 0 and the larger component TINY)
+        big = xp.maximum(xp.maximum(xp.abs(a), xp.abs(b)), TINY)
+        p, q = a / big, b / big
+        root = xp.sqrt(p * p + q * q)
         k = -jf.mu * jf.radius * s
-        inv = 1.0 / xp.maximum(size, TINY)
-        return k * size, k * a * inv, k * b * inv
+        inv = 1.0 / xp.maximum(root, 1.0)
+        return k * (big * root), k * p * inv, k * q * inv
     k = -jf.mu * s
     if jf.length is None:
         return k * xp.abs(a), k * sign(xp, a), 0.0 * a
@@ -334,12 +339,27 @@ class _Zeros(dict):
         return value
 
 
+def unit_responses(mech, st: KinematicState, grp, pairs: tuple) -> list:
+    """``K[k][i]``: the reaction at pair ``i`` of ``grp`` to a unit friction value at its
+    pair ``k`` alone (one trial solve each, on no other wrench: it does not depend on
+    the loads, so one computation serves every solve of the group at a state)."""
+    names = [jf.joint.name for jf in pairs]
+    K = []
+    for jf in pairs:
+        unit, trial = _scratch(None, grp.links), {}
+        apply(mech, st, unit, jf, 1.0)
+        grp.statics(mech, st, unit, trial)
+        K.append([trial[n] for n in names])
+    return K
+
+
 def solve_group(mech, st: KinematicState, grp, pairs: tuple, W: dict, R: dict,
-                s: dict) -> object:
+                s: dict, K: list | None = None) -> object:
     """The statics of ``grp`` with the friction of its ``pairs`` (signs of motion ``s``
-    by joint name): its reactions are ``R0 + K m`` in the friction values ``m`` (one
-    trial solve each), ``m`` solves ``m = law(R0 + K m)`` by Newton from 0, then the
-    statics runs once with the friction applied. Returns what the statics returns."""
+    by joint name): its reactions are ``R0 + K m`` in the friction values ``m`` (``K``
+    from :func:`unit_responses`, computed here if not given), ``m`` solves
+    ``m = law(R0 + K m)`` by Newton from 0, then the statics runs once with the
+    friction applied. Returns what the statics returns."""
     if not pairs:
         return grp.statics(mech, st, W, R)
     xp = st.xp
@@ -347,12 +367,8 @@ def solve_group(mech, st: KinematicState, grp, pairs: tuple, W: dict, R: dict,
     trial: dict = {}
     grp.statics(mech, st, _scratch(W, grp.links), trial)
     r0 = [trial[n] for n in names]
-    K = []
-    for jf in pairs:
-        unit, trial = _scratch(None, grp.links), {}
-        apply(mech, st, unit, jf, 1.0)
-        grp.statics(mech, st, unit, trial)
-        K.append([trial[n] for n in names])
+    if K is None:
+        K = unit_responses(mech, st, grp, pairs)
     n = len(pairs)
 
     def step(m):
@@ -430,20 +446,23 @@ def closed_form(mech, st: KinematicState, W: dict, omega, static: bool):
     xp = st.xp
     fr = mech.friction
     c, s = motion_signs(mech, st, omega, static)
-    ideal = virtual_effort(mech, st, W)
+
+    order = list(zip(reversed(mech.groups), reversed(fr.groups)))
+    # computed once: the effort's iteration below solves the groups several times
+    responses = [unit_responses(mech, st, grp, pairs) for grp, pairs in order]
 
     def through(Wc: dict):
         R = Reactions()
         R.friction = {}
         moment = None
-        for grp, pairs in zip(reversed(mech.groups), reversed(fr.groups)):
-            moment = solve_group(mech, st, grp, pairs, Wc, R, s)
+        for (grp, pairs), K in zip(order, responses):
+            moment = solve_group(mech, st, grp, pairs, Wc, R, s, K)
         return R, moment
 
     if mech.effort_on_crank:
         R, effort = through(W)
     else:
-        q1 = effort_coefficient(mech, st)
+        ideal, q1 = virtual_effort(mech, st, W), effort_coefficient(mech, st)
 
         def run(e):
             Wc = {k: list(v) for k, v in W.items()}
@@ -473,9 +492,19 @@ def closed_form(mech, st: KinematicState, W: dict, omega, static: bool):
         W = {k: list(v) for k, v in W.items()}
         add_effort(mech, st, W, effort)
         R, _ = through(W)
-    R.ideal, R.direction = ideal, direction(fr.drive, omega, static, xp)
+    R.ideal = frictionless(mech, st, effort, R.friction, c)
+    R.direction = direction(fr.drive, omega, static, xp)
     R.P_loss = 0.0 if static else -omega * virtual_power(R.friction, c)
     return R, effort
+
+
+def frictionless(mech, st: KinematicState, effort, friction: dict, c: dict):
+    """The effort without friction, ``e0 = e + sum(f c) / q'`` from the power balance at
+    the solution: equal to the frictionless solve to rounding, and to ``e`` itself where
+    every friction value is 0 (so ``eta`` is exactly 1 there)."""
+    from .kinetostatics import effort_coefficient
+
+    return effort + virtual_power(friction, c) / effort_coefficient(mech, st)
 
 
 def _locks(grp, pairs) -> str:
@@ -504,11 +533,10 @@ def direct(mech, st: KinematicState, W: dict, omega, static: bool, xp, n_states:
     law and the signs of motion with it. The floats go through numpy (batched over
     states), mpmath numbers (``xp.lu_solve``) through mpmath. Self-locking where it
     does not converge or the determinant of the Jacobian changes sign from ``A``'s."""
-    from .kinetostatics import equilibrium_entries, unknowns, virtual_effort
+    from .kinetostatics import equilibrium_entries, unknowns
 
     fr = mech.friction
     c, s = motion_signs(mech, st, omega, static)
-    ideal = virtual_effort(mech, st, W)
     n, entries, rhs = equilibrium_entries(mech, st, W)
     L = mech.length_scale
     rows = {b.name: 3 * i for i, b in enumerate(mech.bodies)}
@@ -600,7 +628,8 @@ def direct(mech, st: KinematicState, W: dict, omega, static: bool, xp, n_states:
         out.update({k: (float(a[0]), float(b[0])) for k, (a, b) in R.items()})
         out.friction = {k: float(np.asarray(v).reshape(-1)[0]) for k, v in out.friction.items()}
         effort = float(effort[0])
-    out.ideal, out.direction = ideal, direction(fr.drive, omega, static, xp)
+    out.ideal = frictionless(mech, st, effort, out.friction, c)
+    out.direction = direction(fr.drive, omega, static, xp)
     out.P_loss = 0.0 if static else -omega * virtual_power(out.friction, c)
     return out, effort
 
