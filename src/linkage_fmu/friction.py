@@ -156,9 +156,9 @@ class Reactions(dict):
 
 # -- the pieces, on any kind of number ---------------------------------------------------
 def sign(xp, x):
-    """-1, 0 or +1 as ``x``; NaN for NaN. No comparison: the kernels trace it as two
-    operations, the same on every path."""
-    return x / xp.maximum(xp.abs(x), TINY)
+    """-1, 0 or +1 as ``x`` (``xp.sign``: :func:`linkage_fmu.numerics.sign`, no branch
+    in the kernels, and no derivative, also at 0)."""
+    return xp.sign(x)
 
 
 def direction(drive, omega, static: bool, xp):

@@ -30,7 +30,8 @@ def lu_solve(n: int, a: list, b: list):
 #: evaluation mode of the formulas on mpmath numbers (see :mod:`linkage_fmu.numerics`);
 #: the direct method solves its linear system with :func:`lu_solve`
 MP = SimpleNamespace(scalar=True, sqrt=mpmath.sqrt, cos=mpmath.cos, sin=mpmath.sin,
-                     atan2=mpmath.atan2, abs=abs, maximum=max, lu_solve=lu_solve,
+                     atan2=mpmath.atan2, abs=abs, maximum=max, sign=mpmath.sign,
+                     lu_solve=lu_solve,
                      eps=lambda: mpmath.mp.eps * 1000,
                      functions={"sqrt": mpmath.sqrt, "sin": mpmath.sin, "cos": mpmath.cos,
                                 "tan": mpmath.tan, "asin": mpmath.asin, "acos": mpmath.acos,

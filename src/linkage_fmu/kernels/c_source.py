@@ -57,6 +57,8 @@ def _statements(tape: Tape, nodes: list, guards: dict, codes: dict, indent: str 
             body.append(f"{indent}const double t{i} = -{a[0]};")
         elif node.op == "extern":
             body.append(f"{indent}const double t{i} = {node.value}({', '.join(a)});")
+        elif node.op == "sign":  # numerics.sign: two comparisons, no branch
+            body.append(f"{indent}const double t{i} = (double)(({a[0]} > 0.0) - ({a[0]} < 0.0));")
         elif node.op in ("max", "min"):  # Python's max(a, b): b only if b > a (min: <)
             test = f"{a[1]} {'>' if node.op == 'max' else '<'} {a[0]}"
             pick = f"lk_pick({test}, {a[1]}, {a[0]})" if simd else f"{test} ? {a[1]} : {a[0]}"
@@ -83,7 +85,7 @@ def _tangent_statements(tape: Tape, nodes: list, results: list, indent: str = " 
     zero = {i for i, n in enumerate(tape.nodes) if n.op == "const" or i in tape.fixed}
     needed = {r.index for r in results if isinstance(r, Sym)}
     for i in reversed(nodes):
-        if i in needed:
+        if i in needed and tape.nodes[i].op != "sign":  # a sign has no derivative
             needed.update(tape.nodes[i].args)
     zero.update(i for i in nodes if i not in needed)
 
@@ -146,6 +148,8 @@ def _tangent_statements(tape: Tape, nodes: list, results: list, indent: str = " 
             parts = [None if da[0] is None else f"{a[1]} * pow({a[0]}, {a[1]} - 1.0) * {da[0]}",
                      None if da[1] is None else f"{t} * log({a[0]}) * {da[1]}"]
             e = plus(*parts)
+        elif op == "sign":  # piecewise constant
+            e = None
         elif op in ("max", "min"):  # the operand Python's max/min returns
             pick = ">" if op == "max" else "<"
             e = None if da[0] is None and da[1] is None else \

@@ -11,15 +11,18 @@ from __future__ import annotations
 
 import math
 
+from .. import numerics
 from .trace import Sym, Tape, operand, program
 
 _INFIX = {"add": "+", "sub": "-", "mul": "*", "div": "/", "pow": "**", "lt": "<", "le": "<=",
           "gt": ">", "ge": ">=", "eq": "==", "ne": "!="}
 _FUNCTIONS = ("sqrt", "cos", "sin", "tan", "asin", "acos", "atan", "atan2", "hypot",
               "radians", "degrees")
-_CALL = {**{f: f for f in _FUNCTIONS}, "abs": "abs", "max": "max", "min": "min"}
+_CALL = {**{f: f for f in _FUNCTIONS}, "abs": "abs", "max": "max", "min": "min",
+         "sign": "sign"}
 #: what the generated source calls: the very functions of the scalar formulas
-NAMESPACE = {**{f: getattr(math, f) for f in _FUNCTIONS}, "inf": math.inf, "nan": math.nan}
+NAMESPACE = {**{f: getattr(math, f) for f in _FUNCTIONS}, "inf": math.inf, "nan": math.nan,
+             "sign": numerics.sign}
 
 
 def _literal(value: float) -> str:

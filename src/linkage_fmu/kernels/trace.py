@@ -32,6 +32,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from types import SimpleNamespace
+from .. import numerics
 
 
 @dataclass(frozen=True)
@@ -304,4 +305,4 @@ def _maximum(a, b):
 #: evaluation mode of the formulas on traced numbers (see :mod:`linkage_fmu.numerics`)
 TRACE = SimpleNamespace(scalar=True, sqrt=_unary("sqrt", math.sqrt), cos=_unary("cos", math.cos),
                         sin=_unary("sin", math.sin), atan2=_atan2, abs=_unary("abs", abs),
-                        maximum=_maximum)
+                        maximum=_maximum, sign=_unary("sign", numerics.sign))
