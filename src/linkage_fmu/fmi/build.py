@@ -49,10 +49,6 @@ HEADERS = {2: ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h"),
            3: ("fmi3Functions.h", "fmi3FunctionTypes.h", "fmi3PlatformTypes.h")}
 #: flags of every FMU binary: IEEE operations as written, only the FMI functions exported
 FLAGS = ("-ffp-contract=off", "-fno-math-errno", "-fvisibility=hidden")
-#: a native FMU whose generated model C is longer than this (characters) is compiled at
-#: -O0, smaller ones at -O2: GCC 12 at -O1 and above takes minutes and over 1 GB over
-#: the 24 MB of the six-bar's 20 structures with friction (-O1: 154 s; -O0: 19 s)
-LARGE_MODEL = 4_000_000
 WRAPPED_LIBRARY = "libpythonfmu-export.so"
 #: the platform of the pythonfmu FMU's binaries: that of pythonfmu's wrapper
 PYTHONFMU_PLATFORM = "x86_64-linux"
@@ -96,7 +92,7 @@ def compile_for(target: Platform, sources: list[Path], output: Path, fmi_version
     system C compiler if ``target`` is this machine's platform and it has one, else with
     zig's; then check that ``output`` is a library of ``target``'s format and processor
     that exports the FMI ``fmi_version`` functions and nothing else. ``level`` is the
-    optimisation flag (see :data:`LARGE_MODEL`).
+    optimisation flag (see :data:`~linkage_fmu.fmi.writers.LARGE_MODEL`).
 
     Raises
     ------
@@ -282,7 +278,7 @@ def build_native_fmu(source, out: str | Path | None = None, fmi_version: int = 2
         for folder, group in folders(chosen, fmi_version).items():
             (root / "binaries" / folder).mkdir(parents=True)
             library = root / "binaries" / folder / group[0].library(model)
-            level = "-O2" if len(model_c) <= LARGE_MODEL else "-O0"
+            level = "-O2" if len(model_c) <= writers.LARGE_MODEL else "-O0"
             thin = [compile_for(p, [adapter], Path(tmp) / p.name / p.library(model),
                                 fmi_version, include=[sources], level=level) for p in group]
             if len(thin) == 1:
