@@ -15,6 +15,7 @@ script for longer runs::
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import math
 import subprocess
@@ -227,12 +228,18 @@ def generate(fmu: Path, preset: str, steps: int, seed: int) -> Plan:
     return plan
 
 
+@functools.lru_cache(maxsize=16)
+def _mechanism(preset: str, params: tuple):
+    """The preset with an episode's parameters, built once per episode."""
+    return presets.get(preset, **dict(params))
+
+
 def _solvable(preset, params, u, names):
     """Reference outputs at ``u`` (closed form and direct must agree), or None where the
     inputs cannot be solved; and whether the state is too ill-conditioned to compare."""
     if not all(map(math.isfinite, u)):
         return None, False
-    mech = presets.get(preset, **params)
+    mech = _mechanism(preset, tuple(sorted(params.items())))
     try:
         sol = mech.solve(*u, method="direct")
     except ValueError:
