@@ -63,63 +63,63 @@ def best_time(fn, repeats: int = 3) -> float:
     return best
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--seeds", type=int, default=3, help="seeds of differential "
-                                                             "evolution (default 3)")
-    args = parser.parse_args()
+def optimisation_rows(seeds: int = 3) -> list[dict]:
+    """Differential evolution (tol 0.01 and 0, ``seeds`` seeds) and grids of the same
+    budgets, with and without the polish, in this process."""
     common = dict(theta=THETA, omega=OMEGA, loads=(LOAD,))
     sweep("four_bar", grid(l_AB=[0.1]), THETA, OMEGA, 0.0, LOAD)  # trace and compile first
     rows = []
     for tol in (0.01, 0.0):
-        for seed in range(1, args.seeds + 1):
+        for seed in range(1, seeds + 1):
             res = optimize("four_bar", VARY, "Mb_peak", SUBJECT_TO, seed=seed, tol=tol,
                            **common)
             rows.append(optimum_row(f"differential evolution, tol {tol:g}, seed {seed}",
                                     "this process", res))
-    for budget in sorted({rows[0]["evaluations"], rows[args.seeds]["evaluations"]}):
+    for budget in sorted({rows[0]["evaluations"], rows[seeds]["evaluations"]}):
         for polish in (False, True):
             res = optimize("four_bar", VARY, "Mb_peak", SUBJECT_TO, method="grid",
                            budget=budget, polish=polish, **common)
             rows.append(optimum_row(f"grid of <= {budget} designs"
                                     + (" + polish" if polish else ""), "this process", res))
+    return rows
 
+
+def throughput_rows() -> list[dict]:
+    """Designs per second of a plain sweep in this process and on 2 Dask workers, and one
+    seed of differential evolution on them (no Dask rows where it is not importable)."""
     designs = grid(**{k: np.linspace(lo, hi, 8) for k, (lo, hi) in VARY.items()})
     t = best_time(lambda: sweep("four_bar", designs, THETA, OMEGA, 0.0, LOAD))
     plain = {k: math.nan for k in COLUMNS}
-    rows.append({**plain, "run": f"sweep of {len(designs)} designs",
-                 "scheduler": "this process", "evaluations": len(designs), "seconds": t,
-                 "designs_per_s": len(designs) / t})
+    rows = [{**plain, "run": f"sweep of {len(designs)} designs", "scheduler": "this process",
+             "evaluations": len(designs), "seconds": t, "designs_per_s": len(designs) / t}]
     try:
         from dask.distributed import Client, LocalCluster
     except ImportError:
         print("dask.distributed is not importable: no Dask rows")
-    else:
-        t0 = time.perf_counter()
-        with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                          dashboard_address=None) as cluster, Client(cluster) as client:
-            start = time.perf_counter() - t0
-            where = "LocalCluster, 2 workers"
-            sweep("four_bar", designs.iloc[:10], THETA, OMEGA, 0.0, LOAD, scheduler=client)
-            t = best_time(lambda: sweep("four_bar", designs, THETA, OMEGA, 0.0, LOAD,
-                                        scheduler=client))
-            rows.append({**plain, "run": f"sweep of {len(designs)} designs",
-                         "scheduler": where, "evaluations": len(designs), "seconds": t,
-                         "designs_per_s": len(designs) / t})
-            res = optimize("four_bar", VARY, "Mb_peak", SUBJECT_TO, seed=1,
-                           scheduler=client, **common)
-            rows.append(optimum_row("differential evolution, tol 0.01, seed 1", where, res))
-        rows.append({**plain, "run": "start-up of the cluster", "scheduler": where,
-                     "seconds": start})
+        return rows
+    t0 = time.perf_counter()
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                      dashboard_address=None) as cluster, Client(cluster) as client:
+        start = time.perf_counter() - t0
+        where = "LocalCluster, 2 workers"
+        sweep("four_bar", designs.iloc[:10], THETA, OMEGA, 0.0, LOAD, scheduler=client)
+        t = best_time(lambda: sweep("four_bar", designs, THETA, OMEGA, 0.0, LOAD,
+                                    scheduler=client))
+        rows.append({**plain, "run": f"sweep of {len(designs)} designs", "scheduler": where,
+                     "evaluations": len(designs), "seconds": t,
+                     "designs_per_s": len(designs) / t})
+        res = optimize("four_bar", VARY, "Mb_peak", SUBJECT_TO, seed=1, scheduler=client,
+                       theta=THETA, omega=OMEGA, loads=(LOAD,))
+        rows.append(optimum_row("differential evolution, tol 0.01, seed 1", where, res))
+    rows.append({**plain, "run": "start-up of the cluster", "scheduler": where,
+                 "seconds": start})
+    return rows
 
-    RESULTS.mkdir(exist_ok=True)
-    with open(RESULTS / "optimize.csv", "w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=COLUMNS)
-        writer.writeheader()
-        writer.writerows(rows)
-    print("| run | where | evaluations | s | designs/s | Mb_peak [N.m] | mu_C_min [deg] | "
-          + " | ".join(f"{k} [m]" for k in VARY) + " |")
-    print("|" + "---|" * (len(COLUMNS)))
+
+def markdown(rows: list[dict]) -> list[str]:
+    """The rows as Markdown lines."""
+    lines = ["| run | where | evaluations | s | designs/s | Mb_peak [N.m] | mu_C_min [deg] | "
+             + " | ".join(f"{k} [m]" for k in VARY) + " |", "|" + "---|" * len(COLUMNS)]
     for r in rows:
         cells = [r["run"], r["scheduler"]]
         cells.append("" if math.isnan(r["evaluations"]) else f"{r['evaluations']:.0f}")
@@ -127,9 +127,23 @@ def main() -> None:
                   else f"{r['designs_per_s']:.0f}"]
         cells += ["" if math.isnan(r[k]) else f"{r[k]:.6g}"
                   for k in ("Mb_peak", "mu_C_min_deg", *VARY)]
-        print("| " + " | ".join(cells) + " |")
-    print(f"\nwrote {RESULTS / 'optimize.csv'}")
+        lines.append("| " + " | ".join(cells) + " |")
+    return lines
 
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--seeds", type=int, default=3, help="seeds of differential "
+                                                             "evolution (default 3)")
+    args = parser.parse_args()
+    rows = optimisation_rows(args.seeds) + throughput_rows()
+    RESULTS.mkdir(exist_ok=True)
+    with open(RESULTS / "optimize.csv", "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=COLUMNS)
+        writer.writeheader()
+        writer.writerows(rows)
+    print("\n".join(markdown(rows)))
+    print(f"\nwrote {RESULTS / 'optimize.csv'}")
 
 if __name__ == "__main__":
     main()

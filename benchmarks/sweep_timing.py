@@ -139,24 +139,21 @@ def measures(designs: int, folder: Path) -> dict:
     return out
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--designs", type=int, default=1000)
-    parser.add_argument("--rounds", type=int, default=10)
-    args = parser.parse_args()
+def run(designs: int = 1000, rounds: int = 10) -> tuple[list[dict], dict]:
+    """Time every measure in alternating rounds; rows (ns per state) and the ratios."""
     with tempfile.TemporaryDirectory(prefix="linkage_fmu_sweep_timing_") as tmp:
-        runs = measures(args.designs, Path(tmp))
+        runs = measures(designs, Path(tmp))
         for fn, _ in runs.values():  # trace, compile and touch every buffer first
             fn()
         best = {name: math.inf for name in runs}
-        for _ in range(args.rounds):  # alternating rounds: load on the machine hits all
+        for _ in range(rounds):  # alternating rounds: load on the machine hits all
             for name, (fn, _) in runs.items():
                 for _ in range(BURST):  # the first after another measure starts cold
                     start = time.perf_counter()
                     fn()
                     best[name] = min(best[name], time.perf_counter() - start)
     rows = [{"measure": name, "ns_per_state": 1e9 * best[name] / states, "states": states,
-             "calls": args.rounds * BURST} for name, (_, states) in runs.items()]
+             "calls": rounds * BURST} for name, (_, states) in runs.items()]
     ns = {r["measure"]: r["ns_per_state"] for r in rows}
     array = next(v for k, v in ns.items() if k.startswith("array kernel, all")
                  and "per design" not in k)
@@ -164,6 +161,28 @@ def main() -> None:
               "sweep (fused) / Mb-only kernel": ns["sweep (fused)"] / ns["array kernel, Mb only"],
               "array kernel / floor (11 doubles)": array / ns["floor: write 11 doubles"],
               "sweep (numpy) / sweep (fused)": ns["sweep (numpy)"] / ns["sweep (fused)"]}
+    return rows, ratios
+
+
+def markdown(rows: list[dict], ratios: dict) -> list[str]:
+    """The measures and the ratios against their targets, as Markdown lines."""
+    lines = ["| measure | ns per state |", "|---|---:|"]
+    lines += [f"| {r['measure']} | {r['ns_per_state']:.1f} |" for r in rows]
+    lines += ["", "| ratio | measured | target |", "|---|---:|---:|"]
+    for name, value in ratios.items():
+        target = TARGETS.get(name)
+        verdict = "" if target is None else (
+            f"<= {target:g} ({'met' if value <= target else 'missed'})")
+        lines.append(f"| {name} | {value:.2f} | {verdict} |")
+    return lines
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--designs", type=int, default=1000)
+    parser.add_argument("--rounds", type=int, default=10)
+    args = parser.parse_args()
+    rows, ratios = run(args.designs, args.rounds)
     RESULTS.mkdir(exist_ok=True)
     with open(RESULTS / "sweep_fused.csv", "w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=list(rows[0]))
@@ -173,16 +192,7 @@ def main() -> None:
     print(f"four_bar, {rows[0]['states'] // N_ANGLES} designs x {N_ANGLES} angles, best of "
           f"{args.rounds} rounds of {BURST} calls, {os.cpu_count()} cores (load average "
           f"{load:.2f})\n")
-    print("| measure | ns per state |\n|---|---:|")
-    for r in rows:
-        print(f"| {r['measure']} | {r['ns_per_state']:.1f} |")
-    print("\n| ratio | measured | target |\n|---|---:|---:|")
-    for name, value in ratios.items():
-        target = TARGETS.get(name)
-        print(f"| {name} | {value:.2f} | "
-              f"{'' if target is None else f'<= {target:g}'}"
-              f"{'' if target is None else (' (met)' if value <= target else ' (missed)')} |")
-
+    print("\n".join(markdown(rows, ratios)))
 
 if __name__ == "__main__":
     main()

@@ -141,6 +141,10 @@ def test_no_feasible_design_is_an_error_holding_the_closest():
      {"budget": 3, "method": "grid"}, ValueError, "it needs two values of each, 4 designs"),
     ({"l_AB": (0.05, 0.15)}, "Mb_peak", [], {"popsize": 0}, ValueError,
      "popsize must be an integer >= 1, got 0"),
+    ({"l_AB": (0.05, 0.15)}, "Mb_peak", [], {"tol": -0.01}, ValueError,
+     "tol must be a number >= 0, got -0.01"),
+    ({"l_AB": (0.05, 0.15)}, "Mb_peak", [], {"tol": float("nan")}, ValueError,
+     "tol must be a number >= 0, got nan"),
     ({"l_AB": (0.05, 0.15)}, "Mb_peak", [], {"F_P": 3.0}, TypeError, "F_P"),
 ])
 def test_bad_input_is_an_error_naming_it(vary, minimize, subject_to, options, error, words):

@@ -306,6 +306,9 @@ def main(argv: list[str] | None = None) -> int:
                      help="generations of differential evolution at most (default 100)")
     opt.add_argument("--popsize", type=int, default=15,
                      help="population per parameter (default 15)")
+    opt.add_argument("--tol", type=float, default=0.0,
+                     help="differential evolution's relative tolerance of convergence "
+                          "(default 0: every generation; 0.01 may stop in a local optimum)")
     opt.add_argument("--seed", type=int, default=None, help="the random seed: the same "
                                                             "result every run")
     opt.add_argument("--no-polish", dest="polish", action="store_false",
@@ -753,8 +756,8 @@ def _optimize(d: Description, args) -> int:
                           omega=omega, alpha=alpha,
                           method="grid" if args.method == "grid" else "differential_evolution",
                           budget=args.budget, maxiter=args.maxiter, popsize=args.popsize,
-                          seed=args.seed, polish=args.polish, scheduler=args.scheduler,
-                          progress=args.progress, **loads(args))
+                          tol=args.tol, seed=args.seed, polish=args.polish,
+                          scheduler=args.scheduler, progress=args.progress, **loads(args))
     except NoFeasibleDesignError as err:
         print(f"linkage-fmu: {err}", file=sys.stderr)
         result, status = err.result, 1

@@ -234,7 +234,7 @@ def optimize(source, vary: Mapping[str, tuple], minimize: str,
              subject_to: Sequence = (), *, theta=None, omega: float | None = None,
              alpha: float | None = None, loads: Sequence[float] = (),
              method: str = "differential_evolution", budget: int | None = None,
-             maxiter: int = 100, popsize: int = 15, tol: float = 0.01,
+             maxiter: int = 100, popsize: int = 15, tol: float = 0.0,
              seed: int | None = None, polish: bool = True, scheduler=None,
              progress: bool = False, **named_loads: float) -> OptimizationResult:
     """The design of the linkage ``source`` within the bounds ``vary`` that minimises the
@@ -281,10 +281,11 @@ def optimize(source, vary: Mapping[str, tuple], minimize: str,
         differential evolution it caps the generations at ``budget // population - 1``.
     maxiter, popsize, tol
         Differential evolution's generations after the first at most, population per
-        parameter, and relative tolerance of convergence (as scipy takes them). With
-        scipy's default tol, 0.01, the search may stop at a local optimum: the
-        four-bar over four lengths (``benchmarks/optimize_timing.py``) stopped in one of
-        two basins depending on the seed; ``tol=0`` runs every generation.
+        parameter, and relative tolerance of convergence (as scipy takes them). The
+        default tol, 0, runs every generation: with scipy's default, 0.01, the search
+        may stop at a local optimum (the four-bar over four lengths,
+        ``benchmarks/optimize_timing.py``, stopped in one of two basins depending on
+        the seed, after a quarter of the evaluations).
     seed : int, optional
         The random generator's seed: with it, the same result every run.
     polish : bool
@@ -310,7 +311,8 @@ def optimize(source, vary: Mapping[str, tuple], minimize: str,
         Bounds with ``lo >= hi``, or outside the parameter's valid values; a parameter
         that takes discrete values; an objective or constraint that is not a summary of
         the sweep, naming them and the summaries; an unknown method; a budget smaller
-        than a population (or than two values per parameter for a grid).
+        than a population (or than two values per parameter for a grid); a negative
+        tol.
     NoFeasibleDesignError
         No design evaluated meets every constraint; its ``result`` holds the search.
 
@@ -334,6 +336,8 @@ def optimize(source, vary: Mapping[str, tuple], minimize: str,
         raise ValueError(f"popsize must be an integer >= 1, got {popsize!r}")
     if isinstance(maxiter, bool) or not isinstance(maxiter, int) or maxiter < 0:
         raise ValueError(f"maxiter must be an integer >= 0, got {maxiter!r}")
+    if not (isinstance(tol, (int, float)) and not isinstance(tol, bool) and tol >= 0):
+        raise ValueError(f"tol must be a number >= 0, got {tol!r}")
     population = max(5, popsize * len(names))
     if budget is None:
         budget = population * (maxiter + 1)
