@@ -62,9 +62,9 @@ class SelfLockingError(ValueError):
     Examples
     --------
     >>> from linkage_fmu import presets, SelfLockingError
-    >>> mech = presets.get("slider_crank", mu_guide=5.0)
+    >>> mech = presets.get("slider_crank", mu_guide=5.0)  # a load against the piston:
     >>> try:
-    ...     mech.solve(1.2, omega=10.0)
+    ...     mech.solve(1.2, omega=10.0, load=-50.0)
     ... except SelfLockingError as err:
     ...     print(str(err).split(":")[0])
     slider_crank locks at theta = 1.2 rad (68.75 deg)

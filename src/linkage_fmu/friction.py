@@ -39,7 +39,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import numerics
+from . import kinetostatics, numerics
 from .groups.base import Joint, KinematicState, push
 from .kernels.trace import Reason
 from .numerics import ARRAY
@@ -156,7 +156,7 @@ class Reactions(dict):
 
 # -- the pieces, on any kind of number ---------------------------------------------------
 def sign(xp, x):
-    """-1, 0 or +1 as ``x`` (``xp.sign``: :func:`linkage_fmu.numerics.sign`, no branch
+    """-1, 0 or +1 as ``x`` (``xp.sign``: :func:`linkage_fmu.kernels.trace.sign`, no branch
     in the kernels, and no derivative, also at 0)."""
     return xp.sign(x)
 
@@ -279,6 +279,11 @@ def _label(reason: Reason, *values) -> None:
             return
 
 
+def not_(xp, outcome):
+    """``not outcome``, of a float comparison or elementwise of an array's."""
+    return (not outcome) if xp.scalar else ~outcome
+
+
 def iterate(xp, x: list, step, fail, what: str) -> list:
     """``x <- x - d`` with ``(d, det) = step(x)``: :data:`ITERATIONS` steps, then more
     (to :data:`MAX_ITERATIONS`) while the last step exceeds :data:`TOLERANCE` of ``x``;
@@ -297,7 +302,9 @@ def iterate(xp, x: list, step, fail, what: str) -> list:
         if k + 1 < ITERATIONS:
             continue
         moved, size = sum(xp.abs(b) for b in d), sum(xp.abs(a) for a in x)
-        converged = moved <= tol * size
+        # written so that NaN passes: a non-finite value is an overflow or a singular
+        # position, which the solver's check of the outputs names; locking is finite
+        converged = not_(xp, moved > tol * size)
         if xp.scalar:
             _label(reason, moved, size)
             if converged:
@@ -313,7 +320,7 @@ def iterate(xp, x: list, step, fail, what: str) -> list:
             fail(~done)
             x = [np.where(done, a, np.nan) for a in x]
     if det is not None:
-        held = det > 0.0
+        held = not_(xp, det <= 0.0)
         if xp.scalar:
             _label(reason, det)
             if not held:
@@ -431,6 +438,37 @@ def _failure(mech, st: KinematicState, what: str):
     return fail
 
 
+def solve(mech, st: KinematicState, W: dict, plan, omega, xp):
+    """Reactions and balancing effort as the ``plan`` asks (its method; the effort alone
+    by virtual power), with the friction in the joints where the linkage has it, else
+    by :mod:`~linkage_fmu.kinetostatics` alone. ``W`` is consumed.
+
+    With friction, the effort alone still needs the reactions; it is then taken from
+    the virtual power balance ``e = e0 - sum(f c) / q'``, which is ``e0`` itself where
+    every friction value is 0.
+    """
+    fr = mech.friction
+    n = 1 if xp.scalar else np.size(st.theta)
+    if fr.active:
+        if plan.method == "direct":
+            return direct(mech, st, W, omega, plan.static, xp, n)
+        R, effort = closed_form(mech, st, W, omega, plan.static)
+        if not plan.reactions:
+            c, _ = motion_signs(mech, st, omega, plan.static)
+            q1 = kinetostatics.effort_coefficient(mech, st)
+            effort = R.ideal - virtual_power(R.friction, c) / q1
+        return R, effort
+    if plan.reactions and plan.method == "direct":
+        R, effort = kinetostatics.direct(mech, st, W, xp, n)
+    elif plan.reactions:
+        R, effort = kinetostatics.closed_form(mech, st, W)
+    else:
+        R, effort = {}, kinetostatics.virtual_effort(mech, st, W)
+    if fr.joints:  # declared, every mu 0
+        R = unsolved(mech, st, R, effort, omega, plan.static)
+    return R, effort
+
+
 def closed_form(mech, st: KinematicState, W: dict, omega, static: bool):
     """Reactions (a :class:`Reactions`) and balancing effort with friction, group by
     group from the last back to the crank; ``W`` is consumed.
@@ -441,8 +479,6 @@ def closed_form(mech, st: KinematicState, W: dict, omega, static: bool):
     frictionless effort) by a Newton step then secants from ``e0``, each of its values
     solved through the groups.
     """
-    from .kinetostatics import add_effort, effort_coefficient, virtual_effort
-
     xp = st.xp
     fr = mech.friction
     c, s = motion_signs(mech, st, omega, static)
@@ -462,11 +498,12 @@ def closed_form(mech, st: KinematicState, W: dict, omega, static: bool):
     if mech.effort_on_crank:
         R, effort = through(W)
     else:
-        ideal, q1 = virtual_effort(mech, st, W), effort_coefficient(mech, st)
+        ideal = kinetostatics.virtual_effort(mech, st, W)
+        q1 = kinetostatics.effort_coefficient(mech, st)
 
         def run(e):
             Wc = {k: list(v) for k, v in W.items()}
-            add_effort(mech, st, Wc, e)
+            kinetostatics.add_effort(mech, st, Wc, e)
             R, _ = through(Wc)
             return R, ideal - virtual_power(R.friction, c) / q1
 
@@ -490,7 +527,7 @@ def closed_form(mech, st: KinematicState, W: dict, omega, static: bool):
         what = "friction locks the linkage against its driver"
         effort = iterate(xp, [ideal], step, _failure(mech, st, what), what)[0]
         W = {k: list(v) for k, v in W.items()}
-        add_effort(mech, st, W, effort)
+        kinetostatics.add_effort(mech, st, W, effort)
         R, _ = through(W)
     R.ideal = frictionless(mech, st, effort, R.friction, c)
     R.direction = direction(fr.drive, omega, static, xp)
@@ -502,9 +539,7 @@ def frictionless(mech, st: KinematicState, effort, friction: dict, c: dict):
     """The effort without friction, ``e0 = e + sum(f c) / q'`` from the power balance at
     the solution: equal to the frictionless solve to rounding, and to ``e`` itself where
     every friction value is 0 (so ``eta`` is exactly 1 there)."""
-    from .kinetostatics import effort_coefficient
-
-    return effort + virtual_power(friction, c) / effort_coefficient(mech, st)
+    return effort + virtual_power(friction, c) / kinetostatics.effort_coefficient(mech, st)
 
 
 def _locks(grp, pairs) -> str:
@@ -533,11 +568,9 @@ def direct(mech, st: KinematicState, W: dict, omega, static: bool, xp, n_states:
     law and the signs of motion with it. The floats go through numpy (batched over
     states), mpmath numbers (``xp.lu_solve``) through mpmath. Self-locking where it
     does not converge or the determinant of the Jacobian changes sign from ``A``'s."""
-    from .kinetostatics import equilibrium_entries, unknowns
-
     fr = mech.friction
     c, s = motion_signs(mech, st, omega, static)
-    n, entries, rhs = equilibrium_entries(mech, st, W)
+    n, entries, rhs = kinetostatics.equilibrium_entries(mech, st, W)
     L = mech.length_scale
     rows = {b.name: 3 * i for i, b in enumerate(mech.bodies)}
     column = {j.name: 2 * k for k, j in enumerate(mech.joints)}
@@ -613,6 +646,8 @@ def direct(mech, st: KinematicState, W: dict, omega, static: bool, xp, n_states:
                 if done.all():
                     break
     ok = done & held
+    if not precise:  # NaN or inf: an overflow or a singular position, named by the solver
+        ok |= ~np.isfinite(x).all(axis=0)
     if xp.scalar and not ok[0]:
         from .errors import SelfLockingError
         raise SelfLockingError(mech.name, st.theta, "friction locks the linkage")
@@ -621,7 +656,7 @@ def direct(mech, st: KinematicState, W: dict, omega, static: bool, xp, n_states:
         x = np.where(ok, x, np.nan)
     if precise:
         x = [x[k] for k in range(n)]
-    R, effort = unknowns(mech, x)
+    R, effort = kinetostatics.unknowns(mech, x)
     out = Reactions(R)
     out.friction = {jf.joint.name: f[0] for (jf, _, _), f in zip(pattern, friction(x))}
     if xp.scalar and not precise:  # one state: floats
@@ -691,18 +726,18 @@ class LossOutput:
     def bind(self, mech):
         if self.name == "P_loss":
             return lambda R, E, st: R.P_loss
-        from .kinetostatics import effort_coefficient
-
         if not mech.friction.active:
-            # E0 = E: both ratios are 1 where E is not 0, 0 where it is; no q' needed (a
-            # static plan without friction has no velocity analysis to take it from)
-            return lambda R, E, st: st.xp.abs(sign(st.xp, E))
+            # E0 = E: both ratios are 1 where E is not 0, 0 where it is, NaN where E is
+            # (E / E, the denominator 1 where E is 0); no q' needed (a static plan
+            # without friction has no velocity analysis to take it from)
+            return lambda R, E, st: E / (E + (1.0 - st.xp.abs(sign(st.xp, E))))
 
         def eta(R, E, st):
             # no comparison (the kernels trace it as it is): each ratio's denominator is 1
             # where it is 0, and p (1 where the crank drives, else 0) picks one
             xp, E0 = st.xp, R.ideal
-            p = xp.maximum(sign(xp, E * effort_coefficient(mech, st) * R.direction), 0.0)
+            q1 = kinetostatics.effort_coefficient(mech, st)
+            p = xp.maximum(sign(xp, E * q1 * R.direction), 0.0)
             forward = E0 / (E + (1.0 - xp.abs(sign(xp, E))))
             backward = E / (E0 + (1.0 - xp.abs(sign(xp, E0))))
             return p * forward + (1.0 - p) * backward

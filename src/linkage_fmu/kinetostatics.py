@@ -22,40 +22,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import friction
 from .groups import KinematicState
 from .groups.base import push
 from .numerics import Number
-
-
-def solve(mech, st: KinematicState, W: dict, plan, omega, xp):
-    """Reactions and balancing effort as the ``plan`` asks (its method; the effort alone
-    by virtual power), with the friction in the joints where the linkage has it
-    (:mod:`~linkage_fmu.friction`). ``W`` is consumed.
-
-    With friction, the effort alone still needs the reactions; it is then taken from
-    the virtual power balance ``e = e0 - sum(f c) / q'``, which is ``e0`` itself where
-    every friction value is 0.
-    """
-    fr = mech.friction
-    n = 1 if xp.scalar else np.size(st.theta)
-    if fr.active:
-        if plan.method == "direct":
-            return friction.direct(mech, st, W, omega, plan.static, xp, n)
-        R, effort = friction.closed_form(mech, st, W, omega, plan.static)
-        if not plan.reactions:
-            c, _ = friction.motion_signs(mech, st, omega, plan.static)
-            effort = R.ideal - friction.virtual_power(R.friction, c) / effort_coefficient(mech, st)
-        return R, effort
-    if plan.reactions and plan.method == "direct":
-        R, effort = direct(mech, st, W, xp, n)
-    elif plan.reactions:
-        R, effort = closed_form(mech, st, W)
-    else:
-        R, effort = {}, virtual_effort(mech, st, W)
-    if fr.joints:  # declared, every mu 0
-        R = friction.unsolved(mech, st, R, effort, omega, plan.static)
-    return R, effort
 
 
 def add_effort(mech, st: KinematicState, W: dict, effort: Number) -> None:

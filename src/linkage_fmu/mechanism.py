@@ -14,7 +14,7 @@ from typing import Callable, Iterable, Sequence
 
 import numpy as np
 
-from . import diagnostics, flywheel, inertia, kinetostatics, motion, numerics
+from . import diagnostics, flywheel, friction, inertia, motion, numerics
 from .expressions import evaluate
 from .bodies import Body, Effort
 from .errors import AssemblyError
@@ -257,7 +257,7 @@ class Mechanism:
                 loads = [given.get(ld.name) if ld.computed else next(inputs)
                          for ld in self.loads]
             W = wrenches(self, st, omega, alpha, loads, plan.static)
-            R, effort = kinetostatics.solve(self, st, W, plan, omega, xp)
+            R, effort = friction.solve(self, st, W, plan, omega, xp)
         out = {}
         for name, fn in self.output_functions:
             if name in plan.outputs:

@@ -13,17 +13,13 @@ from typing import Callable, Union
 
 import numpy as np
 
-Number = Union[float, np.ndarray]
+from .kernels.trace import sign
 
-def sign(x: float) -> float:
-    """-1.0, 0.0 or 1.0 as ``x`` is negative, zero or positive (0.0 for NaN): two
-    comparisons, no branch, and a derivative of 0 in the kernels' tangent (where ``x``
-    is exactly 0 too, where ``x / |x|`` would divide by 0)."""
-    return float(x > 0.0) - float(x < 0.0)
+Number = Union[float, np.ndarray]
 
 
 def array_sign(x: np.ndarray) -> np.ndarray:
-    """:func:`sign` element by element."""
+    """:func:`~linkage_fmu.kernels.trace.sign` element by element."""
     return np.greater(x, 0.0) * 1.0 - np.less(x, 0.0)
 
 

@@ -138,7 +138,7 @@ def dependencies(table: list[Variable]) -> tuple[dict, dict]:
     >>> table = variables(presets.get("four_bar"))
     >>> depends, initial = dependencies(table)
     >>> depends[len(table) - 1], len(initial[len(table) - 1])
-    ([0], 20)
+    ([0], 29)
     """
     vr_of = {v.name: vr for vr, v in enumerate(table)}
     parameters = [vr for vr, v in enumerate(table) if v.causality == "parameter"]

@@ -57,7 +57,7 @@ def _statements(tape: Tape, nodes: list, guards: dict, codes: dict, indent: str 
             body.append(f"{indent}const double t{i} = -{a[0]};")
         elif node.op == "extern":
             body.append(f"{indent}const double t{i} = {node.value}({', '.join(a)});")
-        elif node.op == "sign":  # numerics.sign: two comparisons, no branch
+        elif node.op == "sign":  # trace.sign: two comparisons, no branch
             body.append(f"{indent}const double t{i} = (double)(({a[0]} > 0.0) - ({a[0]} < 0.0));")
         elif node.op in ("max", "min"):  # Python's max(a, b): b only if b > a (min: <)
             test = f"{a[1]} {'>' if node.op == 'max' else '<'} {a[0]}"

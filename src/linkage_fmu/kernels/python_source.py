@@ -11,8 +11,7 @@ from __future__ import annotations
 
 import math
 
-from .. import numerics
-from .trace import Sym, Tape, operand, program
+from .trace import Sym, Tape, operand, program, sign
 
 _INFIX = {"add": "+", "sub": "-", "mul": "*", "div": "/", "pow": "**", "lt": "<", "le": "<=",
           "gt": ">", "ge": ">=", "eq": "==", "ne": "!="}
@@ -22,7 +21,7 @@ _CALL = {**{f: f for f in _FUNCTIONS}, "abs": "abs", "max": "max", "min": "min",
          "sign": "sign"}
 #: what the generated source calls: the very functions of the scalar formulas
 NAMESPACE = {**{f: getattr(math, f) for f in _FUNCTIONS}, "inf": math.inf, "nan": math.nan,
-             "sign": numerics.sign}
+             "sign": sign}
 
 
 def _literal(value: float) -> str:

@@ -32,7 +32,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from types import SimpleNamespace
-from .. import numerics
 
 
 @dataclass(frozen=True)
@@ -288,6 +287,13 @@ def _unary(op: str, fn):
     return apply
 
 
+def sign(x: float) -> float:
+    """-1.0, 0.0 or 1.0 as ``x`` is negative, zero or positive (0.0 for NaN): two
+    comparisons, no branch, and a derivative of 0 in the kernels' tangent (where ``x``
+    is exactly 0 too, where ``x / |x|`` would divide by 0)."""
+    return float(x > 0.0) - float(x < 0.0)
+
+
 def _atan2(y, x):
     tape = y.tape if isinstance(y, Sym) else x.tape if isinstance(x, Sym) else None
     if tape is None:
@@ -305,4 +311,4 @@ def _maximum(a, b):
 #: evaluation mode of the formulas on traced numbers (see :mod:`linkage_fmu.numerics`)
 TRACE = SimpleNamespace(scalar=True, sqrt=_unary("sqrt", math.sqrt), cos=_unary("cos", math.cos),
                         sin=_unary("sin", math.sin), atan2=_atan2, abs=_unary("abs", abs),
-                        maximum=_maximum, sign=_unary("sign", numerics.sign))
+                        maximum=_maximum, sign=_unary("sign", sign))
