@@ -239,15 +239,23 @@ def _solvable(preset, params, u, names):
     inputs cannot be solved; and whether the state is too ill-conditioned to compare."""
     if not all(map(math.isfinite, u)):
         return None, False
-    mech = _mechanism(preset, tuple(sorted(params.items())))
-    try:
-        sol = mech.solve(*u, method="direct")
-    except ValueError:
+    sol = _direct(preset, tuple(sorted(params.items())), tuple(u))
+    if sol is None:
         return None, False
     values = [sol[n] for n in names]
     if not all(map(math.isfinite, values)):
         return None, False
     return values, sol["cond"] > 1e7
+
+
+@functools.lru_cache(maxsize=64)
+def _direct(preset: str, params: tuple, u: tuple):
+    """The direct solver's solution at ``u`` (None where it raises), solved once for the
+    step and the reads after it."""
+    try:
+        return _mechanism(preset, params).solve(*u, method="direct")
+    except ValueError:
+        return None
 
 
 def check(plan: Plan, results: list) -> Counter:
@@ -278,7 +286,7 @@ def check(plan: Plan, results: list) -> Counter:
             tally["value read as set"] += 1
         elif c[0] == "step":
             _, preset, params, u = c
-            names = list(presets.get(preset, **params).output_names)
+            names = list(_mechanism(preset, tuple(sorted(params.items()))).output_names)
             solvable = _solvable(preset, params, u, names)[0]
             assert status == (OK if solvable else DISCARD), (i, plan.ops[i], u, status)
         elif c[0] == "derivative":  # refused by an FMU without them, or a bad request
