@@ -43,7 +43,7 @@ def brute_force() -> tuple[float, float, pd.DataFrame]:
     return float(f[i, j]), resolution, table
 
 
-@pytest.mark.parametrize("method, options", [("differential_evolution", {"seed": 1}),
+@pytest.mark.parametrize("method, options", [("differential_evolution", {"seed": 1, "maxiter": 30}),
                                              ("grid", {"budget": 400})])
 def test_optimum_against_a_fine_brute_force_grid(brute_force, method, options):
     """Reference: the 121 x 121 grid's best feasible Mb_peak (2.375 N.m). Tolerance: the

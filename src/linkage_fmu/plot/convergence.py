@@ -13,10 +13,9 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-    from ..optimize import OptimizationResult
 
-
-def convergence(result: "OptimizationResult", ax: "Axes | None" = None) -> "Figure":
+# the result's type is named, not imported: linkage_fmu.optimize imports this module
+def convergence(result: "OptimizationResult", ax: "Axes | None" = None) -> "Figure":  # noqa: F821
     """The best feasible value of the objective of ``result``
     (:func:`~linkage_fmu.optimize.optimize`) against the generation: a step line over
     the global search (a grid is one generation) and a point for the polish, one
