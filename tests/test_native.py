@@ -19,6 +19,8 @@ from fmpy.validation import validate_fmu
 from conftest import MODELS
 from linkage_fmu import presets
 from linkage_fmu.fmi import check_fmu
+from linkage_fmu.fmi.check import reference
+from linkage_fmu.fmi.run import revolution, step_fmu
 from test_c_host import compile_host, model_outputs
 
 NATIVE_MODELS = (*MODELS.values(), "CouplerFourBar")
@@ -39,6 +41,38 @@ def test_valid_and_equal_to_the_direct_solver(native_dist, model):
     assert 'needsExecutionTool="false"' in xml and '<File name="fmi2.c"' in xml
     assert {"sources/fmi2.c", "sources/backend_native.c", "sources/model.c",
             "sources/config.h", f"binaries/linux64/{model}.so"} <= names
+
+
+@pytest.mark.parametrize("preset", ["slider_crank", "crank_shaper"])
+def test_the_kernel_without_friction_while_every_mu_is_0(native_dist, preset):
+    """A preset's FMU carries each structure's kernel without friction (its model C, a
+    kernel ``f<s>`` per structure beside ``s<s>``) and runs it while every coefficient
+    of friction is 0, pin radii set or not; else the kernel with friction. Reference: the
+    direct solver over a revolution with those parameters, 1e-12 of each output's
+    largest value, and its friction values: 0 where every mu is 0, not 0 otherwise."""
+    mech = presets.get(preset)
+    fmu = native_dist / f"{MODELS[preset]}.fmu"
+    with zipfile.ZipFile(fmu) as archive:
+        model_c = archive.read("sources/model.c").decode()
+    assert "#define FRICTIONLESS_KERNELS 1" in model_c and "f0_one(" in model_c
+    mu = sorted(n for n in mech.parameters if n.startswith(("mu_", "muf_")))
+    radii = {n: 0.02 * mech.length_scale for n in mech.parameters if n.startswith("r_")}
+    friction = [n for n in mech.output_names if n.startswith(("Mf_", "Ff_"))]
+    for params, rubs in (({}, False), (radii, False), ({**radii, mu[0]: 0.1}, True),
+                         ({**radii, **dict.fromkeys(mu, 0.05)}, True)):
+        linkage = presets.get(preset, **params)
+        u = revolution(linkage, 90)
+        names = list(linkage.output_names)
+        rows, _ = step_fmu(fmu, u, params, names)
+        ref = reference(linkage, u[:-1])
+        ok = np.asarray(ref.valid)
+        assert ok.sum() > 45 and np.array_equal(rows["solved"].to_numpy(), ok), params
+        for n in names:
+            got, want = rows[n].to_numpy()[ok], np.asarray(ref[n])[ok]
+            scale = max(np.max(np.abs(want)), 1e-300)
+            assert np.max(np.abs(got - want)) <= 1e-12 * scale, (params, n)
+        moving = np.abs(np.concatenate([rows[n].to_numpy()[ok] for n in friction]))
+        assert (moving.max() > 0.0) == rubs, params
 
 
 @pytest.mark.parametrize("model", NATIVE_MODELS)

@@ -259,7 +259,11 @@ def build_native_fmu(source, out: str | Path | None = None, fmi_version: int = 2
     if drive:  # refused before anything is traced or compiled; no friction (its mu are 0)
         mech = d.build(**{n: 0.0 for n in d.friction_parameters(("mu",))})
         writers.table_of(mech, "native", drive)
-    model_c, _ = writers.model_source(mech, d.fmu_build if not drive else d.build, drive)
+    mu = d.friction_parameters(("mu",))
+    plain = None if drive or not d.friction else (
+        lambda **structure: d.build(**structure, **dict.fromkeys(mu, 0.0)), mu)
+    model_c, _ = writers.model_source(mech, d.fmu_build if not drive else d.build, drive,
+                                      plain)
     model = writers.model_name(mech, drive)
     guid = str(uuid.uuid4())
     out = Path(out or ("dist/native" if fmi_version == 2 else "dist/native3"))

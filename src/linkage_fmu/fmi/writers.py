@@ -217,11 +217,18 @@ def structures(mech) -> list[dict]:
     return [dict(zip((p.name for p in specs), combo)) for combo in itertools.product(*options)]
 
 
-def model_source(mech, rebuild, drive: bool = False) -> tuple[str, list[dict]]:
+def model_source(mech, rebuild, drive: bool = False,
+                 frictionless=None) -> tuple[str, list[dict]]:
     """``model.c`` of the native FMU of ``mech``: one kernel per structure that can be
     traced (``rebuild(**structure)`` builds the linkage in it), and the structures
     built. The drive FMU's (``drive``) has a second kernel per structure, that of its
     derivatives: the balancing moment at ``alpha = 0`` and the reduced inertia.
+
+    ``frictionless``, ``(build, names)``: ``build(**structure)`` builds the linkage
+    without friction, where the parameters ``names`` (those its coefficients of friction
+    are functions of) are all 0. Each structure then has that kernel too (a fraction of
+    the operations), which the FMU runs while those parameters are all 0; None where
+    they being 0 leaves some friction (a constant coefficient).
 
     Raises
     ------
@@ -232,7 +239,7 @@ def model_source(mech, rebuild, drive: bool = False) -> tuple[str, list[dict]]:
     vr_of = {v.name: vr for vr, v in enumerate(table)}
     integers = [v.name for v in table if v.type == "Integer"]
     strings = [v.name for v in table if v.type == "String" and v.name != "method"]
-    kernels, rhs, built, errors = [], [], [], []
+    kernels, rhs, built, errors, plains = [], [], [], [], []
     for combo in structures(mech):
         try:
             twin = rebuild(**combo)
@@ -248,6 +255,13 @@ def model_source(mech, rebuild, drive: bool = False) -> tuple[str, list[dict]]:
         kernels.append(k)
         rhs.append(r)
         built.append(combo)
+        if frictionless is not None:
+            plain = frictionless[0](**combo)
+            k0 = plain.kernel(None, False)
+            if plain.friction.active or k0.outputs != k.outputs or k0.checked != k.checked:
+                frictionless = None  # a constant coefficient of friction: none in C
+            else:
+                plains.append(k0)
     if not kernels:
         raise ValueError(f"{mech.name} cannot be assembled in any structure, so it has no "
                          "kernel to build: " + "; ".join(errors))
@@ -267,7 +281,13 @@ def model_source(mech, rebuild, drive: bool = False) -> tuple[str, list[dict]]:
             n_r=max(len(r.frozen) for r in rhs), rhs_outputs=names, rhs_mb=names.index("Mb"),
             rhs_j=names.index("J_red"), rhs_reasons=[reasons(r) for r in rhs],
             alpha=index["alpha"], dtheta=index["der(theta)"], kernel_at=index[outputs[0]])
-    source = _C.get_template("model.c").render(
+    plain = dict(plain_kernels=()) if frictionless is None else dict(
+        plain_kernels=[k.c_source(array=False, prefix=f"f{s}", tangent=True)
+                       for s, k in enumerate(plains)],
+        plain_parameters=[vr_of[n] for n in plains[0].parameters],
+        n_q0=max(len(k.frozen) for k in plains), plain_reasons=[reasons(k) for k in plains],
+        friction_parameters=[vr_of[n] for n in sorted(frictionless[1])])
+    source = _C.get_template("model.c").render(**plain,
         model=model_name(mech, drive),
         kernels=[k.c_source(array=False, prefix=f"s{s}", tangent=not drive)
                  for s, k in enumerate(kernels)],

@@ -440,7 +440,9 @@ class Description:
 
     def fmu_build(self, **parameters) -> "Mechanism":  # noqa: F821
         """:meth:`build` for an FMU: the friction of the joints is solved even where every
-        ``mu`` is 0 now, since an FMU's parameters change after it is built."""
+        ``mu`` is 0 now, since an FMU's parameters change after it is built (the native
+        FMU also carries the kernels without friction, and runs them while every
+        coefficient is 0)."""
         from .build import build
 
         return build(self.check(), parameters, friction=True)

@@ -49,6 +49,31 @@ static int (*const ONE[N_STRUCTURES])(const double *, const double *, double *) 
 static int (*const TANGENT[N_STRUCTURES])(const double *, const double *, const double *, double *,
                                           double *) = { {%- for s in structures %}s{{ loop.index0 }}_tangent, {% endfor %}};
 {% endif %}
+{% if plain_kernels %}
+
+/* -- the kernels without friction, one per structure: run while every parameter the
+ * coefficients of friction are functions of is 0 (the same outputs, a fraction of the
+ * work) ------------------------------------------------------------------------------ */
+{% for source in plain_kernels %}
+{{ source }}
+{% endfor %}
+#define FRICTIONLESS_KERNELS 1
+#define N_P0 {{ plain_parameters | length }}
+#define N_Q0 {{ n_q0 }}
+#define N_MU {{ friction_parameters | length }}
+static const ValueReference P0_VR[N_P0 + 1] = { {%- for vr in plain_parameters %}{{ vr }}, {% endfor %}0};
+static const ValueReference MU_VR[N_MU + 1] = { {%- for vr in friction_parameters %}{{ vr }}, {% endfor %}0};
+{% for reasons in plain_reasons %}
+{{ reasons_table("F" ~ loop.index0, reasons) }}
+{%- endfor %}
+static const char *const *const PLAIN_REASONS[N_STRUCTURES] = { {%- for r in plain_reasons %}F{{ loop.index0 }}_REASONS, {% endfor %}};
+static int (*const PLAIN_PREPARE[N_STRUCTURES])(const double *, double *) = { {%- for r in plain_reasons %}f{{ loop.index0 }}_prepare, {% endfor %}};
+static int (*const PLAIN_ONE[N_STRUCTURES])(const double *, const double *, double *) = { {%- for r in plain_reasons %}f{{ loop.index0 }}_one, {% endfor %}};
+static int (*const PLAIN_TANGENT[N_STRUCTURES])(const double *, const double *, const double *,
+                                                double *, double *) = { {%- for r in plain_reasons %}f{{ loop.index0 }}_tangent, {% endfor %}};
+{% else %}
+#define FRICTIONLESS_KERNELS 0
+{% endif %}
 {% if drive %}
 
 /* -- the drive FMU: the kernels of the derivatives, one per structure ------------------ */
