@@ -119,21 +119,19 @@ static Status state_step(const Model *m, const Values *v, const double *dx, doub
                          double *dy, char *why, size_t size) {
     double x[N_INPUTS + 1];
     for (int k = 0; k < N_INPUTS; k++) x[k] = v->real[INPUTS[k]];
+    const int s = m->structure;
+    const double *q = m->q;
+    int (*one)(const double *, const double *, double *) = ONE[s];
+    int (*tangent)(const double *, const double *, const double *, double *, double *) =
+        TANGENT[s];
+    const char *const *reasons = REASONS[s];
 #if FRICTIONLESS_KERNELS
-    if (m->plain) {
-        const int code = dx ? PLAIN_TANGENT[m->structure](m->q0, x, dx, y, dy)
-                            : PLAIN_ONE[m->structure](m->q0, x, y);
-        if (code) {
-            set_text(why, size, PLAIN_REASONS[m->structure][code - 1]);
-            return LK_DISCARD;
-        }
-        return LK_OK;
-    }
+    if (m->plain)
+        q = m->q0, one = PLAIN_ONE[s], tangent = PLAIN_TANGENT[s], reasons = PLAIN_REASONS[s];
 #endif
-    const int code = dx ? TANGENT[m->structure](m->q, x, dx, y, dy)
-                        : ONE[m->structure](m->q, x, y);
+    const int code = dx ? tangent(q, x, dx, y, dy) : one(q, x, y);
     if (code) {
-        set_text(why, size, REASONS[m->structure][code - 1]);
+        set_text(why, size, reasons[code - 1]);
         return LK_DISCARD;
     }
     return LK_OK;
