@@ -41,10 +41,11 @@ def c_literal(value: float) -> str:
 
 
 def _statements(tape: Tape, nodes: list, guards: dict, codes: dict, indent: str = "    ",
-                simd: bool = False) -> list:
+                simd: bool = False, vectorise: bool = False) -> list:
     """One declaration per operation; a failed guard returns its code, or with ``simd``
     marks the state (``bad``) and the computation goes on (NaNs, no traps), and the
-    elementary functions are the vector ones (``lk_*``)."""
+    elementary functions are the vector ones (``lk_*``); with ``vectorise`` too, max
+    and min pick by the bits (no branch to keep the loop scalar)."""
     body = []
     for i in nodes:
         node = tape.nodes[i]
@@ -61,7 +62,8 @@ def _statements(tape: Tape, nodes: list, guards: dict, codes: dict, indent: str 
             body.append(f"{indent}const double t{i} = (double)(({a[0]} > 0.0) - ({a[0]} < 0.0));")
         elif node.op in ("max", "min"):  # Python's max(a, b): b only if b > a (min: <)
             test = f"{a[1]} {'>' if node.op == 'max' else '<'} {a[0]}"
-            pick = f"lk_pick({test}, {a[1]}, {a[0]})" if simd else f"{test} ? {a[1]} : {a[0]}"
+            pick = (f"lk_pick({test}, {a[1]}, {a[0]})" if vectorise
+                    else f"{test} ? {a[1]} : {a[0]}")
             body.append(f"{indent}const double t{i} = {pick};")
         elif node.op in _SCALE:
             body.append(f"{indent}const double t{i} = {a[0]} * {c_literal(_SCALE[node.op])};")
@@ -206,6 +208,11 @@ static inline double lk_pick(int c, double b, double a) {
     return x.d;
 }
 """
+#: a state step of more operations than this is not vectorised: GCC 12's loop vectoriser
+#: grows faster than the loop (the four-bar with friction, 1407 operations: 0.5 -> 2.2 s;
+#: the six-bar's off-crank drivers with friction, 13,156: 5.5 -> 66 s), for a loop that
+#: runs about ten times faster (six-bar with friction, 2463 operations: 460 -> 44 ns)
+VECTOR_OPERATIONS = 4000
 _VECTOR_DECLARATIONS = {
     "sin": ("LK_MVEC_SINCOS", "double lk_sin(double)", "sin", "(double v) { return sin(v); }"),
     "cos": ("LK_MVEC_SINCOS", "double lk_cos(double)", "cos", "(double v) { return cos(v); }"),
@@ -234,6 +241,7 @@ def _array_source(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
     ys = ", ".join(f"double *restrict y{k}" for k in range(n_out))
     outputs = [operand(tape, r.index, c_literal) if isinstance(r, Sym) else c_literal(r)
                for r in results]
+    vectorise = len(prog.state) <= VECTOR_OPERATIONS
     block = [
         "LK_CLONES __attribute__((noinline))",
         f"static void {prefix}_block(size_t m, const double *restrict q"
@@ -241,13 +249,15 @@ def _array_source(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
         + ", unsigned char *restrict ok) {",
         "    int badb[LK_BLOCK], anybad = 0;",
         "    (void)q;",
-        "#pragma omp simd",
+        "#pragma omp simd" if vectorise else
+        f"    /* {len(prog.state)} operations per state: not vectorised (see VECTOR_OPERATIONS) */",
         "    for (size_t j = 0; j < m; j++) {",
         "        int bad = 0;",
         *(f"        const double {name} = q[{k}];" for k, name in enumerate(frozen)),
         *(f"        const double x{k} = xb{k}[j];" for k in range(n_inputs)),
         *(f"        (void)x{k};" for k in range(n_inputs)),
-        *_statements(tape, prog.state, prog.guards, prog.codes, "        ", simd=True),
+        *_statements(tape, prog.state, prog.guards, prog.codes, "        ", simd=True,
+                     vectorise=vectorise),
         *(f"        y{k}[j] = {v};" for k, v in enumerate(outputs)),
         "        badb[j] = bad;",
         "    }",
