@@ -93,6 +93,16 @@ def _motion(parser: argparse.ArgumentParser) -> None:
                                  "the linkage's start value")
 
 
+def _revolution(parser: argparse.ArgumentParser) -> None:
+    """The crank angles of each design (``--theta``, ``--deg``, ``--n``; :func:`angles`),
+    and :func:`_motion`."""
+    parser.add_argument("--theta", help="angle(s): a list a,b,c or START:STOP:STEP")
+    parser.add_argument("--deg", action="store_true", help="--theta in degrees")
+    parser.add_argument("--n", type=int, default=360,
+                        help="without --theta: N angles over a revolution (default 360)")
+    _motion(parser)
+
+
 def speeds(args) -> tuple:
     """omega and alpha from the command line in SI (None where not given: the
     linkage's start value)."""
@@ -268,11 +278,7 @@ def main(argv: list[str] | None = None) -> int:
                             "the designs are every combination)")
     sweep.add_argument("--samples", help="designs from FILE.csv or FILE.parquet, one per row, "
                                          "one column per parameter")
-    sweep.add_argument("--theta", help="angle(s): a list a,b,c or START:STOP:STEP")
-    sweep.add_argument("--deg", action="store_true", help="--theta in degrees")
-    sweep.add_argument("--n", type=int, default=360,
-                       help="without --theta: N angles over a revolution (default 360)")
-    _motion(sweep)
+    _revolution(sweep)
     sweep.add_argument("--scheduler", help="'local' for a local Dask cluster, or a Dask "
                                            "scheduler's address (tcp://host:8786); default: "
                                            "this process")
@@ -291,11 +297,7 @@ def main(argv: list[str] | None = None) -> int:
                      default=[], help="a constraint (repeatable): 'NAME OP VALUE' with OP "
                                       "one of <=, >=, <, > ('mu_C_min_deg >= 40'), or 'valid' "
                                       "(the design assembles at every angle)")
-    opt.add_argument("--theta", help="angle(s): a list a,b,c or START:STOP:STEP")
-    opt.add_argument("--deg", action="store_true", help="--theta in degrees")
-    opt.add_argument("--n", type=int, default=360,
-                     help="without --theta: N angles over a revolution (default 360)")
-    _motion(opt)
+    _revolution(opt)
     opt.add_argument("--method", choices=("de", "grid"), default="de",
                      help="differential evolution (de, default) or a grid of --budget designs, "
                           "each followed by a Nelder-Mead polish")
