@@ -258,8 +258,11 @@ def model_source(mech, rebuild, drive: bool = False,
         if frictionless is not None:
             plain = frictionless[0](**combo)
             k0 = plain.kernel(None, False)
-            if plain.friction.active or k0.outputs != k.outputs or k0.checked != k.checked:
-                frictionless = None  # a constant coefficient of friction: none in C
+            if plain.friction.active or k0.outputs != k.outputs or k0.checked != k.checked \
+                    or (plains and k0.parameters != plains[0].parameters):
+                # a constant coefficient of friction (or kernels of other parameters, which
+                # one table of their value references could not serve): none in C
+                frictionless = None
             else:
                 plains.append(k0)
     if not kernels:
