@@ -44,6 +44,15 @@ static Status finite_outputs(const double *y, char *why, size_t size) {
     return LK_OK;
 }
 
+/* LK_OK where a kernel's step returned 0; else `status`, saying why: the reason of the
+ * guard whose code it returned. */
+static Status refused(int code, const char *const *reasons, Status status, char *why,
+                      size_t size) {
+    if (!code) return LK_OK;
+    set_text(why, size, reasons[code - 1]);
+    return status;
+}
+
 static int backend_ready(char *why, size_t size) {
     (void)why, (void)size;
     return 1;
@@ -81,17 +90,10 @@ static Status backend_prepare(Instance *in, const Values *v, char *why, size_t s
     }
     double p[N_P + 1];
     for (int k = 0; k < N_P; k++) p[k] = v->real[P_VR[k]];
-    const int code = PREPARE[s](p, m->q);
-    if (code) {
-        set_text(why, size, REASONS[s][code - 1]);
-        return LK_ERROR;
-    }
+    if (refused(PREPARE[s](p, m->q), REASONS[s], LK_ERROR, why, size)) return LK_ERROR;
 #if N_STATES > 0
-    const int rhs_code = RHS_PREPARE[s](p, m->r);
-    if (rhs_code) {
-        set_text(why, size, RHS_REASONS[s][rhs_code - 1]);
+    if (refused(RHS_PREPARE[s](p, m->r), RHS_REASONS[s], LK_ERROR, why, size))
         return LK_ERROR;
-    }
 #endif
 #if FRICTIONLESS_KERNELS
     /* the parameters were checked by the kernel with friction, which reads them all */
@@ -100,11 +102,8 @@ static Status backend_prepare(Instance *in, const Values *v, char *why, size_t s
     if (plain) {
         double p0[N_P0 + 1];
         for (int k = 0; k < N_P0; k++) p0[k] = v->real[P0_VR[k]];
-        const int code0 = PLAIN_PREPARE[s](p0, m->q0);
-        if (code0) {
-            set_text(why, size, PLAIN_REASONS[s][code0 - 1]);
+        if (refused(PLAIN_PREPARE[s](p0, m->q0), PLAIN_REASONS[s], LK_ERROR, why, size))
             return LK_ERROR;
-        }
     }
     m->plain = plain;
 #endif
@@ -129,12 +128,8 @@ static Status state_step(const Model *m, const Values *v, const double *dx, doub
     if (m->plain)
         q = m->q0, one = PLAIN_ONE[s], tangent = PLAIN_TANGENT[s], reasons = PLAIN_REASONS[s];
 #endif
-    const int code = dx ? tangent(q, x, dx, y, dy) : one(q, x, y);
-    if (code) {
-        set_text(why, size, reasons[code - 1]);
-        return LK_DISCARD;
-    }
-    return LK_OK;
+    return refused(dx ? tangent(q, x, dx, y, dy) : one(q, x, y), reasons, LK_DISCARD, why,
+                   size);
 }
 
 static Status backend_tangent(Instance *in, const Values *v, const double *dx, double *y,
@@ -169,11 +164,9 @@ static Status moment_and_inertia(const Model *m, const Values *v, const double *
     double u[N_INPUTS + 3], r[RHS_N_Y + 1];
     u[0] = x[0], u[1] = x[1], u[2] = 0.0;
     for (int k = 1; k < N_INPUTS; k++) u[2 + k] = v->real[INPUTS[k]]; /* the loads */
-    int code = RHS_ONE[m->structure](m->r, u, r);
-    if (code) {
-        set_text(why, size, RHS_REASONS[m->structure][code - 1]);
+    if (refused(RHS_ONE[m->structure](m->r, u, r), RHS_REASONS[m->structure], LK_DISCARD,
+                why, size))
         return LK_DISCARD;
-    }
     *mb0 = r[RHS_MB];
     *J = r[RHS_J];
     char value[32];
@@ -212,11 +205,8 @@ static Status drive_evaluate(Instance *in, const Values *v, double *y, char *why
     u[0] = x[0], u[1] = x[1], u[2] = alpha;
     for (int k = 1; k < N_INPUTS; k++) u[2 + k] = v->real[INPUTS[k]];
     double *z = y + KERNEL_OUTPUTS;
-    const int code = ONE[m->structure](m->q, u, z);
-    if (code) {
-        set_text(why, size, REASONS[m->structure][code - 1]);
+    if (refused(ONE[m->structure](m->q, u, z), REASONS[m->structure], LK_DISCARD, why, size))
         return LK_DISCARD;
-    }
     y[ALPHA_OUTPUT] = alpha;
     y[DTHETA_OUTPUT] = x[1];
     return finite_outputs(z, why, size);
