@@ -135,6 +135,25 @@ def system_structure(h: float, friction: bool | None = None, start: dict | None 
 """
 
 
+def check_parameters(folder: str | Path, friction: bool | None = None,
+                     start: dict | None = None) -> None:
+    """Initialise each FMU in ``folder`` with the system's parameters through fmpy, and
+    raise a ValueError with the FMU's own message where one refuses them (a drive FMU whose
+    coefficients of friction are fixed at 0, given :data:`FRICTION`). libcosim would abort
+    the whole process there: it throws from a worker thread on an FMU's Error."""
+    import fmpy
+
+    for name, values in ((PRESS_FMU, drive_parameters(friction, start)), (MOTOR_FMU, MOTOR)):
+        said = []
+        try:
+            fmpy.simulate_fmu(str(Path(folder) / name), stop_time=1e-6, step_size=1e-6,
+                              start_values=values, output=[],
+                              logger=lambda *args: said.append(args[-1].decode()))
+        except Exception as err:
+            why = "; ".join(said) or str(err)
+            raise ValueError(f"{name} refuses the system's parameters: {why}") from None
+
+
 @dataclass
 class Run:
     """A co-simulated motion of the press, sampled: the times [s], the communication step
@@ -181,6 +200,7 @@ def cosimulate(folder: str | Path, h: float, t_end: float, every: float = 1e-3,
     log_output_level(CosimLogLevel.ERROR)
 
     folder = Path(folder)
+    check_parameters(folder, friction, start)
     (folder / "OspSystemStructure.xml").write_text(system_structure(h, friction, start))
     execution = CosimExecution.from_osp_config_file(str(folder / "OspSystemStructure.xml"))
     observer = CosimObserver.create_last_value()
