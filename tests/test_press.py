@@ -66,6 +66,36 @@ def test_the_motor_fmu_computes_its_line(fmus, tmp_path):
     assert list(expected) == [187.5, 150.0, 84.375, 0.0, -56.25]
 
 
+def test_the_motor_fmu_discards_what_it_cannot_compute(fmus, tmp_path):
+    """A crank speed that is not finite, or whose power overflows float64, discards the
+    step (status 2, Discard: the step not taken; never Fatal); the next finite speed
+    steps on with the line's values."""
+    fmpy = pytest.importorskip("fmpy")
+    from fmpy.fmi1 import FMICallException
+    from fmpy.fmi2 import FMU2Slave
+
+    path = str(fmus / press.MOTOR_FMU)
+    md = fmpy.read_model_description(path)
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    slave = FMU2Slave(guid=md.guid, unzipDirectory=fmpy.extract(path, str(tmp_path)),
+                      modelIdentifier=md.coSimulation.modelIdentifier, instanceName="motor")
+    slave.instantiate()
+    slave.setReal([vr["T_stall"], vr["omega_noload"]], [1e10, 1.0])
+    slave.setupExperiment(startTime=0.0)
+    slave.enterInitializationMode()
+    slave.exitInitializationMode()
+    for omega in (math.nan, 1e300):  # 1e300: tau = -1e310 overflows
+        slave.setReal([vr["omega"]], [omega])
+        with pytest.raises(FMICallException) as err:
+            slave.doStep(0.0, 0.01)
+        assert err.value.status == 2, (omega, err.value.status)
+    slave.setReal([vr["omega"]], [0.5])
+    slave.doStep(0.0, 0.01)
+    assert slave.getReal([vr["tau"], vr["P"]]) == [5e9, 2.5e9]
+    slave.terminate()
+    slave.freeInstance()
+
+
 def test_the_motor_fmu_refuses_a_bad_line(fmus):
     """A stall torque <= 0 is refused at the end of initialisation with Error naming it
     (the framework's parameter rules)."""
