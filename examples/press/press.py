@@ -63,8 +63,8 @@ def description():
     ram over its downward stroke."""
     d = presets.preset("slider_crank").copy()
     d.name, d.model, d.title = "press", "Press", "Crank press: an upright slider-crank"
-    d.parameter("F_press", 1000.0, "force", "peak pressing force on the ram, half-way down "
-                "its working (downward) stroke")
+    d.parameter("F_press", PRESS["F_press"], "force", "peak pressing force on the ram, "
+                "half-way down its working (downward) stroke")
     d.load("F_work", body="3", kind="force", at="B",
            direction=["-cos(gamma)", "-sin(gamma)"],
            value="F_press * max(0, -sin(theta - gamma))**2",
@@ -89,10 +89,13 @@ def drive_parameters(friction: bool | None = None, start: dict | None = None) ->
 
 
 def build(out: str | Path) -> Path:
-    """Build both FMUs into the folder ``out``: the press's drive FMU (its parameters'
-    defaults the preset's, each set by the system structure) and the motor's."""
+    """Build both FMUs into the folder ``out``: the press's drive FMU, its parameters'
+    defaults the press's without friction, the rotor in ``J1`` (the system structure sets
+    each), and the motor's."""
     out = Path(out)
-    build_native_fmu(description(), out, drive=True)
+    d = description()
+    defaults = {k: v for k, v in drive_parameters(friction=False).items() if k in d.parameters}
+    build_native_fmu(d, out, drive=True, **defaults)
     motor.build_motor_fmu(out)
     return out
 
