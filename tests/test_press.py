@@ -11,6 +11,7 @@ fine step it is within 1e-6 of the speed.
 
 from __future__ import annotations
 
+import doctest
 import math
 import sys
 from pathlib import Path
@@ -31,6 +32,22 @@ AT_WORK = {"theta0": math.pi / 2 + 0.6, "omega0": 6.0}
 @pytest.fixture(scope="module")
 def fmus(tmp_path_factory) -> Path:
     return press.build(tmp_path_factory.mktemp("press"))
+
+
+@pytest.mark.parametrize("module", [motor, press], ids=["motor", "press"])
+def test_the_examples_in_the_docstrings(module):
+    """The examples of ``motor.py`` and ``press.py`` hold (they are outside the package,
+    which pytest's doctest collection covers)."""
+    failed, tried = doctest.testmod(module, optionflags=doctest.ELLIPSIS)
+    assert tried > 0 and failed == 0
+
+
+def test_the_motor_fmu_is_a_valid_fmu(fmus):
+    """fmpy's validation (the FMI 2.0 schema and its rules on the model structure) finds no
+    problem in the motor FMU's hand-written modelDescription, nor in the press's."""
+    validation = pytest.importorskip("fmpy.validation")
+    assert validation.validate_fmu(str(fmus / press.MOTOR_FMU)) == []
+    assert validation.validate_fmu(str(fmus / press.PRESS_FMU)) == []
 
 
 def test_the_motor_fmu_computes_its_line(fmus, tmp_path):

@@ -67,7 +67,13 @@ def _of(causality: str) -> list[int]:
 
 
 def config_header(guid: str) -> str:
-    """``config.h`` of the motor FMU: its identity, backend and variable table."""
+    """``config.h`` of the motor FMU: its identity, backend and variable table.
+
+    Examples
+    --------
+    >>> print(config_header("{1}").splitlines()[1])
+    #define MODEL_IDENTIFIER "Motor"
+    """
     inputs, outputs = _of("input"), _of("output")
     index = {vr: k for group in (inputs, _of("parameter"), outputs) for k, vr in enumerate(group)}
     rows = []
@@ -97,7 +103,15 @@ def config_header(guid: str) -> str:
 
 
 def model_description(guid: str) -> str:
-    """``modelDescription.xml`` of the motor FMU (FMI 2.0 co-simulation)."""
+    """``modelDescription.xml`` of the motor FMU (FMI 2.0 co-simulation).
+
+    Examples
+    --------
+    >>> import xml.etree.ElementTree as ET
+    >>> root = ET.fromstring(model_description("{1}"))
+    >>> [(v.get("name"), v.get("causality")) for v in root.iter("ScalarVariable")][:3]
+    [('omega', 'input'), ('T_stall', 'parameter'), ('omega_noload', 'parameter')]
+    """
     units = []
     for name in sorted({v.unit for v in VARIABLES}):
         base = " ".join(f'{k}="{e}"' for k, e in UNITS[name][0].items())

@@ -108,7 +108,14 @@ def _values(values: dict) -> str:
 def system_structure(h: float, friction: bool | None = None, start: dict | None = None) -> str:
     """``OspSystemStructure.xml`` of the system, its FMUs beside it, communication step
     ``h`` [s] (a whole number of libcosim's nanoseconds), from ``start`` (default
-    :data:`START`)."""
+    :data:`START`).
+
+    Examples
+    --------
+    >>> xml = system_structure(1e-4)
+    >>> "<BaseStepSize>0.0001</BaseStepSize>" in xml, xml.count("<VariableConnection>")
+    (True, 2)
+    """
     if not (h > 0.0 and math.isfinite(h)) or abs(h * 1e9 - round(h * 1e9)) > 1e-6 * h * 1e9:
         raise ValueError(f"h must be a positive whole number of nanoseconds [s], got {h!r}")
     connections = [("press", "omega", "motor", "omega"), ("motor", "tau", "press", "tau")]
@@ -178,7 +185,13 @@ RECORDED = {"press": ("theta", "omega", "alpha", "Mb", "P_loss"),
 
 def sample_times(h: float, t_end: float, every: float) -> np.ndarray:
     """The times a co-simulation is sampled at: every ``every`` seconds (rounded to whole
-    steps ``h``, at least one) after 0, to ``t_end``."""
+    steps ``h``, at least one) after 0, to ``t_end``.
+
+    Examples
+    --------
+    >>> sample_times(1e-3, 0.01, 2.5e-3).round(12).tolist()
+    [0.002, 0.004, 0.006, 0.008, 0.01]
+    """
     n = max(1, round(every / h))
     return np.arange(n, round(t_end / h) + 1, n) * h
 
@@ -229,7 +242,13 @@ def cosimulate(folder: str | Path, h: float, t_end: float, every: float = 1e-3,
 
 def motor_torque(t: float, theta: float, omega: float) -> float:
     """The motor's line referred to the crank, ``simulate``'s ``tau(t, theta, omega)``:
-    the same law the motor FMU computes."""
+    the same law the motor FMU computes.
+
+    Examples
+    --------
+    >>> motor_torque(0.0, 0.0, 0.0), motor_torque(0.0, 0.0, MOTOR["omega_noload"])
+    (210.0, 0.0)
+    """
     return MOTOR["T_stall"] * (1.0 - omega / MOTOR["omega_noload"])
 
 
@@ -247,6 +266,14 @@ def simulate(t: np.ndarray, friction: bool | None = None, start: dict | None = N
 
 def coupling_error(run: Run, reference) -> float:
     """The largest difference of the crank speed between ``run`` and ``reference`` (a
-    DataFrame at the same times), relative to the largest speed of the reference."""
+    DataFrame at the same times), relative to the largest speed of the reference.
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> run = Run(np.array([0.1, 0.2]), 0.1, {"omega": np.array([1.0, 2.002])})
+    >>> round(coupling_error(run, pd.DataFrame({"omega": [1.0, 2.0]})), 12)
+    0.001
+    """
     omega = reference["omega"].to_numpy()
     return float(np.max(np.abs(run["omega"] - omega)) / np.max(np.abs(omega)))
