@@ -8,7 +8,9 @@ crank angle and its maximum relative error against the 40-digit mpmath reference
 ``sweep.csv`` (design sweeps in this process and on Dask), ``sweep_fused.csv`` (a sweep's
 cost per state against the array kernels and memory's floor: ``sweep_timing.py``),
 ``optimize.csv`` (the four-bar's peak torque minimised against grids of the same budget:
-``optimize_timing.py``), ``results.md`` (the tables and the targets) and
+``optimize_timing.py``), ``press_coupling.csv`` (the crank press of ``examples/press`` in
+libcosim: its coupling error against the communication step, ``press_coupling.py``),
+``results.md`` (the tables and the targets) and
 ``work_precision.png`` (log-log, time per angle against error).
 
 Common states: 360 crank angles over a revolution, omega = 10 rad/s, alpha = 0, load
@@ -40,6 +42,7 @@ import fmu_timing
 import kinepy_peer
 import optimize_timing
 import peers
+import press_coupling
 import seed_way
 import sweep_timing
 from linkage_fmu import presets
@@ -654,6 +657,9 @@ def main(argv=None) -> int:
     plot(work, args.out / "work_precision.png")
     text = summary(work, fmu, host, comm, scl, first, sweeps, fused, optima, machine(),
                    time.perf_counter() - start)
+    print("press coupling ...", flush=True)
+    text += press_coupling.markdown(press_coupling.write(
+        args.out, press_coupling.STEPS[:-1] if args.quick else press_coupling.STEPS))
     (args.out / "results.md").write_text(text)
     print(text)
     return 0
