@@ -149,6 +149,25 @@ def simulate(mech, tau, t, theta0=None, omega0=None, rtol: float = 1e-10,
     >>> a0 = float(run["alpha"].iloc[0])        # 2 / J(0), dJ(0) = 0: no speed term
     >>> round(a0, 12), round(float(run["Mb"].iloc[-1]), 9)        # Mb along it is tau
     (14.285714285714, 2.0)
+
+    With friction: the slider-crank at 1 rad, its load pushing the piston, holds from
+    rest while the torque lies within its band, ``[-0.9168, -0.7107]`` N m there; a
+    ramp from -0.8 N m breaks away where it crosses the upper edge (the static ``Mb``
+    with ``drive = +1``, the preset's default):
+
+    >>> press = presets.get("slider_crank", mu_O=0.1, r_O=0.01, mu_A=0.1, r_A=0.01,
+    ...                     mu_guide=0.1)
+    >>> held = press.simulate(-0.8, [0.0, 0.1], theta0=1.0, omega0=0.0, load=20.0)
+    >>> held["stuck"].tolist(), held["theta"].tolist(), held["Mb"].tolist()
+    ([True, True], [1.0, 1.0], [-0.8, -0.8])
+    >>> ramp = press.simulate(lambda t, th, w: -0.8 + t, [0.0, 0.1, 0.2], theta0=1.0,
+    ...                       omega0=0.0, load=20.0)
+    >>> start, away = ramp.attrs["switches"]
+    >>> start, away.to, round(away.time, 12), ramp["stuck"].tolist()
+    (Switch(time=0.0, theta=1.0, to=0), 1, 0.089321752569, [True, False, False])
+    >>> edge = press.solve(1.0, 0.0, 0.0, load=20.0)["Mb"]
+    >>> round(edge + 0.8, 12)
+    0.089321752569
     """
     import pandas as pd
     from scipy.integrate import solve_ivp
