@@ -304,15 +304,16 @@ def test_the_turning_moment_diagram_holds_the_friction_losses(name, params, omeg
 @pytest.mark.parametrize("name, params, omega, loads", FRICTION, ids=FRICTION_IDS)
 def test_the_periodic_motion_with_friction_closes_and_pays_its_losses(name, params, omega,
                                                                      loads):
-    """The periodic motion with the sized flywheel, with friction: it covers the cycle in
-    cycle / omega_mean and closes on its start (periodic_error <= 1e-8; measured <=
-    6e-11 at rtol = 1e-12); over it the work of the constant torque is the energy friction dissipates
-    (the loads conservative; the kinetic energy back where it started, up to how far
-    the motion closes, counted): Simpson's rule on P_loss over 16001 samples, at rtol =
-    1e-12, 1e-6 of the work (measured 3.3e-8 four-bar, 2.0e-7 slider-crank: Simpson's
-    error at P_loss's kinks; at the default rtol = 1e-10 the four-bar's integration
-    error, 1.5e-6 of its small work, 7e-8 of delta_E, would dominate); its Cs within 0.25
-    Cs of the one asked for; the extremes reported bound the samples'."""
+    """The periodic motion with the sized flywheel, with friction: it covers the cycle
+    in cycle / omega_mean and closes on its start (periodic_error <= 1e-8; measured <=
+    6e-11 at rtol = 1e-12); over it the work of the constant torque is the energy
+    friction dissipates (the loads conservative; the kinetic energy back where it
+    started, up to how far the motion closes, counted): Simpson's rule on P_loss over
+    16001 samples, at rtol = 1e-12, 1e-6 of the work (measured 3.3e-8 four-bar, 2.0e-7
+    slider-crank: Simpson's error at P_loss's kinks; at the default rtol = 1e-10 the
+    four-bar's integration error, 1.5e-6 of its small work, 7e-8 of delta_E, would
+    dominate); its Cs within 0.25 Cs of the one asked for; the extremes reported bound
+    the samples'."""
     from scipy.integrate import simpson
 
     mech = presets.get(name, **params)

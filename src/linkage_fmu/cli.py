@@ -50,9 +50,9 @@ EPILOG = """examples:
   linkage-fmu plot examples/engine.toml --what speed --Cs 0.02 -o speed.png
   linkage-fmu plot slider_crank --what loss --set mu_guide=0.1 --omega 10 --load 100 -o loss.png
   linkage-fmu simulate four_bar --tau 2 --t-end 1 --theta0 "30 deg" --omega0 5 --n 11
-  linkage-fmu simulate slider_crank --set mu_A=0.1 --set r_A=0.01 --set mu_guide=0.1 --tau 0.5 --t-end 1 --omega0 0 --load 20
+  linkage-fmu simulate slider_crank --set mu_guide=0.1 --tau 0.5 --t-end 1 --omega0 0 --load 20
   linkage-fmu flywheel examples/engine.toml --omega-mean "3000 rpm" --Cs 0.02
-  linkage-fmu flywheel slider_crank --set mu_guide=0.1 --omega-mean "1000 rpm" --Cs 0.02 --load 200
+  linkage-fmu flywheel slider_crank --set mu_guide=0.1 --omega-mean 100 --Cs 0.02 --load 200
   linkage-fmu build four_bar --set l_AB=0.12 --out dist
   linkage-fmu build --native my_linkage.toml --out dist/native
   linkage-fmu build --native --fmi 3 four_bar

@@ -432,17 +432,17 @@ def periodic_motion(mech, omega_mean, flywheel=0.0, revolutions: int | None = No
     """The steady periodic motion of a linkage with a flywheel, driven by the constant
     torque that keeps its mean speed ``omega_mean``.
 
-    The torque is ``tau``, the cycle mean of ``Mb`` at the constant speed
-    ``omega_mean`` (as :func:`flywheel` takes it); with friction, see below. ``Mb(theta, omega, 0) = M(theta) +
+    The torque is ``tau``, the cycle mean of ``Mb`` at the constant speed ``omega_mean`` (as
+    :func:`flywheel` takes it); with friction, see below. ``Mb(theta, omega, 0) = M(theta) +
     dJ/2 omega**2``, with ``M`` the moment of the loads and weights alone, so the energy
-    equation integrates: ``(J(theta) + I) omega**2 / 2 = c + W(theta)``, ``W`` the work
-    of ``tau - M`` from ``theta = 0``, which is periodic (its mean is zero, as
-    ``dJ``'s is): every ``c`` gives a periodic motion, and the one whose cycle takes
-    ``cycle / omega_mean`` is found by Brent's method on ``c`` (the cycle's time by the
-    periodic trapezoidal rule over the nodes of the turning-moment diagram). Its highest
-    and lowest speed are refined between the nodes. The motion is then integrated over
-    the cycle by :func:`~linkage_fmu.motion.simulate` from ``theta = 0`` at that
-    speed; how far it closes on its start is ``periodic_error`` (about ``rtol``).
+    equation integrates: ``(J(theta) + I) omega**2 / 2 = c + W(theta)``, ``W`` the work of
+    ``tau - M`` from ``theta = 0``, which is periodic (its mean is zero, as ``dJ``'s is):
+    every ``c`` gives a periodic motion, and the one whose cycle takes ``cycle /
+    omega_mean`` is found by Brent's method on ``c`` (the cycle's time by the periodic
+    trapezoidal rule over the nodes of the turning-moment diagram). Its highest and lowest
+    speed are refined between the nodes. The motion is then integrated over the cycle by
+    :func:`~linkage_fmu.motion.simulate` from ``theta = 0`` at that speed; how far it closes
+    on its start is ``periodic_error`` (about ``rtol``).
 
     With friction in the joints there is no such integral: ``tau`` and the start speed
     are found together by Newton's method on :func:`~linkage_fmu.motion.simulate` (with

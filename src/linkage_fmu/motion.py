@@ -108,13 +108,15 @@ def simulate(mech, tau, t, theta0=None, omega0=None, rtol: float = 1e-10,
        friction at ``alpha = 0``), the slope ``dM/dalpha + flywheel`` from
        :func:`moment_and_slope`, until a step is within 4 ulp of ``alpha`` (and of the
        residual's rounding, over the slope), or, once the steps stop shrinking by half,
-       within :data:`ROUNDING` of that size (the floor of ``Mb``'s rounding); at most :data:`NEWTON_STEPS` steps, a slope that is
-       not > 0 or no convergence is a ``SelfLockingError``. ``Mb`` depends on
+       within :data:`ROUNDING` of that size (the floor of ``Mb``'s rounding); at most
+       :data:`NEWTON_STEPS` steps, a slope that is not > 0 or no convergence is a
+       ``SelfLockingError``. ``Mb`` depends on
        ``omega`` only through ``omega**2`` and the direction, so ``d |omega|`` extends
        the segment's equation smoothly past ``omega = 0`` (the integrator's stages may
        step there) with the friction of direction ``d``. The segment ends where
        ``d omega`` falls to 0, located by DOP853's dense output as a terminal event
-       (to about 4 ulp of the time): the crank stops there, ``omega = 0`` exactly.
+       (to about 4 ulp of the time): the crank stops there, ``omega = 0`` exactly,
+       and rule 2 decides at once what it does next.
     2. *At rest* at an angle ``theta`` (``omega = 0``): the friction band is ``[lo, hi]``
        with ``lo = M(-1; theta, 0, 0)``, the torque that just holds the crank against
        moving backwards, and ``hi = M(+1; theta, 0, 0)``, the torque that just starts
