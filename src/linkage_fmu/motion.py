@@ -514,8 +514,11 @@ def _with_friction(mech, effort: str, torque, t: np.ndarray, theta0: float, omeg
                         rtol=rtol, atol=atol, events=stops)
         if res.status == -1:
             raise RuntimeError(f"{mech.name}: the integration failed: {res.message}")
-        rows.extend((ti, th, w, d) for ti, th, w in zip(res.t, *res.y))
-        k += res.t.size
+        # no output time within the segment: scipy gives empty lists
+        times = np.asarray(res.t, dtype=float)
+        rows.extend((ti, th, w, d) for ti, th, w in zip(
+            times, *np.asarray(res.y, dtype=float).reshape(2, times.size)))
+        k += times.size
         if res.status == 1:
             return float(res.t_events[0][0]), float(res.y_events[0][0][0])
         return None
