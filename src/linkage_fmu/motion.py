@@ -92,7 +92,8 @@ def simulate(mech, tau, t, theta0=None, omega0=None, rtol: float = 1e-10,
         accelerates, ``dMb/dalpha + flywheel <= 0``), naming the time and the angle.
     RuntimeError
         The integrator fails (its message), or the motion switches between sticking
-        and moving more than :data:`MAX_SWITCHES` times.
+        and moving more than :data:`MAX_SWITCHES` times, or :data:`STALLED` times at
+        one instant.
 
     Notes
     -----
@@ -295,6 +296,8 @@ NEWTON_STEPS = 50
 ROUNDING = 1e-11
 #: changes between sticking and moving at most in one simulation (a guard against chatter)
 MAX_SWITCHES = 100_000
+#: switches at one time at most (no progress: a torque that touches the band's edge)
+STALLED = 50
 #: points at which a stuck crank's torque is watched between two output times
 WATCH = 8
 _EPS = float(np.finfo(float).eps)
@@ -569,6 +572,11 @@ def _with_friction(mech, effort: str, torque, t: np.ndarray, theta0: float, omeg
             if leave is None:
                 break
             ti, d = leave
+        if len(switches) >= STALLED and switches[-STALLED].time == ti:
+            raise RuntimeError(f"{mech.name}: the motion switched between sticking and "
+                               f"moving {STALLED} times at t = {ti:.9g} s, theta = {th:.9g} "
+                               "rad without moving on (the torque touches the band's edge "
+                               "there)")
         switches.append(Switch(ti, th, d))
         if ti >= end:  # stopped or left exactly at the last time
             break
