@@ -467,3 +467,23 @@ def test_friction_energy_balance_through_stops_reversals_and_sticking():
     kinetic = 0.5 * run["J_red"].to_numpy() * run["omega"].to_numpy() ** 2
     assert lost > 0.5 * kinetic[0]
     assert abs(-lost - against - (kinetic[-1] - kinetic[0])) <= 1e-6 * lost
+
+
+def test_a_massless_linkage_with_friction_needs_a_flywheel():
+    """The scotch yoke without mass, friction in every pair: no inertia on the crank, so
+    no acceleration is defined (the error says so, as without friction); a flywheel
+    defines it: alpha = (tau - Mb(alpha)) / I, Mb then independent of alpha (no inertia
+    forces), so Mb = tau - I alpha to rounding."""
+    d = presets.preset("scotch_yoke")
+    params = {spec["mu"]: 0.1 for spec in d.friction.values()}
+    params.update({spec["radius"]: 0.01 for spec in d.friction.values() if "radius" in spec})
+    yoke = presets.get("scotch_yoke", m2=0.0, m3=0.0, **params)
+    with pytest.raises(ValueError, match=r"reduced to the crank is 0\.0 at theta = 0\.3 rad; "
+                                         r"the motion is not defined \(reached at t = 0 s\)"):
+        yoke.simulate(1.0, [0.0, 0.1], theta0=0.3, omega0=1.0, load=100.0)
+    run = yoke.simulate(1.0, [0.0, 0.05], theta0=0.3, omega0=1.0, load=100.0, flywheel=0.5)
+    np.testing.assert_allclose(run["Mb"], 1.0 - 0.5 * run["alpha"], rtol=0, atol=1e-12)
+    moving = run[~run["stuck"]]
+    alone = yoke.solve(moving["theta"].to_numpy(), moving["omega"].to_numpy(), 0.0,
+                       load=100.0, method="direct")["Mb"]  # Mb does not depend on alpha
+    np.testing.assert_allclose(moving["alpha"], (1.0 - alone) / 0.5, rtol=1e-12)

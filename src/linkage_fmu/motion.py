@@ -433,6 +433,12 @@ class _Direction:
                 raise _at_time(err, self.mech.name, th, ti) from None
             slope = dm + extra
             if not slope > 0.0:
+                J = self.mech.reduced_inertia(th)[0] + extra
+                if not J > 0.0:  # no inertia at all: as without friction
+                    with_flywheel = f" (a flywheel of {extra!r} kg m2 included)" if extra else ""
+                    raise ValueError(f"{self.mech.name}: the inertia reduced to the crank is "
+                                     f"{J!r} at theta = {th!r} rad{with_flywheel}; the motion "
+                                     f"is not defined (reached at t = {ti:.9g} s)")
                 raise SelfLockingError(
                     self.mech.name, th,
                     f"no crank acceleration balances tau = {tq!r} N m: dMb/dalpha + flywheel "
