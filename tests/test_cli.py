@@ -273,6 +273,46 @@ def test_simulate_command_prints_and_writes_the_motion(tmp_path):
         assert status == 2 and message in err, (argv_bad, err)
 
 
+def test_simulate_and_flywheel_take_friction():
+    """With --set mu_...: ``simulate`` prints Mechanism.simulate's motion with friction
+    (its ``stuck`` column) and says on stderr where the crank sticks or moves off;
+    ``flywheel`` prints the sizing with its friction losses; friction that locks the
+    linkage is an error naming the time and the angle, not a traceback."""
+    from linkage_fmu import presets
+
+    params = {"mu_A": 0.1, "r_A": 0.01, "mu_guide": 0.1, "mu_O": 0.1, "r_O": 0.01}
+    sets = [a for k, v in params.items() for a in ("--set", f"{k}={v}")]
+    # the load on the piston drives the crank: at 1 rad the band is [-0.917, -0.711] N.m
+    argv = ["simulate", "slider_crank", *sets, "--t-end", "0.2", "--n", "5", "--theta0", "1",
+            "--omega0", "0", "--load", "20", "--csv"]
+    status, out, err = run(argv + ["--tau", "-0.8"])
+    assert status == 0
+    df = pd.read_csv(io.StringIO(out), index_col="time")
+    ref = presets.get("slider_crank", **params).simulate(-0.8, np.linspace(0.0, 0.2, 5), 1.0,
+                                                         0.0, load=20.0)
+    assert list(df.columns) == list(ref.columns) and df["stuck"].all()  # within the band
+    np.testing.assert_array_equal(df["theta"].to_numpy(), 1.0)
+    np.testing.assert_array_equal(df["Mb"].to_numpy(), -0.8)
+    assert "at t = 0 s the crank at theta = 1 rad sticks" in err
+    status, out, err = run(argv + ["--tau", "0"])
+    assert status == 0 and "at t = 0 s the crank at theta = 1 rad moves off forwards" in err
+    df = pd.read_csv(io.StringIO(out), index_col="time")
+    ref = presets.get("slider_crank", **params).simulate(0.0, np.linspace(0.0, 0.2, 5), 1.0,
+                                                         0.0, load=20.0)
+    np.testing.assert_array_equal(df["theta"].to_numpy(), ref["theta"].to_numpy())
+    assert not df["stuck"].any() and df["theta"].iloc[-1] > 1.1
+    status, out, _ = run(["flywheel", "slider_crank", *sets, "--omega-mean", "100", "--Cs",
+                          "0.02", "--load", "200"])
+    expected = presets.get("slider_crank", **params).flywheel(100.0, 0.02, load=200.0)
+    assert status == 0 and out == str(expected) + "\n"
+    assert f"friction losses            P_loss   = {expected.P_loss_mean:.6g} W" in out
+    status, _, err = run(["simulate", "slider_crank", "--set", "mu_guide=5", "--tau", "0",
+                          "--t-end", "0.1", "--theta0", "1.2", "--omega0", "10", "--load",
+                          "-50"])
+    assert status == 2 and err.startswith("linkage-fmu: slider_crank locks at theta = 1.2 rad")
+    assert "(reached at t = 0 s)" in err and "Traceback" not in err
+
+
 def test_flywheel_command_prints_the_sizing_and_writes_the_motion(tmp_path):
     """``flywheel`` prints Mechanism.flywheel's report (the mean speed with a unit, the
     loads as options) and with -o writes the motion with the flywheel over the cycle."""

@@ -16,7 +16,7 @@ import math
 import numpy as np
 import pytest
 
-from linkage_fmu import AssemblyError, presets
+from linkage_fmu import AssemblyError, SelfLockingError, presets
 
 #: linkages that turn fully, their effort a moment on the crank (the six-bar's other
 #: drivers put the effort on another link, which simulate refuses)
@@ -208,3 +208,282 @@ def test_an_effort_off_the_crank_is_refused():
     mech = presets.get("six_bar", driver="KD")
     with pytest.raises(ValueError, match="does not act on the crank"):
         mech.simulate(1.0, [0.0, 0.1])
+
+
+# -- friction ----------------------------------------------------------------------------------
+#: Coulomb friction in every pair, nonzero pin radii: the slider-crank and the four-bar
+FRICTION = [
+    ("slider_crank", {"mu_O": 0.15, "mu_A": 0.15, "muf_B": 0.15, "mu_guide": 0.15,
+                      "r_O": 0.01, "r_A": 0.01, "r_B": 0.008}, {"load": 20.0}),
+    ("four_bar", {"mu_A": 0.15, "mu_B": 0.1, "muf_C": 0.1, "mu_D": 0.2, "r_A": 0.005,
+                  "r_B": 0.004, "r_C": 0.004, "r_D": 0.005}, {"load": 0.5}),
+]
+IDS = [name for name, _, _ in FRICTION]
+
+
+def reference_motion(mech, tau, t, theta0, omega0, flywheel=0.0, **loads):
+    """The independent integration: scipy's DOP853 (rtol = atol = 1e-10) on the crank
+    acceleration found by Brent's method on the DIRECT solver's Mb with friction, tau -
+    flywheel alpha = Mb(theta, omega, alpha): no kernel, no tangent, no Newton of
+    simulate's. For a motion in one direction (no stop)."""
+    from scipy.integrate import solve_ivp
+    from scipy.optimize import brentq
+
+    def alpha(theta, omega):
+        seen = {}
+
+        def g(a):
+            if a not in seen:
+                seen[a] = tau - flywheel * a - mech.solve(
+                    theta, omega, a, outputs=("Mb",), method="direct", **loads)["Mb"]
+            return seen[a]
+
+        guess = g(0.0) / (g(0.0) - g(1.0))  # the secant: Mb is nearly affine in alpha
+        d = 1e-3 * (abs(guess) + 1.0)
+        while g(guess - d) * g(guess + d) > 0.0:
+            d *= 10.0
+        return brentq(g, guess - d, guess + d, xtol=1e-14 * (abs(guess) + 1.0),
+                      rtol=4.0 * np.finfo(float).eps)
+
+    res = solve_ivp(lambda s, y: [y[1], alpha(float(y[0]), float(y[1]))], (t[0], t[-1]),
+                    [theta0, omega0], method="DOP853", t_eval=t, rtol=1e-10, atol=1e-10)
+    assert res.status == 0
+    return res.y
+
+
+@pytest.mark.parametrize("name,params,loads", FRICTION, ids=IDS)
+def test_friction_motion_follows_an_integration_on_the_direct_solver(name, params, loads):
+    mech = presets.get(name, **params)
+    t = np.linspace(0.0, 0.1, 3)
+    theta, omega = reference_motion(mech, 2.0, t, 0.3, 10.0, flywheel=0.01, **loads)
+    run = mech.simulate(2.0, t, theta0=0.3, omega0=10.0, flywheel=0.01, **loads)
+    assert theta[-1] - theta[0] > 1.0 and not run["stuck"].any()
+    assert run.attrs["switches"] == []  # it moves all along
+    # measured 2.4e-11 rad (slider-crank) and 1.5e-14 rad (four-bar)
+    np.testing.assert_allclose(run["theta"], theta, rtol=0, atol=1e-6)
+    np.testing.assert_allclose(run["omega"], omega, rtol=0, atol=1e-6 * np.abs(omega).max())
+    # the linkage takes tau - flywheel alpha: by the direct solver, at the rows' states
+    direct = mech.solve(run["theta"].to_numpy(), run["omega"].to_numpy(),
+                        run["alpha"].to_numpy(), method="direct", **loads)
+    np.testing.assert_allclose(direct["Mb"], 2.0 - 0.01 * run["alpha"], rtol=0,
+                               atol=1e-12)  # measured 2.2e-16
+    frictionless = presets.get(name).simulate(2.0, t, theta0=0.3, omega0=10.0, flywheel=0.01,
+                                              **loads)
+    assert run["theta"].iloc[-1] < frictionless["theta"].iloc[-1] - 1e-3  # friction brakes
+
+
+@pytest.mark.parametrize("name,params,loads", FRICTION, ids=IDS)
+def test_friction_motion_balances_work_losses_and_kinetic_energy(name, params, loads):
+    """work of tau - integral of P_loss - work against the loads and gravity = change of
+    (J_red + flywheel) omega**2 / 2. The work against the loads and weights is the
+    integral over theta of the static balancing moment WITHOUT friction (the preset with
+    every mu 0), by scipy's quad; P_loss is integrated over 8001 output times by
+    Simpson's rule."""
+    from scipy.integrate import quad, simpson
+
+    mech = presets.get(name, **params)
+    plain = presets.get(name, **{k: v for k, v in params.items() if not k.startswith("mu")})
+    assert not plain.friction.active and mech.friction.active
+    t = np.linspace(0.0, 0.2, 8001)
+    run = mech.simulate(2.0, t, theta0=0.3, omega0=10.0, flywheel=0.01, **loads)
+    th = run["theta"].to_numpy()
+    assert (run["omega"] > 0.0).all()
+    work = 2.0 * (th[-1] - th[0])
+    lost = simpson(run["P_loss"].to_numpy(), x=t)
+    against, _ = quad(lambda x: plain.solve(x, 0.0, 0.0, outputs=("Mb",), **loads)["Mb"],
+                      th[0], th[-1], limit=400, epsabs=1e-13, epsrel=1e-13)
+    kinetic = 0.5 * (run["J_red"].to_numpy() + 0.01) * run["omega"].to_numpy() ** 2
+    assert lost > 0.02 * work  # the friction takes a share worth testing
+    # measured 1.4e-7 (slider-crank; 2.4e-8 over 32001 times: Simpson's error at the kinks
+    # of P_loss, where a pair's relative motion reverses) and 1.8e-9 (four-bar)
+    assert abs(work - lost - against - (kinetic[-1] - kinetic[0])) <= 1e-6 * work
+
+
+def band(name, params, theta, **loads):
+    """The friction band at rest by the DIRECT solver: the static Mb with drive -1 and +1."""
+    return tuple(presets.get(name, **params, drive=d).solve(
+        theta, 0.0, 0.0, outputs=("Mb",), method="direct", **loads)["Mb"] for d in (-1.0, 1.0))
+
+
+@pytest.mark.parametrize("name,params,loads", FRICTION, ids=IDS)
+def test_a_torque_within_the_band_holds_the_crank(name, params, loads):
+    mech = presets.get(name, **params)
+    lo, hi = band(name, params, 1.0, **loads)
+    assert hi - lo > 1e-3 * max(abs(lo), abs(hi))  # a band worth testing
+    for tau in (lo + 0.01 * (hi - lo), 0.5 * (lo + hi), hi - 0.01 * (hi - lo)):
+        run = mech.simulate(tau, np.linspace(0.0, 0.5, 6), theta0=1.0, omega0=0.0, **loads)
+        assert np.max(np.abs(run["theta"] - 1.0)) <= 1e-9  # measured: exactly 0
+        assert (run["omega"] == 0.0).all() and (run["alpha"] == 0.0).all()
+        assert run["stuck"].all() and run.attrs["switches"] == [(0.0, 1.0, 0)]
+        assert (run["Mb"] == tau).all() and (run["P_loss"] == 0.0).all()
+        assert run["F21x"].isna().all()  # not determined while stuck
+    for tau, way in ((hi + 0.01 * (hi - lo), 1), (lo - 0.01 * (hi - lo), -1)):
+        run = mech.simulate(tau, np.linspace(0.0, 0.05, 3), theta0=1.0, omega0=0.0, **loads)
+        assert run.attrs["switches"][0] == (0.0, 1.0, way)
+        assert way * (run["theta"].iloc[-1] - 1.0) > 0.0 and not run["stuck"].any()
+
+
+@pytest.mark.parametrize("name,params,loads", FRICTION, ids=IDS)
+@pytest.mark.parametrize("way", [1, -1])
+def test_a_torque_ramp_breaks_away_where_it_crosses_the_band_s_edge(name, params, loads, way):
+    """tau = mid + 1.3 way (hi - lo) t from rest at 1 rad: the crank holds until the ramp
+    crosses the edge (Brent's method on tau(t) - edge, the edge by the direct solver),
+    then moves that way."""
+    from scipy.optimize import brentq
+
+    mech = presets.get(name, **params)
+    lo, hi = band(name, params, 1.0, **loads)
+    mid, rate = 0.5 * (lo + hi), 1.3 * way * (hi - lo)  # crossing at 0.385 s
+    edge = hi if way > 0 else lo
+
+    def tau(s, theta, omega):
+        return mid + rate * s
+
+    crossing = brentq(lambda s: tau(s, 1.0, 0.0) - edge, 0.0, 1.0, xtol=1e-15, rtol=1e-15)
+    t = np.linspace(0.0, 0.8, 17)
+    run = mech.simulate(tau, t, theta0=1.0, omega0=0.0, **loads)
+    start, breakaway = run.attrs["switches"][:2]
+    assert start == (0.0, 1.0, 0) and breakaway.to == way and breakaway.theta == 1.0
+    assert abs(breakaway.time - crossing) <= 1e-12  # measured <= 2.2e-15 s
+    held = t <= crossing
+    assert (run["theta"][held] == 1.0).all() and run["stuck"][held].all()
+    assert (way * (run["theta"][~held] - 1.0) > 0.0).all() and not run["stuck"][~held].any()
+
+
+def test_a_coasting_crank_stops_and_stays_where_the_band_holds_it():
+    """The slider-crank coasting (tau = 0) against a constant load on its slider swings
+    about dead centre, stops at each swing's end (omega = 0 there, to the integrator's
+    tolerance), reverses while the load's moment exceeds the band, and at last sticks:
+    from then on theta stays, and tau = 0 lies within the band there (the direct
+    solver's)."""
+    name, params, _ = FRICTION[0]
+    params = {**params, "g": 0.0}
+    mech = presets.get(name, **params)
+    t = np.linspace(0.0, 3.5, 36)
+    run = mech.simulate(0.0, t, theta0=0.3, omega0=10.0, load=5.0)
+    switches = run.attrs["switches"]
+    assert [s.to for s in switches[-3:]] == [-1, 1, 0]  # reverses, reverses, sticks
+    last = switches[-1]
+    held = t >= last.time
+    assert held.sum() >= 5 and run["stuck"][held].all() and not run["stuck"][~held].any()
+    assert (run["theta"][held] == last.theta).all() and (run["omega"][held] == 0.0).all()
+    lo, hi = band(name, params, last.theta, load=5.0)
+    assert lo <= 0.0 <= hi
+    for s in switches[:-1]:  # each reversal: the band did not hold it there
+        lo, hi = band(name, params, s.theta, load=5.0)
+        assert (0.0 > hi) if s.to > 0 else (0.0 < lo)
+    # the stops are where omega passes 0: a run to just past the first one
+    first = switches[0]
+    stop = mech.simulate(0.0, [0.0, first.time], theta0=0.3, omega0=10.0, load=5.0)
+    assert abs(stop["omega"].iloc[-1]) <= 1e-8 * 10.0
+    assert stop["theta"].iloc[-1] == pytest.approx(first.theta, abs=1e-9)
+
+
+def test_friction_that_locks_the_motion_is_an_error_naming_time_and_angle():
+    mech = presets.get("slider_crank", mu_guide=5.0)
+    with pytest.raises(SelfLockingError, match=r"slider_crank locks at theta = 1\.2 rad "
+                                                r"\(68\.75 deg\): .*\(reached at t = 0 s\)"):
+        mech.simulate(0.0, [0.0, 0.1], theta0=1.2, omega0=10.0, load=-50.0)
+
+
+def test_moment_and_slope_is_the_kernel_s_Mb_and_a_derivative_by_alpha():
+    """The slope against a central difference of the direct solver's Mb (h = 1e-4:
+    Mb is smooth in alpha away from a reaction's zero, so 1e-7 relative holds)."""
+    from linkage_fmu.motion import moment_and_slope
+
+    name, params, loads = FRICTION[0]
+    mech = presets.get(name, **params)
+    f = moment_and_slope(mech, **loads)
+    for theta, omega, alpha in [(0.7, 12.0, 3.0), (2.9, -4.0, 0.0), (4.4, 0.0, 50.0)]:
+        Mb, slope = f(theta, omega, alpha)
+
+        def direct(a):
+            return mech.solve(theta, omega, a, outputs=("Mb",), method="direct", **loads)["Mb"]
+
+        assert Mb == pytest.approx(direct(alpha), rel=1e-12, abs=1e-13)
+        h = 1e-4
+        assert slope == pytest.approx((direct(alpha + h) - direct(alpha - h)) / (2 * h),
+                                      rel=1e-7)
+
+
+def test_without_a_compiler_the_slope_is_a_difference_and_the_motion_the_same(monkeypatch,
+                                                                            tmp_path):
+    """No C compiler: moment_and_slope gives solve's Mb and a forward difference of it
+    (1e-6 relative: against the tangent's slope, measured 8.5e-9), and simulate's Newton
+    still converges: the motion equals the one with the tangent to 1e-9 rad (measured
+    3.2e-11: alpha agrees to rounding, the integrator's steps then differ a little)."""
+    import warnings
+
+    from linkage_fmu.kernels import compiled
+    from linkage_fmu.motion import moment_and_slope
+
+    name, params, loads = FRICTION[0]
+    t = np.linspace(0.0, 0.05, 3)
+    mech = presets.get(name, **params)
+    with_tangent = mech.simulate(2.0, t, theta0=0.3, omega0=10.0, **loads)
+    exact = moment_and_slope(mech, **loads)(0.7, 12.0, 3.0)
+    monkeypatch.setenv("CC", "no-such-compiler")
+    monkeypatch.setenv("LINKAGE_FMU_CACHE", str(tmp_path))
+    compiled._no_compiler_warning.cache_clear()
+    mech = presets.get(name, **params)  # no kernel made yet
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # "no C compiler found"
+        Mb, slope = moment_and_slope(mech, **loads)(0.7, 12.0, 3.0)
+        run = mech.simulate(2.0, t, theta0=0.3, omega0=10.0, **loads)
+    assert Mb == mech.solve(0.7, 12.0, 3.0, outputs=("Mb",), **loads)["Mb"]
+    assert Mb == pytest.approx(exact[0], rel=1e-14)
+    assert slope == pytest.approx(exact[1], rel=1e-6)
+    np.testing.assert_allclose(run["theta"], with_tangent["theta"], rtol=0, atol=1e-9)
+    assert not list(tmp_path.iterdir())  # nothing compiled
+
+
+def test_friction_energy_balance_through_stops_reversals_and_sticking():
+    """The coasting slider-crank of the test above, through its 8 reversals and its
+    sticking: -integral of P_loss - the work against the load = the change of kinetic
+    energy, to 1e-6 of the energy dissipated (measured 1.8e-8). P_loss has kinks at the
+    stops, so it is integrated by Simpson's rule between them: a first run (output
+    times 0 and 3.5 s only: most segments hold no output time) gives the switch times,
+    a second one on 2001 times between each two of them gives the same switches (the
+    output times do not steer the integrator)."""
+    from scipy.integrate import quad, simpson
+
+    name, params, _ = FRICTION[0]
+    params = {**params, "g": 0.0}
+    mech = presets.get(name, **params)
+    plain = presets.get(name, **{k: v for k, v in params.items() if not k.startswith("mu")})
+    first = mech.simulate(0.0, [0.0, 3.5], theta0=0.3, omega0=10.0, load=5.0)
+    switches = first.attrs["switches"]
+    assert len(switches) >= 5 and switches[-1].to == 0 and first["stuck"].iloc[-1]
+    cuts = [0.0] + [s.time for s in switches] + [3.5]
+    t = np.unique(np.concatenate([np.linspace(a, b, 2001) for a, b in zip(cuts, cuts[1:])]))
+    run = mech.simulate(0.0, t, theta0=0.3, omega0=10.0, load=5.0)
+    assert run.attrs["switches"] == switches
+    P = run["P_loss"].to_numpy()
+    lost = sum(simpson(P[(t >= a) & (t <= b)], x=t[(t >= a) & (t <= b)])
+               for a, b in zip(cuts, cuts[1:]))
+    th = run["theta"].to_numpy()
+    against, _ = quad(lambda x: plain.solve(x, 0.0, 0.0, outputs=("Mb",), load=5.0)["Mb"],
+                      th[0], th[-1], limit=400, epsabs=1e-13, epsrel=1e-13)
+    kinetic = 0.5 * run["J_red"].to_numpy() * run["omega"].to_numpy() ** 2
+    assert lost > 0.5 * kinetic[0]
+    assert abs(-lost - against - (kinetic[-1] - kinetic[0])) <= 1e-6 * lost
+
+
+def test_a_massless_linkage_with_friction_needs_a_flywheel():
+    """The scotch yoke without mass, friction in every pair: no inertia on the crank, so
+    no acceleration is defined (the error says so, as without friction); a flywheel
+    defines it: alpha = (tau - Mb(alpha)) / I, Mb then independent of alpha (no inertia
+    forces), so Mb = tau - I alpha to rounding."""
+    d = presets.preset("scotch_yoke")
+    params = {spec["mu"]: 0.1 for spec in d.friction.values()}
+    params.update({spec["radius"]: 0.01 for spec in d.friction.values() if "radius" in spec})
+    yoke = presets.get("scotch_yoke", m2=0.0, m3=0.0, **params)
+    with pytest.raises(ValueError, match=r"reduced to the crank is 0\.0 at theta = 0\.3 rad; "
+                                         r"the motion is not defined \(reached at t = 0 s\)"):
+        yoke.simulate(1.0, [0.0, 0.1], theta0=0.3, omega0=1.0, load=100.0)
+    run = yoke.simulate(1.0, [0.0, 0.05], theta0=0.3, omega0=1.0, load=100.0, flywheel=0.5)
+    np.testing.assert_allclose(run["Mb"], 1.0 - 0.5 * run["alpha"], rtol=0, atol=1e-12)
+    moving = run[~run["stuck"]]
+    alone = yoke.solve(moving["theta"].to_numpy(), moving["omega"].to_numpy(), 0.0,
+                       load=100.0, method="direct")["Mb"]  # Mb does not depend on alpha
+    np.testing.assert_allclose(moving["alpha"], (1.0 - alone) / 0.5, rtol=1e-12)

@@ -50,7 +50,9 @@ EPILOG = """examples:
   linkage-fmu plot examples/engine.toml --what speed --Cs 0.02 -o speed.png
   linkage-fmu plot slider_crank --what loss --set mu_guide=0.1 --omega 10 --load 100 -o loss.png
   linkage-fmu simulate four_bar --tau 2 --t-end 1 --theta0 "30 deg" --omega0 5 --n 11
+  linkage-fmu simulate slider_crank --set mu_guide=0.1 --tau 0.5 --t-end 1 --omega0 0 --load 20
   linkage-fmu flywheel examples/engine.toml --omega-mean "3000 rpm" --Cs 0.02
+  linkage-fmu flywheel slider_crank --set mu_guide=0.1 --omega-mean 100 --Cs 0.02 --load 200
   linkage-fmu build four_bar --set l_AB=0.12 --out dist
   linkage-fmu build --native my_linkage.toml --out dist/native
   linkage-fmu build --native --fmi 3 four_bar
@@ -364,7 +366,7 @@ def main(argv: list[str] | None = None) -> int:
                           help="a flywheel on the crank [kg.m2] (default none)")
     simulate.add_argument("--outputs", nargs="+", default=None,
                           help="the columns to show (default all: theta, omega, alpha, tau, "
-                               "every output, J_red)")
+                               "every output, J_red; with friction also stuck)")
     simulate.add_argument("--csv", action="store_true", help="print CSV instead of a table")
     simulate.add_argument("-o", "--output", help="write the motion to FILE.csv or "
                                                  "FILE.parquet")
@@ -678,8 +680,15 @@ def _simulate(d: Description, args) -> int:
              evaluate(getattr(args, name), unit, f"--{name}")
              for name, unit in (("theta0", "rad"), ("omega0", "rad/s"))}
     flywheel = 0.0 if args.flywheel is None else evaluate(args.flywheel, "kg.m2", "--flywheel")
-    run = mech.simulate(evaluate(args.tau, "N.m", "--tau"), np.linspace(0.0, t_end, args.n),
-                        flywheel=flywheel, **start, **loads(args))
+    try:
+        run = mech.simulate(evaluate(args.tau, "N.m", "--tau"), np.linspace(0.0, t_end, args.n),
+                            flywheel=flywheel, **start, **loads(args))
+    except RuntimeError as err:  # the integrator failed, or the motion chatters
+        raise UsageError(str(err)) from None
+    for s in run.attrs.get("switches", ()):  # with friction: where it sticks or moves off
+        what = "sticks" if s.to == 0 else f"moves off {'forwards' if s.to > 0 else 'backwards'}"
+        print(f"linkage-fmu: at t = {s.time:.9g} s the crank at theta = {s.theta:.9g} rad "
+              f"{what}", file=sys.stderr)
     if args.outputs:
         unknown = [c for c in args.outputs if c not in run.columns]
         if unknown:
@@ -693,8 +702,11 @@ def _flywheel(d: Description, args) -> int:
     mech = d.build(**dict(args.params))
     omega = None if args.omega_mean is None else evaluate(args.omega_mean, "rad/s",
                                                           "--omega-mean")
-    sizing = mech.flywheel(omega, evaluate(args.Cs, "1", "--Cs"),
-                           revolutions=args.revolutions, **loads(args))
+    try:
+        sizing = mech.flywheel(omega, evaluate(args.Cs, "1", "--Cs"),
+                               revolutions=args.revolutions, **loads(args))
+    except RuntimeError as err:  # no periodic motion found (with friction)
+        raise UsageError(str(err)) from None
     print(sizing)
     if args.output:
         write_table(sizing.motion, args.output)

@@ -36,6 +36,8 @@ GAUSS = 8
 #: intervals per revolution of the turning-moment diagram (0.5 degree)
 INTERVALS = 720
 _NODES, _WEIGHTS = np.polynomial.legendre.leggauss(GAUSS)
+#: Newton steps at most on the periodic motion of a linkage with friction
+PERIODIC_STEPS = 12
 
 
 class Fluctuation(NamedTuple):
@@ -217,6 +219,9 @@ class FlywheelSizing:
     #: the range of Mb at constant speed over the cycle (at the Gauss-Legendre points)
     Mb_min: float
     Mb_max: float
+    #: the cycle mean of the power friction dissipates at constant speed [W] (in
+    #: ``tau_mean * omega_mean``; 0 without friction)
+    P_loss_mean: float
     #: the maximum fluctuation of energy over the cycle, and where the surplus energy is
     #: largest and smallest (where the speed is highest and lowest, to first order)
     delta_E: float
@@ -268,6 +273,9 @@ class FlywheelSizing:
             f"{360 * self.revolutions} deg ({self.revolutions} {turns})",
             f"  driving torque, constant   tau_mean = {tau:.6g} N.m (the cycle mean of Mb "
             f"at constant speed, {self.Mb_min:.6g} .. {self.Mb_max:.6g})",
+            *([f"  friction losses            P_loss   = {self.P_loss_mean:.6g} W mean at "
+               f"constant speed (in tau_mean: {self.P_loss_mean / self.omega_mean:.6g} N.m)"]
+              if self.P_loss_mean else []),
             f"  fluctuation of energy      delta_E  = {self.delta_E:.6g} J (surplus largest "
             f"at theta = {deg(self.theta_E_max):.2f} deg, smallest at "
             f"{deg(self.theta_E_min):.2f} deg)",
@@ -311,6 +319,18 @@ def flywheel(mech, omega_mean, Cs, revolutions: int | None = None,
        motion's is its time mean) and the linkage's inertia for its mean; the
        difference is of order ``Cs`` relative (below ``0.2 Cs`` for the presets and
        the engine of ``examples/``, ``tests/test_flywheel.py``).
+
+    With friction in the joints (a ``mu`` not 0), the diagram's ``Mb`` is the solve's
+    with friction at ``(theta, omega_mean, 0)``: it holds the friction losses at
+    constant speed (the reactions hold the inertia forces of that speed), so
+    ``tau_mean`` pays for them and ``P_loss_mean`` reports their mean power. Step 4 has
+    no energy integral then (the losses depend on the speed and the acceleration):
+    the periodic motion is found by Newton's method on
+    :func:`~linkage_fmu.motion.simulate` with friction, its torque ``run.tau`` and its
+    start speed such that the motion closes after the cycle's time (``run.tau`` differs
+    from ``tau_mean`` by how the losses change with the swing of the speed: of order
+    ``Cs``), and its highest and lowest speeds from the samples of the motion, each
+    refined by a parabola through the three about it.
 
     ``tau_mean`` and ``delta_E`` come from a composite 8-point Gauss-Legendre rule over
     ``intervals`` intervals per revolution, the extremes of ``E`` refined between them
@@ -399,7 +419,8 @@ def flywheel(mech, omega_mean, Cs, revolutions: int | None = None,
     run = _periodic(cycle, added, samples, rtol)
     return FlywheelSizing(
         linkage=mech.name, omega_mean=omega, Cs=cs, revolutions=cycle.revolutions,
-        tau_mean=cycle.tau, Mb_min=cycle.low, Mb_max=cycle.high, delta_E=delta_E,
+        tau_mean=cycle.tau, Mb_min=cycle.low, Mb_max=cycle.high, P_loss_mean=cycle.loss,
+        delta_E=delta_E,
         theta_E_max=_wrap(th_e_max, cycle.span), theta_E_min=_wrap(th_e_min, cycle.span),
         inertia=inertia, J_red_mean=J_mean, J_red_min=float(cycle.J.min()),
         J_red_max=float(cycle.J.max()), flywheel=added, run=run)
@@ -411,17 +432,24 @@ def periodic_motion(mech, omega_mean, flywheel=0.0, revolutions: int | None = No
     """The steady periodic motion of a linkage with a flywheel, driven by the constant
     torque that keeps its mean speed ``omega_mean``.
 
-    The torque is ``tau``, the cycle mean of ``Mb`` at the constant speed
-    ``omega_mean`` (as :func:`flywheel` takes it). ``Mb(theta, omega, 0) = M(theta) +
+    The torque is ``tau``, the cycle mean of ``Mb`` at the constant speed ``omega_mean`` (as
+    :func:`flywheel` takes it); with friction, see below. ``Mb(theta, omega, 0) = M(theta) +
     dJ/2 omega**2``, with ``M`` the moment of the loads and weights alone, so the energy
-    equation integrates: ``(J(theta) + I) omega**2 / 2 = c + W(theta)``, ``W`` the work
-    of ``tau - M`` from ``theta = 0``, which is periodic (its mean is zero, as
-    ``dJ``'s is): every ``c`` gives a periodic motion, and the one whose cycle takes
-    ``cycle / omega_mean`` is found by Brent's method on ``c`` (the cycle's time by the
-    periodic trapezoidal rule over the nodes of the turning-moment diagram). Its highest
-    and lowest speed are refined between the nodes. The motion is then integrated over
-    the cycle by :func:`~linkage_fmu.motion.simulate` from ``theta = 0`` at that
-    speed; how far it closes on its start is ``periodic_error`` (about ``rtol``).
+    equation integrates: ``(J(theta) + I) omega**2 / 2 = c + W(theta)``, ``W`` the work of
+    ``tau - M`` from ``theta = 0``, which is periodic (its mean is zero, as ``dJ``'s is):
+    every ``c`` gives a periodic motion, and the one whose cycle takes ``cycle /
+    omega_mean`` is found by Brent's method on ``c`` (the cycle's time by the periodic
+    trapezoidal rule over the nodes of the turning-moment diagram). Its highest and lowest
+    speed are refined between the nodes. The motion is then integrated over the cycle by
+    :func:`~linkage_fmu.motion.simulate` from ``theta = 0`` at that speed; how far it closes
+    on its start is ``periodic_error`` (about ``rtol``).
+
+    With friction in the joints there is no such integral: ``tau`` and the start speed
+    are found together by Newton's method on :func:`~linkage_fmu.motion.simulate` (with
+    friction), from the cycle mean and the integral's speed, so that the motion from
+    ``theta = 0`` closes after ``cycle / omega_mean`` (within ``100 rtol``; the
+    Jacobian by forward differences, at most :data:`PERIODIC_STEPS` steps); the
+    highest and lowest speed are the samples' refined by a parabola through three.
 
     Parameters
     ----------
@@ -488,6 +516,12 @@ class _Cycle:
         self.low, self.high = float(moment.min()), float(moment.max())
         parts = 0.5 * self.h * (moment @ _WEIGHTS)
         self.tau = math.fsum(parts) / self.span
+        #: the cycle mean of the power friction dissipates at constant speed [W]
+        self.loss = 0.0
+        if mech.friction.active:
+            theta = self.theta[:, None] + 0.5 * self.h * (1.0 + _NODES)
+            lost = mech.solve(theta, omega, 0.0, outputs=("P_loss",), **loads)["P_loss"]
+            self.loss = math.fsum(0.5 * self.h * (np.asarray(lost) @ _WEIGHTS)) / self.span
         self.energy = np.concatenate([[0.0], np.cumsum(self.tau * self.h - parts)[:-1]])
         self.J = np.asarray(mech.reduced_inertia(self.theta)[0], dtype=float)
 
@@ -562,6 +596,9 @@ def _periodic(cycle: _Cycle, inertia: float, samples: int | None,
     c = brentq(lambda x: period(x) - target, floor + gap, c_hi, xtol=1e-15 * abs(c_hi),
                rtol=4.0 * np.finfo(float).eps)
     nodes = np.sqrt(2.0 * (c + work) / total)
+    count = cycle.theta.size + 1 if samples is None else _count("samples", samples, 2)
+    if mech.friction.active:  # the energy equation holds to first order only: a start
+        return _periodic_with_friction(cycle, inertia, float(nodes[0]), count, rtol)
 
     def speed(theta: float) -> float:
         J = mech.reduced_inertia(theta)[0]
@@ -571,7 +608,6 @@ def _periodic(cycle: _Cycle, inertia: float, samples: int | None,
     w_max, th_max = cycle.extreme(nodes, speed, +1)
     w_min, th_min = cycle.extreme(nodes, speed, -1)
     omega0 = float(nodes[0])
-    count = cycle.theta.size + 1 if samples is None else _count("samples", samples, 2)
     run = motion.simulate(mech, cycle.tau, np.linspace(0.0, target, count), theta0=0.0,
                           omega0=omega0, rtol=rtol, atol=rtol, flywheel=inertia,
                           **cycle.loads)
@@ -581,6 +617,71 @@ def _periodic(cycle: _Cycle, inertia: float, samples: int | None,
     return PeriodicMotion(mech.name, omega, cycle.revolutions, cycle.tau, inertia, omega0,
                           w_max, w_min, _wrap(th_max, cycle.span), _wrap(th_min, cycle.span),
                           error, run)
+
+
+def _periodic_with_friction(cycle: _Cycle, inertia: float, omega0: float, count: int,
+                            rtol: float) -> PeriodicMotion:
+    """The periodic motion of a linkage with friction at the mean speed of ``cycle`` (see
+    :func:`periodic_motion`): the torque ``tau`` and the start speed ``omega0`` for which
+    the motion from ``theta = 0`` closes after the cycle's time, by Newton's method on
+    :func:`~linkage_fmu.motion.simulate` (its Jacobian by forward differences), from the
+    diagram's mean torque and the frictionless energy equation's start speed."""
+    mech, omega, span = cycle.mech, cycle.omega, cycle.span
+    target = span / omega
+    scale = max(abs(cycle.low), abs(cycle.high), abs(cycle.tau))
+
+    def run(x, n: int = 2):
+        return motion.simulate(mech, float(x[0]), np.linspace(0.0, target, n), theta0=0.0,
+                               omega0=float(x[1]), rtol=rtol, atol=rtol, flywheel=inertia,
+                               **cycle.loads)
+
+    def residual(x) -> np.ndarray:
+        end = run(x).iloc[-1]
+        return np.array([(float(end["theta"]) - span) / span,
+                         (float(end["omega"]) - x[1]) / omega])
+
+    x = np.array([cycle.tau, omega0])
+    steps = np.array([1e-6 * scale, 1e-6 * omega])
+    r = residual(x)
+    for _ in range(PERIODIC_STEPS):
+        if np.max(np.abs(r)) <= 100.0 * rtol:
+            break
+        jac = np.column_stack([(residual(x + np.eye(2)[j] * steps[j]) - r) / steps[j]
+                               for j in range(2)])
+        x = x - np.linalg.solve(jac, r)
+        r = residual(x)
+    else:
+        raise RuntimeError(f"{mech.name}: no periodic motion at {omega!r} rad/s found with "
+                           f"friction in {PERIODIC_STEPS} Newton steps (closes to "
+                           f"{float(np.max(np.abs(r))):.3g} relative)")
+    motion_ = run(x, count)
+    t = motion_.index.to_numpy()
+    w = motion_["omega"].to_numpy()
+    th = motion_["theta"].to_numpy()
+    w_max, th_max = _vertex(t, w, th, int(np.argmax(w)))
+    w_min, th_min = _vertex(t, w, th, int(np.argmin(w)))
+    end = motion_.iloc[-1]
+    error = max(abs(float(end["theta"]) - span) / span, abs(float(end["omega"]) - x[1]) / omega)
+    return PeriodicMotion(mech.name, omega, cycle.revolutions, float(x[0]), inertia,
+                          float(x[1]), w_max, w_min, _wrap(th_max, span), _wrap(th_min, span),
+                          error, motion_)
+
+
+def _vertex(t: np.ndarray, w: np.ndarray, th: np.ndarray, k: int) -> tuple[float, float]:
+    """The extreme of ``w`` about the sample ``k`` (the first and last are one, the
+    motion being periodic), and the angle there: the vertex of the parabola through
+    the three samples about it (an error of order ``step**3``)."""
+    n = w.size - 1  # the last sample is the first again
+    k %= n
+    i, j = (k - 1) % n, (k + 1) % n
+    h = t[1] - t[0]
+    a, b, c = w[i], w[k], w[j]
+    curvature = a - 2.0 * b + c
+    s = 0.0 if curvature == 0.0 else 0.5 * (a - c) / curvature  # in steps, within +-1/2
+    s = min(max(s, -0.5), 0.5)
+    value = b - 0.25 * (a - c) * s
+    # theta about the sample: theta' = omega, so theta(s) = th_k + h (b s + (c - a) s^2/4)
+    return float(value), float(th[k] + h * (b * s + 0.25 * (c - a) * s * s))
 
 
 def _wrap(theta: float, span: float) -> float:
