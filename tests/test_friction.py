@@ -270,13 +270,34 @@ def test_massless_slider_crank_self_locks_where_the_denominator_vanishes():
     before = mech.solve(star - 1e-7, 5.0, 0.0, P_LOAD)
     F = _hand(star - 1e-7, 5.0, mu)[0]
     assert math.hypot(before["F32x"], before["F32y"]) == pytest.approx(F, rel=1e-6)
-    with pytest.raises(SelfLockingError):
+    with pytest.raises(SelfLockingError) as caught:
         mech.solve(star + 1e-7, 5.0, 0.0, P_LOAD)
+    # the error names the angle and the pairs whose friction locks
+    assert str(caught.value).startswith(
+        f"slider_crank locks at theta = {star + 1e-7:.6g} rad ({math.degrees(star + 1e-7):.4g} "
+        "deg): friction at A, B, guide locks the group of link 2"), str(caught.value)
+    assert caught.value.reason.kind == "locking"
     # omega < 0: the piston moves in, the load drives it: no locking there
     mech.solve(star + 1e-7, -5.0, 0.0, P_LOAD)
-    arr = mech.solve(np.array([star - 1e-7, star + 1e-7]), 5.0, 0.0, P_LOAD)
-    assert list(arr.status) == [solver.SOLVED, solver.LOCKED]
-    assert np.isnan(arr["Mb"][1]) and np.isfinite(arr["Mb"][0])
+    for method in ("closed_form", "interpreted", "direct"):
+        arr = mech.solve(np.array([star - 1e-7, star + 1e-7, 0.5]), 5.0, 0.0, P_LOAD,
+                         method=method)
+        assert list(arr.status) == [solver.SOLVED, solver.LOCKED, solver.SOLVED], method
+        assert list(arr.valid) == [True, False, True], method  # no outputs: not valid
+        assert np.isnan(arr["Mb"][1]) and np.isfinite(arr["Mb"][0])
+        (problem,) = arr.problems.values()
+        assert (problem.first, problem.count) == (1, 1)
+        assert problem.reason == caught.value.reason, method  # the FMUs' words
+        assert problem.reason.text == ("friction locks the linkage: friction at A, B, guide "
+                                       "locks the group of link 2")
+    # a table has no outputs there, as where the linkage cannot be assembled; the
+    # diagnostics of the position (which exists) stay
+    table = mech.table([star - 1e-7, star + 1e-7], 5.0, 0.0, P_LOAD)
+    assert table.iloc[1][list(mech.output_names)].isna().all()
+    assert table.iloc[1][list(mech.diagnostic_names)].notna().all()
+    assert table.iloc[0].notna().all()
+    # and the one-state call the FMUs make says so in the same words
+    assert mech.solver.attempt([star + 1e-7, 5.0, 0.0, P_LOAD]) == caught.value.reason
 
 
 # -- e. an independent formulation: fsolve on the slider-crank's equations --------------------
