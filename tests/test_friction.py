@@ -431,3 +431,124 @@ def test_an_effort_off_the_crank_continues_the_frictionless_solution(variant):
         assert ok.sum() > 150
         np.testing.assert_allclose(a[e][ok], b[e][ok], rtol=0,
                                    atol=1e-11 * np.maximum(np.abs(b[e][ok]), 1.0).max())
+
+
+# -- f. the efficiency: eta = 1 - P_loss / P_in -----------------------------------------------
+def _powers_in(mech, sol, th, om, al, ld):
+    """Per source its power at each state, computed here from the solution's effort and
+    the kinematic coefficients: the effort's E q' omega; each load's F . v (v the
+    velocity of the body's material point at the load's point) or M phi'; gravity's
+    -m g y'; the inertia's -dT/dt, T = 1/2 sum (m |v_S|^2 + J w^2)."""
+    st = mech.kinematics(th, 2)
+    out = [sol[mech.effort.name] * effort_coefficient(mech, st) * om]
+    dT = np.zeros_like(th)
+    grav = np.zeros_like(th)
+    for b in mech.bodies:
+        (x1, y1), (x2, y2) = st.d1[b.cg], st.d2[b.cg]
+        # v = p' om, a = p'' om^2 + p' al: dT/dt = m v . a + J w w'
+        dT += b.mass * om * (x1 * (x2 * om**2 + x1 * al) + y1 * (y2 * om**2 + y1 * al))
+        w1, w2 = st.w1[b.name], st.w2[b.name]
+        dT += b.inertia * om * w1 * (w2 * om**2 + w1 * al)
+        grav += -b.mass * mech.g * y1 * om
+    out += [-dT, grav]
+    assert not mech.computed_loads
+    for load, value in zip(mech.loads, [ld]):
+        w1 = st.w1[load.body]
+        if load.kind == "moment":
+            out.append(value * w1 * om)
+            continue
+        ux, uy = load.direction
+        if load.fixed_in == "link":
+            c, s = st.u[load.body]
+            ux, uy = c * ux - s * uy, s * ux + c * uy
+        cg = mech.cg[load.body]
+        (vx, vy), (px, py), (sx, sy) = st.d1[cg], st.p[load.at], st.p[cg]
+        out.append(value * om * (ux * (vx - w1 * (py - sy)) + uy * (vy + w1 * (px - sx))))
+    return out
+
+
+def _reversed_states(rng, n):
+    """Random states where power flows every way: the load driving or resisting (either
+    sign, up to large), the crank turning either way, accelerating or decelerating."""
+    th = rng.uniform(0.0, 2 * math.pi, n)
+    om = rng.choice([-1.0, 1.0], n) * rng.uniform(0.5, 30.0, n)
+    al = -np.sign(om) * rng.uniform(0.0, 400.0, n)  # decelerating
+    al[: n // 3] *= -1.0  # and accelerating
+    ld = rng.uniform(-500.0, 500.0, n)
+    return th, om, al, ld
+
+
+@pytest.mark.parametrize("variant", VARIANTS, ids=IDS)
+def test_eta_is_one_minus_the_loss_over_the_power_that_enters(variant):
+    """Reference: P_in = sum of max(0, P_i) over the sources' powers P_i computed here
+    (_powers_in: the effort, the load, gravity, -dT/dt from the kinematic coefficients),
+    eta_ref = 1 - P_loss / P_in. 300 seeded random states with reversed power (loads
+    driving, negative omega, decelerating), random mu and radii, arrays and one scalar
+    path. Tolerance: every finite eta in [0, 1] exactly; |eta - eta_ref| <= 1e-10, and
+    P_loss / (1 - eta) = P_in to 1e-10 relative where the loss is > 1e-3 of P_in; the
+    power balance sum P_i = P_loss to 1e-9 of the largest |P_i|; NaN only where
+    P_in = 0."""
+    name, base = variant
+    rng = np.random.default_rng(7 + zlib.crc32(str(variant).encode()))
+    mech = presets.get(name, **base, **_friction_params(name, rng, base))
+    th, om, al, ld = _reversed_states(rng, 300)
+    sol = mech.solve(th, om, al, ld)
+    ok = sol.valid
+    assert ok.sum() >= 200
+    eta, loss = sol["eta"][ok], sol["P_loss"][ok]
+    assert np.all((eta >= 0.0) & (eta <= 1.0)), eta[~((eta >= 0.0) & (eta <= 1.0))]
+    powers = [p[ok] for p in _powers_in(mech, sol, th, om, al, ld)]
+    size = np.max(np.abs(powers), axis=0)
+    np.testing.assert_array_less(np.abs(np.sum(powers, axis=0) - loss), 1e-9 * size + 1e-300)
+    p_in = np.sum([np.maximum(p, 0.0) for p in powers], axis=0)
+    assert np.all(p_in > 0.0)
+    assert np.all(np.isfinite(eta))
+    np.testing.assert_allclose(eta, 1.0 - loss / p_in, rtol=0, atol=1e-10)
+    lossy = loss > 1e-3 * p_in
+    assert lossy.sum() >= 20
+    np.testing.assert_allclose(loss[lossy] / (1.0 - eta[lossy]), p_in[lossy], rtol=1e-10)
+    assert (eta < 1.0 - 1e-3).sum() >= 20  # reversed power: real losses
+    i = int(np.flatnonzero(ok)[0])
+    one = mech.solve(th[i], om[i], al[i], ld[i])  # the one-state kernel
+    assert one["eta"] == pytest.approx(sol["eta"][i], abs=1e-12)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_eta_is_one_without_friction_and_nan_where_no_power_enters(name):
+    """Reference: P_loss = 0 exactly where every mu is 0 (declared, or active with mu
+    0), so eta = 1 exactly where P_in > 0 (_powers_in); a static scene with no load and
+    no gravity has no power at all: NaN, and the state is still solved. Tolerance:
+    exact."""
+    rng = np.random.default_rng(3)
+    th, om, al, ld = _reversed_states(rng, 50)
+    for mech in (presets.get(name), presets.preset(name).fmu_build()):
+        sol = mech.solve(th, om, al, ld)
+        ok = sol.valid
+        p_in = np.sum([np.maximum(p, 0.0) for p in _powers_in(mech, sol, th, om, al, ld)],
+                      axis=0)
+        assert np.all(sol["eta"][ok & (p_in > 0.0)] == 1.0)
+        assert (ok & (p_in > 0.0)).sum() >= 40
+    still = presets.get(name, g=0.0) if "g" in presets.get(name).parameters else presets.get(name)
+    if still.g == 0.0:
+        s = still.solve(1.0, 0.0, 0.0, 0.0)
+        assert math.isnan(s["eta"]) and math.isfinite(s["P_loss"])
+        a = still.solve(np.array([1.0, 2.0]), 0.0, 0.0, 0.0)
+        assert a.valid.all() and np.isnan(a["eta"]).all()
+        assert list(a.status) == [solver.SOLVED, solver.SOLVED]
+
+
+@pytest.mark.parametrize("variant", VARIANTS[:8], ids=IDS[:8])
+def test_eta_at_rest_is_the_limit_as_the_crank_starts(variant):
+    """Reference: eta at omega = 1e-9 (drive +1) and -1e-9 (drive -1), alpha = 0: the
+    efficiency of the motion friction opposes at rest. Tolerance: 1e-10."""
+    name, base = variant
+    rng = np.random.default_rng(11)
+    p = _friction_params(name, rng, base)
+    th = rng.uniform(0.0, 2 * math.pi, 40)
+    ld = rng.uniform(-300.0, 300.0, 40)
+    for drive in (1.0, -1.0):
+        mech = presets.get(name, **base, **p, drive=drive)
+        rest, moving = mech.solve(th, 0.0, 0.0, ld), mech.solve(th, 1e-9 * drive, 0.0, ld)
+        ok = rest.valid & moving.valid & np.isfinite(moving["eta"])
+        assert ok.sum() >= 30
+        np.testing.assert_allclose(rest["eta"][ok], moving["eta"][ok], rtol=0, atol=1e-10)

@@ -56,7 +56,8 @@ STATE_ERRORS = (AssemblyError, SingularPositionError, OverflowInputError, SelfLo
 class Plan(NamedTuple):
     """What a call asks for: the ``outputs`` (validated names), whether the scene is
     ``static``, the ``method``, and what they need: the balancing ``effort``, the
-    ``reactions``, the ``diagnostics``; ``checked``: the outputs that must be finite;
+    ``reactions``, the ``diagnostics``; ``checked``: the outputs that must be finite
+    (not those that may be NaN at a solved state: ``eta`` where no power enters);
     ``given``: the loads over the cycle given as inputs (after the input loads)."""
 
     outputs: tuple
@@ -226,7 +227,8 @@ class Solver:
                 any(n not in diag and n not in efforts for n in outputs) or (
                     effort and mech.friction.active),  # the effort needs the reactions
                 bool(diag.intersection(outputs)),
-                tuple(n for n in outputs if n in mech.output_info and n not in diag), given)
+                tuple(n for n in outputs if n in mech.output_info and n not in diag
+                      and n not in mech.partial_outputs), given)
         return plan
 
     # -- kernels ----------------------------------------------------------------
