@@ -416,7 +416,7 @@ def loss(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta_de
                         fontsize=9, gid="min label")
     degree_axis(eta_ax, deg)
     eta_ax.set_ylabel("η [1]")
-    eta_ax.set_title("instantaneous efficiency: power delivered over power put in",
+    eta_ax.set_title("instantaneous efficiency: 1 - P_loss / P_in (P_in: the power entering)",
                      fontsize=10)
     eta_ax.legend(loc="best", fontsize=9)
     return fig
