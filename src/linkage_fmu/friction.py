@@ -717,18 +717,6 @@ class FrictionOutput:
         return lambda R, E, st: R.friction[self.joint]
 
 
-#: a constant the kernels take as it is: ``INF ** z`` is 1 or inf for ``z`` 0 or 1
-INF = float("inf")
-
-
-def nan_where(z):
-    """NaN where ``z`` is 1, 0 where it is 0 (``z`` one or the other), on any kind of
-    number and without a branch or a division (a traced kernel's Python raises on
-    ``0 / 0``): ``INF ** z - 1`` is inf or 0, and ``inf - inf`` is NaN."""
-    t = INF ** z - 1.0
-    return t - t
-
-
 @dataclass(frozen=True)
 class LossOutput:
     """Output: ``P_loss``, the power the friction dissipates (>= 0, 0 in a static
@@ -778,7 +766,7 @@ class LossOutput:
             loss = -d * virtual_power(R.friction, c)
             total = out + loss
             none = 1.0 - xp.abs(sign(xp, total))  # 1 where no power enters
-            return out / (total + none) + nan_where(none)
+            return out / (total + none) + xp.nan_where(none)
 
         return eta
 

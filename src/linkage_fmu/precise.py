@@ -31,6 +31,7 @@ def lu_solve(n: int, a: list, b: list):
 #: the direct method solves its linear system with :func:`lu_solve`
 MP = SimpleNamespace(scalar=True, sqrt=mpmath.sqrt, cos=mpmath.cos, sin=mpmath.sin,
                      atan2=mpmath.atan2, abs=abs, maximum=max, sign=mpmath.sign,
+                     nan_where=lambda z: mpmath.nan if z else mpmath.mpf(0),
                      lu_solve=lu_solve,
                      eps=lambda: mpmath.mp.eps * 1000,
                      functions={"sqrt": mpmath.sqrt, "sin": mpmath.sin, "cos": mpmath.cos,
