@@ -29,7 +29,9 @@ state they do not settle continues up to :data:`MAX_ITERATIONS`. A position at w
 the iteration has no solution reached from the frictionless one (the Jacobian's
 determinant falls to zero on the way: the reactions grow without bound) is
 self-locking: :class:`~linkage_fmu.errors.SelfLockingError` for one state, NaN and
-:attr:`KinematicState.locked <linkage_fmu.groups.KinematicState>` for arrays.
+:attr:`KinematicState.locked <linkage_fmu.groups.KinematicState>` for arrays (a state
+without outputs, as one that cannot be assembled: ``sol.valid`` False, its status
+:data:`~linkage_fmu.solver.LOCKED`).
 """
 
 from __future__ import annotations
@@ -540,7 +542,7 @@ def closed_form(mech, st: KinematicState, W: dict, omega, static: bool):
 def frictionless(mech, st: KinematicState, effort, friction: dict, c: dict):
     """The effort without friction, ``e0 = e + sum(f c) / q'`` from the power balance at
     the solution: equal to the frictionless solve to rounding, and to ``e`` itself where
-    every friction value is 0 (so ``eta`` is exactly 1 there)."""
+    every friction value is 0."""
     return effort + virtual_power(friction, c) / kinetostatics.effort_coefficient(mech, st)
 
 
@@ -759,14 +761,14 @@ class LossOutput:
             # that enter (d: the sign of the crank's motion makes coefficients powers)
             xp, d = st.xp, R.direction
             rates = [E * kinetostatics.effort_coefficient(mech, st), *R.sources]
-            out = 0.0
+            taken = 0.0  # P_out: what the sources whose power is negative take
             for r in rates:
-                out = out + xp.maximum(-d * r, 0.0)
+                taken = taken + xp.maximum(-d * r, 0.0)
             c = {jf.joint.name: coefficient(mech, st, jf) for jf in mech.friction.joints}
             loss = -d * virtual_power(R.friction, c)
-            total = out + loss
+            total = taken + loss  # P_in
             none = 1.0 - xp.abs(sign(xp, total))  # 1 where no power enters
-            return out / (total + none) + xp.nan_where(none)
+            return taken / (total + none) + xp.nan_where(none)
 
         return eta
 
