@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 import zlib
 
+import mpmath
 import numpy as np
 import pytest
 from scipy.optimize import fsolve
@@ -16,7 +17,7 @@ from scipy.optimize import fsolve
 from conftest import IDS, VARIANTS
 from linkage_fmu import SelfLockingError, presets, solver
 from linkage_fmu.kinetostatics import effort_coefficient
-from linkage_fmu.precise import reference
+from linkage_fmu.precise import MP, reference
 from linkage_fmu.spec.description import Description, DescriptionError
 
 NAMES = presets.names()
@@ -434,36 +435,53 @@ def test_an_effort_off_the_crank_continues_the_frictionless_solution(variant):
 
 
 # -- f. the efficiency: eta = 1 - P_loss / P_in -----------------------------------------------
+def _rates(mech, th):
+    """d/dtheta of every point's position and every moving link's angle at ``th``, by
+    central differences of the positions computed in mpmath (40 digits, h = 1e-15:
+    truncation ~h^2, rounding ~1e-40 / h, whatever the conditioning), and the positions
+    and link directions at ``th`` (floats)."""
+    h = mpmath.mpf("1e-15")
+    st = mech.kinematics(th, 0)
+    points = {p: (np.empty(th.size), np.empty(th.size)) for p in st.p}
+    angles = {b.name: np.empty(th.size) for b in mech.bodies}
+    with mpmath.workdps(40):
+        for i, t in enumerate(th):
+            lo, hi = (mech.kinematics(mpmath.mpf(float(t)) + k * h, 0, MP) for k in (-1, 1))
+            for p, (dx, dy) in points.items():
+                dx[i] = float((hi.p[p][0] - lo.p[p][0]) / (2 * h))
+                dy[i] = float((hi.p[p][1] - lo.p[p][1]) / (2 * h))
+            for b, dphi in angles.items():
+                (c0, s0), (c1, s1) = lo.u[b], hi.u[b]
+                dphi[i] = float(mpmath.atan2(c0 * s1 - s0 * c1, c0 * c1 + s0 * s1) / (2 * h))
+    return points, angles, st
+
+
 def _powers_in(mech, sol, th, om, al, ld):
-    """Per source its power at each state, computed here from the solution's effort and
-    the kinematic coefficients: the effort's E q' omega; each load's F . v (v the
-    velocity of the body's material point at the load's point) or M phi'; gravity's
-    -m g y'; the inertia's -dT/dt, T = 1/2 sum (m |v_S|^2 + J w^2)."""
-    st = mech.kinematics(th, 2)
-    out = [sol[mech.effort.name] * effort_coefficient(mech, st) * om]
-    dT = np.zeros_like(th)
-    grav = np.zeros_like(th)
-    for b in mech.bodies:
-        (x1, y1), (x2, y2) = st.d1[b.cg], st.d2[b.cg]
-        # v = p' om, a = p'' om^2 + p' al: dT/dt = m v . a + J w w'
-        dT += b.mass * om * (x1 * (x2 * om**2 + x1 * al) + y1 * (y2 * om**2 + y1 * al))
-        w1, w2 = st.w1[b.name], st.w2[b.name]
-        dT += b.inertia * om * w1 * (w2 * om**2 + w1 * al)
-        grav += -b.mass * mech.g * y1 * om
-    out += [-dT, grav]
+    """Per source its power at each state, computed here from the solution's outputs
+    and the positions: the effort's E q' omega, each load's F . v (or M phi' omega),
+    gravity's -m g y_S' omega, with every q', v, y', phi' a central difference of the
+    positions in mpmath (_rates); the inertia's -dT/dt = -(J_red omega alpha + dJ_red
+    omega^3 / 2), T = J_red omega^2 / 2 from the solution's J_red and dJ_red."""
+    points, angles, st = _rates(mech, th)
+    e = mech.effort
+    if e.direction is None:
+        q1 = angles[e.body]
+    else:
+        q1 = e.direction[0] * points[e.point][0] + e.direction[1] * points[e.point][1]
+    out = [sol[e.name] * q1 * om,
+           -(sol["J_red"] * om * al + 0.5 * sol["dJ_red"] * om ** 3),
+           sum(-b.mass * mech.g * points[b.cg][1] for b in mech.bodies) * om]
     assert not mech.computed_loads
     for load, value in zip(mech.loads, [ld]):
-        w1 = st.w1[load.body]
         if load.kind == "moment":
-            out.append(value * w1 * om)
+            out.append(value * angles[load.body] * om)
             continue
         ux, uy = load.direction
         if load.fixed_in == "link":
             c, s = st.u[load.body]
             ux, uy = c * ux - s * uy, s * ux + c * uy
-        cg = mech.cg[load.body]
-        (vx, vy), (px, py), (sx, sy) = st.d1[cg], st.p[load.at], st.p[cg]
-        out.append(value * om * (ux * (vx - w1 * (py - sy)) + uy * (vy + w1 * (px - sx))))
+        vx, vy = points[load.at]
+        out.append(value * om * (ux * vx + uy * vy))
     return out
 
 
@@ -481,8 +499,8 @@ def _reversed_states(rng, n):
 @pytest.mark.parametrize("variant", VARIANTS, ids=IDS)
 def test_eta_is_one_minus_the_loss_over_the_power_that_enters(variant):
     """Reference: P_in = sum of max(0, P_i) over the sources' powers P_i computed here
-    (_powers_in: the effort, the load, gravity, -dT/dt from the kinematic coefficients),
-    eta_ref = 1 - P_loss / P_in. 300 seeded random states with reversed power (loads
+    (_powers_in: the effort, the load, gravity from central differences of the
+    positions, -dT/dt from J_red and dJ_red), eta_ref = 1 - P_loss / P_in. 300 seeded random states with reversed power (loads
     driving, negative omega, decelerating), random mu and radii, arrays and one scalar
     path. Tolerance: every finite eta in [0, 1] exactly; |eta - eta_ref| <= 1e-10, and
     P_loss / (1 - eta) = P_in to 1e-10 relative where the loss is > 1e-3 of P_in; the
