@@ -32,6 +32,11 @@ def plans(mech) -> list[tuple]:
     return [None, (mech.effort.name,), tuple(mech.diagnostic_names), names[:3] + ("cond",)]
 
 
+def _bits(x: float):
+    """``x`` as ``==`` compares it, every NaN one value."""
+    return "nan" if math.isnan(x) else x
+
+
 @pytest.mark.parametrize("variant", VARIANTS, ids=IDS)
 @settings(max_examples=25, deadline=None, derandomize=True)
 @given(state=STATES)
@@ -49,9 +54,11 @@ def test_kernels_are_the_interpreted_formulas_bit_for_bit(variant, state):
                     mech.solve(*state, outputs=outputs)
                 continue
             got = mech.solve(*state, outputs=outputs)
-            assert dict(got) == dict(ref), outputs
+            # the same floats, NaN as NaN (eta where no power enters)
+            assert {n: _bits(v) for n, v in got.items()} == {
+                n: _bits(v) for n, v in ref.items()}, outputs
             direct = mech.solve(*state, method="direct", outputs=outputs)
-            forces = [n for n in got if n in mech.output_names]
+            forces = [n for n in got if n in mech.output_names and not math.isnan(ref[n])]
             if forces:
                 scale = max(abs(ref[n]) for n in forces)
                 tol = 1e-13 * max(1.0, ref["cond"] / 100 if "cond" in ref else
