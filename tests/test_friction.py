@@ -570,3 +570,31 @@ def test_eta_at_rest_is_the_limit_as_the_crank_starts(variant):
         ok = rest.valid & moving.valid & np.isfinite(moving["eta"])
         assert ok.sum() >= 30
         np.testing.assert_allclose(rest["eta"][ok], moving["eta"][ok], rtol=0, atol=1e-10)
+
+
+@pytest.mark.parametrize("variant", VARIANTS, ids=IDS)
+def test_each_friction_value_is_the_action_its_description_names(variant):
+    """Reference: the description of Mf_J / Ff_J names the pair's links a and b (its
+    joint's, as declared) and says the value acts on b, opposing b's motion relative to
+    a; the relative motion computed here (_relative_motion: w_b - w_a, or the sliding of
+    b on a along t = (n_y, -n_x)) times omega has the opposite sign of the value, at
+    every state where both are not 0. 40 random states, random mu and radii; exact
+    signs."""
+    name, base = variant
+    rng = np.random.default_rng(5 + zlib.crc32(str(variant).encode()))
+    mech = presets.get(name, **base, **_friction_params(name, rng, base))
+    th, om, al, ld = _reversed_states(rng, 40)
+    sol = mech.solve(th, om, al, ld)
+    ok = sol.valid
+    st = mech.kinematics(th, 1)
+    for jf in mech.friction.joints:
+        j = jf.joint
+        text = mech.output_info[jf.output][1]
+        kind = "friction moment in the pin" if jf.revolute else "friction force in the prismatic pair"
+        assert text.startswith(f"{kind} {j.name} of link {j.a} on link {j.b}, "), text
+        assert f"link {j.b} acts on link {j.a} with its opposite" in text
+        motion = _relative_motion(mech, st, jf) * om
+        f = sol[jf.output]
+        both = ok & (f != 0.0) & (np.abs(motion) > 1e-12 * np.abs(om))
+        assert both.sum() >= 10 or jf.mu == 0.0, jf.output
+        assert np.all(np.sign(f[both]) == -np.sign(motion[both])), jf.output
