@@ -500,12 +500,12 @@ def _reversed_states(rng, n):
 def test_eta_is_one_minus_the_loss_over_the_power_that_enters(variant):
     """Reference: P_in = sum of max(0, P_i) over the sources' powers P_i computed here
     (_powers_in: the effort, the load, gravity from central differences of the
-    positions, -dT/dt from J_red and dJ_red), eta_ref = 1 - P_loss / P_in. 300 seeded random states with reversed power (loads
-    driving, negative omega, decelerating), random mu and radii, arrays and one scalar
-    path. Tolerance: every finite eta in [0, 1] exactly; |eta - eta_ref| <= 1e-10, and
-    P_loss / (1 - eta) = P_in to 1e-10 relative where the loss is > 1e-3 of P_in; the
-    power balance sum P_i = P_loss to 1e-9 of the largest |P_i|; NaN only where
-    P_in = 0."""
+    positions, -dT/dt from J_red and dJ_red), eta_ref = 1 - P_loss / P_in. 300
+    seeded random states with reversed power (loads driving, negative omega,
+    decelerating), random mu and radii, arrays and one scalar path. Tolerance: every
+    finite eta in [0, 1] exactly; |eta - eta_ref| <= 1e-10, and P_loss / (1 - eta) =
+    P_in to 1e-10 relative where the loss is > 1e-3 of P_in; the power balance sum P_i
+    = P_loss to 1e-9 of the largest |P_i|; P_in > 0 and eta finite at these states."""
     name, base = variant
     rng = np.random.default_rng(7 + zlib.crc32(str(variant).encode()))
     mech = presets.get(name, **base, **_friction_params(name, rng, base))
@@ -590,7 +590,8 @@ def test_each_friction_value_is_the_action_its_description_names(variant):
     for jf in mech.friction.joints:
         j = jf.joint
         text = mech.output_info[jf.output][1]
-        kind = "friction moment in the pin" if jf.revolute else "friction force in the prismatic pair"
+        kind = ("friction moment in the pin" if jf.revolute else
+                "friction force in the prismatic pair")
         assert text.startswith(f"{kind} {j.name} of link {j.a} on link {j.b}, "), text
         assert f"link {j.b} acts on link {j.a} with its opposite" in text
         motion = _relative_motion(mech, st, jf) * om

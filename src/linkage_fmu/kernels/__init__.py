@@ -154,7 +154,9 @@ class Kernel:
         ...           ("y", "z"))
         >>> s = k.summary([("peak", ("y",)), ("mean", ("z",))])
         >>> s([[3.0], [-2.0]], [np.array([1.0, 2.0, 4.0])], 3).tolist()  # SUMMARY_HEAD first
-        [[0.0, 0.0, -1.0, 0.0, -1.0, 12.0, 1.3333333333333333], [0.0, 0.0, -1.0, 0.0, -1.0, 8.0, 1.3333333333333333]]
+        ... # doctest: +NORMALIZE_WHITESPACE
+        [[0.0, 0.0, -1.0, 0.0, -1.0, 12.0, 1.3333333333333333],
+         [0.0, 0.0, -1.0, 0.0, -1.0, 8.0, 1.3333333333333333]]
         """
         key = tuple((kind, tuple(names)) for kind, names in reductions)
         if key not in self._summary_kernels:
