@@ -243,7 +243,9 @@ def _solvable(preset, params, u, names):
     if sol is None:
         return None, False
     values = [sol[n] for n in names]
-    if not all(map(math.isfinite, values)):
+    partial = _mechanism(preset, tuple(sorted(params.items()))).partial_outputs
+    # eta is NaN where no power enters, at a state the FMU solves
+    if not all(math.isfinite(v) for n, v in zip(names, values) if n not in partial):
         return None, False
     return values, sol["cond"] > 1e7
 
@@ -329,8 +331,9 @@ def check(plan: Plan, results: list) -> Counter:
             else:
                 assert status == OK, (i, u, status)
                 ref = np.array(values)
-                scale = np.maximum(np.abs(ref), 1e-3 * np.max(np.abs(ref[:-1])))
-                assert np.all(np.abs(got - ref) <= 1e-9 * scale), (
+                scale = np.maximum(np.abs(ref), 1e-3 * np.nanmax(np.abs(ref[:-1])))
+                assert np.all((np.abs(got - ref) <= 1e-9 * scale)
+                              | (np.isnan(got) & np.isnan(ref))), (
                     i, u, list(zip(names, got, ref)))
                 tally["read equal to the direct solver"] += 1
                 if any(params.get(k, 0.0) for k in FRICTION[preset]):

@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 import zlib
 
+import mpmath
 import numpy as np
 import pytest
 from scipy.optimize import fsolve
@@ -16,7 +17,7 @@ from scipy.optimize import fsolve
 from conftest import IDS, VARIANTS
 from linkage_fmu import SelfLockingError, presets, solver
 from linkage_fmu.kinetostatics import effort_coefficient
-from linkage_fmu.precise import reference
+from linkage_fmu.precise import MP, reference
 from linkage_fmu.spec.description import Description, DescriptionError
 
 NAMES = presets.names()
@@ -270,13 +271,34 @@ def test_massless_slider_crank_self_locks_where_the_denominator_vanishes():
     before = mech.solve(star - 1e-7, 5.0, 0.0, P_LOAD)
     F = _hand(star - 1e-7, 5.0, mu)[0]
     assert math.hypot(before["F32x"], before["F32y"]) == pytest.approx(F, rel=1e-6)
-    with pytest.raises(SelfLockingError):
+    with pytest.raises(SelfLockingError) as caught:
         mech.solve(star + 1e-7, 5.0, 0.0, P_LOAD)
+    # the error names the angle and the pairs whose friction locks
+    assert str(caught.value).startswith(
+        f"slider_crank locks at theta = {star + 1e-7:.6g} rad ({math.degrees(star + 1e-7):.4g} "
+        "deg): friction at A, B, guide locks the group of link 2"), str(caught.value)
+    assert caught.value.reason.kind == "locking"
     # omega < 0: the piston moves in, the load drives it: no locking there
     mech.solve(star + 1e-7, -5.0, 0.0, P_LOAD)
-    arr = mech.solve(np.array([star - 1e-7, star + 1e-7]), 5.0, 0.0, P_LOAD)
-    assert list(arr.status) == [solver.SOLVED, solver.LOCKED]
-    assert np.isnan(arr["Mb"][1]) and np.isfinite(arr["Mb"][0])
+    for method in ("closed_form", "interpreted", "direct"):
+        arr = mech.solve(np.array([star - 1e-7, star + 1e-7, 0.5]), 5.0, 0.0, P_LOAD,
+                         method=method)
+        assert list(arr.status) == [solver.SOLVED, solver.LOCKED, solver.SOLVED], method
+        assert list(arr.valid) == [True, False, True], method  # no outputs: not valid
+        assert np.isnan(arr["Mb"][1]) and np.isfinite(arr["Mb"][0])
+        (problem,) = arr.problems.values()
+        assert (problem.first, problem.count) == (1, 1)
+        assert problem.reason == caught.value.reason, method  # the FMUs' words
+        assert problem.reason.text == ("friction locks the linkage: friction at A, B, guide "
+                                       "locks the group of link 2")
+    # a table has no outputs there, as where the linkage cannot be assembled; the
+    # diagnostics of the position (which exists) stay
+    table = mech.table([star - 1e-7, star + 1e-7], 5.0, 0.0, P_LOAD)
+    assert table.iloc[1][list(mech.output_names)].isna().all()
+    assert table.iloc[1][list(mech.diagnostic_names)].notna().all()
+    assert table.iloc[0].notna().all()
+    # and the one-state call the FMUs make says so in the same words
+    assert mech.solver.attempt([star + 1e-7, 5.0, 0.0, P_LOAD]) == caught.value.reason
 
 
 # -- e. an independent formulation: fsolve on the slider-crank's equations --------------------
@@ -410,3 +432,170 @@ def test_an_effort_off_the_crank_continues_the_frictionless_solution(variant):
         assert ok.sum() > 150
         np.testing.assert_allclose(a[e][ok], b[e][ok], rtol=0,
                                    atol=1e-11 * np.maximum(np.abs(b[e][ok]), 1.0).max())
+
+
+# -- f. the efficiency: eta = 1 - P_loss / P_in -----------------------------------------------
+def _rates(mech, th):
+    """d/dtheta of every point's position and every moving link's angle at ``th``, by
+    central differences of the positions computed in mpmath (40 digits, h = 1e-15:
+    truncation ~h^2, rounding ~1e-40 / h, whatever the conditioning), and the positions
+    and link directions at ``th`` (floats)."""
+    h = mpmath.mpf("1e-15")
+    st = mech.kinematics(th, 0)
+    points = {p: (np.empty(th.size), np.empty(th.size)) for p in st.p}
+    angles = {b.name: np.empty(th.size) for b in mech.bodies}
+    with mpmath.workdps(40):
+        for i, t in enumerate(th):
+            lo, hi = (mech.kinematics(mpmath.mpf(float(t)) + k * h, 0, MP) for k in (-1, 1))
+            for p, (dx, dy) in points.items():
+                dx[i] = float((hi.p[p][0] - lo.p[p][0]) / (2 * h))
+                dy[i] = float((hi.p[p][1] - lo.p[p][1]) / (2 * h))
+            for b, dphi in angles.items():
+                (c0, s0), (c1, s1) = lo.u[b], hi.u[b]
+                dphi[i] = float(mpmath.atan2(c0 * s1 - s0 * c1, c0 * c1 + s0 * s1) / (2 * h))
+    return points, angles, st
+
+
+def _powers_in(mech, sol, th, om, al, ld):
+    """Per source its power at each state, computed here from the solution's outputs
+    and the positions: the effort's E q' omega, each load's F . v (or M phi' omega),
+    gravity's -m g y_S' omega, with every q', v, y', phi' a central difference of the
+    positions in mpmath (_rates); the inertia's -dT/dt = -(J_red omega alpha + dJ_red
+    omega^3 / 2), T = J_red omega^2 / 2 from the solution's J_red and dJ_red."""
+    points, angles, st = _rates(mech, th)
+    e = mech.effort
+    if e.direction is None:
+        q1 = angles[e.body]
+    else:
+        q1 = e.direction[0] * points[e.point][0] + e.direction[1] * points[e.point][1]
+    out = [sol[e.name] * q1 * om,
+           -(sol["J_red"] * om * al + 0.5 * sol["dJ_red"] * om ** 3),
+           sum(-b.mass * mech.g * points[b.cg][1] for b in mech.bodies) * om]
+    assert not mech.computed_loads
+    for load, value in zip(mech.loads, [ld]):
+        if load.kind == "moment":
+            out.append(value * angles[load.body] * om)
+            continue
+        ux, uy = load.direction
+        if load.fixed_in == "link":
+            c, s = st.u[load.body]
+            ux, uy = c * ux - s * uy, s * ux + c * uy
+        vx, vy = points[load.at]
+        out.append(value * om * (ux * vx + uy * vy))
+    return out
+
+
+def _reversed_states(rng, n):
+    """Random states where power flows every way: the load driving or resisting (either
+    sign, up to large), the crank turning either way, accelerating or decelerating."""
+    th = rng.uniform(0.0, 2 * math.pi, n)
+    om = rng.choice([-1.0, 1.0], n) * rng.uniform(0.5, 30.0, n)
+    al = -np.sign(om) * rng.uniform(0.0, 400.0, n)  # decelerating
+    al[: n // 3] *= -1.0  # and accelerating
+    ld = rng.uniform(-500.0, 500.0, n)
+    return th, om, al, ld
+
+
+@pytest.mark.parametrize("variant", VARIANTS, ids=IDS)
+def test_eta_is_one_minus_the_loss_over_the_power_that_enters(variant):
+    """Reference: P_in = sum of max(0, P_i) over the sources' powers P_i computed here
+    (_powers_in: the effort, the load, gravity from central differences of the
+    positions, -dT/dt from J_red and dJ_red), eta_ref = 1 - P_loss / P_in. 300
+    seeded random states with reversed power (loads driving, negative omega,
+    decelerating), random mu and radii, arrays and one scalar path. Tolerance: every
+    finite eta in [0, 1] exactly; |eta - eta_ref| <= 1e-10, and P_loss / (1 - eta) =
+    P_in to 1e-10 relative where the loss is > 1e-3 of P_in; the power balance sum P_i
+    = P_loss to 1e-9 of the largest |P_i|; P_in > 0 and eta finite at these states."""
+    name, base = variant
+    rng = np.random.default_rng(7 + zlib.crc32(str(variant).encode()))
+    mech = presets.get(name, **base, **_friction_params(name, rng, base))
+    th, om, al, ld = _reversed_states(rng, 300)
+    sol = mech.solve(th, om, al, ld)
+    ok = sol.valid
+    assert ok.sum() >= 200
+    eta, loss = sol["eta"][ok], sol["P_loss"][ok]
+    assert np.all((eta >= 0.0) & (eta <= 1.0)), eta[~((eta >= 0.0) & (eta <= 1.0))]
+    powers = [p[ok] for p in _powers_in(mech, sol, th, om, al, ld)]
+    size = np.max(np.abs(powers), axis=0)
+    np.testing.assert_array_less(np.abs(np.sum(powers, axis=0) - loss), 1e-9 * size + 1e-300)
+    p_in = np.sum([np.maximum(p, 0.0) for p in powers], axis=0)
+    assert np.all(p_in > 0.0)
+    assert np.all(np.isfinite(eta))
+    np.testing.assert_allclose(eta, 1.0 - loss / p_in, rtol=0, atol=1e-10)
+    lossy = loss > 1e-3 * p_in
+    assert lossy.sum() >= 20
+    np.testing.assert_allclose(loss[lossy] / (1.0 - eta[lossy]), p_in[lossy], rtol=1e-10)
+    assert (eta < 1.0 - 1e-3).sum() >= 20  # reversed power: real losses
+    i = int(np.flatnonzero(ok)[0])
+    one = mech.solve(th[i], om[i], al[i], ld[i])  # the one-state kernel
+    assert one["eta"] == pytest.approx(sol["eta"][i], abs=1e-12)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_eta_is_one_without_friction_and_nan_where_no_power_enters(name):
+    """Reference: P_loss = 0 exactly where every mu is 0 (declared, or active with mu
+    0), so eta = 1 exactly where P_in > 0 (_powers_in); a static scene with no load and
+    no gravity has no power at all: NaN, and the state is still solved. Tolerance:
+    exact."""
+    rng = np.random.default_rng(3)
+    th, om, al, ld = _reversed_states(rng, 50)
+    for mech in (presets.get(name), presets.preset(name).fmu_build()):
+        sol = mech.solve(th, om, al, ld)
+        ok = sol.valid
+        p_in = np.sum([np.maximum(p, 0.0) for p in _powers_in(mech, sol, th, om, al, ld)],
+                      axis=0)
+        assert np.all(sol["eta"][ok & (p_in > 0.0)] == 1.0)
+        assert (ok & (p_in > 0.0)).sum() >= 40
+    still = presets.get(name, g=0.0) if "g" in presets.get(name).parameters else presets.get(name)
+    if still.g == 0.0:
+        s = still.solve(1.0, 0.0, 0.0, 0.0)
+        assert math.isnan(s["eta"]) and math.isfinite(s["P_loss"])
+        a = still.solve(np.array([1.0, 2.0]), 0.0, 0.0, 0.0)
+        assert a.valid.all() and np.isnan(a["eta"]).all()
+        assert list(a.status) == [solver.SOLVED, solver.SOLVED]
+
+
+@pytest.mark.parametrize("variant", VARIANTS[:8], ids=IDS[:8])
+def test_eta_at_rest_is_the_limit_as_the_crank_starts(variant):
+    """Reference: eta at omega = 1e-9 (drive +1) and -1e-9 (drive -1), alpha = 0: the
+    efficiency of the motion friction opposes at rest. Tolerance: 1e-10."""
+    name, base = variant
+    rng = np.random.default_rng(11)
+    p = _friction_params(name, rng, base)
+    th = rng.uniform(0.0, 2 * math.pi, 40)
+    ld = rng.uniform(-300.0, 300.0, 40)
+    for drive in (1.0, -1.0):
+        mech = presets.get(name, **base, **p, drive=drive)
+        rest, moving = mech.solve(th, 0.0, 0.0, ld), mech.solve(th, 1e-9 * drive, 0.0, ld)
+        ok = rest.valid & moving.valid & np.isfinite(moving["eta"])
+        assert ok.sum() >= 30
+        np.testing.assert_allclose(rest["eta"][ok], moving["eta"][ok], rtol=0, atol=1e-10)
+
+
+@pytest.mark.parametrize("variant", VARIANTS, ids=IDS)
+def test_each_friction_value_is_the_action_its_description_names(variant):
+    """Reference: the description of Mf_J / Ff_J names the pair's links a and b (its
+    joint's, as declared) and says the value acts on b, opposing b's motion relative to
+    a; the relative motion computed here (_relative_motion: w_b - w_a, or the sliding of
+    b on a along t = (n_y, -n_x)) times omega has the opposite sign of the value, at
+    every state where both are not 0. 40 random states, random mu and radii; exact
+    signs."""
+    name, base = variant
+    rng = np.random.default_rng(5 + zlib.crc32(str(variant).encode()))
+    mech = presets.get(name, **base, **_friction_params(name, rng, base))
+    th, om, al, ld = _reversed_states(rng, 40)
+    sol = mech.solve(th, om, al, ld)
+    ok = sol.valid
+    st = mech.kinematics(th, 1)
+    for jf in mech.friction.joints:
+        j = jf.joint
+        text = mech.output_info[jf.output][1]
+        kind = ("friction moment in the pin" if jf.revolute else
+                "friction force in the prismatic pair")
+        assert text.startswith(f"{kind} {j.name} of link {j.a} on link {j.b}, "), text
+        assert f"link {j.b} acts on link {j.a} with its opposite" in text
+        motion = _relative_motion(mech, st, jf) * om
+        f = sol[jf.output]
+        both = ok & (f != 0.0) & (np.abs(motion) > 1e-12 * np.abs(om))
+        assert both.sum() >= 10 or jf.mu == 0.0, jf.output
+        assert np.all(np.sign(f[both]) == -np.sign(motion[both])), jf.output

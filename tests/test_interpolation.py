@@ -43,3 +43,12 @@ def test_bad_size_is_rejected(size):
 def test_non_finite_state_is_rejected():
     with pytest.raises(ValueError, match="omega must be finite"):
         AngleTable(presets.get("four_bar"), 64)([0.0, 1.0], [1.0, np.nan])
+
+
+def test_friction_is_refused_it_does_not_add_up():
+    """Friction (|R|, the signs of motion, the states it locks) is not a sum of parts:
+    the table refuses it, saying why; the same linkage with every mu 0 is taken."""
+    with pytest.raises(ValueError, match="slider_crank: friction in its joints makes the "
+                                         "outputs nonlinear in omega"):
+        AngleTable(presets.get("slider_crank", mu_guide=0.2), 64)
+    AngleTable(presets.get("slider_crank", mu_guide=0.0, r_A=0.01), 64)

@@ -161,8 +161,10 @@ def test_random_states(variant, state):
     a = mech.solve(theta, omega, alpha, load, method="closed_form")
     b = mech.solve(theta, omega, alpha, load, method="direct")
     cond = a["cond"]
-    scale = max(abs(a[n]) for n in mech.output_names)
-    for n in mech.output_names:
+    # eta is NaN in both where no power enters (a state without load, weight or motion)
+    names = [n for n in mech.output_names if not (math.isnan(a[n]) and math.isnan(b[n]))]
+    scale = max(abs(a[n]) for n in names)
+    for n in names:
         assert abs(a[n] - b[n]) <= 1e-12 * max(1.0, cond / 100) * scale, n
     for sol in (a, b):
         res, size = power_residual(mech, sol, theta, omega, alpha, load)

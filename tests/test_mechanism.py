@@ -51,7 +51,7 @@ def test_static_scene_skips_derivatives_and_matches_full_path(mech):
         fast = mech.solve(TH, 0.0, 0.0, 30.0, outputs=names)
     R, effort = _full_path(mech, TH, 0.0, 0.0, 30.0)
     st = mech.kinematics(TH, order=2)
-    full = {name: fn(R, effort, st) for name, fn in mech.output_functions}
+    full = {name: fn(R, effort, st) for name, fn in mech.output_functions if name in names}
     for name in names:
         np.testing.assert_allclose(fast[name], full[name], rtol=1e-13, atol=1e-12, err_msg=name)
 

@@ -127,7 +127,7 @@ def test_no_feasible_design_is_an_error_holding_the_closest():
     ({}, "Mb_peak", [], {}, ValueError, "vary must map one or more parameters"),
     ({"l_AB": (0.05, 0.15)}, "Mb_peek", [], {}, ValueError,
      "'Mb_peek' is not a numeric summary of the sweep of four_bar; they are: "
-     "unassembled, first_unassembled_deg, Mb_peak"),
+     "unassembled, first_unassembled_deg, locked, first_locked_deg, Mb_peak"),
     ({"l_AB": (0.05, 0.15)}, "valid", [], {}, ValueError, "'valid' is not a numeric summary"),
     ({"l_AB": (0.05, 0.15)}, "Mb_peak", ["mu_X_min_deg >= 40"], {}, ValueError,
      "constraint 'mu_X_min_deg >= 40': 'mu_X_min_deg' is not a summary"),
@@ -190,10 +190,10 @@ def test_constraint_satisfied_and_violation():
     """>= 40 on [39, 40, 41, NaN]: met at 40 and 41; violated by 1/40 (relative to the
     bound) at 39, by 1 at NaN. > 40 is not met at 40 (the penalty still ranks it above
     every feasible design, at INFEASIBLE). ``valid``: violated by the fraction of the
-    angles that do not assemble."""
+    angles that do not assemble or that friction locks."""
     table = pd.DataFrame({"mu": [39.0, 40.0, 41.0, math.nan], "valid": [True, False,
-                                                                           True, False],
-                          "unassembled": [0, 18, 0, 72]})
+                                                                           False, False],
+                          "unassembled": [0, 18, 0, 72], "locked": [0, 0, 9, 0]})
     c = parse_constraint("mu >= 40")
     assert c.satisfied(table).tolist() == [False, True, True, False]
     np.testing.assert_array_equal(c.violation(table, 72), [1 / 40, 0.0, 0.0, 1.0])
@@ -202,8 +202,8 @@ def test_constraint_satisfied_and_violation():
     np.testing.assert_array_equal(parse_constraint("mu <= 0").violation(table, 72),
                                   [39.0, 40.0, 41.0, 1.0])
     v = parse_constraint("valid")
-    assert v.satisfied(table).tolist() == [True, False, True, False]
-    np.testing.assert_array_equal(v.violation(table, 72), [0.0, 0.25, 0.0, 1.0])
+    assert v.satisfied(table).tolist() == [True, False, False, False]
+    np.testing.assert_array_equal(v.violation(table, 72), [0.0, 0.25, 0.125, 1.0])
     assert INFEASIBLE > 1e15
 
 

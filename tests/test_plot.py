@@ -736,6 +736,12 @@ def test_bad_input_is_refused_with_the_choices():
         plot.linkage(four, 0.3, scale=-1.0)
     with pytest.raises(ValueError, match="cannot be assembled at any"):
         plot.torque(presets.get("four_bar", l_AB=0.3), theta_deg=[170.0, 180.0, 190.0])
+    # angles friction locks (test_friction's massless slider-crank, mu 0.6 at its guide)
+    locks = presets.get("slider_crank", m1=0.0, J1=0.0, m2=0.0, J2=0.0, m3=0.0, g=0.0,
+                        l_OA=0.18, l_AB=0.2, mu_guide=0.6)
+    with pytest.raises(ValueError, match=r"slider_crank has no outputs at any of the 3 crank "
+                                         r"angles 260\.\.270 deg: slider_crank locks at "):
+        plot.torque(locks, theta_deg=[260.0, 265.0, 270.0], omega=5.0, load=250.0)
     with pytest.raises(TypeError, match="give Cs .* or flywheel .*, not both"):
         plot.speed(four, Cs=0.02, flywheel=1.0)
     with pytest.raises(ValueError, match="Cs must be between 0 and 1"):

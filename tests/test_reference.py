@@ -215,6 +215,25 @@ def test_the_outputs_every_linkage_has_with_the_codes_descriptions(text):
     assert "moment about the crank pivot" in info["shake_M"][1]
 
 
+def test_the_friction_tables_their_keys_and_outputs(text):
+    """[friction.J]: every key of the checker's, the outputs a linkage with friction
+    adds with the descriptions the code gives them (each pair's naming its two links,
+    from a built preset), the sign conventions and eta's definition."""
+    part = section(text, "## `[friction.J]`")
+    assert keys_listed(part)[:len(description.FRICTION_KEYS)] == list(description.FRICTION_KEYS)
+    for key, meaning in description.FRICTION_KEYS.items():
+        assert f"| `{key}` | {meaning.replace('|', chr(92) + '|')} |" in part
+    mech = presets.get("slider_crank")
+    for name in ("Mf_A", "Ff_guide", "P_loss", "eta"):
+        unit, meaning = mech.output_info[name]
+        assert f"| `{name}` | `{unit}` | {meaning} |" in part, name
+    assert mech.output_info["Mf_A"][1].startswith("friction moment in the pin A of link 1 on "
+                                                  "link 2, counter-clockwise positive")
+    assert "positive along the pair's sliding direction `t = (n_y, -n_x)`" in part
+    assert "`eta = 1 - P_loss / P_in`" in part and "NaN where\nnone enters" in part
+    assert "[friction.A]\nmu = \"mu_A\"\nradius = \"r_A\"" in part
+
+
 def test_the_inputs_and_expressions(text):
     part = section(text, "## `[inputs]`")
     assert keys_listed(part) == list(description.INPUT_UNITS)

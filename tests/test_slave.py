@@ -10,13 +10,14 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
-from linkage_fmu import presets
+from linkage_fmu import SelfLockingError, presets
 from linkage_fmu.ccompiler import find_compiler
 from linkage_fmu.fmi.slave import PACKAGE, LinkageSlave, fingerprint
 from linkage_fmu.fmi.variables import variables
-from linkage_fmu.solver import HOT_CALLS
+from linkage_fmu.solver import HOT_CALLS, LOCKED
 from pythonfmu.enums import Fmi2Status
 
 #: relative tolerance against the direct solver (the pythonfmu FMU's check in build_fmu.py)
@@ -111,3 +112,33 @@ def test_state_without_outputs_is_nan_with_its_reason(tmp_path):
         if i in (0, HOT_CALLS + 5):
             assert_close(got, reference(mech, names, state), state)
     assert len(slave.log_queue) == 2
+
+
+def test_a_self_locked_state_is_nan_with_the_libraries_words(tmp_path):
+    """The massless slider-crank with guide friction mu 0.6 (test_friction's hand-derived
+    case) locks at theta = 4.45 driven at omega = 5 against a 250 N load: NaN for every
+    output and a Discard saying SelfLockingError's reason, the words of the array
+    solve's problem and of the kernel's guard (Kernel.reasons); the next state reads the
+    direct solver's outputs (1e-9), eta among them."""
+    params = dict(m1=0.0, J1=0.0, m2=0.0, J2=0.0, m3=0.0, g=0.0, l_OA=0.18, l_AB=0.2,
+                  mu_guide=0.6)
+    slave, inputs, outputs, names, mech = make_slave(tmp_path, "slider_crank", **params)
+    locked = [4.45, 5.0, 0.0, 250.0]
+    with pytest.raises(SelfLockingError) as caught:
+        mech.solve(*locked)
+    why = caught.value.reason
+    assert why.text == ("friction locks the linkage: friction at A, B, guide locks the group "
+                        "of link 2")
+    assert mech.solve(np.array([locked[0]]), *locked[1:]).problems[LOCKED].reason == why
+    k = mech.solver.kernel()
+    code = k.call(*locked)
+    assert type(code) is int and k.reasons[code - 1] == why
+    slave.set_real(inputs, locked)
+    assert all(math.isnan(y) for y in slave.get_real(outputs))
+    last = slave.log_queue[-1]
+    assert (last.status, last.msg) == (Fmi2Status.discard, why.text)
+    state = [1.0, 5.0, 0.0, 250.0]
+    slave.set_real(inputs, state)
+    got = slave.get_real(outputs)
+    assert_close(got, reference(mech, names, state), state)
+    assert 0.0 < got[names.index("eta")] < 1.0

@@ -10,7 +10,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from linkage_fmu import presets
+from linkage_fmu import presets, solver
 from linkage_fmu.sweep import grid, sweep
 
 THETA = np.linspace(0.0, 2.0 * math.pi, 90, endpoint=False)
@@ -22,8 +22,13 @@ def expected(preset: str, params: dict, omega: float, load: float) -> dict:
     mech = presets.get(preset, **params)
     sol = mech.solve(THETA, omega, 0.0, load, method="direct")
     ok = sol.valid
-    out = {"unassembled": int((~ok).sum()),
-           "first_unassembled_deg": float(np.degrees(THETA[~ok][0])) if (~ok).any()
+    locked = sol.status == solver.LOCKED
+    other = ~ok & ~locked
+    out = {"unassembled": int(other.sum()),
+           "first_unassembled_deg": float(np.degrees(THETA[other][0])) if other.any()
+           else math.nan,
+           "locked": int(locked.sum()),
+           "first_locked_deg": float(np.degrees(THETA[locked][0])) if locked.any()
            else math.nan}
     if ok.any():
         e = sol[mech.effort.name][ok]
@@ -37,7 +42,8 @@ def expected(preset: str, params: dict, omega: float, load: float) -> dict:
             loss = sol["P_loss"][ok]
             out["P_loss_peak"] = np.max(loss)
             out["P_loss_mean"] = np.mean(loss)
-            out["eta_min"] = np.min(sol["eta"][ok])
+            eta = sol["eta"][ok]  # NaN where no power enters: skipped
+            out["eta_min"] = np.min(eta[~np.isnan(eta)]) if (~np.isnan(eta)).any() else math.nan
             for name in mech.output_names:
                 if name.startswith(("Mf_", "Ff_")):
                     out[name + "_peak"] = np.max(np.abs(sol[name][ok]))
@@ -56,7 +62,7 @@ def check_rows(preset: str, table: pd.DataFrame, omega: float, load: float) -> N
         for key, value in expected(preset, params, omega, load).items():
             if isinstance(value, float) and math.isnan(value):
                 assert math.isnan(row[key]), (i, key)
-            elif key in ("unassembled",):
+            elif key in ("unassembled", "locked"):
                 assert row[key] == value, (i, key)
             else:
                 assert abs(row[key] - value) <= REL * max(abs(value), 1.0), (i, key, row[key],
@@ -121,6 +127,36 @@ def test_friction_summaries_equal_the_direct_solver_of_each_design():
     table = sweep("four_bar", designs, THETA, -10.0, 0.0, 3.0)
     assert table["valid"].all()
     check_rows("four_bar", table, -10.0, 3.0)
+
+
+def test_self_locked_angles_are_counted_apart_from_unassembled_ones():
+    """The massless slider-crank (l_OA = 0.18, l_AB = 0.2: it assembles everywhere) with
+    guide friction mu 0.6 driven against its load locks where cos(phi) - mu |sin(phi)| s
+    < 0 (s the sign of the piston's velocity: the hand solution's denominator, see
+    test_friction): those angles are ``locked``, ``unassembled`` is 0, and the design is
+    not valid; the same with mu 0 has none; l_OA = 0.25 > l_AB also cannot be assembled
+    over part of the revolution. Reference: that count, and each design's direct solve
+    (its status LOCKED), exactly; the summaries in C and with numpy."""
+    base = dict(m1=0.0, J1=0.0, m2=0.0, J2=0.0, m3=0.0, g=0.0, l_AB=0.2)
+    designs = grid(mu_guide=[0.0, 0.6], l_OA=[0.18, 0.25])
+    for fused in (True, False):
+        table = sweep("slider_crank", designs.assign(**base), THETA, 5.0, 0.0, 250.0,
+                      fused=fused)
+        check_rows("slider_crank", table, 5.0, 250.0)
+        short = table["l_OA"] == 0.18
+        sphi = -0.18 * np.sin(THETA) / 0.2
+        cphi = np.sqrt(1.0 - sphi * sphi)
+        s = np.sign(0.18 * np.sin(np.arctan2(sphi, cphi) - THETA) / cphi)  # omega > 0
+        hand = cphi - 0.6 * np.abs(sphi) * s < 0.0
+        assert 0 < hand.sum() < THETA.size
+        row = table[short & (table["mu_guide"] == 0.6)].iloc[0]
+        assert (row["unassembled"], row["locked"]) == (0, int(hand.sum()))
+        assert row["first_locked_deg"] == np.degrees(THETA[hand][0])
+        assert math.isnan(row["first_unassembled_deg"]) and not row["valid"]
+        row = table[short & (table["mu_guide"] == 0.0)].iloc[0]
+        assert (row["unassembled"], row["locked"], row["valid"]) == (0, 0, True)
+        assert math.isnan(row["first_locked_deg"])
+        assert (table.loc[~short, "unassembled"] > 0).all()
 
 
 def test_bad_arguments_name_themselves():

@@ -298,7 +298,8 @@ def main(argv: list[str] | None = None) -> int:
     opt.add_argument("--subject-to", dest="subject_to", metavar="CONSTRAINT", action="append",
                      default=[], help="a constraint (repeatable): 'NAME OP VALUE' with OP "
                                       "one of <=, >=, <, > ('mu_C_min_deg >= 40'), or 'valid' "
-                                      "(the design assembles at every angle)")
+                                      "(the design assembles at every angle, "
+                                      "friction locking it at none)")
     _revolution(opt)
     opt.add_argument("--method", choices=("de", "grid"), default="de",
                      help="differential evolution (de, default) or a grid of --budget designs, "

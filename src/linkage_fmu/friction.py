@@ -29,7 +29,9 @@ state they do not settle continues up to :data:`MAX_ITERATIONS`. A position at w
 the iteration has no solution reached from the frictionless one (the Jacobian's
 determinant falls to zero on the way: the reactions grow without bound) is
 self-locking: :class:`~linkage_fmu.errors.SelfLockingError` for one state, NaN and
-:attr:`KinematicState.locked <linkage_fmu.groups.KinematicState>` for arrays.
+:attr:`KinematicState.locked <linkage_fmu.groups.KinematicState>` for arrays (a state
+without outputs, as one that cannot be assembled: ``sol.valid`` False, its status
+:data:`~linkage_fmu.solver.LOCKED`).
 """
 
 from __future__ import annotations
@@ -149,9 +151,11 @@ class Reactions(dict):
     """Reactions by joint name (as :mod:`~linkage_fmu.kinetostatics` gives them), with
     the friction: ``friction`` (joint name -> moment or force of body a on body b),
     ``P_loss`` (the power it dissipates), ``ideal`` (the balancing effort without it,
-    by virtual power) and ``direction`` (the sign of the crank's motion)."""
+    by virtual power) and ``direction`` (the sign of the crank's motion); where ``eta``
+    is asked for, ``sources``: the power of each known load per unit of crank speed
+    (:func:`~linkage_fmu.loads.powers`)."""
 
-    __slots__ = ("friction", "P_loss", "ideal", "direction")
+    __slots__ = ("friction", "P_loss", "ideal", "direction", "sources")
 
 
 # -- the pieces, on any kind of number ---------------------------------------------------
@@ -538,7 +542,7 @@ def closed_form(mech, st: KinematicState, W: dict, omega, static: bool):
 def frictionless(mech, st: KinematicState, effort, friction: dict, c: dict):
     """The effort without friction, ``e0 = e + sum(f c) / q'`` from the power balance at
     the solution: equal to the frictionless solve to rounding, and to ``e`` itself where
-    every friction value is 0 (so ``eta`` is exactly 1 there)."""
+    every friction value is 0."""
     return effort + virtual_power(friction, c) / kinetostatics.effort_coefficient(mech, st)
 
 
@@ -679,12 +683,18 @@ def _det_sign(A, precise: bool):
 # -- outputs ----------------------------------------------------------------------------------
 @dataclass(frozen=True)
 class FrictionOutput:
-    """Output: the friction of the pair ``joint`` (of body a on body b): a moment
-    (revolute, N.m) or a force along the pair's tangent (prismatic, N)."""
+    """Output: the friction of the pair ``joint``, the action of its link ``by`` (the
+    pair's body a) on its link ``on`` (body b): a moment (revolute, N.m,
+    counter-clockwise positive) or a force along the pair's sliding direction
+    (prismatic, N; ``guide``: the link whose direction that is, or None for a direction
+    fixed in the frame). Link ``on`` acts on link ``by`` with its opposite."""
 
     name: str
     joint: str
     revolute: bool
+    by: str = ""
+    on: str = ""
+    guide: str | None = None
 
     @property
     def unit(self) -> str:
@@ -692,11 +702,18 @@ class FrictionOutput:
 
     @property
     def description(self) -> str:
+        links = f"of link {self.by} on link {self.on}"
+        opposite = f"; link {self.on} acts on link {self.by} with its opposite"
         if self.revolute:
-            return (f"friction moment in the pin {self.joint} (of its first link on its "
-                    "second), counter-clockwise positive")
-        return (f"friction force in the prismatic pair {self.joint} (of its first link on "
-                "its second) along the pair's direction")
+            return (f"friction moment in the pin {self.joint} {links}, counter-clockwise "
+                    f"positive (it opposes the rotation of link {self.on} relative to link "
+                    f"{self.by}){opposite}")
+        along = (f"the direction of link {self.guide}" if self.guide is not None else
+                 "the pair's sliding direction t = (n_y, -n_x), its normal n turned 90 deg "
+                 "clockwise")
+        return (f"friction force in the prismatic pair {self.joint} {links}, positive along "
+                f"{along} (it opposes the sliding of link {self.on} on link {self.by})"
+                f"{opposite}")
 
     def bind(self, mech):
         return lambda R, E, st: R.friction[self.joint]
@@ -705,42 +722,53 @@ class FrictionOutput:
 @dataclass(frozen=True)
 class LossOutput:
     """Output: ``P_loss``, the power the friction dissipates (>= 0, 0 in a static
-    scene), or ``eta``, the instantaneous efficiency of the power's flow through the
-    linkage: where the crank drives (its effort's power ``E q' omega`` > 0; at ``omega =
-    0``, ``E q' drive`` > 0), the power delivered to the loads and inertia over the
-    power put in, ``E0 / E`` (``E0`` the effort without friction); where the loads drive
-    the crank, the power the crank receives over the power they put in, ``E / E0``; 0
-    where the effort is 0. Without friction it is 1 wherever the effort is not 0."""
+    scene), or ``eta``, the instantaneous efficiency ``1 - P_loss / P_in``.
+
+    ``P_in`` is the power that enters the linkage at the instant: the sum, over every
+    source, of its power where it is positive: the balancing effort's, each load's,
+    gravity's, and the kinetic energy the links give up (``-dT/dt``, the power of the
+    d'Alembert inertia wrenches). The power balance (virtual power) says that the
+    powers of the sources add up to ``P_loss``; so ``P_in = P_out + P_loss``, ``P_out``
+    the power the other sources take (their negative powers), and ``eta`` is
+    computed as ``P_out / (P_out + P_loss)``: in ``[0, 1]`` also in rounding, exactly 1
+    without friction, NaN where no power enters (``P_in = 0``). Every power is
+    ``omega`` times a first-order coefficient; the ratio is taken of the coefficients
+    times the sign of the crank's motion, which is the same where ``omega != 0``, and
+    at ``omega = 0`` (a static scene) is the limit as the crank starts in its drive
+    direction: the efficiency of the motion friction opposes there."""
 
     name: str
 
     unit = property(lambda self: "W" if self.name == "P_loss" else "1")
+    #: eta has no value where no power enters, at states that have outputs
+    finite = property(lambda self: self.name == "P_loss")
 
     @property
     def description(self) -> str:
         if self.name == "P_loss":
             return "power dissipated by friction in the joints"
-        return ("instantaneous efficiency: power delivered over power put in, by the crank "
-                "where it drives, by the loads where they drive it")
+        return ("instantaneous efficiency 1 - P_loss / P_in, P_in the power entering the "
+                "linkage: the sum of the powers that are positive among the balancing "
+                "effort's, each load's, gravity's and the kinetic energy the links give "
+                "up (-dT/dt); in [0, 1], NaN where no power enters")
 
     def bind(self, mech):
         if self.name == "P_loss":
             return lambda R, E, st: R.P_loss
-        if not mech.friction.active:
-            # E0 = E: both ratios are 1 where E is not 0, 0 where it is, NaN where E is
-            # (E / E, the denominator 1 where E is 0); no q' needed (a static plan
-            # without friction has no velocity analysis to take it from)
-            return lambda R, E, st: E / (E + (1.0 - st.xp.abs(sign(st.xp, E))))
 
         def eta(R, E, st):
-            # no comparison (the kernels trace it as it is): each ratio's denominator is 1
-            # where it is 0, and p (1 where the crank drives, else 0) picks one
-            xp, E0 = st.xp, R.ideal
-            q1 = kinetostatics.effort_coefficient(mech, st)
-            p = xp.maximum(sign(xp, E * q1 * R.direction), 0.0)
-            forward = E0 / (E + (1.0 - xp.abs(sign(xp, E))))
-            backward = E / (E0 + (1.0 - xp.abs(sign(xp, E0))))
-            return p * forward + (1.0 - p) * backward
+            # no comparison (the kernels trace it as it is): max(x, 0) picks the powers
+            # that enter (d: the sign of the crank's motion makes coefficients powers)
+            xp, d = st.xp, R.direction
+            rates = [E * kinetostatics.effort_coefficient(mech, st), *R.sources]
+            taken = 0.0  # P_out: what the sources whose power is negative take
+            for r in rates:
+                taken = taken + xp.maximum(-d * r, 0.0)
+            c = {jf.joint.name: coefficient(mech, st, jf) for jf in mech.friction.joints}
+            loss = -d * virtual_power(R.friction, c)
+            total = taken + loss  # P_in
+            none = 1.0 - xp.abs(sign(xp, total))  # 1 where no power enters
+            return taken / (total + none) + xp.nan_where(none)
 
         return eta
 
@@ -749,7 +777,8 @@ def outputs(mech) -> tuple:
     """The friction outputs of ``mech``: each pair's, ``P_loss`` and ``eta``."""
     if not mech.friction.joints:
         return ()
-    return tuple(FrictionOutput(jf.output, jf.joint.name, jf.revolute)
+    return tuple(FrictionOutput(jf.output, jf.joint.name, jf.revolute, jf.joint.a, jf.joint.b,
+                                jf.joint.normal if isinstance(jf.joint.normal, str) else None)
                  for jf in mech.friction.joints) + (LossOutput("P_loss"), LossOutput("eta"))
 
 

@@ -26,12 +26,18 @@ class AngleTable:
     Parameters
     ----------
     mech : Mechanism
-        The linkage; it must be assembled at every grid angle to give finite values
-        there (angles next to an unassemblable one interpolate to NaN).
+        The linkage, without friction in its joints (every ``mu`` 0); it must be
+        assembled at every grid angle to give finite values there (angles next to an
+        unassemblable one interpolate to NaN).
     size : int
         Number of grid angles over ``[0, 2 pi)``, at least 4.
     method : {'closed_form', 'direct'}
         Solver used to fill the table.
+
+    Raises
+    ------
+    ValueError
+        ``size`` is not an integer >= 4; the linkage has friction in its joints.
 
     Examples
     --------
@@ -46,6 +52,13 @@ class AngleTable:
     def __init__(self, mech, size: int = 4096, method: str = "closed_form"):
         if not isinstance(size, int) or size < 4:
             raise ValueError(f"size must be an integer >= 4, got {size!r}")
+        if mech.friction.active:
+            # |R| and the signs of motion: no sum of parts, and which states friction
+            # locks depends on the whole state, not on its parts
+            raise ValueError(f"{mech.name}: friction in its joints makes the outputs "
+                             "nonlinear in omega**2, alpha and the loads, which an "
+                             "AngleTable adds up: solve the states themselves (mech.solve), "
+                             "or tabulate the linkage with every mu 0")
         self.mech = mech
         self.names = mech.output_names
         self.size = size

@@ -90,6 +90,16 @@ class Load:
         return tuple(sorted({n[2:] for n in self.value.names if n[:2] in ("x_", "y_")
                              and n not in self.parameters}))
 
+    def vector(self, st: KinematicState, value) -> tuple:
+        """The force ``(Fx, Fy)`` in the frame of a force load of magnitude ``value``
+        (a component along which it has no direction in the frame is 0.0)."""
+        ux, uy = self.direction
+        if self.fixed_in == "link":
+            c, s = st.u[self.body]
+            ux, uy = c * ux - s * uy, s * ux + c * uy
+            return ux * value, uy * value
+        return (ux * value if ux else 0.0), (uy * value if uy else 0.0)
+
     def at_state(self, st: KinematicState):
         """The load's magnitude at the state ``st`` (floats, arrays, traced or mpmath
         numbers, as ``st`` holds them)."""
@@ -160,21 +170,61 @@ def wrenches(mech, st: KinematicState, omega: Number, alpha: Number, loads: Sequ
         if load.kind == "moment":
             w[2] = w[2] + value
             continue
-        ux, uy = load.direction
-        if load.fixed_in == "link":
-            c, s = st.u[load.body]
-            ux, uy = c * ux - s * uy, s * ux + c * uy
-            fx, fy = ux * value, uy * value
-            w[0], w[1] = w[0] + fx, w[1] + fy
-        else:
-            fx = ux * value if ux else 0.0
-            fy = uy * value if uy else 0.0
-            if ux:
-                w[0] = w[0] + fx
-            if uy:
-                w[1] = w[1] + fy
+        fx, fy = load.vector(st, value)
+        turning = load.fixed_in == "link"
+        if turning or load.direction[0]:
+            w[0] = w[0] + fx
+        if turning or load.direction[1]:
+            w[1] = w[1] + fy
         cg = mech.cg[load.body]
         if load.at != cg:
             (px, py), (sx, sy) = st.p[load.at], st.p[cg]
             w[2] = w[2] + (px - sx) * fy - (py - sy) * fx
+    return out
+
+
+def powers(mech, st: KinematicState, omega: Number, alpha: Number, loads: Sequence[Number],
+           static: bool) -> list:
+    """The power of each known load per unit of crank speed (a power is this times
+    ``omega``): the d'Alembert inertia's (``-dT/dt``, the kinetic energy the links give
+    up, 0 in a static scene), gravity's, then each of ``mech.loads``' (``loads`` as for
+    :func:`wrenches`). Needs first-order kinematics (second-order for the inertia).
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets
+    >>> mech = presets.get("scotch_yoke")
+    >>> st = mech.kinematics(0.5, order=2)
+    >>> inertia, gravity, load = powers(mech, st, 10.0, 0.0, (400.0,), static=False)
+    >>> y1 = st.d1["S3"][1]  # the yoke's load acts along -y at its centre of mass
+    >>> bool(abs(load - (-400.0) * y1) < 1e-12)
+    True
+    """
+    inertia = gravity = 0.0
+    if not static:
+        w2 = omega * omega
+    for body in mech.bodies:
+        (x1, y1) = st.d1[body.cg]
+        if body.mass and not static:
+            (x2, y2) = st.d2[body.cg]
+            inertia = inertia - body.mass * ((x2 * w2 + x1 * alpha) * x1
+                                             + (y2 * w2 + y1 * alpha) * y1)
+        if body.mass and mech.g:
+            gravity = gravity - body.mass * mech.g * y1
+        if body.inertia and not static:
+            w1 = st.w1[body.name]
+            inertia = inertia - body.inertia * (st.w2[body.name] * w2 + w1 * alpha) * w1
+    out = [inertia, gravity]
+    for load, value in zip(mech.loads, loads):
+        if value is None:
+            value = load.at_state(st)
+        if load.kind == "moment":
+            out.append(value * st.w1[load.body])
+            continue
+        # the velocity of the body's material point at ``at``, as wrenches() reduces
+        # the force to the centre of mass
+        fx, fy = load.vector(st, value)
+        cg, w1 = mech.cg[load.body], st.w1[load.body]
+        (vx, vy), (px, py), (sx, sy) = st.d1[cg], st.p[load.at], st.p[cg]
+        out.append(fx * (vx - w1 * (py - sy)) + fy * (vy + w1 * (px - sx)))
     return out

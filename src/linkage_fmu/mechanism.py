@@ -20,7 +20,7 @@ from .bodies import Body, Effort
 from .errors import AssemblyError
 from .friction import Declared, outputs as friction_outputs, resolve as resolve_friction
 from .groups import FRAME, OWNER, Group, Joint, KinematicState
-from .loads import Load, wrenches
+from .loads import Load, powers, wrenches
 from .numerics import ARRAY, SCALAR, finite_array, finite_float
 from .outputs import SHAKING, EffortOutput, Shaking
 from .solver import METHODS, Solution, Solver
@@ -154,6 +154,9 @@ class Mechanism:
         self.output_info = {o.name: (o.unit, o.description) for o in outputs}
         self.effort_outputs = frozenset(o.name for o in outputs if isinstance(o, EffortOutput))
         self.output_names = tuple(o.name for o in outputs)
+        #: the outputs that may be NaN at a state that has outputs (eta: no power enters)
+        self.partial_outputs = frozenset(o.name for o in outputs
+                                         if not getattr(o, "finite", True))
         self.diagnostic_names = tuple(f"mu_{d.key}" for d in self.dyads) + diagnostics.NAMES
         #: the real-valued parameters, the arguments of its kernels (a branch or a choice
         #: is structure, as is a friction with every mu 0); none for a linkage built
@@ -258,6 +261,8 @@ class Mechanism:
                          for ld in self.loads]
             W = wrenches(self, st, omega, alpha, loads, plan.static)
             R, effort = friction.solve(self, st, W, plan, omega, xp)
+            if "eta" in plan.outputs and self.friction.joints:  # what each source puts in
+                R.sources = powers(self, st, omega, alpha, loads, plan.static)
         out = {}
         for name, fn in self.output_functions:
             if name in plan.outputs:

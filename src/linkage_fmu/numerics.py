@@ -23,15 +23,26 @@ def array_sign(x: np.ndarray) -> np.ndarray:
     return np.greater(x, 0.0) * 1.0 - np.less(x, 0.0)
 
 
+def scalar_nan_where(z: float) -> float:
+    """:func:`~linkage_fmu.kernels.trace.nan_where` of a float: NaN where ``z`` is 1, 0
+    where it is 0."""
+    return math.nan if z else 0.0
+
+
+def array_nan_where(z: np.ndarray) -> np.ndarray:
+    """:func:`~linkage_fmu.kernels.trace.nan_where` element by element."""
+    return np.where(z != 0.0, np.nan, 0.0)
+
+
 #: Functions for one state given as Python floats.
 SCALAR = SimpleNamespace(
     scalar=True, sqrt=math.sqrt, cos=math.cos, sin=math.sin, atan2=math.atan2, abs=abs,
-    maximum=max, sign=sign
+    maximum=max, sign=sign, nan_where=scalar_nan_where
 )
 #: Functions for many states given as numpy arrays.
 ARRAY = SimpleNamespace(
     scalar=False, sqrt=np.sqrt, cos=np.cos, sin=np.sin, atan2=np.arctan2, abs=np.abs,
-    maximum=np.maximum, sign=array_sign
+    maximum=np.maximum, sign=array_sign, nan_where=array_nan_where
 )
 
 

@@ -7,7 +7,7 @@ Every evaluation is a design of a sweep: a generation of differential evolution 
 sweep over its population, a grid is one sweep, and both can run on a Dask cluster as a
 sweep does. A constraint is a summary's name, an operator among ``<=``, ``>=``, ``<``,
 ``>`` and a number (:func:`parse_constraint`; the text is parsed, never evaluated), or
-``valid``: the design assembles at every angle.
+``valid``: the design assembles at every angle and friction locks it at none.
 
 Examples
 --------
@@ -74,7 +74,7 @@ class NoFeasibleDesignError(ValueError):
 class Constraint:
     """A constraint on a design's summaries: ``name op value`` (``op`` one of
     :data:`OPERATORS`), or, with ``op`` None, the design is ``valid`` (assembles at every
-    angle).
+    angle, and friction locks it at none).
 
     Examples
     --------
@@ -104,9 +104,10 @@ class Constraint:
         """How far each row of the sweep ``table`` is from meeting the constraint, >= 0:
         the distance past the bound relative to the bound (absolute for a bound 0), 1
         for a NaN summary; for ``valid``, the fraction of the ``angles`` at which the
-        design does not assemble."""
+        design does not assemble or friction locks it."""
         if self.op is None:
-            return table["unassembled"].to_numpy(dtype=np.float64) / angles
+            return (table["unassembled"].to_numpy(dtype=np.float64)
+                    + table["locked"].to_numpy(dtype=np.float64)) / angles
         x = table[self.name].to_numpy(dtype=np.float64)
         scale = abs(self.value) if self.value != 0.0 else 1.0
         beyond = (x - self.value if self.op in ("<=", "<") else self.value - x) / scale

@@ -31,6 +31,7 @@ def lu_solve(n: int, a: list, b: list):
 #: the direct method solves its linear system with :func:`lu_solve`
 MP = SimpleNamespace(scalar=True, sqrt=mpmath.sqrt, cos=mpmath.cos, sin=mpmath.sin,
                      atan2=mpmath.atan2, abs=abs, maximum=max, sign=mpmath.sign,
+                     nan_where=lambda z: mpmath.nan if z else mpmath.mpf(0),
                      lu_solve=lu_solve,
                      eps=lambda: mpmath.mp.eps * 1000,
                      functions={"sqrt": mpmath.sqrt, "sin": mpmath.sin, "cos": mpmath.cos,
@@ -109,16 +110,22 @@ def relative_error(values, ref) -> np.ndarray:
 
     Components that are zero or small compared with the state's largest force would make
     a componentwise ratio meaningless, so every output of a state is measured against
-    that state's largest reference output. Only the names in ``ref`` are compared.
+    that state's largest reference output. Only the names in ``ref`` are compared; an
+    output NaN in both (``eta`` where no power enters) agrees, one NaN in one only makes
+    the error NaN.
 
     Examples
     --------
     >>> relative_error({"a": np.array([1.0, 2.0]), "b": np.array([0.0, 1e-3])},
     ...                {"a": np.array([1.0, 2.0]), "b": np.array([1e-16, 1e-3])})
     array([1.e-16, 0.e+00])
+    >>> relative_error({"a": 2.0, "eta": float("nan")}, {"a": 2.0, "eta": float("nan")})
+    np.float64(0.0)
     """
-    names = list(ref)
-    err = np.max([np.abs(np.asarray(values[n], float) - np.asarray(ref[n], float))
-                  for n in names], axis=0)
-    scale = np.max([np.abs(np.asarray(ref[n], float)) for n in names], axis=0)
-    return err / scale
+    errors, sizes = [], []
+    for n in ref:
+        v, r = np.asarray(values[n], float), np.asarray(ref[n], float)
+        both = np.isnan(v) & np.isnan(r)
+        errors.append(np.where(both, 0.0, np.abs(v - r)))
+        sizes.append(np.where(both, 0.0, np.abs(r)))
+    return np.max(errors, axis=0) / np.max(sizes, axis=0)

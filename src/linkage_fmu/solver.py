@@ -56,7 +56,8 @@ STATE_ERRORS = (AssemblyError, SingularPositionError, OverflowInputError, SelfLo
 class Plan(NamedTuple):
     """What a call asks for: the ``outputs`` (validated names), whether the scene is
     ``static``, the ``method``, and what they need: the balancing ``effort``, the
-    ``reactions``, the ``diagnostics``; ``checked``: the outputs that must be finite;
+    ``reactions``, the ``diagnostics``; ``checked``: the outputs that must be finite
+    (not those that may be NaN at a solved state: ``eta`` where no power enters);
     ``given``: the loads over the cycle given as inputs (after the input loads)."""
 
     outputs: tuple
@@ -75,8 +76,10 @@ class Solution(Mapping):
     Attributes
     ----------
     valid : bool or ndarray of bool
-        Which states could be assembled (always True for scalar inputs, which raise
-        :class:`~linkage_fmu.AssemblyError` instead).
+        Which states have outputs: they can be assembled and friction does not lock
+        them (always True for scalar inputs, which raise
+        :class:`~linkage_fmu.AssemblyError` or
+        :class:`~linkage_fmu.SelfLockingError` instead).
     """
 
     __slots__ = ("_values", "_index", "valid")
@@ -224,7 +227,8 @@ class Solver:
                 any(n not in diag and n not in efforts for n in outputs) or (
                     effort and mech.friction.active),  # the effort needs the reactions
                 bool(diag.intersection(outputs)),
-                tuple(n for n in outputs if n in mech.output_info and n not in diag), given)
+                tuple(n for n in outputs if n in mech.output_info and n not in diag
+                      and n not in mech.partial_outputs), given)
         return plan
 
     # -- kernels ----------------------------------------------------------------
@@ -514,7 +518,7 @@ class Solver:
                 plan = self.plan(wanted, not (omega.any() or alpha.any()), method, given)
                 values, st = self.mech.evaluate(plan, flat[0][part], omega, alpha,
                                                 [a[part] for a in flat[3:]], ARRAY)
-                valid[part] = ~st.invalid if st.invalid is not None else True
+                valid[part] = _solved(st)
                 for name in wanted:
                     out[name][part] = values[name]
 
@@ -541,6 +545,9 @@ class Solver:
         """The status of every state of ``sol`` and a :class:`Problem` per status."""
         valid = np.asarray(sol.valid).reshape(-1)
         status = np.where(valid, SOLVED, UNASSEMBLED).astype(np.int8)
+        rows = np.flatnonzero(~valid)
+        if rows.size and self.mech.friction.active:  # not valid: unassembled, or locked
+            status[rows[self._locked([a[rows] for a in flat], wanted, given)]] = LOCKED
         checked = self.plan(wanted, False, method, given).checked
         bad = np.zeros(valid.size, dtype=bool)
         for name in checked:
@@ -551,8 +558,6 @@ class Solver:
             self._interpreted_arrays([a[rows] for a in flat], "interpreted", ("cond",), out,
                                      np.empty(rows.size, bool), slice(0, rows.size), given)
             status[rows] = np.where(np.isfinite(out["cond"]), OVERFLOW, SINGULAR)
-            if self.mech.friction.active:
-                status[rows[self._locked([a[rows] for a in flat], wanted, given)]] = LOCKED
         problems = {}
         for code in (UNASSEMBLED, SINGULAR, OVERFLOW, LOCKED):
             where = np.flatnonzero(status == code)
@@ -569,8 +574,21 @@ class Solver:
         return status.reshape(np.shape(sol.valid)), problems
 
     def _locked(self, flat, wanted, given=()) -> np.ndarray:
-        """Which of the states ``flat`` friction locks (the formulas on arrays)."""
+        """Which of the states ``flat`` friction locks (the formulas on arrays): those
+        that assemble and whose friction has no solution."""
         with np.errstate(all="ignore"):
             plan = self.plan(wanted, False, "interpreted", given)
             _, st = self.mech.evaluate(plan, flat[0], flat[1], flat[2], flat[3:], ARRAY)
-        return np.zeros(flat[0].size, bool) if st.locked is None else st.locked
+        locked = np.zeros(flat[0].size, bool) if st.locked is None else st.locked.copy()
+        if st.invalid is not None:
+            locked &= ~st.invalid
+        return locked
+
+
+def _solved(st) -> np.ndarray | bool:
+    """Which states of the array solve ``st`` have outputs: they assemble, and friction
+    does not lock them (a locked state has none, as an unassembled one)."""
+    bad = st.invalid
+    if st.locked is not None:
+        bad = st.locked if bad is None else bad | st.locked
+    return True if bad is None else ~bad

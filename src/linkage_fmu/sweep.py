@@ -13,10 +13,15 @@ one task solving thousands of states: in this process, or on a Dask cluster
 
 Each design's row holds its parameter values and:
 
-- ``valid``: the parameter set is valid and the linkage assembles at every angle;
+- ``valid``: the parameter set is valid and the linkage assembles at every angle,
+  friction locking it at none;
 - ``problem``: why a parameter set is invalid ('' otherwise);
 - ``unassembled`` and ``first_unassembled_deg``: how many angles cannot be assembled
   (or are singular), and the first of them in degrees (NaN if none);
+- ``locked`` and ``first_locked_deg``: how many angles friction locks (they assemble,
+  and no finite balancing effort moves the linkage there: a state whose ``sol.status``
+  is :data:`~linkage_fmu.solver.LOCKED`), and the first of them in degrees (NaN if
+  none); 0 without friction;
 - ``<effort>_peak`` and ``<effort>_rms``: the balancing effort's largest magnitude and
   root mean square over the angles that assemble;
 - ``<force>_peak``: each pin force's largest magnitude (``F21_peak`` from ``F21x``,
@@ -25,7 +30,8 @@ Each design's row holds its parameter values and:
 - with friction in the joints (:mod:`~linkage_fmu.friction`): ``P_loss_peak`` (above)
   and ``P_loss_mean``, the power friction dissipates, its largest value and its mean
   over the angles that assemble, and ``eta_min``, the instantaneous efficiency's
-  smallest value;
+  smallest value (over the angles where power enters the linkage: ``eta`` is NaN
+  where none does);
 - ``mu_<joint>_min_deg``: each transmission angle's minimum distance from a toggle,
   ``min(mu, 180 - mu)`` in degrees.
 
@@ -51,6 +57,7 @@ from typing import Iterator, Mapping, Sequence
 import numpy as np
 import pandas as pd
 
+from .kernels.c_source import SUMMARY_HEAD
 from .presets import linkage
 from .parameters import resolve
 from .spec import Description
@@ -292,6 +299,7 @@ def solve_chunk(text: str, columns: Mapping[str, list], inputs: list,
         outputs = kernel.outputs
         block = np.full((len(outputs), len(members), theta.size), np.nan)
         valid = np.zeros((len(members), theta.size), dtype=bool)
+        locked = np.zeros((len(members), theta.size), dtype=bool)
         problems = [""] * len(members)
         for j, i in enumerate(members):
             params = rows[i][0]
@@ -303,7 +311,8 @@ def solve_chunk(text: str, columns: Mapping[str, list], inputs: list,
                 problems[j] = _UNBUILT
                 continue
             _, valid[j] = array(inputs, theta.size, block[:, j], frozen)
-        summary = _summaries(mech, outputs, block, valid, theta, problems)
+            locked[j] = _locked(kernel, frozen, inputs, ~valid[j])
+        summary = _summaries(mech, outputs, block, valid, locked, theta, problems)
         for j, row in enumerate(summary.to_dict("records")):
             results[members[j]] = row
     return pd.DataFrame(results)
@@ -345,13 +354,15 @@ def _fused_chunk(text: str, n: int, checked: dict, problems: list, base: dict,
             params[:, c] = np.asarray(checked[k])[members] if k in checked else base[k]
         s = summary(params, inputs, theta.size, threads)
         bad = s[:, 0] != 0.0
-        count = s[:, 1].astype(np.int64)
-        first = s[:, 2].astype(np.int64)
-        table = {"valid": ~bad & (count == 0),
+        count, first, locked, first_locked = (s[:, k].astype(np.int64) for k in range(1, 5))
+        table = {"valid": ~bad & (count == 0) & (locked == 0),
                  "problem": [_UNBUILT if b else "" for b in bad], "unassembled": count,
-                 "first_unassembled_deg": np.where(first >= 0, degrees[first], np.nan)}
+                 "first_unassembled_deg": np.where(first >= 0, degrees[first], np.nan),
+                 "locked": locked,
+                 "first_locked_deg": np.where(first_locked >= 0, degrees[first_locked],
+                                              np.nan)}
         for k, name in enumerate(names):
-            table[name] = s[:, 3 + k]
+            table[name] = s[:, len(SUMMARY_HEAD) + k]
         parts.append((members, table))
     # the columns in the order the rows first give them, as a table of row dicts would
     parts.sort(key=lambda part: part[0][0])
@@ -415,11 +426,30 @@ def _structure(text: str, structure: tuple, given: tuple = (), friction: bool = 
     return mech, kernel, array
 
 
+def _locked(kernel, frozen, inputs: list, failed: np.ndarray) -> np.ndarray:
+    """Which of the states ``failed`` (whose guards fail in the array kernel) friction
+    locks: the first guard the kernel's one-state function (with the parameter step's
+    values ``frozen``) fails there is one whose reason is ``'locking'``."""
+    out = np.zeros(failed.size, dtype=bool)
+    if not any(r.kind == "locking" for r in kernel.reasons):
+        return out
+    one = kernel.make(*frozen)
+    for i in np.flatnonzero(failed):
+        state = [float(a[i] if a.size > 1 else a[0]) for a in inputs]
+        try:
+            code = one(*state)
+        except (ArithmeticError, ValueError):  # the Python kernel meets the failure itself
+            continue
+        out[i] = type(code) is int and code > 0 and kernel.reasons[code - 1].kind == "locking"
+    return out
+
+
 def _summaries(mech, outputs: tuple, block: np.ndarray, valid: np.ndarray,
-               theta: np.ndarray, problems: list) -> pd.DataFrame:
+               locked: np.ndarray, theta: np.ndarray, problems: list) -> pd.DataFrame:
     """The summaries of the designs of one structure, all at once: ``block[k, j, i]`` is
-    output ``k`` of design ``j`` at angle ``i`` (NaN where it does not assemble),
-    ``valid[j, i]`` whether it does, ``problems[j]`` why design ``j`` is invalid."""
+    output ``k`` of design ``j`` at angle ``i`` (NaN where it has none), ``valid[j, i]``
+    whether it has outputs, ``locked[j, i]`` whether friction locks it (:func:`_locked`),
+    ``problems[j]`` why design ``j`` is invalid."""
     index = {name: k for k, name in enumerate(outputs)}
     effort = mech.effort.name
     pairs = [name[:-1] for name in mech.output_names
@@ -427,10 +457,16 @@ def _summaries(mech, outputs: tuple, block: np.ndarray, valid: np.ndarray,
     paired = {p + a for p in pairs for a in "xy"}
     bad = np.array([bool(p) for p in problems])
     ok = valid & ~bad[:, None]
-    counts = np.where(bad, theta.size, (~ok).sum(axis=1))
-    first = np.where(bad | ok.all(axis=1), np.nan, np.degrees(theta)[np.argmin(ok, axis=1)])
-    table = {"valid": ok.all(axis=1), "problem": problems, "unassembled": counts,
-             "first_unassembled_deg": first}
+    locked = locked & ~bad[:, None]
+    unassembled = ~ok & ~locked
+    degrees = np.degrees(theta)
+    table = {"valid": ok.all(axis=1), "problem": problems,
+             "unassembled": np.where(bad, theta.size, unassembled.sum(axis=1)),
+             "first_unassembled_deg": np.where(bad | ~unassembled.any(axis=1), np.nan,
+                                               degrees[np.argmax(unassembled, axis=1)]),
+             "locked": locked.sum(axis=1),
+             "first_locked_deg": np.where(locked.any(axis=1),
+                                          degrees[np.argmax(locked, axis=1)], np.nan)}
     with warnings.catch_warnings(), np.errstate(invalid="ignore"):
         warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN rows: NaN summaries
         e = np.where(ok, block[index[effort]], np.nan)

@@ -49,12 +49,24 @@ def reference(mech: Mechanism, inputs: np.ndarray):
 def compare(rows, ref, names) -> tuple[float, str]:
     """Worst relative error of the FMU's ``rows`` against ``ref`` (the same rows), and
     the output where it is; each output's error is scaled by its largest magnitude over
-    the rows."""
+    the rows. NaN in both agrees (``eta`` where no power enters); NaN in one is an
+    error of NaN.
+
+    Examples
+    --------
+    >>> compare({"eta": [0.5, float("nan")]}, {"eta": [0.5, float("nan")]}, ["eta"])
+    (0.0, '')
+    >>> err, where = compare({"eta": [0.5, 0.9]}, {"eta": [0.5, float("nan")]}, ["eta"])
+    >>> bool(np.isnan(err)), where
+    (True, 'eta')
+    """
     worst, where = 0.0, ""
     for name in names:
-        expected = np.asarray(ref[name], dtype=float)
+        got, expected = (np.asarray(a[name], dtype=float) for a in (rows, ref))
+        both = np.isnan(got) & np.isnan(expected)
+        got, expected = got[~both], expected[~both]
         scale = np.max(np.abs(expected), initial=0.0)
-        diff = np.max(np.abs(np.asarray(rows[name], dtype=float) - expected), initial=0.0)
+        diff = np.max(np.abs(got - expected), initial=0.0)
         err = diff / scale if scale > 0 else diff
         if not err <= worst:  # also catches NaN
             worst, where = err, name

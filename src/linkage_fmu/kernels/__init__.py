@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 from typing import Callable, Mapping, Sequence
 
 from . import compiled
-from .c_source import c_source
+from .c_source import SUMMARY_HEAD, c_source
 from .python_source import compile_source, python_source
 from .trace import TRACE, Reason, Tape, program
 
@@ -141,7 +141,11 @@ class Kernel:
         ``reductions``, each ``(kind, names)`` with a kind of
         :data:`~linkage_fmu.kernels.c_source.SUMMARY_KINDS`: the C computes only the
         outputs they read (and every guard); built or loaded from the cache on first
-        use; None without a C compiler.
+        use; None without a C compiler. A row holds
+        :data:`~linkage_fmu.kernels.c_source.SUMMARY_HEAD` (the parameter step's code,
+        the states whose guards fail and the first of them, then those of them that
+        friction locks, by the :attr:`reasons` of the guards they fail, and the first
+        of them), then one value per reduction.
 
         Examples
         --------
@@ -149,8 +153,10 @@ class Kernel:
         >>> k = trace(lambda x, p: [x[0] * p["a"], x[0] - 1.0], [1.0], {"a": 3.0},
         ...           ("y", "z"))
         >>> s = k.summary([("peak", ("y",)), ("mean", ("z",))])
-        >>> s([[3.0], [-2.0]], [np.array([1.0, 2.0, 4.0])], 3).tolist()
-        [[0.0, 0.0, -1.0, 12.0, 1.3333333333333333], [0.0, 0.0, -1.0, 8.0, 1.3333333333333333]]
+        >>> s([[3.0], [-2.0]], [np.array([1.0, 2.0, 4.0])], 3).tolist()  # SUMMARY_HEAD first
+        ... # doctest: +NORMALIZE_WHITESPACE
+        [[0.0, 0.0, -1.0, 0.0, -1.0, 12.0, 1.3333333333333333],
+         [0.0, 0.0, -1.0, 0.0, -1.0, 8.0, 1.3333333333333333]]
         """
         key = tuple((kind, tuple(names)) for kind, names in reductions)
         if key not in self._summary_kernels:
@@ -167,7 +173,7 @@ class Kernel:
                               True, False, spec)
             path = compiled.build(source)
             self._summary_kernels[key] = None if path is None else compiled.SummaryKernel(
-                path, "linkage", len(self.parameters), 3 + len(key))
+                path, "linkage", len(self.parameters), len(SUMMARY_HEAD) + len(key))
         return self._summary_kernels[key]
 
     def array(self):

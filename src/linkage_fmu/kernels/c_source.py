@@ -318,6 +318,8 @@ def _array_source(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
 
 #: the reductions of a summary (:func:`c_source`): kind -> the outputs it reads
 SUMMARY_KINDS = {"peak": 1, "peak_pair": 2, "rms": 1, "mean": 1, "min": 1, "toggle_deg": 1}
+#: the values a summary's row starts with, before one value per reduction
+SUMMARY_HEAD = ("code", "failed", "first_failed", "locked", "first_locked")
 
 
 def _simd(clauses: str, indent: str) -> list:
@@ -356,7 +358,7 @@ def _reduction(i: int, kind: str, y: list) -> tuple[list, list, list]:
                      f"{ind}        b = sqrt(b);",
                      f"{ind}    }}"]
         block += [f"{ind}    if (b > a{i}) a{i} = b;", f"{ind}}}"]
-        final = [f"        sd[{3 + i}] = a{i} < 0.0 ? NAN : a{i};"]
+        final = [f"        sd[{len(SUMMARY_HEAD) + i}] = a{i} < 0.0 ? NAN : a{i};"]
     elif kind in ("rms", "mean"):
         init = [f"        double a{i} = 0.0, c{i} = 0.0;"]
         block = [f"{ind}{{", f"{ind}    double b = 0.0, c = 0.0;",
@@ -367,7 +369,7 @@ def _reduction(i: int, kind: str, y: list) -> tuple[list, list, list]:
                  f"{ind}        c += lk_pick(v == v, 1.0, 0.0);",
                  f"{ind}    }}", f"{ind}    a{i} += b;", f"{ind}    c{i} += c;", f"{ind}}}"]
         mean = f"a{i} / c{i}"
-        final = [f"        sd[{3 + i}] = c{i} > 0.0 ? "
+        final = [f"        sd[{len(SUMMARY_HEAD) + i}] = c{i} > 0.0 ? "
                  f"{f'sqrt({mean})' if kind == 'rms' else mean} : NAN;"]
     else:
         if kind == "min":
@@ -382,16 +384,34 @@ def _reduction(i: int, kind: str, y: list) -> tuple[list, list, list]:
                  f"{ind}        b = v < b ? v : b;", f"{ind}        c += v == v ? 1.0 : 0.0;",
                  f"{ind}    }}", f"{ind}    if (b < a{i}) a{i} = b;", f"{ind}    c{i} += c;",
                  f"{ind}}}"]
-        final = [f"        sd[{3 + i}] = c{i} > 0.0 ? a{i} : NAN;"]
+        final = [f"        sd[{len(SUMMARY_HEAD) + i}] = c{i} > 0.0 ? a{i} : NAN;"]
     return init, block, final
 
 
-def _summary_source(prefix: str, n_inputs: int, n_out: int, summary: list) -> list:
+def _summary_source(prefix: str, n_inputs: int, n_out: int, summary: list,
+                    locking: list) -> list:
     """``<prefix>_summary``: the array kernel's blocks of states, one parameter set after
     the other, each block reduced as it comes (its results stay in buffers of the
-    block's size)."""
+    block's size); a state whose guards fail is counted as locked where the first guard
+    it fails (the one-state function's code) is one of the codes ``locking``."""
     upper = prefix.upper()
-    width = 3 + len(summary)
+    head = len(SUMMARY_HEAD)
+    width = head + len(summary)
+    if locking:  # the code of a failed state, from the one-state function
+        which = [
+            "                int locks = 0;",
+            "                {",
+            f"                    double xi[{max(n_inputs, 1)}], yi[{max(n_out, 1)}];",
+            f"                    for (int k = 0; k < {n_inputs}; k++) xi[k] = xb[k][j];",
+            f"                    switch ({prefix}_one(q, xi, yi)) {{",
+            "                    " + " ".join(f"case {c}:" for c in sorted(locking))
+            + " locks = 1; break;",
+            "                    default: break;",
+            "                    }",
+            "                }",
+        ]
+    else:
+        which = ["                const int locks = 0; /* no guard of friction's */"]
     init, update, final = [], [], []
     for i, (kind, args) in enumerate(summary):
         if kind not in SUMMARY_KINDS or len(args) != SUMMARY_KINDS[kind]:
@@ -432,7 +452,7 @@ def _summary_source(prefix: str, n_inputs: int, n_out: int, summary: list) -> li
         "LK_CLONES __attribute__((noinline))",
         f"static void {prefix}_reduce(const double *q, size_t n, const double *const *x,",
         "                           const size_t *step, double *sd) {",
-        "    size_t bad = 0, first = 0;",
+        "    size_t bad = 0, first = 0, locked = 0, first_locked = 0;",
         *init,
         "    for (size_t i0 = 0; i0 < n; i0 += LK_BLOCK) {",
         "        const size_t m = n - i0 < LK_BLOCK ? n - i0 : LK_BLOCK;",
@@ -450,18 +470,24 @@ def _summary_source(prefix: str, n_inputs: int, n_out: int, summary: list) -> li
         f"        {prefix}_states(m, q, xb, yb, ok);",
         "        size_t nbad = 0;",
         "        for (size_t j = 0; j < m; j++) nbad += !ok[j];",
-        "        if (nbad && !bad)",
-        "            for (size_t j = 0; j < m; j++)",
-        "                if (!ok[j]) {",
-        "                    first = i0 + j;",
-        "                    break;",
+        "        if (nbad)",
+        "            for (size_t j = 0; j < m; j++) {",
+        "                if (ok[j]) continue;",
+        *which,
+        "                if (locks) {",
+        "                    if (!locked) first_locked = i0 + j;",
+        "                    locked++;",
+        "                } else {",
+        "                    if (!bad) first = i0 + j;",
+        "                    bad++;",
         "                }",
-        "        bad += nbad;",
+        "            }",
         "        if (nbad < m) { /* the outputs of the failed states are NaN, skipped */",
         *update,
         "        }",
         "    }",
         "    sd[0] = 0.0; sd[1] = (double)bad; sd[2] = bad ? (double)first : -1.0;",
+        "    sd[3] = (double)locked; sd[4] = locked ? (double)first_locked : -1.0;",
         *(line[4:] for line in final),
         "}",
         "",
@@ -478,7 +504,8 @@ def _summary_source(prefix: str, n_inputs: int, n_out: int, summary: list) -> li
         "            if (!isfinite(q[k])) code = -1;",
         "        if (code != 0) {",
         "            sd[0] = (double)code; sd[1] = (double)n; sd[2] = -1.0;",
-        f"            for (int k = 3; k < {width}; k++) sd[k] = NAN;",
+        "            sd[3] = 0.0; sd[4] = -1.0;",
+        f"            for (int k = {head}; k < {width}; k++) sd[k] = NAN;",
         "            continue;",
         "        }",
         f"        {prefix}_reduce(q, n, x, step, sd);",
@@ -519,10 +546,13 @@ def c_source(tape: Tape, n_inputs: int, results: list, parameters: tuple = (),
       parameter sets (split between ``threads`` OpenMP threads where built with it)
       (row ``d`` of ``p``, ``<PREFIX>_N_P`` values each), the parameter step, then the
       ``n`` states (``x`` and ``step`` as in the array function) in blocks, each
-      reduced as it comes into row ``d`` of ``s`` (``3 + len(summary)`` values): the
-      parameter step's code (-1 where it passes but a value it computes is not
-      finite), the number of states whose guards fail and the first of them (-1 if
-      none; after a parameter step that fails: ``n`` and -1, and the rest NaN), then
+      reduced as it comes into row ``d`` of ``s`` (``5 + len(summary)`` values,
+      :data:`SUMMARY_HEAD` first): the parameter step's code (-1 where it passes but a
+      value it computes is not finite), the number of states whose guards fail, other
+      than friction's, and the first of them (-1 if none; after a parameter step that
+      fails: ``n`` and -1, and the rest NaN), the number of states friction locks (the
+      first guard they fail is one whose reason is ``'locking'``) and the first of them
+      (-1 if none), then
       one value per entry over the states that pass, NaN values skipped (NaN if none is
       left), of the kinds in :data:`SUMMARY_KINDS`: ``peak`` (largest magnitude),
       ``peak_pair`` (largest ``hypot`` of two results), ``rms`` (root mean square),
@@ -602,6 +632,9 @@ def c_source(tape: Tape, n_inputs: int, results: list, parameters: tuple = (),
         ]
     if not array:
         return "\n".join(head)
-    tail = [] if summary is None else _summary_source(prefix, n_inputs, n_out, list(summary))
+    locking = [code for index, code in prog.codes.items()
+               if tape.reason(index).kind == "locking"]
+    tail = [] if summary is None else _summary_source(prefix, n_inputs, n_out, list(summary),
+                                                      locking)
     return "\n".join([*head, *_array_source(tape, prog, prefix, n_inputs, results, frozen),
                       *tail])

@@ -308,7 +308,15 @@ def _maximum(a, b):
     return tape.apply("max", max, a, b)
 
 
+def nan_where(z):
+    """NaN where ``z`` is 1, 0 where it is 0 (``z`` one or the other), without a branch
+    or a division (the kernels' Python raises on ``0 / 0``): ``z * 1e300 * 1e300``
+    overflows to inf or stays 0, and ``inf - inf`` is NaN."""
+    t = z * 1e300 * 1e300
+    return t - t
+
+
 #: evaluation mode of the formulas on traced numbers (see :mod:`linkage_fmu.numerics`)
 TRACE = SimpleNamespace(scalar=True, sqrt=_unary("sqrt", math.sqrt), cos=_unary("cos", math.cos),
                         sin=_unary("sin", math.sin), atan2=_atan2, abs=_unary("abs", abs),
-                        maximum=_maximum, sign=_unary("sign", sign))
+                        maximum=_maximum, sign=_unary("sign", sign), nan_where=nan_where)

@@ -142,8 +142,9 @@ def torque(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads,
     name = _output(mech, output)
     rad, deg = crank_angles(theta, theta_deg)
     inputs = input_values(mech, omega, alpha, loads, named_loads)
-    values = np.asarray(solve_at(mech, rad, inputs)[name], dtype=float)
-    finite_or_fail(mech, values, deg)
+    sol = solve_at(mech, rad, inputs)
+    values = np.asarray(sol[name], dtype=float)
+    finite_or_fail(mech, values, deg, sol)
     unit, description = mech.output_info[name]
 
     fig, ax = figure_axes(ax)
@@ -219,7 +220,7 @@ def polar(mech: "Mechanism", force: str | None = None, theta=None, omega=None, a
     inputs = input_values(mech, omega, alpha, loads, named_loads)
     sol = solve_at(mech, rad, inputs)
     fx, fy = (np.asarray(sol[n], dtype=float) for n in (pair.x, pair.y))
-    finite_or_fail(mech, fx, deg)
+    finite_or_fail(mech, fx, deg, sol)
 
     fig, ax = figure_axes(ax, figsize=(6.5, 6.5))
     _draw_hodograph(ax, fx, fy, deg, pair.name, pair.x, pair.y)
@@ -317,7 +318,7 @@ def shaking(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     inputs = input_values(mech, omega, alpha, loads, named_loads)
     sol = solve_at(mech, rad, inputs)
     fx, fy, moment = (np.asarray(sol[n], dtype=float) for n in SHAKING)
-    finite_or_fail(mech, fx, deg)
+    finite_or_fail(mech, fx, deg, sol)
 
     if ax is None:
         fig, (force_ax, moment_ax) = pyplot().subplots(
@@ -394,7 +395,7 @@ def loss(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta_de
     inputs = input_values(mech, omega, alpha, loads, named_loads)
     sol = solve_at(mech, rad, inputs)
     power, eta = (np.asarray(sol[n], dtype=float) for n in ("P_loss", "eta"))
-    finite_or_fail(mech, power, deg)
+    finite_or_fail(mech, power, deg, sol)
 
     if ax is None:
         fig, (power_ax, eta_ax) = pyplot().subplots(2, 1, figsize=(8.0, 7.0), sharex=True,
@@ -416,7 +417,7 @@ def loss(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta_de
                         fontsize=9, gid="min label")
     degree_axis(eta_ax, deg)
     eta_ax.set_ylabel("η [1]")
-    eta_ax.set_title("instantaneous efficiency: power delivered over power put in",
+    eta_ax.set_title("instantaneous efficiency: 1 - P_loss / P_in (P_in: the power entering)",
                      fontsize=10)
     eta_ax.legend(loc="best", fontsize=9)
     return fig

@@ -8,6 +8,8 @@ from typing import TYPE_CHECKING, Sequence
 
 import numpy as np
 
+from ..solver import UNASSEMBLED
+
 if TYPE_CHECKING:  # pragma: no cover
     from ..mechanism import Mechanism
 
@@ -61,8 +63,15 @@ def inputs_text(mech: "Mechanism", inputs: dict) -> str:
     return ", ".join(f"{greek.get(k, k)} = {v:g} {units[k]}" for k, v in inputs.items())
 
 
-def finite_or_fail(mech: "Mechanism", values: np.ndarray, deg: np.ndarray) -> None:
-    """A ValueError unless some of ``values`` (at the angles ``deg``) are finite."""
+def finite_or_fail(mech: "Mechanism", values: np.ndarray, deg: np.ndarray, sol=None) -> None:
+    """A ValueError unless some of ``values`` (at the angles ``deg``) are finite; with
+    the array solution ``sol``, saying why its first state has no outputs where that is
+    not that the linkage cannot be assembled (friction locks it, ...)."""
     if not np.isfinite(values).any():
-        raise ValueError(f"{mech.name} cannot be assembled at any of the {deg.size} crank "
-                         f"angles {deg[0]:g}..{deg[-1]:g} deg")
+        angles = f"{deg.size} crank angles {deg[0]:g}..{deg[-1]:g} deg"
+        problems = getattr(sol, "problems", None) or {}
+        if problems and UNASSEMBLED not in problems:
+            first = min(problems.values(), key=lambda p: p.first)
+            raise ValueError(f"{mech.name} has no outputs at any of the {angles}: "
+                             f"{first.message}")
+        raise ValueError(f"{mech.name} cannot be assembled at any of the {angles}")

@@ -7,8 +7,10 @@ parameter kinds with their units and rules (:mod:`~linkage_fmu.parameters`); eve
 type in :attr:`Group.registry <linkage_fmu.groups.Group.registry>` with its fields; the
 outputs every linkage has, with the descriptions a built linkage gives them; what
 expressions may hold (:mod:`~linkage_fmu.expressions`); the units
-(:mod:`~linkage_fmu.units`); and a complete description file. A group type, key, kind,
-function or unit added to the code is in the reference the next time it is written.
+(:mod:`~linkage_fmu.units`); friction in the joints, with the outputs it adds and
+their sign conventions (:mod:`~linkage_fmu.friction`); and a complete description file.
+A group type, key, kind, function or unit added to the code is in the reference the next
+time it is written.
 
 ``linkage-fmu reference -o docs/description.md`` writes it; run as a script, it
 prints it::
@@ -28,6 +30,7 @@ from pathlib import Path
 from typing import Any
 
 from .. import expressions, parameters, presets, units
+from ..friction import FrictionOutput, LossOutput
 from ..groups import ROLE_MEANINGS, ROLES, Group
 from ..mechanism import Mechanism
 from ..outputs import SHAKING
@@ -118,6 +121,7 @@ def markdown() -> str:
         _loads(),
         _effort(),
         _outputs(mech),
+        _friction(),
         _inputs(mech),
         _expressions(),
         _unit_names(),
@@ -360,6 +364,69 @@ take their names:
 
 {_table(("output", "unit", "meaning"), rows)}""")
     return "\n\n".join(out)
+
+
+def _friction() -> str:
+    shown = "slider_crank"
+    d = presets.preset(shown)
+    text = d.to_toml()
+    blocks = [b.strip("\n") for b in text.split("\n\n") if b.startswith("[friction.")]
+    pin, slide = (next(b for b in blocks if b.startswith(f"[friction.{j}]"))
+                  for j in ("A", "guide"))
+    mech = d.build()
+    named = [(f"`{jf.output}`", _code(mech.output_info[jf.output][0]),
+              _cell(mech.output_info[jf.output][1])) for jf in mech.friction.joints]
+    rows = [(f"`{o.name}`", _code(o.unit), _cell(o.description)) for o in (
+        FrictionOutput("Mf_<J>", "<J>", True, "<a>", "<b>"),
+        FrictionOutput("Ff_<J>", "<J>", False, "<a>", "<b>"),
+        FrictionOutput("Ff_<J>", "<J>", False, "<a>", "<b>", "<L>"),
+        LossOutput("P_loss"), LossOutput("eta"))]
+    return f"""## `[friction.J]`
+
+One table per pair `J` with Coulomb friction (a joint a group declares), its keys
+numbers, numbers with units or expressions of the parameters:
+
+{_keys(spec.FRICTION_KEYS)}
+
+The shipped `{shown}` declares one in each of its pairs through parameters; those of
+its pin A and of its prismatic pair guide:
+
+```toml
+{pin}
+
+{slide}
+```
+
+A revolute pair resists the relative rotation of its two links with a moment `mu *
+radius * |R|`, `R` its reaction; a prismatic pair resists their relative sliding with
+a force `mu * |N|`, `N` its normal force (with a `length`, `mu * (|N1| + |N2|)` from the
+slider's two end contacts). The friction opposes the relative motion; where the crank
+stands (`omega = 0`) it opposes the motion the crank would start in the direction
+`drive` of `[linkage]`. Where no finite balancing effort moves the linkage, friction
+locks it: one state raises `SelfLockingError`, and arrays have no outputs there (`valid`
+False, `status` `LOCKED`; a sweep counts them in `locked`).
+
+A linkage with friction reports one output per pair and two more:
+
+{_table(("output", "unit", "meaning"), rows)}
+
+`<a>` and `<b>` are the pair's two links, in the order its group declares the joint
+(its reaction is the action of `<a>` on `<b>`). The friction acts on link `<b>` with the
+value reported and on link `<a>` with its opposite: `Mf_J` is counter-clockwise
+positive, `Ff_J` positive along the pair's sliding direction `t = (n_y, -n_x)` (its
+normal `n` turned 90 degrees clockwise; for a guide on a moving link `<L>`, along that
+link's direction). A built linkage's outputs, and its FMUs' variables, name the links;
+the `{shown}`'s:
+
+{_table(("output", "unit", "meaning"), named)}
+
+`eta = 1 - P_loss / P_in`: `P_in` is the power that enters the linkage at that instant,
+the sum of the powers that are positive among the balancing effort's, each load's,
+gravity's and the kinetic energy the links give up (`-dT/dt`, the power of the
+d'Alembert inertia). Their sum is `P_loss` (the power balance), so `eta` is in `[0,
+1]`: 1 without friction, 0 where friction takes all the power that enters, NaN where
+none enters. At `omega = 0` the powers are taken per unit of speed as the crank starts
+in its `drive` direction."""
 
 
 def _inputs(mech: Mechanism) -> str:
