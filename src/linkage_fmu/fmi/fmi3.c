@@ -401,9 +401,11 @@ fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean *discrete
                                    k + 2);
     if (!nextEventTime)
         return (fmi3Status)say(in, LK_ERROR, "fmi3UpdateDiscreteStates: nextEventTime is NULL");
-    Status s = lk_update_discrete_states(in, "fmi3UpdateDiscreteStates");
+    int moved;
+    Status s = lk_update_discrete_states(in, "fmi3UpdateDiscreteStates", &moved);
     if (s != LK_OK) return (fmi3Status)s;
     for (size_t k = 0; k < sizeof flags / sizeof *flags; k++) *flags[k] = fmi3False;
+    *valuesOfContinuousStatesChanged = moved ? fmi3True : fmi3False;
     *nextEventTime = 0.0;
     return fmi3OK;
 }
@@ -580,9 +582,8 @@ fmi3Status fmi3GetContinuousStateDerivatives(fmi3Instance instance, fmi3Float64 
 
 fmi3Status fmi3GetEventIndicators(fmi3Instance instance, fmi3Float64 eventIndicators[],
                                   size_t nEventIndicators) {
-    (void)eventIndicators;
     return (fmi3Status)lk_get_event_indicators(instance, "fmi3GetEventIndicators",
-                                               nEventIndicators);
+                                               eventIndicators, nEventIndicators);
 }
 
 fmi3Status fmi3GetContinuousStates(fmi3Instance instance, fmi3Float64 continuousStates[],
@@ -602,7 +603,7 @@ fmi3Status fmi3GetNumberOfEventIndicators(fmi3Instance instance, size_t *nEventI
     if (!in) return fmi3Error;
     if (!nEventIndicators)
         return (fmi3Status)say(in, LK_ERROR, "fmi3GetNumberOfEventIndicators: the pointer is NULL");
-    *nEventIndicators = 0;
+    *nEventIndicators = N_EVENTS;
     return fmi3OK;
 }
 
