@@ -297,8 +297,9 @@ static Status acceleration(const Model *m, const Values *v, const double *x, int
                 return LK_DISCARD;
             }
             next = 0.5 * (lo + hi);
-        } else if (!(next > lo && next < hi)) {
-            next = 0.5 * (lo + hi);
+        } else if (!(next > lo && next < hi)) { /* out of the bracket: bisect it; a step
+            * below rounding that lands on the end just found has converged */
+            next = isfinite(lo) && isfinite(hi) ? 0.5 * (lo + hi) : a;
         }
         const double step = next - a;
         a = next;
