@@ -160,7 +160,7 @@ static Status integrate(Instance *in, const char *call, double t, double h, doub
         if (s == LK_DISCARD) { /* past a limit: bisect towards it */
             limit = step;
             set_text(limit_why, sizeof limit_why, why);
-            if (located(x, k[0], tol, limit, t + *done)) break;
+            if (located(x, k[0], tol, limit, fmax(fabs(t + *done), fabs(t + h)))) break;
             hs = 0.5 * step;
             continue;
         }
@@ -170,10 +170,13 @@ static Status integrate(Instance *in, const char *call, double t, double h, doub
             e[i] = step * sum;
         }
         const double err = error_norm(e, x, y, tol);
+        /* a substep the time cannot resolve: at most that of the step's end (at t = 0,
+         * a substep below the step's own resolution is as meaningless) */
+        const double resolution = 4.0 * DBL_EPSILON * fmax(fabs(t + *done), fabs(t + h));
         if (!(err <= 1.0)) { /* rejected (a NaN estimate too): shorter */
             hs = step * (err == err ? fmax(0.2, 0.9 * pow(err, -0.2)) : 0.2);
             rejected = 1;
-            if (hs <= 4.0 * DBL_EPSILON * fabs(t + *done)) {
+            if (hs <= resolution) {
                 snprintf(why, size, "the substep the tolerance needs falls below the "
                          "resolution of the time");
                 return LK_DISCARD;
@@ -190,6 +193,11 @@ static Status integrate(Instance *in, const char *call, double t, double h, doub
             in->substep = hs;
             return LK_OK;
         }
+        if (!last && step <= resolution) {
+            snprintf(why, size, "the substep the tolerance needs falls below the "
+                     "resolution of the time");
+            return LK_DISCARD;
+        }
         *done = last ? h : *done + step;
         limit -= step;
         memcpy(x, y, sizeof y);
@@ -199,7 +207,8 @@ static Status integrate(Instance *in, const char *call, double t, double h, doub
         rejected = 0;
         /* a last substep cut to the end of the step does not shrink the next one */
         hs = last ? fmax(step * grow, hs) : step * grow;
-        if (limit < INFINITY && located(x, k[0], tol, limit, t + *done)) break;
+        if (limit < INFINITY && located(x, k[0], tol, limit, fmax(fabs(t + *done), fabs(t + h))))
+            break;
     }
     in->substep = hs;
     if (*done >= h) return LK_OK;
