@@ -276,12 +276,16 @@ static Status acceleration(const Model *m, const Values *v, const double *x, int
     if (bad_inertia(y[RHS_J], why, size)) return LK_DISCARD;
     double a = (tau - y[RHS_MB]) / y[RHS_J], lo = -INFINITY, hi = INFINITY;
     du[2] = 1.0;
-    for (int n = 0; n < NEWTON_STEPS && isfinite(a); n++) {
+    for (int n = 0; n < NEWTON_STEPS; n++) {
         u[2] = a;
         if (refused(RHS_TANGENT[s](r, u, du, y, dy), RHS_REASONS[s], LK_DISCARD, why, size))
             return LK_DISCARD;
         const double residual = y[RHS_MB] - tau, slope = dy[RHS_MB];
-        if (!isfinite(residual)) break;
+        if (!isfinite(a) || !isfinite(residual)) {
+            set_text(why, size, "the crank's acceleration overflows float64: an input is too "
+                     "large in magnitude");
+            return LK_DISCARD;
+        }
         if (residual == 0.0 || fabs(residual) <= 4.0 * DBL_EPSILON * fabs(tau)) {
             *alpha = a;
             return LK_OK;
@@ -315,6 +319,22 @@ static Status acceleration(const Model *m, const Values *v, const double *x, int
 }
 #endif
 
+#if DRIVE_FRICTION
+/* The way a crank at rest at `x` moves off with the band [lo, hi]: 0 (it sticks) while tau
+ * lies in the band, else the way tau leaves it, if the acceleration then is that way (tau
+ * past an edge by a rounding error may give none, or a rounding error's other way: the
+ * crank would stop again at once, and sticks). */
+static int breakaway(const Model *m, const Values *v, const double *x, double lo, double hi) {
+    const double tau = v->real[INPUTS[0]];
+    const int dir = tau > hi ? 1 : tau < lo ? -1 : 0;
+    char why[512];
+    double alpha;
+    if (dir && acceleration(m, v, x, dir, &alpha, why, sizeof why) == LK_OK && !(dir * alpha > 0.0))
+        return 0;
+    return dir; /* where the acceleration cannot be had, the derivatives say why */
+}
+#endif
+
 /* How the crank moves at the states `x` with friction: the sign of omega; at rest, in
  * model exchange the discrete state `motion`, in co-simulation the band's decision (0:
  * tau inside it, it sticks; else the way tau leaves it). The band, where computed (at
@@ -330,8 +350,7 @@ static Status motion_of(Instance *in, const Values *v, const double *x, int *dir
     Status s = friction_band((const Model *)in->model, v, x[0], lo, hi, why, size);
     if (s != LK_OK) return s;
     *has_band = 1;
-    const double tau = v->real[INPUTS[0]];
-    *dir = in->exchange ? v->integer[MOTION_VR] : tau > *hi ? 1 : tau < *lo ? -1 : 0;
+    *dir = in->exchange ? v->integer[MOTION_VR] : breakaway(in->model, v, x, *lo, *hi);
 #else
     (void)in, (void)v, (void)lo, (void)hi, (void)why, (void)size;
     *dir = 0;

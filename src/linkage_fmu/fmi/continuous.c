@@ -98,8 +98,8 @@ static Status dp_substep(Instance *in, const char *call, const double *x, double
  * tolerance over the bracket or it is below the resolution of the time. `*step` and `y`
  * become the substep to the stop (omega 0 in `y`). */
 static Status locate_stop(Instance *in, const char *call, const double *x, const double *k0,
-                          int dir, double t, double tol, double *step, double *y, char *why,
-                          size_t size) {
+                          int dir, double t, double tol, double *step, double *y, int *at_once,
+                          char *why, size_t size) {
     double k[7][N_STATES], trial[N_STATES], a = 0.0, b = *step;
     double ga = dir * x[1], gb = dir * y[1];
     int side = 0;
@@ -125,12 +125,14 @@ static Status locate_stop(Instance *in, const char *call, const double *x, const
     }
     *step = b;
     y[1] = 0.0;
+    *at_once = a == 0.0; /* no trial found omega turned `dir`-wards */
     return LK_OK;
 }
 
 /* Integrate the states `x` of the crank moving `dir` (+1, -1; 0 without friction) from
  * `t + *done` towards `t + h`, each substep within the tolerance; with friction, stop
- * where omega reaches 0 (`*stopped`, omega then exactly 0). LK_OK at the end of the step
+ * where omega reaches 0 (`*stopped`, omega then exactly 0; 2 where omega never turned
+ * `dir`-wards: a crank from rest that cannot move off). LK_OK at the end of the step
  * or a stop; LK_DISCARD where the motion cannot go on (`*done` and `x` those of the last
  * good substep, `why` says why); LK_ERROR for a failed backend. */
 static Status integrate(Instance *in, const char *call, double t, double h, double *x,
@@ -185,8 +187,15 @@ static Status integrate(Instance *in, const char *call, double t, double h, doub
         }
         if (dir && dir * y[1] <= 0.0) { /* the crank stops within the substep */
             const double whole = step;
-            s = locate_stop(in, call, x, k[0], dir, t + *done, tol, &step, y, why, size);
+            int at_once;
+            s = locate_stop(in, call, x, k[0], dir, t + *done, tol, &step, y, &at_once, why,
+                            size);
             if (s != LK_OK) return s;
+            if (at_once && x[1] == 0.0) { /* from rest, not even the start moves off */
+                *stopped = 2;
+                in->substep = hs;
+                return LK_OK;
+            }
             *done = last && step == whole ? h : *done + step;
             memcpy(x, y, sizeof y);
             *stopped = 1;
@@ -255,13 +264,21 @@ static Status advance(Instance *in, const char *call, double t, double h) {
                 }
             }
             s = integrate(in, call, t, h, x, &done, dir, &stopped, &substeps, why, sizeof why);
+            if (s == LK_OK && stopped == 2) {
+                /* the band lets it go, but its acceleration turns back at once (friction
+                 * all but locks it): it cannot move off, and stays for the rest */
+                in->values.integer[MOTION_VR] = 0;
+                done = h;
+                break;
+            }
             if (s == LK_OK && stopped && ++switches > MAX_SWITCHES) {
                 snprintf(why, sizeof why, "the crank stops and starts more than %ld times in "
                          "one step", MAX_SWITCHES);
                 s = LK_DISCARD;
             }
         }
-        if (s == LK_OK && live && x[1] == 0.0) { /* stopped at the step's end: the band says */
+        if (s == LK_OK && live && x[1] == 0.0 && in->values.integer[MOTION_VR]) {
+            /* stopped at the step's end: the band says */
             int dir, has_band;
             double lo, hi;
             s = answer(in, call, motion_of(in, &in->values, x, &dir, &lo, &hi, &has_band, why,
@@ -411,7 +428,6 @@ static Status drive_event(Instance *in, const char *call, int *moved) {
             *moved = 1;
         }
         double lo, hi;
-        const double tau = in->values.real[INPUTS[0]];
         char at[32];
         Status s = LK_DISCARD;
         why[0] = '\0';
@@ -424,7 +440,10 @@ static Status drive_event(Instance *in, const char *call, int *moved) {
             return say(in, LK_DISCARD, "%s: at rest at t = %s, the friction band cannot be had: "
                        "%s", call, shortest(in->time, at, sizeof at), why);
         }
-        *motion = tau > hi ? 1 : tau < lo ? -1 : 0;
+        *motion = breakaway((const Model *)in->model, &in->values, x, lo, hi);
+        /* it stopped moving `was`, and would move off that way again: the acceleration
+         * turns back as soon as it moves (friction all but locks it); it stays */
+        if (was && *motion == was) *motion = 0;
     }
 #else
     (void)why;
