@@ -12,11 +12,14 @@
  *   until the limit is located to the tolerance (the states would change by less than it
  *   before the limit) or to the resolution of the time; the step then ends there:
  *   Discard, the last successful time that of the last good state, whose outputs the
- *   reads give.
+ *   reads give. With friction, wherever omega is 0 (the step's start, a stop located
+ *   inside it by the Illinois method) the friction band decides: the crank sticks for
+ *   the rest of the step, or moves off the way tau leaves the band.
  * - Model exchange: the importer integrates; SetTime, SetContinuousStates,
  *   GetContinuousStates, GetDerivatives (Discard, with NaN and a log, where the backend
- *   cannot give them), the nominals (1), no event indicators, and the modes: after
- *   initialisation event mode, continuous-time mode, and back.
+ *   cannot give them), the nominals (1), the event indicators (the stops and starts),
+ *   the event update of the discrete state `motion` (a stop sets omega to 0), and the
+ *   modes: after initialisation event mode, continuous-time mode, and back.
  *
  * The backend gives the derivatives: backend_derivatives(in, v, x, dx, why, size), with
  * the inputs and parameters in `v` and the states `x`: LK_OK; LK_DISCARD with `why`.
@@ -458,8 +461,8 @@ static Status lk_enter_continuous_time_mode(void *c, const char *call) {
     return move(in, call, IN(S_EVENT), S_CONTINUOUS);
 }
 
-/* Model exchange's event mode, entered from continuous-time mode (the model has no events:
- * nothing changes but the mode). */
+/* Model exchange's event mode, entered from continuous-time mode: nothing changes but the
+ * mode (the event update does the work). */
 static Status lk_exchange_event_mode(void *c, const char *call) {
     INSTANCE(c, call);
     return move(in, call, IN(S_CONTINUOUS), S_EVENT);

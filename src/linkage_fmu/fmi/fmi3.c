@@ -10,8 +10,9 @@
  * - EnterInitializationMode with the experiment's times, and DoStep's out-arguments: a
  *   discarded step sets lastSuccessfulTime to its start and terminateSimulation;
  * - event mode, for an importer that instantiates with eventModeUsed (hasEventMode is
- *   true): the model has no events, so DoStep never asks for one, UpdateDiscreteStates
- *   changes nothing and EnterStepMode goes back to steps;
+ *   true): DoStep never asks for an event (a drive FMU's stops are handled inside it),
+ *   UpdateDiscreteStates changes nothing in co-simulation and EnterStepMode goes back
+ *   to steps; in model exchange it is the drive's event update (continuous.c);
  * - the variables' dependencies (providesPerElementDependencies), those of the
  *   modelDescription's ModelStructure, from config.h's table;
  * - every FMI 3.0 function is exported: what the model has not (model exchange without
@@ -370,7 +371,7 @@ fmi3Status fmi3DeserializeFMUState(fmi3Instance instance, const fmi3Byte seriali
 /* -- not supported: every other FMI 3.0 function answers fmi3Error with a log ------------- */
 #define UNSUPPORTED(name, why) return (fmi3Status)lk_refuse(instance, #name, why)
 
-/* -- event mode: the model has no events; an importer that uses event mode may enter it --- */
+/* -- event mode: co-simulation has no events; an importer that uses event mode may enter it */
 fmi3Status fmi3EnterEventMode(fmi3Instance instance) {
     Instance *in = lk_instance(instance, "fmi3EnterEventMode");
     if (!in) return fmi3Error;

@@ -4,9 +4,9 @@ Inputs first (``theta``, ``omega``, ``alpha``, then each load), then every param
 the linkage's description, then ``method``, then the outputs and diagnostics; value
 references follow this order from 0. The drive FMU's table (:func:`drive_variables`)
 has the input ``tau`` and the loads, the parameters with ``theta0``, ``omega0`` and
-``tolerance``, the continuous states ``theta`` and ``omega``, then ``alpha`` (the
-derivative of ``omega``), every output and diagnostic (``J_red`` among them) and
-``der(theta)``.
+``tolerance``, the continuous states ``theta`` and ``omega``, the discrete state
+``motion``, then ``alpha`` (the derivative of ``omega``), every output and diagnostic
+(``J_red`` among them), ``der(theta)`` and the event indicators.
 Everything generated for an FMU (its modelDescription, ``config.h``, the native kernels'
 tables) is written from these tables (:mod:`~linkage_fmu.fmi.writers`).
 

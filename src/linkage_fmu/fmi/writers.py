@@ -172,8 +172,8 @@ def model_description(mech, flavour: str, fmi_version: int, guid: str,
         depends = {vr: index(known) for vr, known in depends.items()}
     vr_of = {v.name: vr for vr, v in enumerate(table)}
     d = mech.description
-    what = ("its motion under a moment on the crank (Eksergian's equation), with joint "
-            "reactions" if drive else "joint reactions and balancing effort (kinetostatics)")
+    what = ("its motion under a moment on the crank, with the friction of its joints "
+            "(sticking at rest inside the friction band), and its joint reactions" if drive else "joint reactions and balancing effort (kinetostatics)")
     return _XML.get_template(f"modelDescription{fmi_version}.xml").render(
         model=model_name(mech, drive), guid=guid, flavour=flavour, version=__version__,
         title=f"{d.title or d.name}: {what}", drive=drive,
