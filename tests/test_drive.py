@@ -492,10 +492,7 @@ def test_from_rest_the_band_holds_or_lets_go(friction_fmus):
     ms (to 1e-9 rad; the FMU keeps it to the bit), motion 0; a moment 1e-3 N.m past
     either edge breaks away that way within the first step (motion +-1, theta moved that
     way)."""
-    from linkage_fmu.presets import linkage
-
-    lo, hi = (float(linkage("slider_crank", drive=d, **FRICTION).solve(
-        0.3, 0.0, 0.0, method="direct", load=LOAD)["Mb"]) for d in (-1.0, 1.0))
+    lo, hi = band_at_rest()
     assert hi - lo > 0.1  # a band to stick in
     for tau, way in ((0.5 * (lo + hi), 0), (lo + 0.01 * (hi - lo), 0),
                      (hi - 0.01 * (hi - lo), 0), (hi + 1e-3, 1), (lo - 1e-3, -1)):
@@ -509,6 +506,60 @@ def test_from_rest_the_band_holds_or_lets_go(friction_fmus):
             assert np.all(r["motion"][1:] == 0) and np.all(r["omega"] == 0.0), tau
         else:
             assert r["motion"][-1] == way and way * (r["theta"][-1] - 0.3) > 0.0, tau
+
+
+def band_at_rest(theta=0.3):
+    """The friction band at rest of the slider-crank with :data:`FRICTION` and
+    :data:`LOAD` at ``theta``: the direct solver's static Mb with drive -1 and +1."""
+    from linkage_fmu.presets import linkage
+
+    return tuple(float(linkage("slider_crank", drive=d, **FRICTION).solve(
+        theta, 0.0, 0.0, method="direct", load=LOAD)["Mb"]) for d in (-1.0, 1.0))
+
+
+@pytest.mark.parametrize("version", (2, 3))
+def test_model_exchange_from_rest(friction_fmus, version):
+    """Model exchange from rest (the initial event update decides): tau in the middle of
+    the band leaves theta at 0.3 exactly for 0.5 s (motion 0); 1e-3 N.m past either edge
+    it breaks away that way."""
+    lo, hi = band_at_rest()
+    for tau, way in ((0.5 * (lo + hi), 0), (hi + 1e-3, 1), (lo - 1e-3, -1)):
+        r = simulate_fmu(str(friction_fmus[version]), stop_time=0.5, output_interval=H,
+                         fmi_type="ModelExchange",
+                         start_values={**FRICTION, "tau": tau, "load": LOAD, "theta0": 0.3,
+                                       "omega0": 0.0}, output=["theta", "omega", "motion"])
+        if not way:
+            assert np.all(r["theta"] == 0.3) and np.all(r["motion"][1:] == 0), tau
+        else:
+            assert np.all(r["motion"][1:] == way), tau
+            assert np.all(way * np.diff(r["theta"]) > 0.0), tau
+
+
+def test_a_torque_ramp_breaks_away_where_it_crosses_the_band(friction_fmus):
+    """From rest, tau rising at 1 N.m/s from the middle of the band crosses its upper
+    edge at t* = (hi - tau0) / 1 N.m/s (0.179 s). Model exchange (CVode, the indicator
+    z_forwards crossing 0) breaks away at t* to 1e-9 s: theta is 0.3 exactly until then,
+    and grows after; co-simulation (tau held over each 1 ms step, the band deciding at its
+    start) in the first step that starts past t*."""
+    lo, hi = band_at_rest()
+    tau0 = 0.5 * (lo + hi)
+    t_star = hi - tau0
+    ramp = np.array([(0.0, tau0, LOAD), (1.0, tau0 + 1.0, LOAD)],
+                    dtype=[("time", float), ("tau", float), ("load", float)])
+    start = {**FRICTION, "theta0": 0.3, "omega0": 0.0}
+    r = simulate_fmu(str(friction_fmus[2]), stop_time=0.3, output_interval=0.001,
+                     fmi_type="ModelExchange", input=ramp, start_values=start,
+                     output=["theta", "motion"])
+    first = np.flatnonzero(r["motion"] != 0)[0]
+    assert abs(r["time"][first] - t_star) <= 1e-9, (r["time"][first], t_star)
+    assert np.all(r["theta"][:first + 1] == 0.3) and np.all(np.diff(r["theta"][first:]) > 0)
+    r = simulate_fmu(str(friction_fmus[2]), stop_time=0.3, output_interval=0.001,
+                     input=ramp, start_values={**start, "tolerance": 1e-10},
+                     output=["theta", "motion"])
+    moved = np.flatnonzero(r["theta"] != 0.3)[0]
+    assert r["time"][moved - 1] <= t_star + 0.001 < r["time"][moved] + 1e-12, \
+        (r["time"][moved], t_star)
+    assert np.all(r["motion"][moved:] == 1) and np.all(r["motion"][1:moved] == 0)
 
 
 @pytest.mark.parametrize("version", (2, 3))
