@@ -30,6 +30,10 @@ typedef struct {
     double r[N_R + 1]; /* ... and those of its kernel of the motion (drive = +1) */
 #if DRIVE_FRICTION
     double qb[N_Q + 1], rb[N_R + 1]; /* ... both at drive = -1 */
+    /* the last root alpha found, and what it was found for (the kernel's inputs at alpha
+     * = 0, tau, the direction): a step's start and its outputs are at its last stage's */
+    double memo_u[N_INPUTS + 3], memo_tau, memo_alpha;
+    int memo_dir; /* 0: none */
 #endif
 #if FRICTIONLESS_KERNELS
     double g0[N_G + 1]; /* ... and of its kernel of the motion without friction */
@@ -131,6 +135,9 @@ static Status backend_prepare(Instance *in, const Values *v, char *why, size_t s
     m->plain = plain;
 #endif
     m->structure = s;
+#if N_STATES > 0 && DRIVE_FRICTION
+    m->memo_dir = 0;
+#endif
     return LK_OK;
 }
 
@@ -272,6 +279,12 @@ static Status acceleration(const Model *m, const Values *v, const double *x, int
     double u[N_INPUTS + 3], du[N_INPUTS + 3] = {0.0}, y[RHS_N_Y + 1], dy[RHS_N_Y + 1];
     char at[32], value[32];
     motion_inputs(v, x[0], x[1], 0.0, u);
+    Model *memo = (Model *)m; /* the backend's own cache, not the model's state */
+    if (memo->memo_dir == dir && memo->memo_tau == tau &&
+        !memcmp(memo->memo_u, u, sizeof memo->memo_u)) {
+        *alpha = memo->memo_alpha;
+        return LK_OK;
+    }
     if (refused(RHS_ONE[s](r, u, y), RHS_REASONS[s], LK_DISCARD, why, size)) return LK_DISCARD;
     if (bad_inertia(y[RHS_J], why, size)) return LK_DISCARD;
     double a = (tau - y[RHS_MB]) / y[RHS_J], lo = -INFINITY, hi = INFINITY;
@@ -286,10 +299,7 @@ static Status acceleration(const Model *m, const Values *v, const double *x, int
                      "large in magnitude");
             return LK_DISCARD;
         }
-        if (residual == 0.0 || fabs(residual) <= 4.0 * DBL_EPSILON * fabs(tau)) {
-            *alpha = a;
-            return LK_OK;
-        }
+        if (residual == 0.0 || fabs(residual) <= 4.0 * DBL_EPSILON * fabs(tau)) break;
         if (residual > 0.0) hi = a;
         else lo = a;
         double next = a - residual / slope;
@@ -308,14 +318,20 @@ static Status acceleration(const Model *m, const Values *v, const double *x, int
         const double step = next - a;
         a = next;
         if (fabs(step) <= 4.0 * DBL_EPSILON * fabs(a) ||
-            (isfinite(hi - lo) && hi - lo <= 4.0 * DBL_EPSILON * fmax(fabs(lo), fabs(hi)))) {
-            *alpha = a;
-            return LK_OK;
+            (isfinite(hi - lo) && hi - lo <= 4.0 * DBL_EPSILON * fmax(fabs(lo), fabs(hi))))
+            break;
+        if (n == NEWTON_STEPS - 1) {
+            snprintf(why, size, "Newton on the crank's acceleration (tau = Mb with friction) "
+                     "did not converge in %d steps (alpha = %s)", NEWTON_STEPS,
+                     shortest(a, at, sizeof at));
+            return LK_DISCARD;
         }
     }
-    snprintf(why, size, "Newton on the crank's acceleration (tau = Mb with friction) did not "
-             "converge in %d steps (alpha = %s)", NEWTON_STEPS, shortest(a, at, sizeof at));
-    return LK_DISCARD;
+    memcpy(memo->memo_u, u, sizeof memo->memo_u);
+    memo->memo_u[2] = 0.0; /* the key: the inputs at alpha = 0 */
+    memo->memo_tau = tau, memo->memo_alpha = a, memo->memo_dir = dir;
+    *alpha = a;
+    return LK_OK;
 }
 #endif
 
