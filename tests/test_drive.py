@@ -508,6 +508,19 @@ def test_from_rest_the_band_holds_or_lets_go(friction_fmus):
             assert r["motion"][-1] == way and way * (r["theta"][-1] - 0.3) > 0.0, tau
 
 
+@pytest.mark.parametrize("version", (2, 3))
+def test_friction_states_round_trip(friction_fmus, tmp_path, version):
+    """With friction, an FMU state taken at t = 0.15 s, before the crank of the "stops"
+    motion stops (0.17 s) and sticks, set again and serialized into a fresh instance: the
+    second half, through the stop and the sticking, runs bit for bit as it did."""
+    tau, omega0, _ = MOTIONS["stops"]
+    out = host({"job": "states", "fmu": str(friction_fmus[version]), "tau": tau, "h": 0.01,
+                "n": 30, "start": {**FRICTION, "load": LOAD, "theta0": 0.3, "omega0": omega0},
+                "outputs": ["alpha", "F21x", "Mf_A", "P_loss"]}, tmp_path)
+    assert out["first"][-1]["omega"] > 0.0 and out["second"][-1]["omega"] == 0.0
+    assert out["again"] == out["second"] and out["fresh"] == out["second"]
+
+
 def band_at_rest(theta=0.3):
     """The friction band at rest of the slider-crank with :data:`FRICTION` and
     :data:`LOAD` at ``theta``: the direct solver's static Mb with drive -1 and +1."""
