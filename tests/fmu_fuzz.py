@@ -8,8 +8,12 @@ script for longer runs::
 
     python tests/fmu_fuzz.py DIST_DIR --steps 100000 [--seed 1]
     python tests/fmu_fuzz.py DIR_OF_DRIVE_FMUS --drive --steps 100000
+    python tests/fmu_fuzz.py DIR_OF_DRIVE_FMUS --drive --energy --steps 10000
 
-``generate_drive`` does the same for the drive FMUs.
+``generate_drive`` does the same for the drive FMUs (with ``preset``, random friction in
+half the episodes); ``generate_energy`` and ``check_energy`` hold the slider-crank's drive
+FMU with friction to its energy balance over random-moment steps (``--energy``: that and
+the fuzz with friction, on ``SliderCrankDrive.fmu`` in DIR).
 """
 
 from __future__ import annotations
