@@ -1,6 +1,6 @@
 """What the drive FMU's step costs, and its accuracy against its run time.
 
-    python benchmarks/drive_timing.py
+    python benchmarks/drive_timing.py [--friction]
 
 Builds ``FourBarDrive.fmu`` (``linkage-fmu build --native --drive four_bar``, FMI 2.0)
 and drives the four-bar from ``theta0 = 0.3`` rad, ``omega0 = 5`` rad/s with ``tau = 2``
@@ -21,9 +21,17 @@ N.m for 1 s (to about 190 rad/s, 11 revolutions; the reference is
     library's effort-only plan, ``mech.solve(theta, omega, 0, outputs=("Mb", "J_red"))``);
     best of 3.
 
-Writes ``benchmarks/results/drive_step.csv``, ``drive_work_precision.csv`` and
-``drive_work_precision.png``, and ``docs/drive_four_bar.png`` (the motion through the FMU
-in co-simulation and model exchange against the library's); prints the tables.
+``friction``
+    The cost of a step of ``SliderCrankDrive.fmu`` with friction against the same FMU
+    with every ``mu`` 0 (its kernels without friction, Eksergian's equation): 1 s of
+    motion from ``theta0 = 0.3``, ``omega0 = 5`` under ``tau = 1`` N.m and 20 N on the
+    piston, a 0.02 kg.m2 flywheel on the crank, steps of 1 ms, tolerance 1e-8, through
+    fmpy's ctypes functions; best of 5.
+
+Writes ``benchmarks/results/drive_step.csv``, ``drive_work_precision.csv``,
+``drive_work_precision.png`` and ``drive_friction.csv``, and ``docs/drive_four_bar.png``
+(the motion through the FMU in co-simulation and model exchange against the library's);
+prints the tables. ``--friction`` measures only the friction's cost.
 """
 
 from __future__ import annotations
@@ -88,6 +96,54 @@ class Drive:
     def free(self):
         self.s.terminate()
         self.s.freeInstance()
+
+
+#: the friction's benchmark: the slider-crank's pairs (mu 0.15 to 0.2 on 15 to 20 mm pins)
+FRICTION = dict(mu_O=0.15, r_O=0.02, mu_A=0.15, r_A=0.02, muf_B=0.2, r_B=0.015,
+                mu_guide=0.15)
+
+
+def friction_costs(fmu: Path, h: float = 1e-3) -> list[dict]:
+    """Microseconds per step (set tau, doStep, get every output) of the slider-crank's
+    drive FMU ``fmu`` without friction and with :data:`FRICTION`, best of 5."""
+    from fmpy import extract, read_model_description
+    from fmpy.fmi2 import FMU2Slave
+
+    md = read_model_description(str(fmu))
+    unzip = extract(str(fmu))
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    outputs = [v.valueReference for v in md.modelVariables if v.causality == "output"]
+    rows = []
+    for name, friction in (("without friction (every mu 0)", {}), ("with friction", FRICTION)):
+        start = {"theta0": 0.3, "omega0": 5.0, "tolerance": 1e-8, "tau": 1.0, "load": 20.0,
+                 "J1": 0.02, **friction}
+        times = []
+        for _ in range(5):
+            s = FMU2Slave(guid=md.guid, unzipDirectory=unzip,
+                          modelIdentifier=md.coSimulation.modelIdentifier)
+            s.instantiate()
+            s.setupExperiment(startTime=0.0)
+            s.enterInitializationMode()
+            s.setReal([vr[k] for k in start], list(start.values()))
+            s.exitInitializationMode()
+            n, m = round(STOP / h), len(outputs)
+            vr_in, u = (c_uint * 1)(vr["tau"]), (c_double * 1)(1.0)
+            vr_out, y = (c_uint * m)(*outputs), (c_double * m)()
+            c = s.component
+            begin = time.perf_counter()
+            for k in range(n):
+                s.fmi2SetReal(c, vr_in, 1, u)
+                s.fmi2DoStep(c, k * h, h, 1)
+                s.fmi2GetReal(c, vr_out, m, y)
+            times.append(1e6 * (time.perf_counter() - begin) / n)
+            s.terminate()
+            s.freeInstance()
+        rows.append({"model": "SliderCrankDrive", "friction": name, "step_s": h,
+                     "fmpy_us": min(times), "theta_end": y[0]})
+    base = rows[0]["fmpy_us"]
+    for r in rows:
+        r["ratio"] = r["fmpy_us"] / base
+    return rows
 
 
 def best(fn, repeats: int):
@@ -258,6 +314,15 @@ def main() -> int:
     from linkage_fmu import presets
     from linkage_fmu.fmi import build_native_fmu
 
+    with tempfile.TemporaryDirectory(prefix="drive_friction_") as tmp:
+        friction = friction_costs(build_native_fmu("slider_crank", Path(tmp), 2, drive=True))
+    RESULTS.mkdir(exist_ok=True)
+    write(RESULTS / "drive_friction.csv", friction)
+    print("| drive FMU | friction | us per step (1 ms) | ratio |\n|---|---|---|---|")
+    for r in friction:
+        print(f"| {r['model']} | {r['friction']} | {r['fmpy_us']:.3g} | {r['ratio']:.3g} |")
+    if "--friction" in sys.argv[1:]:
+        return 0
     mech = presets.get("four_bar")
     with tempfile.TemporaryDirectory(prefix="drive_timing_") as tmp:
         fmu = build_native_fmu("four_bar", Path(tmp), 2, drive=True)

@@ -13,7 +13,9 @@ linkage_fmu. Jobs (``job["job"]``), each on the FMU ``job["fmu"]`` with the star
   instance and the second half run there: the rows of each, to be identical;
 - ``bad``: calls that are wrong, each with its status and log (co-simulation and model
   exchange instances);
-- ``exchange``: a model-exchange instance's derivatives at given states.
+- ``exchange``: a model-exchange instance's derivatives at given states;
+- ``strings``: the strings ``job["strings"]`` set in initialisation mode, then
+  exitInitializationMode: each status and the log.
 """
 
 import json
@@ -81,6 +83,11 @@ class Drive:
         else:
             status = self.s.dll.fmi2GetReal(self.component(), vr, n, values)
         return status, (dict(zip(names, values)) if status <= 1 else None)
+
+    def set_string(self, values):
+        names = list(values)
+        f = self.s.setString
+        return self.call(f, [self.vr[n] for n in names], [values[n] for n in names])[0]
 
     def initialise(self, start):
         if self.v3:
@@ -188,6 +195,16 @@ def main():
         answers["derivatives fine"] = m.call(get_dx, x, 2)[0]
         out["answers"] = answers
         out["log"] = d.log + m.log
+    elif job["job"] == "strings":
+        d = Drive(unzip, md)
+        if d.v3:
+            d.s.enterInitializationMode(startTime=0.0)
+        else:
+            d.s.setupExperiment(startTime=0.0)
+            d.s.enterInitializationMode()
+        out["set"] = d.set_string(job["strings"])
+        out["exit"] = d.call(d.s.exitInitializationMode)[0]
+        out["log"] = d.log
     elif job["job"] == "exchange":
         m = Drive(unzip, md, exchange=True)
         m.initialise(job["start"])

@@ -8,8 +8,12 @@ script for longer runs::
 
     python tests/fmu_fuzz.py DIST_DIR --steps 100000 [--seed 1]
     python tests/fmu_fuzz.py DIR_OF_DRIVE_FMUS --drive --steps 100000
+    python tests/fmu_fuzz.py DIR_OF_DRIVE_FMUS --drive --energy --steps 10000
 
-``generate_drive`` does the same for the drive FMUs.
+``generate_drive`` does the same for the drive FMUs (with ``preset``, random friction in
+half the episodes); ``generate_energy`` and ``check_energy`` hold the slider-crank's drive
+FMU with friction to its energy balance over random-moment steps (``--energy``: that and
+the fuzz with friction, on ``SliderCrankDrive.fmu`` in DIR).
 """
 
 from __future__ import annotations
@@ -341,13 +345,17 @@ def check(plan: Plan, results: list) -> Counter:
     return tally
 
 
-def generate_drive(fmu: Path, steps: int, seed: int) -> Plan:
+def generate_drive(fmu: Path, steps: int, seed: int, preset: str | None = None) -> Plan:
     """Random calls to a drive FMU (``linkage-fmu build --native --drive``) totalling
     ``steps`` doStep calls, in episodes of up to 300 steps, each a fresh instance with
     its own start values and tolerance: moments good, huge and not finite, steps of any
     size and bad ones, states and parameters set as variables, FMU states saved,
     serialized, corrupted and restored, directional derivatives (the drive has none),
-    last successful times. An episode ends at a step Discarded at the assembly limit."""
+    last successful times. An episode ends at a step Discarded at the assembly limit.
+    With ``preset`` (the linkage's), half the episodes have random friction in every
+    pair (:func:`friction`), a fifth start at rest, whose first moments lie mostly
+    inside the friction band there (the direct solver's static Mb with drive -1 and +1),
+    and a third of the moments are small (within 1 N.m of 0)."""
     rng = np.random.default_rng(seed)
     v = _variables(fmu)
     outs = [vr for vr, t, c, _ in v.values() if c == "output"]
@@ -371,15 +379,34 @@ def generate_drive(fmu: Path, steps: int, seed: int) -> Plan:
             add([name, "doStep", 0.0, 0.01], ("status", ERROR))
         start = {"theta0": float(rng.uniform(-1.0, 1.0)), "omega0": float(rng.uniform(-20, 20)),
                  "tolerance": float(10.0 ** rng.uniform(-12, -3))}
+        if preset is not None:
+            if rng.random() < 0.5:
+                start.update(friction(preset, rng))
+            if rng.random() < 0.2:  # from rest: the friction band decides
+                start["omega0"] = 0.0
         add([name, "setReal", [v[k][0] for k in start], list(start.values())], ("status", OK))
         if not entered:
             add([name, "enter"], ("status", OK))
         add([name, "exit"], ("status", OK))
         t, tau, saved = 0.0, 0.0, {}  # slot -> the moment in force when it was saved
+        band = None
+        if preset is not None and start["omega0"] == 0.0:  # the band at rest (load at start)
+            from linkage_fmu.presets import linkage
+
+            params = {k: x for k, x in start.items() if k not in ("theta0", "omega0",
+                                                                   "tolerance", "drive")}
+            band = [float(linkage(preset, drive=d, **params).solve(
+                start["theta0"], 0.0, 0.0, method="direct", outputs=("Mb",))["Mb"])
+                for d in (-1.0, 1.0)]
         for _ in range(min(300, steps - done)):
             r = rng.random()
             if r < 0.62:  # a moment, a step, a read
                 tau = float(rng.uniform(-20, 20))
+                if preset is not None and rng.random() < 0.3:
+                    tau = float(rng.uniform(-1.0, 1.0))
+                if band is not None:  # from rest: the first moments inside the band
+                    tau = float(rng.uniform(*band)) if rng.random() < 0.9 else tau
+                    band = band if rng.random() < 0.8 else None
                 if rng.random() < 0.08:
                     tau = float(rng.choice(BAD_VALUES))
                 h = float(10.0 ** rng.uniform(-4, -1.3))
@@ -464,6 +491,9 @@ def check_drive(plan: Plan, results: list) -> Counter:
                 tally["nan read"] += 1
                 continue
             assert status == OK and np.isfinite(got).all(), (i, status, payload)
+            if got[names.index("omega")] == 0.0 and got[names.index("alpha")] == 0.0:
+                tally["stuck"] += 1  # held by friction: Mb is the band's edge, not tau
+                continue
             # Mb = J_red alpha + Mb(alpha = 0): near a toggle both terms are large and
             # cancel, so the scale of the comparison is the larger of them
             Mb = got[names.index("Mb")]
@@ -473,12 +503,104 @@ def check_drive(plan: Plan, results: list) -> Counter:
     return tally
 
 
-def run_drive(fmu: Path, steps: int, seed: int) -> tuple[Counter, dict]:
-    """:func:`generate_drive` on the drive FMU ``fmu``, run in a fresh host process,
-    :func:`check_drive`."""
-    plan = generate_drive(fmu, steps, seed)
+def run_drive(fmu: Path, steps: int, seed: int,
+              preset: str | None = None) -> tuple[Counter, dict]:
+    """:func:`generate_drive` on the drive FMU ``fmu`` (of ``preset``: with friction), run
+    in a fresh host process, :func:`check_drive`."""
+    plan = generate_drive(fmu, steps, seed, preset)
     out = _host(fmu, plan)
     return check_drive(plan, out["results"]), out
+
+
+#: the energy run's linkage, parameters and load: the slider-crank with friction in every
+#: pair, a flywheel on the crank, and 20 N on the piston
+ENERGY_PRESET = "slider_crank"
+ENERGY_PARAMETERS = dict(mu_O=0.15, r_O=0.02, mu_A=0.15, r_A=0.02, muf_B=0.2, r_B=0.015,
+                         mu_guide=0.15, J1=0.02)
+ENERGY_LOAD = 20.0
+#: the outputs each read of the energy run takes
+ENERGY_OUTPUTS = ("theta", "omega", "J_red", "P_loss")
+
+
+def generate_energy(fmu: Path, steps: int, seed: int, h: float = 1e-3) -> Plan:
+    """One instance of the slider-crank's drive FMU (:data:`ENERGY_PARAMETERS`, load
+    :data:`ENERGY_LOAD`, tolerance 1e-12) stepped ``steps`` times by ``h`` from rest
+    under a random moment, each held over 1 to 100 steps, uniform in [-2, 2] N.m (the
+    crank sticks, breaks away, turns both ways, stops); each step taken in two halves,
+    the outputs read at its start (the new moment in force), middle and end."""
+    rng = np.random.default_rng(seed)
+    v = _variables(fmu)
+    vrs = [v[n][0] for n in ENERGY_OUTPUTS]
+    plan = Plan()
+    start = {**ENERGY_PARAMETERS, "load": ENERGY_LOAD, "theta0": 0.3, "omega0": 0.0,
+             "tolerance": 1e-12}
+    for op in (["E", "new", "M"], ["E", "setup", 0.0, None],
+               ["E", "setReal", [v[k][0] for k in start], list(start.values())],
+               ["E", "enter"], ["E", "exit"]):
+        plan.add(op, ("status", OK))
+    tau, held = 0.0, 0
+    for k in range(steps):
+        if held == 0:
+            tau, held = float(rng.uniform(-2.0, 2.0)), int(rng.integers(1, 101))
+        held -= 1
+        plan.add(["E", "setReal", [v["tau"][0]], [tau]], ("status", OK))
+        plan.add(["E", "getReal", vrs], ("energy", "start", tau))
+        plan.add(["E", "doStep", k * h, 0.5 * h], ("status", OK))
+        plan.add(["E", "getReal", vrs], ("energy", "middle", tau))
+        plan.add(["E", "doStep", (k + 0.5) * h, 0.5 * h], ("status", OK))
+        plan.add(["E", "getReal", vrs], ("energy", "end", tau))
+    plan.add(["E", "free"], ("status", OK))
+    return plan
+
+
+def check_energy(plan: Plan, results: list, h: float = 1e-3) -> dict:
+    """The energy balance of a :func:`generate_energy` run: the work of the moment (tau
+    times the turn over each step), minus the friction's loss (``P_loss`` by the
+    trapezoidal rule over each step), plus the work of the load on the piston and of
+    gravity (from the linkage's kinematics at each step's ends), against the change of
+    the kinetic energy ``J_red omega**2 / 2``; every status as it must be (no Fatal).
+    The loss is integrated by Simpson's rule over each step (start, middle, end): its
+    error falls as h**4, but for the steps in which the crank stops (P_loss has a kink
+    there)."""
+    from linkage_fmu.presets import linkage
+
+    for i, (status, _) in enumerate(results):
+        assert status != FATAL, (i, plan.ops[i])
+        c = plan.checks.get(i)
+        if c is not None and c[0] == "status":
+            assert status == c[1], (i, plan.ops[i], status)
+        elif c is not None:
+            assert status == OK, (i, plan.ops[i], status, results[i])
+    reads = [(plan.checks[i][1], plan.checks[i][2], np.array(payload, dtype=float))
+             for i, (_, payload) in enumerate(results)
+             if i in plan.checks and plan.checks[i][0] == "energy"]
+    start = np.array([r for kind, _, r in reads if kind == "start"])
+    middle = np.array([r for kind, _, r in reads if kind == "middle"])
+    end = np.array([r for kind, _, r in reads if kind == "end"])
+    tau = np.array([t for kind, t, _ in reads if kind == "start"])
+    theta0, theta1 = start[:, 0], end[:, 0]
+    work = np.sum(tau * (theta1 - theta0))
+    loss = np.sum(h / 6.0 * (start[:, 3] + 4.0 * middle[:, 3] + end[:, 3]))
+    mech = linkage(ENERGY_PRESET, **ENERGY_PARAMETERS)
+    ends = np.append(theta0[:1], theta1)
+    st = mech.kinematics(ends, order=0)
+    potential = mech.g * sum(b.mass * st.p[b.cg][1] for b in mech.bodies)
+    load = -ENERGY_LOAD * (st.p["B"][0][-1] - st.p["B"][0][0])  # 20 N along -x on B
+    kinetic = 0.5 * np.append(start[:1, 2], end[:, 2]) * np.append(start[:1, 1], end[:, 1]) ** 2
+    balance = work - loss + load - (potential[-1] - potential[0]) - (kinetic[-1] - kinetic[0])
+    scale = np.sum(np.abs(tau * (theta1 - theta0)))
+    return {"work": float(work), "loss": float(loss), "load": float(load),
+            "kinetic": float(kinetic[-1] - kinetic[0]), "balance": float(balance),
+            "relative": float(abs(balance) / scale), "scale": float(scale),
+            "stuck steps": int(np.sum((theta1 == theta0) & (end[:, 1] == 0.0))),
+            "reversals": int(np.sum(np.diff(np.sign(end[:, 1][end[:, 1] != 0.0])) != 0))}
+
+
+def run_energy(fmu: Path, steps: int, seed: int) -> dict:
+    """:func:`generate_energy` on the slider-crank's drive FMU ``fmu``, run in a fresh host
+    process, :func:`check_energy`."""
+    plan = generate_energy(fmu, steps, seed)
+    return check_energy(plan, _host(fmu, plan)["results"])
 
 
 def _host(fmu: Path, plan: Plan) -> dict:
@@ -508,7 +630,21 @@ def main(argv=None) -> int:
     parser.add_argument("--drive", action="store_true",
                         help="DIST holds drive FMUs (linkage-fmu build --native --drive): "
                              "fuzz each")
+    parser.add_argument("--energy", action="store_true",
+                        help="with --drive: the energy balance of SliderCrankDrive.fmu with "
+                             "friction over STEPS random-moment steps, and the fuzz with "
+                             "friction")
     args = parser.parse_args(argv)
+    if args.drive and args.energy:
+        fmu = Path(args.dist) / "SliderCrankDrive.fmu"
+        tally, out = run_drive(fmu, args.steps, args.seed, ENERGY_PRESET)
+        statuses = {s: tally[("status", s)] for s in range(5)}
+        print(f"{fmu.name} with friction: statuses OK/Warning/Discard/Error/Fatal = "
+              f"{'/'.join(map(str, statuses.values()))}; {tally['Mb equal to tau']} reads with "
+              f"Mb equal to tau, {tally['stuck']} stuck, {tally['discard in the step']} "
+              f"steps discarded inside", flush=True)
+        print(f"{fmu.name} energy over {args.steps} steps: {run_energy(fmu, args.steps, args.seed)}")
+        return 0
     if args.drive:
         for fmu in sorted(Path(args.dist).glob("*Drive.fmu")):
             tally, out = run_drive(fmu, args.steps, args.seed)

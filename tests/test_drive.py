@@ -29,6 +29,7 @@ from conftest import run_host
 from linkage_fmu import presets, ranges
 from linkage_fmu.cli import main
 from linkage_fmu.fmi import build_native_fmu
+import fmu_fuzz
 from fmu_fuzz import run_drive
 from test_c_host import compile_host, model_outputs
 
@@ -332,3 +333,280 @@ def test_fuzz(fmus, which):
     assert tally[("status", ERROR)] > 500 and tally["discard: moment not finite"] > 20
     if which == "limit2":  # the crank reaches the ends of its range
         assert tally["discard in the step"] > 20
+
+
+# -- friction ---------------------------------------------------------------------------
+#: friction in every pair of the slider-crank (pins of 15 to 20 mm on a 50 mm crank), and
+#: a flywheel on the crank: parameters set after the build (built with every mu 0)
+FRICTION = fmu_fuzz.ENERGY_PARAMETERS
+LOAD = fmu_fuzz.ENERGY_LOAD
+#: (tau, omega0, stop) of two motions from theta0 = 0.3 with the load on the piston: a
+#: crank driven on (to 35 rad/s), and one that slows, stops at t = 0.17 s and sticks
+MOTIONS = {"driven": (1.0, 5.0, 0.4), "stops": (-0.5, 3.0, 0.5)}
+
+
+def friction_reference(tau, omega0, t, theta0=0.3):
+    """theta and omega of the slider-crank with :data:`FRICTION` under ``tau`` and
+    :data:`LOAD` at the times ``t``, independently of the FMU: scipy's DOP853 (rtol = atol
+    = 1e-12) on alpha found by brentq on the direct solver's Mb with friction (within a
+    bracket placed about the closed form's root by the secant method), the friction at
+    omega = 0 opposing the way the crank moves (the linkage built with that ``drive``);
+    omega = 0 a terminal event, after which the band at rest (the direct solver's static
+    Mb with drive -1 and +1) says whether the crank sticks (to the end: tau is constant)
+    or moves off, and which way."""
+    from scipy.integrate import solve_ivp
+    from scipy.optimize import brentq
+
+    from linkage_fmu.presets import linkage
+
+    mechs = {d: linkage("slider_crank", drive=float(d), **FRICTION) for d in (1, -1)}
+
+    def mb(d, th, w, a, method="direct"):
+        return float(mechs[d].solve(th, w, a, method=method, load=LOAD, outputs=("Mb",))["Mb"])
+
+    def acceleration(d, th, w):
+        a0, a1 = 0.0, 1.0
+        f0, f1 = mb(d, th, w, a0, "closed_form") - tau, mb(d, th, w, a1, "closed_form") - tau
+        for _ in range(20):
+            if f1 == f0 or abs(a1 - a0) <= 1e-12 * (1.0 + abs(a1)):
+                break
+            a0, a1, f0 = a1, a1 - f1 * (a1 - a0) / (f1 - f0), f1
+            f1 = mb(d, th, w, a1, "closed_form") - tau
+        width = 1e-9 * (1.0 + abs(a1))
+
+        def f(a):
+            return mb(d, th, w, a) - tau
+
+        while f(a1 - width) * f(a1 + width) > 0.0:
+            width *= 10.0
+        return brentq(f, a1 - width, a1 + width, xtol=1e-14, rtol=1e-15)
+
+    theta, omega = np.full(len(t), np.nan), np.full(len(t), np.nan)
+    t0, x = t[0], np.array([theta0, omega0])
+    while True:
+        if x[1] == 0.0:
+            lo, hi = mb(-1, x[0], 0.0, 0.0), mb(1, x[0], 0.0, 0.0)
+            d = 1 if tau > hi else -1 if tau < lo else 0
+            if d == 0:
+                theta[t >= t0], omega[t >= t0] = x[0], 0.0
+                return theta, omega
+        else:
+            d = 1 if x[1] > 0.0 else -1
+
+        def stop(s, y):
+            return y[1]
+
+        stop.terminal, stop.direction = True, -d
+        keep = np.flatnonzero(t >= t0)
+        sol = solve_ivp(lambda s, y: [y[1], acceleration(d, y[0], y[1])], (t0, t[-1]), x,
+                        method="DOP853", rtol=1e-12, atol=1e-12, t_eval=t[keep], events=stop)
+        theta[keep[:len(sol.t)]], omega[keep[:len(sol.t)]] = sol.y
+        if sol.status != 1:
+            return theta, omega
+        t0, x = sol.t_events[0][0], np.array([sol.y_events[0][0][0], 0.0])
+
+
+@pytest.fixture(scope="module")
+def friction_fmus(tmp_path_factory) -> dict:
+    """The slider-crank's drive FMUs (FMI 2.0 and 3.0, built with every mu 0) and the
+    six-bar's (FMI 2.0 and 3.0)."""
+    out = tmp_path_factory.mktemp("friction")
+    return {**{v: build_native_fmu("slider_crank", out / str(v), v, drive=True) for v in (2, 3)},
+            **{f"six_bar{v}": build_native_fmu("six_bar", out / f"six{v}", v, drive=True)
+               for v in (2, 3)}}
+
+
+@pytest.fixture(scope="module")
+def friction_references() -> dict:
+    """:func:`friction_reference` of each of :data:`MOTIONS` every 10 ms."""
+    out = {}
+    for name, (tau, omega0, stop) in MOTIONS.items():
+        t = np.linspace(0.0, stop, round(stop / H) + 1)
+        out[name] = friction_reference(tau, omega0, t)
+    return out
+
+
+def friction_run(fmu, name, fmi_type="CoSimulation", **kw):
+    tau, omega0, stop = MOTIONS[name]
+    start = {**FRICTION, "tau": tau, "load": LOAD, "theta0": 0.3, "omega0": omega0}
+    if fmi_type == "CoSimulation":
+        start["tolerance"] = kw.pop("tolerance", 1e-12)
+    return simulate_fmu(str(fmu), stop_time=stop, output_interval=H, fmi_type=fmi_type,
+                        start_values=start, output=["theta", "omega", "alpha", "Mb", "motion"],
+                        **kw)
+
+
+@pytest.mark.parametrize("version", (2, 3))
+@pytest.mark.parametrize("name", MOTIONS)
+def test_friction_cosimulation_against_the_reference(friction_fmus, friction_references,
+                                                      version, name):
+    """The slider-crank's drive FMU with friction set after the build, co-simulated by
+    fmpy at the tolerance 1e-12, follows :func:`friction_reference` to 1e-6 rad in theta
+    (measured: 1.2e-9 rad driven, 8.5e-13 rad through the stop) and 1e-5 rad/s in omega;
+    where it moves, the direct solver's Mb at its theta, omega, alpha equals tau to 1e-9
+    of max(1, |J_red alpha|); the crank that stops does so between 0.16 and 0.18 s and
+    stays (motion 0, theta constant to the bit, omega and alpha 0)."""
+    from linkage_fmu.presets import linkage
+
+    r = friction_run(friction_fmus[version], name)
+    theta, omega = friction_references[name]
+    assert np.max(np.abs(r["theta"] - theta)) <= 1e-6
+    assert np.max(np.abs(r["omega"] - omega)) <= 1e-5
+    moving = r["omega"] != 0.0
+    mech = linkage("slider_crank", **FRICTION)
+    sol = mech.solve(r["theta"][moving], r["omega"][moving], r["alpha"][moving],
+                     method="direct", load=LOAD)
+    tau = MOTIONS[name][0]
+    assert np.all(np.abs(sol["Mb"] - tau) <= 1e-9 * np.maximum(1.0, np.abs(
+        sol["J_red"] * r["alpha"][moving])))
+    if name == "stops":
+        stuck = np.flatnonzero(r["motion"] == 0)
+        assert 0.16 <= r["time"][stuck[0]] <= 0.18 and stuck[-1] == len(r) - 1
+        assert np.all(np.diff(stuck) == 1) and np.all(r["theta"][stuck] == r["theta"][-1])
+        assert np.all(r["omega"][stuck] == 0.0) and np.all(r["alpha"][stuck] == 0.0)
+    else:
+        assert np.all(r["motion"] == 1)
+
+
+@pytest.mark.parametrize("version", (2, 3))
+def test_friction_model_exchange_against_the_reference(friction_fmus, friction_references,
+                                                       version):
+    """Model exchange through fmpy's CVode (rtol 1e-10) with its state events (the event
+    indicators ``z_forwards``, ``z_backwards``; the stop an event, the band deciding in
+    the event update) follows :func:`friction_reference` to 1e-6 rad in theta
+    (measured: 8e-9 rad driven, 3e-10 rad through the stop); the crank that stops stays,
+    motion 0."""
+    for name in MOTIONS:
+        r = friction_run(friction_fmus[version], name, "ModelExchange",
+                         relative_tolerance=1e-10, record_events=False)
+        theta, omega = friction_references[name]
+        assert np.max(np.abs(r["theta"] - theta)) <= 1e-6, name
+        assert np.max(np.abs(r["omega"] - omega)) <= 1e-4, name
+        assert r["motion"][-1] == (0 if name == "stops" else 1)
+
+
+def test_from_rest_the_band_holds_or_lets_go(friction_fmus):
+    """From rest at theta0 = 0.3 with the load on the piston, the band [lo, hi] is the
+    direct solver's static Mb with drive -1 and +1 there. A moment inside it (its middle,
+    and 1 % of its width from either edge) leaves theta unchanged over 200 steps of 10
+    ms (to 1e-9 rad; the FMU keeps it to the bit), motion 0; a moment 1e-3 N.m past
+    either edge breaks away that way within the first step (motion +-1, theta moved that
+    way)."""
+    lo, hi = band_at_rest()
+    assert hi - lo > 0.1  # a band to stick in
+    for tau, way in ((0.5 * (lo + hi), 0), (lo + 0.01 * (hi - lo), 0),
+                     (hi - 0.01 * (hi - lo), 0), (hi + 1e-3, 1), (lo - 1e-3, -1)):
+        r = simulate_fmu(str(friction_fmus[2]), stop_time=2.0 if not way else H,
+                         output_interval=H, fmi_type="CoSimulation",
+                         start_values={**FRICTION, "tau": tau, "load": LOAD, "theta0": 0.3,
+                                       "omega0": 0.0, "tolerance": 1e-10},
+                         output=["theta", "omega", "motion"])
+        if not way:
+            assert len(r) == 201 and np.max(np.abs(r["theta"] - 0.3)) <= 1e-9, tau
+            assert np.all(r["motion"][1:] == 0) and np.all(r["omega"] == 0.0), tau
+        else:
+            assert r["motion"][-1] == way and way * (r["theta"][-1] - 0.3) > 0.0, tau
+
+
+@pytest.mark.parametrize("version", (2, 3))
+def test_friction_states_round_trip(friction_fmus, tmp_path, version):
+    """With friction, an FMU state taken at t = 0.15 s, before the crank of the "stops"
+    motion stops (0.17 s) and sticks, set again and serialized into a fresh instance: the
+    second half, through the stop and the sticking, runs bit for bit as it did."""
+    tau, omega0, _ = MOTIONS["stops"]
+    out = host({"job": "states", "fmu": str(friction_fmus[version]), "tau": tau, "h": 0.01,
+                "n": 30, "start": {**FRICTION, "load": LOAD, "theta0": 0.3, "omega0": omega0},
+                "outputs": ["alpha", "F21x", "Mf_A", "P_loss"]}, tmp_path)
+    assert out["first"][-1]["omega"] > 0.0 and out["second"][-1]["omega"] == 0.0
+    assert out["again"] == out["second"] and out["fresh"] == out["second"]
+
+
+def band_at_rest(theta=0.3):
+    """The friction band at rest of the slider-crank with :data:`FRICTION` and
+    :data:`LOAD` at ``theta``: the direct solver's static Mb with drive -1 and +1."""
+    from linkage_fmu.presets import linkage
+
+    return tuple(float(linkage("slider_crank", drive=d, **FRICTION).solve(
+        theta, 0.0, 0.0, method="direct", load=LOAD)["Mb"]) for d in (-1.0, 1.0))
+
+
+@pytest.mark.parametrize("version", (2, 3))
+def test_model_exchange_from_rest(friction_fmus, version):
+    """Model exchange from rest (the initial event update decides): tau in the middle of
+    the band leaves theta at 0.3 exactly for 0.5 s (motion 0); 1e-3 N.m past either edge
+    it breaks away that way."""
+    lo, hi = band_at_rest()
+    for tau, way in ((0.5 * (lo + hi), 0), (hi + 1e-3, 1), (lo - 1e-3, -1)):
+        r = simulate_fmu(str(friction_fmus[version]), stop_time=0.5, output_interval=H,
+                         fmi_type="ModelExchange",
+                         start_values={**FRICTION, "tau": tau, "load": LOAD, "theta0": 0.3,
+                                       "omega0": 0.0}, output=["theta", "omega", "motion"])
+        if not way:
+            assert np.all(r["theta"] == 0.3) and np.all(r["motion"][1:] == 0), tau
+        else:
+            assert np.all(r["motion"][1:] == way), tau
+            assert np.all(way * np.diff(r["theta"]) > 0.0), tau
+
+
+def test_a_torque_ramp_breaks_away_where_it_crosses_the_band(friction_fmus):
+    """From rest, tau rising at 1 N.m/s from the middle of the band crosses its upper
+    edge at t* = (hi - tau0) / 1 N.m/s (0.179 s). Model exchange (CVode, the indicator
+    z_forwards crossing 0) breaks away at t* to 1e-9 s: theta is 0.3 exactly until then,
+    and grows after; co-simulation (tau held over each 1 ms step, the band deciding at its
+    start) in the first step that starts past t*."""
+    lo, hi = band_at_rest()
+    tau0 = 0.5 * (lo + hi)
+    t_star = hi - tau0
+    ramp = np.array([(0.0, tau0, LOAD), (1.0, tau0 + 1.0, LOAD)],
+                    dtype=[("time", float), ("tau", float), ("load", float)])
+    start = {**FRICTION, "theta0": 0.3, "omega0": 0.0}
+    r = simulate_fmu(str(friction_fmus[2]), stop_time=0.3, output_interval=0.001,
+                     fmi_type="ModelExchange", input=ramp, start_values=start,
+                     output=["theta", "motion"])
+    first = np.flatnonzero(r["motion"] != 0)[0]
+    assert abs(r["time"][first] - t_star) <= 1e-9, (r["time"][first], t_star)
+    assert np.all(r["theta"][:first + 1] == 0.3) and np.all(np.diff(r["theta"][first:]) > 0)
+    r = simulate_fmu(str(friction_fmus[2]), stop_time=0.3, output_interval=0.001,
+                     input=ramp, start_values={**start, "tolerance": 1e-10},
+                     output=["theta", "motion"])
+    moved = np.flatnonzero(r["theta"] != 0.3)[0]
+    assert r["time"][moved - 1] <= t_star + 0.001 < r["time"][moved] + 1e-12, \
+        (r["time"][moved], t_star)
+    assert np.all(r["motion"][moved:] == 1) and np.all(r["motion"][1:moved] == 0)
+
+
+@pytest.mark.parametrize("version", (2, 3))
+def test_six_bar_drive_takes_only_the_crank_moment(friction_fmus, tmp_path, version):
+    """The six-bar's drive FMU is built for ``driver = OA`` only (its structures are those
+    whose effort is a moment on the crank): setting ``driver`` to AB, O1B, KD or D is
+    Error (never Fatal), with a log naming the parameter and the value allowed, and the
+    instance initialises on with OA; the modelDescription says so."""
+    from fmpy import read_model_description
+
+    md = read_model_description(str(friction_fmus[f"six_bar{version}"]))
+    (driver,) = [v for v in md.modelVariables if v.name == "driver"]
+    assert "one of OA: a drive FMU drives the crank" in driver.description
+    for value in ("AB", "O1B", "KD", "D"):
+        out = host({"job": "strings", "fmu": str(friction_fmus[f"six_bar{version}"]),
+                    "strings": {"driver": value}}, tmp_path)
+        assert out["set"] == ERROR and out["exit"] == OK, (value, out)
+        assert all(status != FATAL for status, _ in out["log"])
+        assert any("driver must be one of 'OA'" in text for _, text in out["log"]), out["log"]
+
+
+def test_friction_fuzz_and_energy(friction_fmus):
+    """The drive fuzz (``fmu_fuzz.generate_drive``, 2,000 steps) with random friction in
+    every pair in half its episodes, some from rest, some moments small: no Fatal, every
+    read where the crank moves with Mb equal to tau, some stuck;
+    and the energy balance over 2,000 random-moment steps of 1 ms
+    (``fmu_fuzz.run_energy``: the crank sticks, breaks away, reverses): the work of tau,
+    minus the friction's loss, plus the load's and gravity's work, equals the change of
+    the kinetic energy to 2e-5 of the work (measured 5.7e-6; Simpson's rule on P_loss
+    over each step is the limit: P_loss has kinks where a reaction passes through 0).
+    ``python tests/fmu_fuzz.py DIR --drive --energy --steps 10000`` runs 10^4."""
+    tally, _ = run_drive(friction_fmus[2], 2000, seed=5, preset="slider_crank")
+    assert tally[("status", FATAL)] == 0
+    assert tally["Mb equal to tau"] > 500 and tally["stuck"] > 10
+    energy = fmu_fuzz.run_energy(friction_fmus[2], 2000, seed=1)
+    assert energy["relative"] <= 2e-5, energy
+    assert energy["stuck steps"] > 10 and energy["reversals"] >= 2, energy

@@ -12,6 +12,8 @@
  * their derivatives) for each directional derivative asked for. A state its guards refuse, or whose outputs are not
  * finite, has a reason in the same words as the Python library's.
  */
+#include <float.h>
+
 #include "model.c"
 
 /* the drive FMU (continuous states) provides no directional derivatives */
@@ -19,13 +21,23 @@
 
 typedef struct {
     int structure; /* kernel of the structure in force */
-    double q[N_Q + 1]; /* its parameter step's values */
+    double q[N_Q + 1]; /* its parameter step's values (the drive FMU's: at drive = +1) */
 #if FRICTIONLESS_KERNELS
     int plain; /* every coefficient of friction is 0: the structure's kernel without it */
     double q0[N_Q0 + 1]; /* ... and that kernel's parameter step's values */
 #endif
 #if N_STATES > 0
-    double r[N_R + 1]; /* ... and those of its kernel of the derivatives */
+    double r[N_R + 1]; /* ... and those of its kernel of the motion (drive = +1) */
+#if DRIVE_FRICTION
+    double qb[N_Q + 1], rb[N_R + 1]; /* ... both at drive = -1 */
+    /* the last root alpha found, and what it was found for (the kernel's inputs at alpha
+     * = 0, tau, the direction): a step's start and its outputs are at its last stage's */
+    double memo_u[N_INPUTS + 3], memo_tau, memo_alpha;
+    int memo_dir; /* 0: none */
+#endif
+#if FRICTIONLESS_KERNELS
+    double g0[N_G + 1]; /* ... and of its kernel of the motion without friction */
+#endif
 #endif
 } Model;
 
@@ -92,6 +104,16 @@ static Status backend_prepare(Instance *in, const Values *v, char *why, size_t s
     for (int k = 0; k < N_P; k++) p[k] = v->real[P_VR[k]];
     if (refused(PREPARE[s](p, m->q), REASONS[s], LK_ERROR, why, size)) return LK_ERROR;
 #if N_STATES > 0
+#if DRIVE_FRICTION
+    /* friction at rest opposes the motion the crank takes or is pushed to, either way:
+     * the kernels' parameter steps at both drive directions, whatever `drive` says */
+    p[DRIVE_P] = -1.0;
+    if (refused(PREPARE[s](p, m->qb), REASONS[s], LK_ERROR, why, size) ||
+        refused(RHS_PREPARE[s](p, m->rb), RHS_REASONS[s], LK_ERROR, why, size))
+        return LK_ERROR;
+    p[DRIVE_P] = 1.0;
+    if (refused(PREPARE[s](p, m->q), REASONS[s], LK_ERROR, why, size)) return LK_ERROR;
+#endif
     if (refused(RHS_PREPARE[s](p, m->r), RHS_REASONS[s], LK_ERROR, why, size))
         return LK_ERROR;
 #endif
@@ -104,10 +126,18 @@ static Status backend_prepare(Instance *in, const Values *v, char *why, size_t s
         for (int k = 0; k < N_P0; k++) p0[k] = v->real[P0_VR[k]];
         if (refused(PLAIN_PREPARE[s](p0, m->q0), PLAIN_REASONS[s], LK_ERROR, why, size))
             return LK_ERROR;
+#if N_STATES > 0
+        if (refused(PLAIN_RHS_PREPARE[s](p0, m->g0), PLAIN_RHS_REASONS[s], LK_ERROR, why,
+                    size))
+            return LK_ERROR;
+#endif
     }
     m->plain = plain;
 #endif
     m->structure = s;
+#if N_STATES > 0 && DRIVE_FRICTION
+    m->memo_dir = 0;
+#endif
     return LK_OK;
 }
 
@@ -154,37 +184,216 @@ static Status backend_evaluate(Instance *in, const Values *v, double *y, char *w
 #if N_STATES > 0
 /* -- a linkage driven by a moment on its crank (the drive FMU) ----------------------------
  * The states are theta and omega; the inputs tau (the moment on the crank), then the
- * loads. Eksergian's equation gives the crank's acceleration from the kernel of the
- * derivatives, which computes the balancing moment at alpha = 0, Mb0, and the inertia
- * reduced to the crank, J: alpha = (tau - Mb0) / J. */
+ * loads. The kernel of the motion gives the balancing moment Mb and the inertia reduced
+ * to the crank J at (theta, omega, alpha, loads).
+ * - Without friction (none in the joints, or every coefficient 0), Mb is affine in alpha:
+ *   Eksergian's equation, alpha = (tau - Mb(alpha = 0)) / J.
+ * - With friction, Mb depends on alpha through the reactions: alpha is the root of
+ *   tau = Mb(alpha), by Newton from Eksergian's estimate, dMb/dalpha from the kernel's
+ *   forward-mode twin, to rounding. At rest (omega = 0) the crank sticks while tau lies in
+ *   the friction band [Mb(drive = -1), Mb(drive = +1)] at omega = alpha = 0, and leaves it
+ *   the way tau crosses it: friction at omega = 0 opposes that motion. In co-simulation
+ *   the band decides wherever omega is 0 (the step's start, a stop); in model exchange
+ *   the discrete state `motion` decides, set at events (continuous.c). */
+#define NEWTON_STEPS 200
 
-/* The kernel of the derivatives at the states `x`: Mb0 and J, or LK_DISCARD with `why`. */
+/* 1 where the joints' friction is solved: the joints have some, and a coefficient is not 0. */
+static int friction_live(const Model *m) {
+#if !DRIVE_FRICTION
+    (void)m;
+    return 0;
+#elif FRICTIONLESS_KERNELS
+    return !m->plain;
+#else
+    (void)m;
+    return 1;
+#endif
+}
+
+/* The kernel of the motion's input vector at (theta, omega, alpha) and the loads in `v`. */
+static void motion_inputs(const Values *v, double theta, double omega, double alpha, double *u) {
+    u[0] = theta, u[1] = omega, u[2] = alpha;
+    for (int k = 1; k < N_INPUTS; k++) u[2 + k] = v->real[INPUTS[k]]; /* the loads */
+}
+
+/* Why J is no inertia ('' if it is one). */
+static int bad_inertia(double J, char *why, size_t size) {
+    char value[32];
+    if (J > 0.0 && isfinite(J)) return 0;
+    snprintf(why, size, "the inertia reduced to the crank is %s: the motion is not defined",
+             shortest(J, value, sizeof value));
+    return 1;
+}
+
+/* Without friction: Mb at alpha = 0 and J, or LK_DISCARD with `why`. */
 static Status moment_and_inertia(const Model *m, const Values *v, const double *x, double *mb0,
                                  double *J, char *why, size_t size) {
     double u[N_INPUTS + 3], r[RHS_N_Y + 1];
-    u[0] = x[0], u[1] = x[1], u[2] = 0.0;
-    for (int k = 1; k < N_INPUTS; k++) u[2 + k] = v->real[INPUTS[k]]; /* the loads */
-    if (refused(RHS_ONE[m->structure](m->r, u, r), RHS_REASONS[m->structure], LK_DISCARD,
-                why, size))
+    motion_inputs(v, x[0], x[1], 0.0, u);
+    const int s = m->structure;
+#if FRICTIONLESS_KERNELS
+    if (m->plain) {
+        if (refused(PLAIN_RHS_ONE[s](m->g0, u, r), PLAIN_RHS_REASONS[s], LK_DISCARD, why, size))
+            return LK_DISCARD;
+    } else
+#endif
+    if (refused(RHS_ONE[s](m->r, u, r), RHS_REASONS[s], LK_DISCARD, why, size))
         return LK_DISCARD;
     *mb0 = r[RHS_MB];
     *J = r[RHS_J];
-    char value[32];
-    if (!(*J > 0.0) || !isfinite(*J)) {
-        snprintf(why, size, "the inertia reduced to the crank is %s: the motion is not defined",
-                 shortest(*J, value, sizeof value));
+    return bad_inertia(*J, why, size) ? LK_DISCARD : LK_OK;
+}
+
+#if DRIVE_FRICTION
+/* The friction band at rest at the angle theta and the loads in `v`: Mb at omega = alpha
+ * = 0 with friction opposing a backward (`lo`) and a forward (`hi`) start. */
+static Status friction_band(const Model *m, const Values *v, double theta, double *lo,
+                            double *hi, char *why, size_t size) {
+    double u[N_INPUTS + 3], r[RHS_N_Y + 1];
+    const int s = m->structure;
+    motion_inputs(v, theta, 0.0, 0.0, u);
+    if (refused(RHS_ONE[s](m->rb, u, r), RHS_REASONS[s], LK_DISCARD, why, size))
+        return LK_DISCARD;
+    *lo = r[RHS_MB];
+    if (refused(RHS_ONE[s](m->r, u, r), RHS_REASONS[s], LK_DISCARD, why, size))
+        return LK_DISCARD;
+    *hi = r[RHS_MB];
+    if (!isfinite(*lo) || !isfinite(*hi)) {
+        set_text(why, size, "the friction band at rest is not finite: the linkage is at a "
+                 "singular position");
         return LK_DISCARD;
     }
     return LK_OK;
 }
 
-static Status backend_derivatives(Instance *in, const Values *v, const double *x, double *dx,
-                                  char *why, size_t size) {
-    double mb0, J;
-    Status s = moment_and_inertia((const Model *)in->model, v, x, &mb0, &J, why, size);
+/* The root alpha of tau = Mb(theta, omega, alpha) with friction (opposing `dir` where omega
+ * is 0): Newton from Eksergian's estimate, to rounding, kept inside the bracket of the
+ * root its iterates found (Mb grows with alpha; where a reaction passes through 0 it has a
+ * kink, about which Newton alone can cycle: a step out of the bracket bisects it);
+ * LK_DISCARD, saying why, where dMb/dalpha is not positive before a bracket is found
+ * (friction locks the crank) or it does not converge. */
+static Status acceleration(const Model *m, const Values *v, const double *x, int dir,
+                           double *alpha, char *why, size_t size) {
+    const int s = m->structure;
+    const double *r = dir < 0 ? m->rb : m->r, tau = v->real[INPUTS[0]];
+    double u[N_INPUTS + 3], du[N_INPUTS + 3] = {0.0}, y[RHS_N_Y + 1], dy[RHS_N_Y + 1];
+    char at[32], value[32];
+    motion_inputs(v, x[0], x[1], 0.0, u);
+    Model *memo = (Model *)m; /* the backend's own cache, not the model's state */
+    if (memo->memo_dir == dir && memo->memo_tau == tau &&
+        !memcmp(memo->memo_u, u, sizeof memo->memo_u)) {
+        *alpha = memo->memo_alpha;
+        return LK_OK;
+    }
+    if (refused(RHS_ONE[s](r, u, y), RHS_REASONS[s], LK_DISCARD, why, size)) return LK_DISCARD;
+    if (bad_inertia(y[RHS_J], why, size)) return LK_DISCARD;
+    double a = (tau - y[RHS_MB]) / y[RHS_J], lo = -INFINITY, hi = INFINITY;
+    du[2] = 1.0;
+    for (int n = 0; n < NEWTON_STEPS; n++) {
+        u[2] = a;
+        if (refused(RHS_TANGENT[s](r, u, du, y, dy), RHS_REASONS[s], LK_DISCARD, why, size))
+            return LK_DISCARD;
+        const double residual = y[RHS_MB] - tau, slope = dy[RHS_MB];
+        if (!isfinite(a) || !isfinite(residual)) {
+            set_text(why, size, "the crank's acceleration overflows float64: an input is too "
+                     "large in magnitude");
+            return LK_DISCARD;
+        }
+        if (residual == 0.0 || fabs(residual) <= 4.0 * DBL_EPSILON * fabs(tau)) break;
+        if (residual > 0.0) hi = a;
+        else lo = a;
+        double next = a - residual / slope;
+        if (!(slope > 0.0) || !isfinite(slope)) {
+            if (!isfinite(lo) || !isfinite(hi)) {
+                snprintf(why, size, "friction locks the crank: dMb/dalpha = %s at alpha = %s, "
+                         "so no acceleration makes Mb equal tau",
+                         shortest(slope, value, sizeof value), shortest(a, at, sizeof at));
+                return LK_DISCARD;
+            }
+            next = 0.5 * (lo + hi);
+        } else if (!(next > lo && next < hi)) { /* out of the bracket: bisect it; a step
+            * below rounding that lands on the end just found has converged */
+            next = isfinite(lo) && isfinite(hi) ? 0.5 * (lo + hi) : a;
+        }
+        const double step = next - a;
+        a = next;
+        if (fabs(step) <= 4.0 * DBL_EPSILON * fabs(a) ||
+            (isfinite(hi - lo) && hi - lo <= 4.0 * DBL_EPSILON * fmax(fabs(lo), fabs(hi))))
+            break;
+        if (n == NEWTON_STEPS - 1) {
+            snprintf(why, size, "Newton on the crank's acceleration (tau = Mb with friction) "
+                     "did not converge in %d steps (alpha = %s)", NEWTON_STEPS,
+                     shortest(a, at, sizeof at));
+            return LK_DISCARD;
+        }
+    }
+    memcpy(memo->memo_u, u, sizeof memo->memo_u);
+    memo->memo_u[2] = 0.0; /* the key: the inputs at alpha = 0 */
+    memo->memo_tau = tau, memo->memo_alpha = a, memo->memo_dir = dir;
+    *alpha = a;
+    return LK_OK;
+}
+#endif
+
+#if DRIVE_FRICTION
+/* The way a crank at rest at `x` moves off with the band [lo, hi]: 0 (it sticks) while tau
+ * lies in the band, else the way tau leaves it, if the acceleration then is that way (tau
+ * past an edge by a rounding error may give none, or a rounding error's other way: the
+ * crank would stop again at once, and sticks). */
+static int breakaway(const Model *m, const Values *v, const double *x, double lo, double hi) {
+    const double tau = v->real[INPUTS[0]];
+    const int dir = tau > hi ? 1 : tau < lo ? -1 : 0;
+    char why[512];
+    double alpha;
+    if (dir && acceleration(m, v, x, dir, &alpha, why, sizeof why) == LK_OK && !(dir * alpha > 0.0))
+        return 0;
+    return dir; /* where the acceleration cannot be had, the derivatives say why */
+}
+#endif
+
+/* How the crank moves at the states `x` with friction: the sign of omega; at rest, in
+ * model exchange the discrete state `motion`, in co-simulation the band's decision (0:
+ * tau inside it, it sticks; else the way tau leaves it). The band, where computed (at
+ * rest), goes to `lo` and `hi`. */
+static Status motion_of(Instance *in, const Values *v, const double *x, int *dir, double *lo,
+                        double *hi, int *has_band, char *why, size_t size) {
+    *has_band = 0;
+    if (x[1] != 0.0) {
+        *dir = x[1] > 0.0 ? 1 : -1;
+        return LK_OK;
+    }
+#if DRIVE_FRICTION
+    Status s = friction_band((const Model *)in->model, v, x[0], lo, hi, why, size);
     if (s != LK_OK) return s;
+    *has_band = 1;
+    *dir = in->exchange ? v->integer[MOTION_VR] : breakaway(in->model, v, x, *lo, *hi);
+#else
+    (void)in, (void)v, (void)lo, (void)hi, (void)why, (void)size;
+    *dir = 0;
+#endif
+    return LK_OK;
+}
+
+/* The derivatives of the states with the crank moving `dir` (0: stuck). */
+static Status derivatives_moving(const Model *m, const Values *v, const double *x, int dir,
+                                 int live, double *dx, char *why, size_t size) {
     dx[0] = x[1];
-    dx[1] = (v->real[INPUTS[0]] - mb0) / J;
+    if (live && !dir) {
+        dx[1] = 0.0;
+        return LK_OK;
+    }
+#if DRIVE_FRICTION
+    if (live) {
+        if (acceleration(m, v, x, dir, &dx[1], why, size) != LK_OK) return LK_DISCARD;
+    } else
+#endif
+    {
+        double mb0, J;
+        (void)dir;
+        Status s = moment_and_inertia(m, v, x, &mb0, &J, why, size);
+        if (s != LK_OK) return s;
+        dx[1] = (v->real[INPUTS[0]] - mb0) / J;
+    }
     if (!isfinite(dx[1])) {
         set_text(why, size, "the crank's acceleration overflows float64: an input is too large "
                  "in magnitude");
@@ -193,22 +402,60 @@ static Status backend_derivatives(Instance *in, const Values *v, const double *x
     return LK_OK;
 }
 
+static Status backend_derivatives(Instance *in, const Values *v, const double *x, double *dx,
+                                  char *why, size_t size) {
+    const Model *m = (const Model *)in->model;
+    const int live = friction_live(m);
+    int dir = 0, has_band;
+    double lo, hi;
+    if (live) {
+        Status s = motion_of(in, v, x, &dir, &lo, &hi, &has_band, why, size);
+        if (s != LK_OK) return s;
+    }
+    return derivatives_moving(m, v, x, dir, live, dx, why, size);
+}
+
 /* Every output at the states in `v`: the derivatives, then the kernel of every output at
- * (theta, omega, alpha, loads). */
+ * (theta, omega, alpha, loads), then the event indicators. While the crank sticks (the
+ * friction holding it is not at its limit, and not determined), the outputs are those at
+ * rest with friction at its limit against the way tau pushes it: Mb is the band's edge on
+ * tau's side of the band's middle. */
 static Status drive_evaluate(Instance *in, const Values *v, double *y, char *why, size_t size) {
     const Model *m = (const Model *)in->model;
-    double x[N_STATES], dx[N_STATES], u[N_INPUTS + 3];
+    const int live = friction_live(m);
+    double x[N_STATES], dx[N_STATES], u[N_INPUTS + 3], lo = 0.0, hi = 0.0;
+    int dir = 0, has_band = 0;
     for (int k = 0; k < N_STATES; k++) x[k] = v->real[STATES[k]];
-    Status s = backend_derivatives(in, v, x, dx, why, size);
+    Status s = live ? motion_of(in, v, x, &dir, &lo, &hi, &has_band, why, size) : LK_OK;
+    if (s == LK_OK) s = derivatives_moving(m, v, x, dir, live, dx, why, size);
     if (s != LK_OK) return s;
-    const double alpha = dx[1];
-    u[0] = x[0], u[1] = x[1], u[2] = alpha;
-    for (int k = 1; k < N_INPUTS; k++) u[2 + k] = v->real[INPUTS[k]];
+    const double alpha = dx[1], tau = v->real[INPUTS[0]];
+    motion_inputs(v, x[0], x[1], alpha, u);
     double *z = y + KERNEL_OUTPUTS;
-    if (refused(ONE[m->structure](m->q, u, z), REASONS[m->structure], LK_DISCARD, why, size))
-        return LK_DISCARD;
+    const int st = m->structure;
+    const double *q = m->q;
+    int (*one)(const double *, const double *, double *) = ONE[st];
+    const char *const *reasons = REASONS[st];
+#if FRICTIONLESS_KERNELS
+    if (m->plain) q = m->q0, one = PLAIN_ONE[st], reasons = PLAIN_REASONS[st];
+#endif
+#if DRIVE_FRICTION
+    if (live && (dir < 0 || (!dir && tau < 0.5 * (lo + hi)))) q = m->qb;
+#endif
+    if (refused(one(q, u, z), reasons, LK_DISCARD, why, size)) return LK_DISCARD;
     y[ALPHA_OUTPUT] = alpha;
     y[DTHETA_OUTPUT] = x[1];
+    /* the event indicators: > 0 where the crank turns, or is pushed past the band, forwards
+     * (EVENTS[0]) and backwards (EVENTS[1]); constant without friction (no switch) */
+    y[EVENTS[0]] = !live ? 1.0 : dir || !has_band ? x[1] : tau - hi;
+    y[EVENTS[1]] = !live ? 1.0 : dir || !has_band ? -x[1] : lo - tau;
     return finite_outputs(z, why, size);
+}
+
+/* How the crank moves at the start: the sign of omega0 (0 at rest: the band decides at the
+ * first step, or the first event update). */
+static int start_motion(const Values *v) {
+    const double w = v->real[STATES[1]];
+    return (w > 0.0) - (w < 0.0);
 }
 #endif

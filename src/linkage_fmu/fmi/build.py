@@ -221,8 +221,13 @@ def build_native_fmu(source, out: str | Path | None = None, fmi_version: int = 2
     model exchange of the linkage driven by the moment ``tau`` on its crank (inputs
     ``tau`` and the loads; continuous states ``theta`` and ``omega``, from the
     parameters ``theta0`` and ``omega0``; outputs ``alpha``, every output of the
-    linkage and ``J_red``); in co-simulation it integrates its motion over each step to
-    the parameter ``tolerance``.
+    linkage and ``J_red``), with the friction of its joints (``mu`` and the radii are
+    parameters): at rest the crank sticks while tau lies in the friction band, and
+    leaves it the way tau crosses it. In co-simulation it integrates its motion over
+    each step to the parameter ``tolerance``, stops located inside the step; in model
+    exchange the stops and starts are state events (its event indicators and the
+    discrete state ``motion``). Its structures are those whose balancing effort is a
+    moment on the crank (the six-bar's ``driver`` takes only ``OA``).
 
     Its binaries are for this machine's platform (``platforms`` None), for ``"all"`` the
     FMI version names (FMI 2.0: ``linux64``, ``win64``, ``darwin64``, this one universal,
@@ -256,14 +261,12 @@ def build_native_fmu(source, out: str | Path | None = None, fmi_version: int = 2
     _check_version(fmi_version)
     chosen = select(platforms, fmi_version)
     d, mech = _assembling(source, parameters)
-    if drive:  # refused before anything is traced or compiled; no friction (its mu are 0)
-        mech = d.build(**{n: 0.0 for n in d.friction_parameters(("mu",))})
+    if drive:  # refused before anything is traced or compiled
         writers.table_of(mech, "native", drive)
     mu = d.friction_parameters(("mu",))
-    plain = None if drive or not d.friction else (
+    plain = None if not d.friction else (
         lambda **structure: d.build(**structure, **dict.fromkeys(mu, 0.0)), mu)
-    model_c, _ = writers.model_source(mech, d.fmu_build if not drive else d.build, drive,
-                                      plain)
+    model_c, _ = writers.model_source(mech, d.fmu_build, drive, plain)
     model = writers.model_name(mech, drive)
     guid = str(uuid.uuid4())
     out = Path(out or ("dist/native" if fmi_version == 2 else "dist/native3"))

@@ -12,11 +12,14 @@
  *   until the limit is located to the tolerance (the states would change by less than it
  *   before the limit) or to the resolution of the time; the step then ends there:
  *   Discard, the last successful time that of the last good state, whose outputs the
- *   reads give.
+ *   reads give. With friction, wherever omega is 0 (the step's start, a stop located
+ *   inside it by the Illinois method) the friction band decides: the crank sticks for
+ *   the rest of the step, or moves off the way tau leaves the band.
  * - Model exchange: the importer integrates; SetTime, SetContinuousStates,
  *   GetContinuousStates, GetDerivatives (Discard, with NaN and a log, where the backend
- *   cannot give them), the nominals (1), no event indicators, and the modes: after
- *   initialisation event mode, continuous-time mode, and back.
+ *   cannot give them), the nominals (1), the event indicators (the stops and starts),
+ *   the event update of the discrete state `motion` (a stop sets omega to 0), and the
+ *   modes: after initialisation event mode, continuous-time mode, and back.
  *
  * The backend gives the derivatives: backend_derivatives(in, v, x, dx, why, size), with
  * the inputs and parameters in `v` and the states `x`: LK_OK; LK_DISCARD with `why`.
@@ -76,61 +79,93 @@ static int located(const double *x, const double *dx, double tol, double span, d
     return 1;
 }
 
-/* Integrate the states from `t` over `h` (DoStep of a model with continuous states):
- * LK_OK at `t + h`; LK_DISCARD where the motion cannot go on (at its start: nothing
- * changes; later: the states and time of the last good substep); LK_ERROR for an invalid
- * parameter set or a failed backend. */
-static Status advance(Instance *in, const char *call, double t, double h) {
-    char why[512], at[32], states[256];
-    if (prepare(in, call) != LK_OK) {
-        if (in->machine != S_FAILED)
-            say(in, LK_ERROR, "%s: the parameter set is invalid: %s", call, in->problem);
-        return LK_ERROR;
+/* One Dormand-Prince substep of `step` from `x`, whose derivatives are in k[0]: the stages
+ * k[1..6] and the 5th-order solution `y` (k[6] its derivatives). */
+static Status dp_substep(Instance *in, const char *call, const double *x, double k[7][N_STATES],
+                         double step, double *y, char *why, size_t size) {
+    Status s = LK_OK;
+    for (int j = 1; j < 7 && s == LK_OK; j++) {
+        for (int i = 0; i < N_STATES; i++) {
+            double sum = 0.0;
+            for (int m = 0; m < j; m++) sum += DP_A[j][m] * k[m][i];
+            y[i] = x[i] + step * sum;
+        }
+        s = answer(in, call, backend_derivatives(in, &in->values, y, k[j], why, size));
     }
-    double x[N_STATES], y[N_STATES], e[N_STATES], k[7][N_STATES];
-    for (int i = 0; i < N_STATES; i++) x[i] = in->values.real[STATES[i]];
+    return s;
+}
+
+/* Where omega, positive times `dir` at `x` and not at the end of the substep `*step` (whose
+ * end state is `y`), reaches 0: by the Illinois method on the substep's length, each trial a
+ * substep from `x` (whose derivatives are `k0`), until omega changes by less than the
+ * tolerance over the bracket or it is below the resolution of the time. `*step` and `y`
+ * become the substep to the stop (omega 0 in `y`). */
+static Status locate_stop(Instance *in, const char *call, const double *x, const double *k0,
+                          int dir, double t, double tol, double *step, double *y, int *at_once,
+                          char *why, size_t size) {
+    double k[7][N_STATES], trial[N_STATES], a = 0.0, b = *step;
+    double ga = dir * x[1], gb = dir * y[1];
+    int side = 0;
+    memcpy(k[0], k0, sizeof k[0]);
+    for (int n = 0; n < 200 && gb != 0.0; n++) {
+        const double rate = fmax(fabs(k0[1]), fabs(ga - gb) / (b - a));
+        if ((b - a) * rate <= tol || b - a <= 4.0 * DBL_EPSILON * fabs(t + b)) break;
+        double c = b - gb * (b - a) / (gb - ga);
+        if (!(c > a && c < b)) c = 0.5 * (a + b);
+        Status s = dp_substep(in, call, x, k, c, trial, why, size);
+        if (s != LK_OK) return s;
+        const double gc = dir * trial[1];
+        if (gc > 0.0) {
+            a = c, ga = gc;
+            if (side == 1) gb *= 0.5; /* Illinois: the end kept twice is halved */
+            side = 1;
+        } else {
+            b = c, gb = gc;
+            memcpy(y, trial, sizeof trial);
+            if (side == -1) ga *= 0.5;
+            side = -1;
+        }
+    }
+    *step = b;
+    y[1] = 0.0;
+    *at_once = a == 0.0; /* no trial found omega turned `dir`-wards */
+    return LK_OK;
+}
+
+/* Integrate the states `x` of the crank moving `dir` (+1, -1; 0 without friction) from
+ * `t + *done` towards `t + h`, each substep within the tolerance; with friction, stop
+ * where omega reaches 0 (`*stopped`, omega then exactly 0; 2 where omega never turned
+ * `dir`-wards: a crank from rest that cannot move off). LK_OK at the end of the step
+ * or a stop; LK_DISCARD where the motion cannot go on (`*done` and `x` those of the last
+ * good substep, `why` says why); LK_ERROR for a failed backend. */
+static Status integrate(Instance *in, const char *call, double t, double h, double *x,
+                        double *done, int dir, int *stopped, long *substeps, char *why,
+                        size_t size) {
+    double y[N_STATES], e[N_STATES], k[7][N_STATES];
     const double tol = in->values.real[TOLERANCE_VR];
-    Status s = LK_DISCARD;
-    if (!unfit_inputs(in, why, sizeof why)[0])
-        s = answer(in, call, backend_derivatives(in, &in->values, x, k[0], why, sizeof why));
-    if (s > LK_DISCARD) return say(in, LK_ERROR, "%s: %s", call, why[0] ? why : "the backend failed");
-    if (s == LK_DISCARD) { /* not even the start: the states stay, the outputs are NaN */
-        in->discarded = 1;
-        describe_states(x, states, sizeof states);
-        return say(in, LK_DISCARD, "%s: the motion cannot start at t = %s from %s: %s", call,
-                   shortest(t, at, sizeof at), states, why);
-    }
-    double done = 0.0, hs = in->substep > 0.0 ? in->substep : first_substep(x, k[0], tol, h);
+    *stopped = 0;
+    Status s = answer(in, call, backend_derivatives(in, &in->values, x, k[0], why, size));
+    if (s != LK_OK) return s;
+    double hs = in->substep > 0.0 ? in->substep : first_substep(x, k[0], tol, h - *done);
     double limit = INFINITY; /* a substep from `done` that reached a stage without derivatives */
     char limit_why[512] = "";
     int rejected = 0;
-    long substeps = 0;
-    while (done < h) {
-        if (++substeps > MAX_SUBSTEPS) {
-            snprintf(why, sizeof why, "more than %ld substeps in one step", MAX_SUBSTEPS);
-            s = LK_DISCARD;
-            break;
+    while (*done < h) {
+        if (++*substeps > MAX_SUBSTEPS) {
+            snprintf(why, size, "more than %ld substeps in one step", MAX_SUBSTEPS);
+            return LK_DISCARD;
         }
-        const double left = h - done;
+        const double left = h - *done;
         double step = hs;
         int last = 0;
         if (step >= left) step = left, last = 1;
         if (step >= limit) step = 0.5 * limit, last = 0;
-        s = LK_OK;
-        for (int j = 1; j < 7 && s == LK_OK; j++) {
-            for (int i = 0; i < N_STATES; i++) {
-                double sum = 0.0;
-                for (int m = 0; m < j; m++) sum += DP_A[j][m] * k[m][i];
-                y[i] = x[i] + step * sum;
-            }
-            s = answer(in, call, backend_derivatives(in, &in->values, y, k[j], why, sizeof why));
-        }
-        if (s > LK_DISCARD)
-            return say(in, LK_ERROR, "%s: %s", call, why[0] ? why : "the backend failed");
+        s = dp_substep(in, call, x, k, step, y, why, size);
+        if (s > LK_DISCARD) return s;
         if (s == LK_DISCARD) { /* past a limit: bisect towards it */
             limit = step;
             set_text(limit_why, sizeof limit_why, why);
-            if (located(x, k[0], tol, limit, t + done)) break;
+            if (located(x, k[0], tol, limit, fmax(fabs(t + *done), fabs(t + h)))) break;
             hs = 0.5 * step;
             continue;
         }
@@ -140,30 +175,130 @@ static Status advance(Instance *in, const char *call, double t, double h) {
             e[i] = step * sum;
         }
         const double err = error_norm(e, x, y, tol);
+        /* a substep the time cannot resolve: at most that of the step's end (at t = 0,
+         * a substep below the step's own resolution is as meaningless) */
+        const double resolution = 4.0 * DBL_EPSILON * fmax(fabs(t + *done), fabs(t + h));
         if (!(err <= 1.0)) { /* rejected (a NaN estimate too): shorter */
             hs = step * (err == err ? fmax(0.2, 0.9 * pow(err, -0.2)) : 0.2);
             rejected = 1;
-            if (hs <= 4.0 * DBL_EPSILON * fabs(t + done)) {
-                snprintf(why, sizeof why, "the substep the tolerance needs falls below the "
+            if (hs <= resolution) {
+                snprintf(why, size, "the substep the tolerance needs falls below the "
                          "resolution of the time");
-                s = LK_DISCARD;
-                break;
+                return LK_DISCARD;
             }
             continue;
         }
-        done = last ? h : done + step;
+        if (dir && dir * y[1] <= 0.0) { /* the crank stops within the substep */
+            const double whole = step;
+            int at_once;
+            s = locate_stop(in, call, x, k[0], dir, t + *done, tol, &step, y, &at_once, why,
+                            size);
+            if (s != LK_OK) return s;
+            if (at_once && x[1] == 0.0) { /* from rest, not even the start moves off */
+                *stopped = 2;
+                in->substep = hs;
+                return LK_OK;
+            }
+            *done = last && step == whole ? h : *done + step;
+            memcpy(x, y, sizeof y);
+            *stopped = 1;
+            in->substep = hs;
+            return LK_OK;
+        }
+        if (!last && step <= resolution) {
+            snprintf(why, size, "the substep the tolerance needs falls below the "
+                     "resolution of the time");
+            return LK_DISCARD;
+        }
+        *done = last ? h : *done + step;
         limit -= step;
-        memcpy(x, y, sizeof x);
+        memcpy(x, y, sizeof y);
         memcpy(k[0], k[6], sizeof k[0]);
         double grow = err > 0.0 ? 0.9 * pow(err, -0.2) : 5.0;
         grow = fmin(rejected ? 1.0 : 5.0, fmax(0.2, grow));
         rejected = 0;
         /* a last substep cut to the end of the step does not shrink the next one */
         hs = last ? fmax(step * grow, hs) : step * grow;
-        if (limit < INFINITY && located(x, k[0], tol, limit, t + done)) break;
+        if (limit < INFINITY && located(x, k[0], tol, limit, fmax(fabs(t + *done), fabs(t + h))))
+            break;
+    }
+    in->substep = hs;
+    if (*done >= h) return LK_OK;
+    set_text(why, size, limit_why);
+    return LK_DISCARD;
+}
+
+/* The most stops and starts in one step: a guard, never reached by a motion that goes on */
+#define MAX_SWITCHES 100000L
+
+/* Integrate the states from `t` over `h` (DoStep of a model with continuous states):
+ * LK_OK at `t + h`; LK_DISCARD where the motion cannot go on (at its start: nothing
+ * changes; later: the states and time of the last good substep); LK_ERROR for an invalid
+ * parameter set or a failed backend. With friction, wherever omega is 0 (the step's start,
+ * a stop located inside it) the friction band decides: the crank sticks for the rest of
+ * the step (tau is held over it), or moves off the way tau leaves the band. */
+static Status advance(Instance *in, const char *call, double t, double h) {
+    char why[512], at[32], states[256];
+    if (prepare(in, call) != LK_OK) {
+        if (in->machine != S_FAILED)
+            say(in, LK_ERROR, "%s: the parameter set is invalid: %s", call, in->problem);
+        return LK_ERROR;
+    }
+    double x[N_STATES];
+    for (int i = 0; i < N_STATES; i++) x[i] = in->values.real[STATES[i]];
+    const int live = friction_live((const Model *)in->model);
+    double done = 0.0;
+    long substeps = 0, switches = 0;
+    Status s = LK_DISCARD;
+    why[0] = '\0';
+    if (!unfit_inputs(in, why, sizeof why)[0]) {
+        s = LK_OK;
+        while (done < h && s == LK_OK) {
+            int dir = 0, stopped = 0, has_band;
+            double lo, hi;
+            if (live) {
+                s = answer(in, call, motion_of(in, &in->values, x, &dir, &lo, &hi, &has_band,
+                                               why, sizeof why));
+                if (s != LK_OK) break;
+                in->values.integer[MOTION_VR] = dir;
+                if (!dir) { /* stuck in the band: theta and omega stay, over the rest */
+                    done = h;
+                    break;
+                }
+            }
+            s = integrate(in, call, t, h, x, &done, dir, &stopped, &substeps, why, sizeof why);
+            if (s == LK_OK && stopped == 2) {
+                /* the band lets it go, but its acceleration turns back at once (friction
+                 * all but locks it): it cannot move off, and stays for the rest */
+                in->values.integer[MOTION_VR] = 0;
+                done = h;
+                break;
+            }
+            if (s == LK_OK && stopped && ++switches > MAX_SWITCHES) {
+                snprintf(why, sizeof why, "the crank stops and starts more than %ld times in "
+                         "one step", MAX_SWITCHES);
+                s = LK_DISCARD;
+            }
+        }
+        if (s == LK_OK && live && x[1] == 0.0 && in->values.integer[MOTION_VR]) {
+            /* stopped at the step's end: the band says */
+            int dir, has_band;
+            double lo, hi;
+            s = answer(in, call, motion_of(in, &in->values, x, &dir, &lo, &hi, &has_band, why,
+                                           sizeof why));
+            if (s == LK_OK) in->values.integer[MOTION_VR] = dir;
+        }
+    }
+    if (s > LK_DISCARD) return say(in, LK_ERROR, "%s: %s", call, why[0] ? why : "the backend failed");
+    if (s == LK_DISCARD && done == 0.0) { /* not even the start: the states stay */
+        in->discarded = 1;
+        for (int i = 0; i < N_STATES; i++) x[i] = in->values.real[STATES[i]];
+        describe_states(x, states, sizeof states);
+        return say(in, LK_DISCARD, "%s: the motion cannot start at t = %s from %s: %s", call,
+                   shortest(t, at, sizeof at), states, why);
     }
     for (int i = 0; i < N_STATES; i++) in->values.real[STATES[i]] = x[i];
-    in->substep = hs;
+    if (live && x[1] != 0.0) in->values.integer[MOTION_VR] = x[1] > 0.0 ? 1 : -1;
     in->time = t + done;
     changed(in, 0);
     in->discarded = done < h;
@@ -172,8 +307,8 @@ static Status advance(Instance *in, const char *call, double t, double h) {
     char end[32];
     return say(in, LK_DISCARD, "%s: the motion cannot go on past t = %s (%s): %s; the step "
                "from t = %s ends there (lastSuccessfulTime), with the outputs of that state",
-               call, shortest(t + done, end, sizeof end), states,
-               limit_why[0] ? limit_why : why, shortest(t, at, sizeof at));
+               call, shortest(t + done, end, sizeof end), states, why,
+               shortest(t, at, sizeof at));
 }
 
 /* -- model exchange ------------------------------------------------------------------- */
@@ -244,12 +379,79 @@ static Status lk_get_nominals(void *c, const char *call, double nominals[], size
     return LK_OK;
 }
 
-/* No event indicators: only an empty call. */
-static Status lk_get_event_indicators(void *c, const char *call, size_t n) {
+/* The event indicators (EVENTS among the outputs): Discard (NaN, with a log) where they
+ * cannot be had, as the derivatives. */
+static Status lk_get_event_indicators(void *c, const char *call, double z[], size_t n) {
     INSTANCE(c, call);
     if (require(in, call, READABLE)) return LK_ERROR;
-    if (n) return say(in, LK_ERROR, "%s: nEventIndicators = %zu, but " MODEL_IDENTIFIER
-                      " has none", call, n);
+    if (n != N_EVENTS)
+        return say(in, LK_ERROR, "%s: nEventIndicators = %zu, but " MODEL_IDENTIFIER " has %d",
+                   call, n, N_EVENTS);
+    if (n && !z) return say(in, LK_ERROR, "%s: the array is NULL", call);
+    Status s = evaluate(in, call);
+    if (s == LK_ERROR) {
+        if (in->machine != S_FAILED && !in->prepared)
+            say(in, LK_ERROR, "%s: the parameter set is invalid: %s", call, in->problem);
+        return LK_ERROR;
+    }
+    for (int k = 0; k < N_EVENTS; k++) z[k] = in->outputs[EVENTS[k]];
+    if (s == LK_DISCARD) report(in, LK_DISCARD, call, in->time);
+    return s;
+}
+
+/* Model exchange's event update (an event indicator crossed 0, an input changed, the
+ * initial one): with friction, a crank that moved `motion` and whose omega reached or
+ * crossed 0 stops there (omega set to 0: `*moved`), and at rest the friction band decides
+ * `motion` (0: it sticks, else the way tau leaves the band); a moving crank keeps moving
+ * the way omega turns. */
+static Status drive_event(Instance *in, const char *call, int *moved) {
+    char why[512];
+    *moved = 0;
+    if (prepare(in, call) != LK_OK) {
+        if (in->machine != S_FAILED)
+            say(in, LK_ERROR, "%s: the parameter set is invalid: %s", call, in->problem);
+        return LK_ERROR;
+    }
+    double x[N_STATES];
+    for (int k = 0; k < N_STATES; k++) x[k] = in->values.real[STATES[k]];
+    int *motion = &in->values.integer[MOTION_VR];
+    const int was = *motion;
+    if (!friction_live((const Model *)in->model)) {
+        *motion = (x[1] > 0.0) - (x[1] < 0.0);
+    }
+#if DRIVE_FRICTION
+    else if (x[1] != 0.0 && was * x[1] > 0.0) {
+        /* moving on */
+    } else if (x[1] != 0.0 && !was) { /* set moving while it stuck: it moves as omega says */
+        *motion = x[1] > 0.0 ? 1 : -1;
+    } else {
+        if (x[1] != 0.0) { /* omega crossed 0 as the crank moved `was`: it stops there */
+            x[1] = 0.0;
+            in->values.real[STATES[1]] = 0.0;
+            *moved = 1;
+        }
+        double lo, hi;
+        char at[32];
+        Status s = LK_DISCARD;
+        why[0] = '\0';
+        if (!unfit_inputs(in, why, sizeof why)[0])
+            s = answer(in, call, friction_band((const Model *)in->model, &in->values, x[0], &lo,
+                                               &hi, why, sizeof why));
+        if (s > LK_DISCARD) return say(in, LK_ERROR, "%s: %s", call, why);
+        if (s == LK_DISCARD) {
+            changed(in, 0);
+            return say(in, LK_DISCARD, "%s: at rest at t = %s, the friction band cannot be had: "
+                       "%s", call, shortest(in->time, at, sizeof at), why);
+        }
+        *motion = breakaway((const Model *)in->model, &in->values, x, lo, hi);
+        /* it stopped moving `was`, and would move off that way again: the acceleration
+         * turns back as soon as it moves (friction all but locks it); it stays */
+        if (was && *motion == was) *motion = 0;
+    }
+#else
+    (void)why;
+#endif
+    if (*moved || *motion != was) changed(in, 0);
     return LK_OK;
 }
 
@@ -259,8 +461,8 @@ static Status lk_enter_continuous_time_mode(void *c, const char *call) {
     return move(in, call, IN(S_EVENT), S_CONTINUOUS);
 }
 
-/* Model exchange's event mode, entered from continuous-time mode (the model has no events:
- * nothing changes but the mode). */
+/* Model exchange's event mode, entered from continuous-time mode: nothing changes but the
+ * mode (the event update does the work). */
 static Status lk_exchange_event_mode(void *c, const char *call) {
     INSTANCE(c, call);
     return move(in, call, IN(S_CONTINUOUS), S_EVENT);

@@ -256,9 +256,11 @@ fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *eventInfo) {
     Instance *in = lk_instance(c, "fmi2NewDiscreteStates");
     if (!in) return fmi2Error;
     if (!eventInfo) return (fmi2Status)say(in, LK_ERROR, "fmi2NewDiscreteStates: eventInfo is NULL");
-    Status s = lk_update_discrete_states(in, "fmi2NewDiscreteStates");
+    int moved;
+    Status s = lk_update_discrete_states(in, "fmi2NewDiscreteStates", &moved);
     if (s != LK_OK) return (fmi2Status)s;
-    memset(eventInfo, 0, sizeof *eventInfo); /* no events: nothing needed, nothing changed */
+    memset(eventInfo, 0, sizeof *eventInfo); /* settled in one call; no time events */
+    eventInfo->valuesOfContinuousStatesChanged = moved ? fmi2True : fmi2False;
     return fmi2OK;
 }
 
@@ -293,8 +295,7 @@ fmi2Status fmi2GetDerivatives(fmi2Component c, fmi2Real derivatives[], size_t nx
 }
 
 fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real eventIndicators[], size_t ni) {
-    (void)eventIndicators;
-    return (fmi2Status)lk_get_event_indicators(c, "fmi2GetEventIndicators", ni);
+    return (fmi2Status)lk_get_event_indicators(c, "fmi2GetEventIndicators", eventIndicators, ni);
 }
 
 fmi2Status fmi2GetContinuousStates(fmi2Component c, fmi2Real x[], size_t nx) {

@@ -10,8 +10,9 @@
  * - EnterInitializationMode with the experiment's times, and DoStep's out-arguments: a
  *   discarded step sets lastSuccessfulTime to its start and terminateSimulation;
  * - event mode, for an importer that instantiates with eventModeUsed (hasEventMode is
- *   true): the model has no events, so DoStep never asks for one, UpdateDiscreteStates
- *   changes nothing and EnterStepMode goes back to steps;
+ *   true): DoStep never asks for an event (a drive FMU's stops are handled inside it),
+ *   UpdateDiscreteStates changes nothing in co-simulation and EnterStepMode goes back
+ *   to steps; in model exchange it is the drive's event update (continuous.c);
  * - the variables' dependencies (providesPerElementDependencies), those of the
  *   modelDescription's ModelStructure, from config.h's table;
  * - every FMI 3.0 function is exported: what the model has not (model exchange without
@@ -370,7 +371,7 @@ fmi3Status fmi3DeserializeFMUState(fmi3Instance instance, const fmi3Byte seriali
 /* -- not supported: every other FMI 3.0 function answers fmi3Error with a log ------------- */
 #define UNSUPPORTED(name, why) return (fmi3Status)lk_refuse(instance, #name, why)
 
-/* -- event mode: the model has no events; an importer that uses event mode may enter it --- */
+/* -- event mode: co-simulation has no events; an importer that uses event mode may enter it */
 fmi3Status fmi3EnterEventMode(fmi3Instance instance) {
     Instance *in = lk_instance(instance, "fmi3EnterEventMode");
     if (!in) return fmi3Error;
@@ -401,9 +402,11 @@ fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean *discrete
                                    k + 2);
     if (!nextEventTime)
         return (fmi3Status)say(in, LK_ERROR, "fmi3UpdateDiscreteStates: nextEventTime is NULL");
-    Status s = lk_update_discrete_states(in, "fmi3UpdateDiscreteStates");
+    int moved;
+    Status s = lk_update_discrete_states(in, "fmi3UpdateDiscreteStates", &moved);
     if (s != LK_OK) return (fmi3Status)s;
     for (size_t k = 0; k < sizeof flags / sizeof *flags; k++) *flags[k] = fmi3False;
+    *valuesOfContinuousStatesChanged = moved ? fmi3True : fmi3False;
     *nextEventTime = 0.0;
     return fmi3OK;
 }
@@ -580,9 +583,8 @@ fmi3Status fmi3GetContinuousStateDerivatives(fmi3Instance instance, fmi3Float64 
 
 fmi3Status fmi3GetEventIndicators(fmi3Instance instance, fmi3Float64 eventIndicators[],
                                   size_t nEventIndicators) {
-    (void)eventIndicators;
     return (fmi3Status)lk_get_event_indicators(instance, "fmi3GetEventIndicators",
-                                               nEventIndicators);
+                                               eventIndicators, nEventIndicators);
 }
 
 fmi3Status fmi3GetContinuousStates(fmi3Instance instance, fmi3Float64 continuousStates[],
@@ -602,7 +604,7 @@ fmi3Status fmi3GetNumberOfEventIndicators(fmi3Instance instance, size_t *nEventI
     if (!in) return fmi3Error;
     if (!nEventIndicators)
         return (fmi3Status)say(in, LK_ERROR, "fmi3GetNumberOfEventIndicators: the pointer is NULL");
-    *nEventIndicators = 0;
+    *nEventIndicators = N_EVENTS;
     return fmi3OK;
 }
 

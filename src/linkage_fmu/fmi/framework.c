@@ -237,6 +237,10 @@ static Status check_settable(const Instance *in, const char *call, const ValueRe
             return say(in, LK_ERROR, "%s: '%s' (value reference %u) is a continuous state: it "
                        "starts at its start parameter, and model exchange sets it with "
                        "SetContinuousStates", call, v->name, (unsigned)vr[i]);
+        if (v->kind == K_DISCRETE)
+            return say(in, LK_ERROR, "%s: '%s' (value reference %u) is a discrete state: the "
+                       "model changes it at its events, it cannot be set", call, v->name,
+                       (unsigned)vr[i]);
         return say(in, LK_ERROR, "%s: '%s' (value reference %u) %s%s", call, v->name,
                    (unsigned)vr[i],
                    v->kind == K_FIXED ? "is a fixed parameter: it can only be set before "
@@ -430,6 +434,7 @@ static Status backend_evaluate(Instance *in, const Values *v, double *y, char *w
 
 #if N_STATES > 0
 static Status advance(Instance *in, const char *call, double t, double h);
+static Status drive_event(Instance *in, const char *call, int *moved);
 #endif
 
 /* A backend's Fatal fails the instance for good. */
@@ -675,6 +680,10 @@ static Status lk_exit_initialization(void *c, const char *call) {
                    "initialisation mode until it is fixed", call, in->problem);
     }
     start_states(in);
+#if N_STATES > 0
+    in->values.integer[MOTION_VR] = start_motion(&in->values);
+    changed(in, 0);
+#endif
     in->machine = in->event_mode_used || in->exchange ? S_EVENT : S_STEP;
     return LK_OK;
 }
@@ -702,10 +711,16 @@ static inline Status lk_enter_step_mode(void *c, const char *call) {
     return move(in, call, IN(S_EVENT), S_STEP);
 }
 
-/* No discrete state changes: one call settles an event. */
-static inline Status lk_update_discrete_states(void *c, const char *call) {
+/* One call settles an event: a co-simulation instance has no discrete state; model
+ * exchange's drive (continuous.c) updates its motion, and may set omega to 0 (`*moved`). */
+static inline Status lk_update_discrete_states(void *c, const char *call, int *moved) {
     INSTANCE(c, call);
-    return require(in, call, IN(S_EVENT));
+    *moved = 0;
+    if (require(in, call, IN(S_EVENT))) return LK_ERROR;
+#if N_STATES > 0
+    if (in->exchange) return drive_event(in, call, moved);
+#endif
+    return LK_OK;
 }
 
 static Status lk_reset(void *c, const char *call) {

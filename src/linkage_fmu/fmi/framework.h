@@ -21,8 +21,9 @@ typedef unsigned int ValueReference;
 
 enum { T_REAL, T_INTEGER, T_BOOLEAN, T_STRING };
 /* what a variable is, for the rules on setting it (K_STATE: a continuous state, kept with
- * the values, set only by the model-exchange call or from its start parameter) */
-enum { K_INPUT, K_FIXED, K_TUNABLE, K_OUTPUT, K_OTHER, K_STATE };
+ * the values, set only by the model-exchange call or from its start parameter;
+ * K_DISCRETE: a discrete state, kept with the values, changed by the model only) */
+enum { K_INPUT, K_FIXED, K_TUNABLE, K_OUTPUT, K_OTHER, K_STATE, K_DISCRETE };
 /* the rule a real parameter's value meets */
 enum { RULE_FINITE, RULE_POSITIVE, RULE_NONNEGATIVE, RULE_SIGN };
 

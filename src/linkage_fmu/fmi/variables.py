@@ -4,9 +4,9 @@ Inputs first (``theta``, ``omega``, ``alpha``, then each load), then every param
 the linkage's description, then ``method``, then the outputs and diagnostics; value
 references follow this order from 0. The drive FMU's table (:func:`drive_variables`)
 has the input ``tau`` and the loads, the parameters with ``theta0``, ``omega0`` and
-``tolerance``, the continuous states ``theta`` and ``omega``, then ``alpha`` (the
-derivative of ``omega``), every output and diagnostic (``J_red`` among them) and
-``der(theta)``.
+``tolerance``, the continuous states ``theta`` and ``omega``, the discrete state
+``motion``, then ``alpha`` (the derivative of ``omega``), every output and diagnostic
+(``J_red`` among them), ``der(theta)`` and the event indicators.
 Everything generated for an FMU (its modelDescription, ``config.h``, the native kernels'
 tables) is written from these tables (:mod:`~linkage_fmu.fmi.writers`).
 
@@ -58,7 +58,8 @@ class Variable:
     for an Integer, whose values are ``allowed``, and a String, whose are ``options``);
     ``index``: its position among the variables of its causality (a continuous state's
     among the states, a derivative's among the computed outputs); ``state``: a
-    continuous state; ``derivative``: the name of the state it is the derivative of."""
+    continuous state; ``derivative``: the name of the state it is the derivative of;
+    ``event``: an event indicator; ``discrete``: a discrete state of the model."""
 
     name: str
     type: str
@@ -77,6 +78,10 @@ class Variable:
     options: tuple = ()
     state: bool = False
     derivative: str = ""
+    #: computed by the model as its outputs are, for model exchange's event indicators
+    event: bool = False
+    #: a discrete state the model changes itself (at events), read but never set
+    discrete: bool = False
 
 
 def _one_of(options) -> str:
@@ -118,24 +123,29 @@ def _output(mech, name: str, inputs: tuple, index: int) -> Variable:
                     text, None, depends, index=index)
 
 
-def _parameters(mech, zero: frozenset = frozenset()) -> list[Variable]:
-    """The variables of the parameters of the linkage's description; those in ``zero``
-    are 0 and can only be 0."""
+def _parameters(mech, choices: dict | None = None, notes: dict | None = None
+                ) -> list[Variable]:
+    """The variables of the parameters of the linkage's description; a choice named in
+    ``choices`` takes only the values listed there, and a parameter named in ``notes``
+    has that note after its description."""
     table = []
     for k, p in enumerate(mech.description.parameter_specs()):
         value = mech.parameters[p.name]
+        note = (notes or {}).get(p.name, "")
         if p.kind == "branch":
             table.append(Variable(p.name, "Integer", "parameter", "fixed", "", "", p.description,
                                   int(value), index=k, rule="+1 or -1", allowed=(1, -1)))
         elif p.kind == "choice":
+            options = tuple(map(str, (choices or {}).get(p.name, p.choices)))
             table.append(Variable(p.name, "String", "parameter", "fixed", "", "",
-                                  f"{p.description} (one of {', '.join(map(str, p.choices))})",
-                                  str(value), index=k, rule=_one_of(p.choices),
-                                  options=tuple(map(str, p.choices))))
-        elif p.name in zero:
+                                  f"{p.description} (one of {', '.join(options)}{note})",
+                                  str(value), index=k, rule=_one_of(options), options=options))
+        elif note:
             table.append(Variable(p.name, "Real", "parameter", "fixed", p.unit, "",
-                                  f"{p.description} (0 here: this model has no friction)",
-                                  0.0, index=k, rule=p.rule, minimum=0.0, maximum=0.0))
+                                  f"{p.description} ({note})", float(value), index=k,
+                                  rule=p.rule, minimum=-math.inf if p.minimum is None else
+                                  float(p.minimum), maximum=math.inf if p.maximum is None
+                                  else float(p.maximum)))
         else:
             table.append(Variable(
                 p.name, "Real", "parameter", "fixed", p.unit, "deg" if p.unit == "rad" else "",
@@ -150,12 +160,39 @@ def _parameters(mech, zero: frozenset = frozenset()) -> list[Variable]:
 TOLERANCE, FINEST = 1e-8, 1e-14
 
 
+def crank_choices(mech) -> dict:
+    """The values of each choice parameter of ``mech`` with which its balancing effort is a
+    moment on its crank (the others' values as ``mech`` has them): what a drive FMU, whose
+    input is that moment, can be built for.
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets
+    >>> crank_choices(presets.get("six_bar"))
+    {'driver': ('OA',)}
+    """
+    d = mech.description
+    return {p.name: tuple(c for c in p.choices if d.build(**{p.name: c}).effort_on_crank)
+            for p in d.parameter_specs() if p.kind == "choice"}
+
+
+#: the drive FMU's discrete state: how the crank moves (+1 forwards, -1 backwards, 0 stuck)
+MOTION_STATE = "motion"
+#: the drive FMU's event indicators (model exchange), each > 0 where the crank turns, or is
+#: pushed past the friction band, that way
+EVENT_INDICATORS = ("z_forwards", "z_backwards")
+
+
 def drive_variables(mech) -> list[Variable]:
     """The variable table of the drive FMU of ``mech``: the linkage driven by a moment
     ``tau`` on its crank, its motion integrated from ``theta0`` and ``omega0`` (the
-    linkage's start values) to the tolerance ``tolerance``. Its equations of motion have
-    no joint friction: its coefficients of friction are parameters fixed at 0 (another
-    value is refused).
+    linkage's start values) to the tolerance ``tolerance``, with the friction of its
+    joints (its ``mu`` and radii are parameters like any other). A choice parameter
+    takes only the values with which the effort stays a moment on the crank
+    (:func:`crank_choices`: the six-bar's ``driver`` only ``OA``); ``drive`` is not
+    used (at rest, friction opposes the motion the crank takes or is pushed to).
+    Besides: the discrete state ``motion`` (+1, -1, 0: stuck in the friction band) and
+    the event indicators ``z_forwards`` and ``z_backwards`` of model exchange.
 
     Raises
     ------
@@ -173,7 +210,14 @@ def drive_variables(mech) -> list[Variable]:
         text = load.description or f"{load.kind} on link {load.body}"
         table.append(Variable(load.name, "Real", "input", "continuous", load.unit, "", text,
                               float(load.start), index=k))
-    table += _parameters(mech, mech.description.friction_parameters(("mu",)))
+    choices = crank_choices(mech)
+    notes = {name: ": a drive FMU drives the crank" for name, options in choices.items()
+             if len(options) < len(mech.description.parameters[name]["choices"])}
+    drive = mech.description.drive
+    if drive in mech.parameters:
+        notes[drive] = ("not used by the drive FMU: at rest, friction opposes the motion "
+                        "the crank takes or is pushed to")
+    table += _parameters(mech, choices, notes)
     n = len(mech.description.parameters)
     for k, name in enumerate(("theta", "omega")):
         unit, display, text = _MOTION_INFO[name]
@@ -188,14 +232,27 @@ def drive_variables(mech) -> list[Variable]:
         unit, display, text = _MOTION_INFO[name]
         table.append(Variable(name, "Real", "output", "continuous", unit, display,
                               f"{text} (a continuous state)", None, index=k, state=True))
+    table.append(Variable(MOTION_STATE, "Integer", "local", "discrete", "", "",
+                          "how the crank moves: +1 forwards (counter-clockwise), -1 backwards, "
+                          "0 stuck (at rest, tau inside the friction band); a discrete state",
+                          None, index=n + 3, allowed=(1, 0, -1), rule="+1, 0 or -1",
+                          discrete=True))
     unit, display, text = _MOTION_INFO["alpha"]
     table.append(Variable("alpha", "Real", "output", "continuous", unit, display,
-                          f"{text}: Eksergian's (tau - Mb(alpha = 0)) / J_red", None, moved,
-                          index=0, derivative="omega"))
+                          f"{text}: the root of tau = Mb(theta, omega, alpha) with friction; 0 "
+                          "while the crank sticks", None, moved, index=0, derivative="omega"))
     names = mech.output_names + mech.diagnostic_names
     for k, name in enumerate(names, 1):
         table.append(_output(mech, name, moved, k))
     table.append(Variable("der(theta)", "Real", "local", "continuous", "rad/s", "",
                           "derivative of theta: omega", None, ("omega",), index=len(names) + 1,
                           derivative="theta"))
+    for k, (name, way) in enumerate(zip(EVENT_INDICATORS, ("forwards", "backwards"))):
+        sign = "" if way == "forwards" else "-"
+        edge = "Mb(drive = +1) at rest" if way == "forwards" else "Mb(drive = -1) at rest"
+        text = (f"event indicator: {sign}omega while the crank turns, and while it sticks "
+                f"{'tau - ' + edge if way == 'forwards' else edge + ' - tau'} (> 0: it breaks "
+                f"away {way}); 1 without friction")
+        table.append(Variable(name, "Real", "local", "continuous", "", "", text, None,
+                              moved, index=len(names) + 2 + k, event=True))
     return table

@@ -33,7 +33,7 @@ import jinja2
 
 from .. import __version__
 from ..kernels.c_source import c_literal
-from .variables import Variable, drive_variables, variables
+from .variables import MOTION_STATE, Variable, crank_choices, drive_variables, variables
 
 TEMPLATES = Path(__file__).with_name("templates")
 #: unit -> (SI base-unit exponents, display units as (name, factor))
@@ -78,7 +78,9 @@ def c_string(text: str) -> str:
 def _kind(v: Variable) -> str:
     if v.state:
         return "STATE"
-    if v.derivative:  # computed, whatever its causality
+    if v.discrete:
+        return "DISCRETE"
+    if v.derivative or v.event:  # computed, whatever its causality
         return "OUTPUT"
     return {"input": "INPUT", "output": "OUTPUT", "parameter": "FIXED"}.get(v.causality, "OTHER")
 
@@ -145,7 +147,7 @@ def dependencies(table: list[Variable]) -> tuple[dict, dict]:
     states = {vr for vr, v in enumerate(table) if v.state}
     depends, initial = {}, {}
     for vr, v in enumerate(table):
-        if v.causality == "output" or v.derivative:
+        if v.causality == "output" or v.derivative or v.event:
             depends[vr] = sorted(vr_of[n] for n in v.depends)
             # the states are computed in initialisation mode: from their start parameters
             initial[vr] = sorted(set(depends[vr]) - states | set(parameters))
@@ -170,12 +172,13 @@ def model_description(mech, flavour: str, fmi_version: int, guid: str,
         depends = {vr: index(known) for vr, known in depends.items()}
     vr_of = {v.name: vr for vr, v in enumerate(table)}
     d = mech.description
-    what = ("its motion under a moment on the crank (Eksergian's equation), with joint "
-            "reactions" if drive else "joint reactions and balancing effort (kinetostatics)")
+    what = ("its motion under a moment on the crank, with the friction of its joints "
+            "(sticking at rest inside the friction band), and its joint reactions" if drive else "joint reactions and balancing effort (kinetostatics)")
     return _XML.get_template(f"modelDescription{fmi_version}.xml").render(
         model=model_name(mech, drive), guid=guid, flavour=flavour, version=__version__,
         title=f"{d.title or d.name}: {what}", drive=drive,
         derivative_of={vr: vr_of[v.derivative] for vr, v in enumerate(table) if v.derivative},
+        events=[vr for vr, v in enumerate(table) if v.event],
         # in the order of the states
         derivatives=[vr for s in table if s.state for vr, v in enumerate(table)
                      if v.derivative == s.name],
@@ -204,16 +207,18 @@ def config_header(mech, flavour: str, guid: str, defines: dict | None = None,
         outputs=[vr for vr, v in enumerate(table) if _kind(v) == "OUTPUT"], states=states,
         starts=[vr_of[f"{table[vr].name}0"] for vr in states],
         derivatives=[derivative[table[vr].name] for vr in states],
-        tolerance=vr_of.get("tolerance"))
+        tolerance=vr_of.get("tolerance"), motion=vr_of.get(MOTION_STATE),
+        events=[v.index for v in table if v.event])
 
 
-def structures(mech) -> list[dict]:
+def structures(mech, choices: dict | None = None) -> list[dict]:
     """Every combination of the linkage's branch and choice parameters, the built one
-    first."""
+    first; a choice named in ``choices`` takes only the values listed there."""
     specs = [p for p in mech.description.parameter_specs() if p.kind in ("branch", "choice")]
-    options = [[mech.parameters[p.name]] + [v for v in (
-        (1, -1) if p.kind == "branch" else p.choices) if v != mech.parameters[p.name]]
-        for p in specs]
+    allowed = {p.name: (1, -1) if p.kind == "branch" else (choices or {}).get(p.name, p.choices)
+               for p in specs}
+    options = [[mech.parameters[p.name]] + [v for v in allowed[p.name]
+                                            if v != mech.parameters[p.name]] for p in specs]
     return [dict(zip((p.name for p in specs), combo)) for combo in itertools.product(*options)]
 
 
@@ -222,31 +227,39 @@ def model_source(mech, rebuild, drive: bool = False,
     """``model.c`` of the native FMU of ``mech``: one kernel per structure that can be
     traced (``rebuild(**structure)`` builds the linkage in it), and the structures
     built. The drive FMU's (``drive``) has a second kernel per structure, that of its
-    derivatives: the balancing moment at ``alpha = 0`` and the reduced inertia.
+    motion: the balancing moment (with the friction of the joints) and the reduced
+    inertia at (theta, omega, alpha, loads), with its forward-mode derivatives (Newton on
+    alpha); its structures are those whose effort is a moment on the crank
+    (:func:`~linkage_fmu.fmi.variables.crank_choices`).
 
     ``frictionless``, ``(build, names)``: ``build(**structure)`` builds the linkage
     without friction, where the parameters ``names`` (those its coefficients of friction
     are functions of) are all 0. Each structure then has that kernel too (a fraction of
-    the operations), which the FMU runs while those parameters are all 0; None where
-    they being 0 leaves some friction (a constant coefficient).
+    the operations; the drive FMU's kernel of its motion too), which the FMU runs while
+    those parameters are all 0; None where they being 0 leaves some friction (a constant
+    coefficient).
 
     Raises
     ------
     ValueError
-        The linkage cannot be assembled at any witness angle in any structure.
+        The linkage cannot be assembled at any witness angle in any structure; a drive
+        FMU of a linkage with friction whose ``drive`` direction is no parameter (its
+        friction at rest must be had both ways).
     """
     table = table_of(mech, "native", drive)
     vr_of = {v.name: vr for vr, v in enumerate(table)}
-    integers = [v.name for v in table if v.type == "Integer"]
+    integers = [v.name for v in table if v.type == "Integer" and not v.discrete]
     strings = [v.name for v in table if v.type == "String" and v.name != "method"]
-    kernels, rhs, built, errors, plains = [], [], [], [], []
-    for combo in structures(mech):
+    kernels, rhs, built, errors, plains, plain_rhs = [], [], [], [], [], []
+    for combo in structures(mech, crank_choices(mech) if drive else None):
         try:
             twin = rebuild(**combo)
             k = twin.kernel(None, False)
             r = twin.kernel(RHS_OUTPUTS, False) if drive else None
         except ValueError as err:  # cannot be assembled anywhere: no kernel for this structure
             errors.append(f"{combo}: {err}")
+            continue
+        if drive and not twin.effort_on_crank:  # a combination no drive FMU can run
             continue
         if k.parameters != mech.kernel_parameters or (kernels and k.outputs != kernels[0].outputs) \
                 or (r is not None and r.parameters != mech.kernel_parameters):
@@ -258,13 +271,16 @@ def model_source(mech, rebuild, drive: bool = False,
         if frictionless is not None:
             plain = frictionless[0](**combo)
             k0 = plain.kernel(None, False)
+            g0 = plain.kernel(RHS_OUTPUTS, False) if drive else None
             if plain.friction.active or k0.outputs != k.outputs or k0.checked != k.checked \
-                    or (plains and k0.parameters != plains[0].parameters):
+                    or (plains and k0.parameters != plains[0].parameters) \
+                    or (g0 is not None and g0.parameters != k0.parameters):
                 # a constant coefficient of friction (or kernels of other parameters, which
                 # one table of their value references could not serve): none in C
                 frictionless = None
             else:
                 plains.append(k0)
+                plain_rhs.append(g0)
     if not kernels:
         raise ValueError(f"{mech.name} cannot be assembled in any structure, so it has no "
                          "kernel to build: " + "; ".join(errors))
@@ -279,13 +295,26 @@ def model_source(mech, rebuild, drive: bool = False,
         computed = [v for v in table if _kind(v) == "OUTPUT"]
         index = {v.name: v.index for v in computed}
         names = rhs[0].outputs
+        direction = mech.description.drive
+        friction = bool(mech.friction.active)
+        if friction and direction not in mech.kernel_parameters:
+            raise ValueError(f"{mech.name}: a drive FMU needs the friction's drive direction "
+                             f"as a parameter (its drive is {direction!r}): at rest, friction "
+                             "opposes the motion the crank is pushed to, either way")
         drive_tables = dict(
-            rhs_kernels=[r.c_source(array=False, prefix=f"r{s}") for s, r in enumerate(rhs)],
+            rhs_kernels=[r.c_source(array=False, prefix=f"r{s}", tangent=friction)
+                         for s, r in enumerate(rhs)],
             n_r=max(len(r.frozen) for r in rhs), rhs_outputs=names, rhs_mb=names.index("Mb"),
             rhs_j=names.index("J_red"), rhs_reasons=[reasons(r) for r in rhs],
-            alpha=index["alpha"], dtheta=index["der(theta)"], kernel_at=index[outputs[0]])
+            alpha=index["alpha"], dtheta=index["der(theta)"], kernel_at=index[outputs[0]],
+            friction=int(friction),
+            drive_p=mech.kernel_parameters.index(direction) if friction else -1,
+            plain_rhs=[] if frictionless is None else
+            [g.c_source(array=False, prefix=f"g{s}") for s, g in enumerate(plain_rhs)],
+            n_g=0 if frictionless is None else max(len(g.frozen) for g in plain_rhs),
+            plain_rhs_reasons=[] if frictionless is None else [reasons(g) for g in plain_rhs])
     plain = dict(plain_kernels=()) if frictionless is None else dict(
-        plain_kernels=[k.c_source(array=False, prefix=f"f{s}", tangent=True)
+        plain_kernels=[k.c_source(array=False, prefix=f"f{s}", tangent=not drive)
                        for s, k in enumerate(plains)],
         plain_parameters=[vr_of[n] for n in plains[0].parameters],
         n_q0=max(len(k.frozen) for k in plains), plain_reasons=[reasons(k) for k in plains],
@@ -330,8 +359,9 @@ _UNOPTIMISED = """#if defined(__clang__)
 """
 
 
-#: the outputs of the drive FMU's kernel of the derivatives, evaluated at ``alpha = 0``:
-#: the balancing moment and the inertia reduced to the crank (no reaction is solved for)
+#: the outputs of the drive FMU's kernel of its motion: the balancing moment and the
+#: inertia reduced to the crank (without friction no reaction is solved for: at ``alpha =
+#: 0`` they give Eksergian's equation; with it, tau = Mb(alpha) is solved by Newton)
 RHS_OUTPUTS = ("Mb", "J_red")
 
 

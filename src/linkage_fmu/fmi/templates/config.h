@@ -29,7 +29,7 @@ static const Variable VARIABLES[N_VARIABLES] = {
           .depends = DEPENDS_{{ vr }}, .n_depends = {{ depends[vr] | length }}, .initial = INITIAL_{{ vr }}, .n_initial = {{ initial[vr] | length }},
 {% endif %}
 {% elif v.type == "Integer" %}
-          .integer_start = {{ v.start }}, .allowed = ALLOWED_{{ vr }}, .n_allowed = {{ v.allowed | length }},
+          .integer_start = {{ v.start if v.start is not none else 0 }}, .allowed = ALLOWED_{{ vr }}, .n_allowed = {{ v.allowed | length }},
           .rule_text = {{ v.rule | c_string }},
 {% elif v.type == "String" %}
           .string_start = {{ v.start | c_string }}, .options = OPTIONS_{{ vr }},
@@ -50,4 +50,9 @@ static const ValueReference STATES[N_STATES] = { {%- for vr in states %}{{ vr }}
 static const ValueReference STATE_STARTS[N_STATES] = { {%- for vr in starts %}{{ vr }}{{ ", " if not loop.last }}{% endfor %}};
 static const int DERIVATIVES[N_STATES] = { {%- for k in derivatives %}{{ k }}{{ ", " if not loop.last }}{% endfor %}};
 #define TOLERANCE_VR {{ tolerance }}u
+/* the discrete state of the crank's motion, and the event indicators' positions among the
+ * outputs */
+#define MOTION_VR {{ motion }}u
+#define N_EVENTS {{ events | length }}
+static const int EVENTS[N_EVENTS + 1] = { {%- for k in events %}{{ k }}, {% endfor %}0};
 {% endif %}

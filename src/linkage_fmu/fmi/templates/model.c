@@ -69,8 +69,10 @@ static const ValueReference MU_VR[N_MU + 1] = { {%- for vr in friction_parameter
 static const char *const *const PLAIN_REASONS[N_STRUCTURES] = { {%- for r in plain_reasons %}F{{ loop.index0 }}_REASONS, {% endfor %}};
 static int (*const PLAIN_PREPARE[N_STRUCTURES])(const double *, double *) = { {%- for r in plain_reasons %}f{{ loop.index0 }}_prepare, {% endfor %}};
 static int (*const PLAIN_ONE[N_STRUCTURES])(const double *, const double *, double *) = { {%- for r in plain_reasons %}f{{ loop.index0 }}_one, {% endfor %}};
+{% if not drive %}
 static int (*const PLAIN_TANGENT[N_STRUCTURES])(const double *, const double *, const double *,
                                                 double *, double *) = { {%- for r in plain_reasons %}f{{ loop.index0 }}_tangent, {% endfor %}};
+{% endif %}
 {% else %}
 #define FRICTIONLESS_KERNELS 0
 {% endif %}
@@ -96,4 +98,27 @@ static int (*const PLAIN_TANGENT[N_STRUCTURES])(const double *, const double *, 
 static const char *const *const RHS_REASONS[N_STRUCTURES] = { {%- for r in rhs_reasons %}R{{ loop.index0 }}_REASONS, {% endfor %}};
 static int (*const RHS_PREPARE[N_STRUCTURES])(const double *, double *) = { {%- for r in rhs_reasons %}r{{ loop.index0 }}_prepare, {% endfor %}};
 static int (*const RHS_ONE[N_STRUCTURES])(const double *, const double *, double *) = { {%- for r in rhs_reasons %}r{{ loop.index0 }}_one, {% endfor %}};
+/* the joints have friction: the kernel of the motion has its forward-mode twin (Newton on
+ * alpha), and DRIVE_P is the position of the friction's drive direction among the
+ * kernels' parameters (set to +1 and -1: friction at rest opposes the motion either way) */
+#define DRIVE_FRICTION {{ friction }}
+#define DRIVE_P {{ drive_p }}
+{% if friction %}
+static int (*const RHS_TANGENT[N_STRUCTURES])(const double *, const double *, const double *,
+                                              double *, double *) = { {%- for r in rhs_reasons %}r{{ loop.index0 }}_tangent, {% endfor %}};
+{% endif %}
+{% if plain_rhs %}
+
+/* -- ... and the kernels of the motion without friction, one per structure -------------- */
+{% for source in plain_rhs %}
+{{ source }}
+{% endfor %}
+#define N_G {{ n_g }}
+{% for reasons in plain_rhs_reasons %}
+{{ reasons_table("G" ~ loop.index0, reasons) }}
+{%- endfor %}
+static const char *const *const PLAIN_RHS_REASONS[N_STRUCTURES] = { {%- for r in plain_rhs_reasons %}G{{ loop.index0 }}_REASONS, {% endfor %}};
+static int (*const PLAIN_RHS_PREPARE[N_STRUCTURES])(const double *, double *) = { {%- for r in plain_rhs_reasons %}g{{ loop.index0 }}_prepare, {% endfor %}};
+static int (*const PLAIN_RHS_ONE[N_STRUCTURES])(const double *, const double *, double *) = { {%- for r in plain_rhs_reasons %}g{{ loop.index0 }}_one, {% endfor %}};
+{% endif %}
 {% endif %}
