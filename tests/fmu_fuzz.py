@@ -492,7 +492,11 @@ def check_drive(plan: Plan, results: list) -> Counter:
                 continue
             assert status == OK and np.isfinite(got).all(), (i, status, payload)
             if got[names.index("omega")] == 0.0 and got[names.index("alpha")] == 0.0:
-                tally["stuck"] += 1  # held by friction: Mb is the band's edge, not tau
+                # held by friction, the linkage takes tau all the same (exactly); at
+                # rest without friction, tau is Mb(alpha = 0) to rounding
+                Mb = got[names.index("Mb")]
+                assert abs(Mb - tau) <= 1e-12 * max(1.0, abs(tau)), (i, Mb, tau)
+                tally["stuck"] += 1
                 continue
             # Mb = J_red alpha + Mb(alpha = 0): near a toggle both terms are large and
             # cancel, so the scale of the comparison is the larger of them

@@ -500,10 +500,16 @@ def test_from_rest_the_band_holds_or_lets_go(friction_fmus):
                          output_interval=H, fmi_type="CoSimulation",
                          start_values={**FRICTION, "tau": tau, "load": LOAD, "theta0": 0.3,
                                        "omega0": 0.0, "tolerance": 1e-10},
-                         output=["theta", "omega", "motion"])
+                         output=["theta", "omega", "motion", "Mb", "F21x"])
         if not way:
             assert len(r) == 201 and np.max(np.abs(r["theta"] - 0.3)) <= 1e-9, tau
             assert np.all(r["motion"][1:] == 0) and np.all(r["omega"] == 0.0), tau
+            # held: the linkage takes tau; the reactions are those at the band's edge on
+            # tau's side of its middle (the direct solver's), as simulate reports them
+            assert np.all(r["Mb"][1:] == tau), tau
+            if tau != 0.5 * (lo + hi):
+                ref = edge_state(1.0 if tau > 0.5 * (lo + hi) else -1.0)["F21x"]
+                assert np.allclose(r["F21x"][1:], ref, rtol=1e-12, atol=0.0), tau
         else:
             assert r["motion"][-1] == way and way * (r["theta"][-1] - 0.3) > 0.0, tau
 
@@ -519,6 +525,15 @@ def test_friction_states_round_trip(friction_fmus, tmp_path, version):
                 "outputs": ["alpha", "F21x", "Mf_A", "P_loss"]}, tmp_path)
     assert out["first"][-1]["omega"] > 0.0 and out["second"][-1]["omega"] == 0.0
     assert out["again"] == out["second"] and out["fresh"] == out["second"]
+
+
+def edge_state(drive, theta=0.3):
+    """The direct solver's outputs at rest at ``theta`` with friction opposing a start
+    in the direction ``drive``."""
+    from linkage_fmu.presets import linkage
+
+    return linkage("slider_crank", drive=drive, **FRICTION).solve(
+        theta, 0.0, 0.0, method="direct", load=LOAD)
 
 
 def band_at_rest(theta=0.3):

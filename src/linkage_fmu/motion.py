@@ -132,11 +132,12 @@ def simulate(mech, tau, t, theta0=None, omega0=None, rtol: float = 1e-10,
 
     The rows at the output times carry, while moving, every output of ``solve`` at
     ``(theta, omega, alpha)`` of the linkage with ``drive = d`` (``Mb = tau - flywheel
-    * alpha`` to rounding). While stuck the reactions and the friction in each pair are
-    not determined by the torque (any friction within the band holds it), so those
-    outputs are NaN; ``Mb`` is ``tau`` (the crank is held: the linkage takes it all),
-    ``P_loss`` is 0, and the kinematic diagnostics (``mu_*``, ``cond``, ``J_red``,
-    ``dJ_red``) are the linkage's. ``attrs["switches"]`` lists each change, a
+    * alpha`` to rounding). While stuck the friction in each pair is not determined by
+    the torque (any friction within the band holds it): the reactions and friction
+    values are those at rest with friction at its limit against the way ``tau`` pushes
+    the crank (of the linkage with ``drive = +1`` where ``tau`` lies at or above the
+    band's middle, else ``-1``), as the drive FMU reports them; ``Mb`` is ``tau`` (the
+    crank is held: the linkage takes it all) and ``P_loss`` is 0. ``attrs["switches"]`` lists each change, a
     :class:`Switch` ``(time, theta, to)``: ``to`` = +1 or -1 where the crank starts to
     move from rest in that direction (breaks away, or reverses at once after a stop), 0
     where it comes to rest and sticks; a start at rest is the first entry.
@@ -610,17 +611,17 @@ def _with_friction(mech, effort: str, torque, t: np.ndarray, theta0: float, omeg
             out.setdefault(name, np.full(times.size, np.nan))[where] = v
     where = np.flatnonzero(seg == 0)
     if where.size:
-        sol = mech.solve(theta[where], 0.0, 0.0, **named)
-        held = set(mech.diagnostic_names)
-        for name, v in sol.items():
+        # the friction holding it is not determined: the state at rest with friction at
+        # its limit against the way tau pushes it (the band's edge on tau's side of its
+        # middle), as the drive FMU reports it; the linkage takes tau all the same
+        edges = {d: direction(d).mech.solve(theta[where], 0.0, 0.0, **named)
+                 for d in (1, -1)}
+        middle = 0.5 * (edges[1][effort] + edges[-1][effort])
+        side = tau[where] >= middle
+        for name in edges[1]:
             column = out.setdefault(name, np.full(times.size, np.nan))
-            if name == effort:
-                column[where] = tau[where]
-            elif name == "P_loss":
-                column[where] = 0.0
-            elif name in held or (name in mech.effort_outputs):
-                column[where] = v
-            # else: a reaction or friction value, not determined while stuck: NaN
+            column[where] = np.where(side, edges[1][name], edges[-1][name])
+        out[effort][where] = tau[where]
     frame = {"theta": theta, "omega": omega, "alpha": alpha, "tau": tau}
     frame.update((name, out[name]) for name in mech.output_names + mech.diagnostic_names)
     frame["J_red"] = mech.reduced_inertia(theta)[0]

@@ -417,9 +417,10 @@ static Status backend_derivatives(Instance *in, const Values *v, const double *x
 
 /* Every output at the states in `v`: the derivatives, then the kernel of every output at
  * (theta, omega, alpha, loads), then the event indicators. While the crank sticks (the
- * friction holding it is not at its limit, and not determined), the outputs are those at
- * rest with friction at its limit against the way tau pushes it: Mb is the band's edge on
- * tau's side of the band's middle. */
+ * friction holding it is not at its limit, and not determined), the reactions are those
+ * at rest with friction at its limit against the way tau pushes it (the band's edge on
+ * tau's side of the band's middle), as the library's simulate reports them, and Mb is tau:
+ * the crank is held, the linkage takes it all. */
 static Status drive_evaluate(Instance *in, const Values *v, double *y, char *why, size_t size) {
     const Model *m = (const Model *)in->model;
     const int live = friction_live(m);
@@ -443,6 +444,7 @@ static Status drive_evaluate(Instance *in, const Values *v, double *y, char *why
     if (live && (dir < 0 || (!dir && tau < 0.5 * (lo + hi)))) q = m->qb;
 #endif
     if (refused(one(q, u, z), reasons, LK_DISCARD, why, size)) return LK_DISCARD;
+    if (live && !dir) z[EFFORT_OUTPUT] = tau;
     y[ALPHA_OUTPUT] = alpha;
     y[DTHETA_OUTPUT] = x[1];
     /* the event indicators: > 0 where the crank turns, or is pushed past the band, forwards

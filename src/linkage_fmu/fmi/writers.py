@@ -307,6 +307,7 @@ def model_source(mech, rebuild, drive: bool = False,
             n_r=max(len(r.frozen) for r in rhs), rhs_outputs=names, rhs_mb=names.index("Mb"),
             rhs_j=names.index("J_red"), rhs_reasons=[reasons(r) for r in rhs],
             alpha=index["alpha"], dtheta=index["der(theta)"], kernel_at=index[outputs[0]],
+            effort_at=outputs.index(mech.effort.name),
             friction=int(friction),
             drive_p=mech.kernel_parameters.index(direction) if friction else -1,
             plain_rhs=[] if frictionless is None else

@@ -92,6 +92,8 @@ static int (*const PLAIN_TANGENT[N_STRUCTURES])(const double *, const double *, 
 #define ALPHA_OUTPUT {{ alpha }}
 #define DTHETA_OUTPUT {{ dtheta }}
 #define KERNEL_OUTPUTS {{ kernel_at }}
+/* the balancing moment Mb among the kernel's outputs */
+#define EFFORT_OUTPUT {{ effort_at }}
 {% for reasons in rhs_reasons %}
 {{ reasons_table("R" ~ loop.index0, reasons) }}
 {%- endfor %}
