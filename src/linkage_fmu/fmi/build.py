@@ -92,7 +92,7 @@ def compile_for(target: Platform, sources: list[Path], output: Path, fmi_version
     system C compiler if ``target`` is this machine's platform and it has one, else with
     zig's; then check that ``output`` is a library of ``target``'s format and processor
     that exports the FMI ``fmi_version`` functions and nothing else. ``level`` is the
-    optimisation flag (see :data:`~linkage_fmu.fmi.writers.LARGE_MODEL`).
+    optimisation flag.
 
     Raises
     ------
@@ -282,9 +282,8 @@ def build_native_fmu(source, out: str | Path | None = None, fmi_version: int = 2
         for folder, group in folders(chosen, fmi_version).items():
             (root / "binaries" / folder).mkdir(parents=True)
             library = root / "binaries" / folder / group[0].library(model)
-            level = "-O2" if len(model_c) <= writers.LARGE_MODEL else "-O0"
             thin = [compile_for(p, [adapter], Path(tmp) / p.name / p.library(model),
-                                fmi_version, include=[sources], level=level) for p in group]
+                                fmi_version, include=[sources]) for p in group]
             if len(thin) == 1:
                 shutil.move(thin[0], library)
             else:  # FMI 2.0's darwin64: every Mac in one file
