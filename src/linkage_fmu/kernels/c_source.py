@@ -62,10 +62,12 @@ def _statements(tape: Tape, nodes: list, guards: dict, codes: dict, indent: str 
         if node.op in _COMPARE:
             body.append(f"{indent}int t{i} = {a[0]} {_INFIX[node.op]} {a[1]};")
         elif node.op == "select":
-            body.append(f"{indent}double t{i} = {a[0]} ? {a[1]} : {a[2]};")
+            pick = (f"lk_pick({a[0]} != 0, {a[1]}, {a[2]})" if vectorise
+                    else f"{a[0]} ? {a[1]} : {a[2]}")
+            body.append(f"{indent}double t{i} = {pick};")
         elif node.op == "fails":  # a check inside a loop: its failure, kept
-            body.append(f"{indent}double t{i} = ({a[0]} != 0.0 || (({a[1]}) != 0) != "
-                        f"{int(node.value)}) ? 1.0 : 0.0;")
+            body.append(f"{indent}double t{i} = (double)(({a[0]} != 0.0) | "
+                        f"((({a[1]}) != 0) != {int(node.value)}));")
         elif node.op in _INFIX:
             body.append(f"{indent}double t{i} = {a[0]} {_INFIX[node.op]} {a[1]};")
         elif node.op == "neg":
@@ -316,7 +318,13 @@ _VECTOR_DECLARATIONS = {
 def _array_source(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
                   frozen: list) -> list:
     n_out = len(results)
-    used = {tape.nodes[i].op for i in prog.state} & set(_VECTOR)
+    xs = ", ".join(f"const double *restrict xb{k}" for k in range(n_inputs))
+    ys = ", ".join(f"double *restrict y{k}" for k in range(n_out))
+    outputs = [operand(tape, r.index, c_literal) if isinstance(r, Sym) else c_literal(r)
+               for r in results]
+    vectorise = prog.operations <= VECTOR_OPERATIONS
+    used = {tape.nodes[i].op for body in (prog.state, *prog.bodies.values()) for i in body}
+    used &= set(_VECTOR)
     declarations = []
     for op in _VECTOR:
         if op in used:
@@ -329,12 +337,9 @@ def _array_source(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
                 f"static __attribute__((noinline)) double lk_{op}{body}",
                 "#endif",
             ]
-    xs = ", ".join(f"const double *restrict xb{k}" for k in range(n_inputs))
-    ys = ", ".join(f"double *restrict y{k}" for k in range(n_out))
-    outputs = [operand(tape, r.index, c_literal) if isinstance(r, Sym) else c_literal(r)
-               for r in results]
-    vectorise = prog.operations <= VECTOR_OPERATIONS
-    if prog.bodies:  # loops: each state runs its own iterations, one after the other
+    if prog.bodies and vectorise:  # loops run on the block, each lane until it converges
+        block = _looped_block(tape, prog, prefix, n_inputs, results, frozen, xs, ys)
+    elif prog.bodies:  # loops: each state runs its own iterations, one after the other
         block = [
             "__attribute__((noinline))",
             f"static void {prefix}_block(size_t m, const double *restrict q"
@@ -425,6 +430,172 @@ def _array_source(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
     return [_PICK, _SIMD_HEAD, *declarations, "", *block, *blocked,
             "#else /* one state after the other, through the one-state function */",
             *plain, "#endif", ""]
+
+
+#: lanes of a kernel with loops run together (its values that cross from one vector loop
+#: to another are kept in arrays of this length: they stay in the CPU caches)
+LOOP_LANES = 32
+
+
+def _looped_block(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
+                  frozen: list, xs: str, ys: str) -> list:
+    """``<prefix>_block`` of a kernel with loops: its straight parts are vector loops
+    over the lanes (states) of a piece of the block, and each loop of the kernel runs
+    on the piece's lanes until every one has converged (a converged lane keeps its
+    values: the values of each lane are the one-state function's). What one vector loop
+    computes and another reads crosses in an array per value."""
+    nodes = tape.nodes
+    frozen_at = {name: k for k, name in enumerate(frozen)}
+    home = {}  # node -> the vector loop it is computed in
+
+    def split(order):
+        out, run = [], []
+        for i in order:
+            if nodes[i].op == "loop":
+                if run:
+                    out.append(("straight", run))
+                    run = []
+                L = tape.loops[i]
+                for c in L.carries:
+                    home[c] = ("carry", i)
+                for f in (*L.finals, L.converged):
+                    home[f] = ("loop", i)
+                out.append(("loop", i, split(prog.bodies[i])))
+            elif nodes[i].op not in ("final", "converged"):
+                run.append(i)
+        if run:
+            out.append(("straight", run))
+        for item in out:
+            if item[0] == "straight":
+                for i in item[1]:
+                    home[i] = id(item)
+        return out
+
+    tree = split(prog.state)
+
+    def variable(i):
+        return nodes[i].op not in ("input", "const") and operand(tape, i, c_literal) \
+            not in frozen_at
+
+    crossing = set()  # computed in one vector loop, read in another
+    for body in (prog.state, *prog.bodies.values()):
+        for i in body:
+            if nodes[i].op in ("loop", "final", "converged"):  # their loops read for them
+                continue
+            for a in nodes[i].args:
+                if variable(a) and home.get(a) != home.get(i):
+                    crossing.add(a)
+    for L in (tape.loops[i] for i in prog.bodies):
+        crossing.update(a for a in (*L.news, L.again, *L.inits) if variable(a))
+        crossing.update((*L.carries, L.converged))
+    crossing.update(r.index for r in results if isinstance(r, Sym) and variable(r.index))
+    alias = {}
+    for L in (tape.loops[i] for i in prog.bodies):
+        alias.update(zip(L.finals, L.carries))
+    arrays = sorted(i for i in crossing if i not in alias)
+    slot = {i: k for k, i in enumerate(arrays)}
+    acts = {i: len(arrays) + k for k, i in enumerate(sorted(prog.bodies))}
+
+    def array(i):
+        return f"a{alias.get(i, i)}"
+
+    def loads(operands, indent, skip=()):
+        lines, seen = [], set()
+        for a in operands:
+            node = nodes[a]
+            if a in seen or a in skip or node.op == "const":
+                continue
+            seen.add(a)
+            name = operand(tape, a, c_literal)
+            if name in frozen_at:
+                lines.append(f"{indent}const double {name} = q[{frozen_at[name]}];")
+            elif node.op == "input":
+                lines.append(f"{indent}const double {name} = xb{name[1:]}[j];")
+            elif a in crossing:
+                lines.append(f"{indent}const double {name} = {array(a)}[j];")
+        return lines
+
+    def lanes(body, indent, clause=""):
+        return [f"{indent}#pragma omp simd{clause}", f"{indent}for (size_t j = 0; j < m; j++) {{",
+                *body, f"{indent}}}"]
+
+    def emit(tree, indent, active):
+        lines = []
+        for item in tree:
+            if item[0] == "straight":
+                run, inner = item[1], indent + "    "
+                mine = set(run)
+                guarded = any(i in prog.guards for i in run)
+                body = loads([a for i in run for a in nodes[i].args], inner, mine)
+                body += [f"{inner}int bad = badb[j];"] if guarded else []
+                body += _statements(tape, run, prog.guards, prog.codes, inner, simd=True,
+                                    vectorise=True)
+                body += [f"{inner}{array(i)}[j] = t{i};" for i in run if i in crossing]
+                body += [f"{inner}badb[j] = bad;"] if guarded else []
+                lines += lanes(body, indent)
+                continue
+            index, sub = item[1], item[2]
+            L, inner = tape.loops[index], indent + "    "
+            act, k = f"act{index}", f"k{index}"
+            start = active and f"{active}[j]" or "(double)(badb[j] == 0)"
+            lines += [f"{indent}/* the loop of node {index}: {L.minimum} to {L.maximum} runs */"]
+            lines += lanes([*loads(L.inits, inner),
+                            *(f"{inner}{array(c)}[j] = {operand(tape, a, c_literal)};"
+                              for c, a in zip(L.carries, L.inits)),
+                            f"{inner}{array(L.converged)}[j] = 0.0;",
+                            f"{inner}{act}[j] = {start};"], indent)
+            lines += [f"{indent}for (int {k} = 0; {k} < {L.maximum}; {k}++) {{"]
+            lines += emit(sub, inner, act)
+            deep = inner + "    "
+            update = [*loads([*L.news, L.again], deep),
+                      f"{deep}const int on = {act}[j] != 0.0;",
+                      f"{deep}const int stop = {k} + 1 >= {L.minimum} && "
+                      f"!({operand(tape, L.again, c_literal)});",
+                      *(f"{deep}{array(c)}[j] = lk_pick(on, {operand(tape, n, c_literal)}, "
+                        f"{array(c)}[j]);" for c, n in zip(L.carries, L.news)),
+                      f"{deep}{array(L.converged)}[j] = lk_pick(on && stop, 1.0, "
+                      f"{array(L.converged)}[j]);",
+                      f"{deep}{act}[j] = (double)(on && !stop);",
+                      f"{deep}any |= on && !stop;"]
+            lines += [f"{inner}int any = 0;", *lanes(update, inner, " reduction(|:any)"),
+                      f"{inner}if (!any) break;", f"{indent}}}"]
+            checked = [i for i in (*L.finals, L.converged) if i in prog.guards]
+            if checked:
+                lines += lanes([*(f"{inner}badb[j] |= {'!' if prog.guards[i] else ''}"
+                                  f"({array(i)}[j] != 0.0);" for i in checked)], indent)
+        return lines
+
+    outputs = [operand(tape, r.index, c_literal) if isinstance(r, Sym) else c_literal(r)
+               for r in results]
+    ends = loads([r.index for r in results if isinstance(r, Sym)], "        ")
+    ends += [f"        y{k}[j0 + j] = {v};" for k, v in enumerate(outputs)]
+    total = len(arrays) + len(acts)
+    inputs = "".join(f", const double *restrict xs{k}" for k in range(n_inputs))
+    return [
+        "LK_CLONES __attribute__((noinline))",
+        f"static void {prefix}_block(size_t n, const double *restrict q{inputs}"
+        + (f", {ys}" if ys else "") + ", unsigned char *restrict ok) {",
+        f"    double buf[{max(total, 1)}][{LOOP_LANES}];",
+        *(f"    double *const {array(i)} = buf[{slot[i]}];" for i in arrays),
+        *(f"    double *const act{i} = buf[{acts[i]}];" for i in acts),
+        f"    for (size_t j0 = 0; j0 < n; j0 += {LOOP_LANES}) {{",
+        f"    const size_t m = n - j0 < {LOOP_LANES} ? n - j0 : {LOOP_LANES};",
+        f"    int badb[{LOOP_LANES}] = {{0}};",
+        *(f"    const double *restrict xb{k} = xs{k} + j0;" for k in range(n_inputs)),
+        *emit(tree, "    ", None),
+        "    #pragma omp simd",
+        "    for (size_t j = 0; j < m; j++) {",
+        *ends,
+        "        ok[j0 + j] = (unsigned char)(badb[j] == 0);",
+        "    }",
+        "    for (size_t j = 0; j < m; j++)",
+        "        if (badb[j]) {",
+        *(f"            y{k}[j0 + j] = NAN;" for k in range(len(results))),
+        "        }",
+        "    }",
+        "}",
+        "",
+    ]
 
 
 #: the reductions of a summary (:func:`c_source`): kind -> the outputs it reads
