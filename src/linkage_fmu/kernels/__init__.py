@@ -1,4 +1,5 @@
-"""Kernels: formulas traced once into straight-line code, one kernel per plan.
+"""Kernels: formulas traced once into straight-line code and bounded loops, one kernel per
+plan.
 
 :func:`trace` runs a function of traced numbers (:mod:`~linkage_fmu.kernels.trace`)
 once and turns what it did into Python source

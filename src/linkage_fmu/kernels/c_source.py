@@ -1,4 +1,4 @@
-"""C source from a traced tape: the same straight-line code, compiled.
+"""C source from a traced tape: the same code (straight lines and loops), compiled.
 
 Each operation is the same IEEE operation as in Python (the build keeps
 ``-ffp-contract=off`` and no fast-math) and the elementary functions are the C

@@ -10,6 +10,12 @@ assembled, it is singular, it takes another branch) is handed back to the interp
 formulas, which raise the exact error or compute the exceptional case. No formula is
 written twice: the tape is what the formulas did.
 
+An iteration is a loop of the tape (:meth:`Tape.loop`): its body is recorded once, on
+nodes that stand for the values it carries, and the generated code runs it until it
+converges. Inside a body no formula may branch on what the carried values decide: its
+decisions are operations (sign, abs, max, min, :meth:`Tape.select`) and its checks
+(:meth:`Tape.check`) fail the state when the loop ends.
+
 A linkage's real-valued parameters are inputs of the tape too (``parameter=True``): what
 depends on them alone is the parameter step of the generated code (:func:`program`),
 run once per parameter set, and its order comparisons (a length > 0) are its checks. An
