@@ -26,11 +26,13 @@ comes from the linkage's variable table through the writers of
 from __future__ import annotations
 
 import hashlib
+import os
 import shutil
 import sysconfig
 import tempfile
 import uuid
 import zipfile
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from .. import ranges
@@ -279,13 +281,19 @@ def build_native_fmu(source, out: str | Path | None = None, fmi_version: int = 2
         (root / "modelDescription.xml").write_bytes(writers.model_description(
             mech, "native", fmi_version, guid, (adapter.name,) if fmi_version == 2 else (),
             drive))
-        for folder, group in folders(chosen, fmi_version).items():
+        groups = folders(chosen, fmi_version)
+        # one compiler process per platform, as many at once as the machine has cores
+        with ThreadPoolExecutor(max(1, min(os.cpu_count() or 1, len(chosen)))) as pool:
+            thin = {p.name: pool.submit(compile_for, p, [adapter],
+                                        Path(tmp) / p.name / p.library(model), fmi_version,
+                                        include=[sources])
+                    for group in groups.values() for p in group}
+            done = {name: job.result() for name, job in thin.items()}
+        for folder, group in groups.items():
             (root / "binaries" / folder).mkdir(parents=True)
             library = root / "binaries" / folder / group[0].library(model)
-            thin = [compile_for(p, [adapter], Path(tmp) / p.name / p.library(model),
-                                fmi_version, include=[sources]) for p in group]
-            if len(thin) == 1:
-                shutil.move(thin[0], library)
+            if len(group) == 1:
+                shutil.move(done[group[0].name], library)
             else:  # FMI 2.0's darwin64: every Mac in one file
-                binaries.universal(thin, library)
+                binaries.universal([done[p.name] for p in group], library)
         return _archive(root, out / f"{model}.fmu")
