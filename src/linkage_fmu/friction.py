@@ -26,8 +26,8 @@ is found by a secant iteration on the virtual power balance over those group sol
 Every path takes the same :data:`ITERATIONS` steps first, then continues up to
 :data:`MAX_ITERATIONS` while they do not settle, so that the floats are the same
 everywhere; in a traced kernel the iterations are loops of the generated code, every
-sign of motion and branch of the friction law decided in them at run time. A position at which
-the iteration has no solution reached from the frictionless one (the Jacobian's
+sign of motion and branch of the friction law decided in them at run time. A position
+at which the iteration has no solution reached from the frictionless one (the Jacobian's
 determinant falls to zero on the way: the reactions grow without bound) is
 self-locking: :class:`~linkage_fmu.errors.SelfLockingError` for one state, NaN and
 :attr:`KinematicState.locked <linkage_fmu.groups.KinematicState>` for arrays.
@@ -278,17 +278,15 @@ def not_(xp, outcome):
     return (not outcome) if xp.scalar else ~outcome
 
 
-def iterate(xp, x: list, step, fail, what: str, first=None, memory: tuple = ()) -> list:
+def iterate(xp, x: list, step, fail, first=None, memory: tuple = ()) -> list:
     """``x <- x - d`` with ``(d, det, memory) = step(x, memory)`` (``first`` instead for
     the first step, if given; ``memory``: what a step hands the next):
     :data:`ITERATIONS` steps, then more (to :data:`MAX_ITERATIONS`) while the last step
     exceeds :data:`TOLERANCE` of ``x``; ``det`` (or None) must stay > 0. On floats
     ``fail()`` raises where it does not converge or ``det <= 0``; on arrays, those
-    states get NaN and ``fail(bad)`` is told which. On traced numbers the steps after
-    the first are a loop of the kernel (:meth:`~linkage_fmu.kernels.trace.Tape.loop`)
-    and the two conditions its checks."""
+    states get NaN and ``fail(bad)`` is told which. (On traced numbers, the iterations
+    are loops of the kernel: :func:`_loop`.)"""
     tol = TOLERANCE if getattr(xp, "eps", None) is None else xp.eps()
-    reason = Reason("locking", what)
     done = det = None
     memory = tuple(memory)
     for k in range(MAX_ITERATIONS):
@@ -297,11 +295,6 @@ def iterate(xp, x: list, step, fail, what: str, first=None, memory: tuple = ()) 
             x = [a - b for a, b in zip(x, d)]
         else:  # arrays: the states converged stay as they are
             x = [np.where(done, a, a - b) for a, b in zip(x, d)]
-        if k == 0 and xp.scalar:
-            tape = _tape(*x, *memory, det)
-            if tape is not None:  # the other steps: a loop of the kernel
-                return _loop(tape, xp, x, det, memory, step, fail, reason,
-                             ITERATIONS - 1, MAX_ITERATIONS - 1)
         if k + 1 < ITERATIONS:
             continue
         moved, size = sum(xp.abs(b) for b in d), sum(xp.abs(a) for a in x)
@@ -446,7 +439,7 @@ def solve_group(mech, st: KinematicState, grp, pairs: tuple, W: dict, R: dict,
                   lambda m, memory: (*step(m, memory[0]), (0.0,)), fail,
                   Reason("locking", what), ITERATIONS, MAX_ITERATIONS)
     else:
-        m = iterate(xp, [0.0] * n, lambda m, memory: (*step(m), memory), fail, what,
+        m = iterate(xp, [0.0] * n, lambda m, memory: (*step(m), memory), fail,
                     first=lambda m, memory: (*step([None] * n), memory))
     for jf, v in zip(pairs, m):
         apply(mech, st, W, jf, v)
@@ -564,7 +557,7 @@ def closed_form(mech, st: KinematicState, W: dict, omega, static: bool):
         fail = _failure(mech, st, what)
         tape = _tape(st.theta, ideal)
         if tape is None:
-            effort = iterate(xp, [ideal], step, fail, what, first=first)[0]
+            effort = iterate(xp, [ideal], step, fail, first=first)[0]
             W = {k: list(v) for k, v in W.items()}
             kinetostatics.add_effort(mech, st, W, effort)
             R, _ = through(W)
