@@ -80,9 +80,11 @@ class Reason:
         return f"{head}: {self.what}" if self.what else head
 
 
-class TracingError(ValueError):
+class TracingError(RuntimeError):
     """The formulas did what a kernel cannot record: a branch on a value computed inside
-    a loop's body, or a value of a loop's body read outside it."""
+    a loop's body, or a value of a loop's body read outside it. A fault of the formulas,
+    not of a state or a parameter (no ValueError, which the solver takes for a state that
+    cannot be traced)."""
 
 
 #: the operations of a loop (:meth:`Tape.loop`): a loop-carried value inside its body,
