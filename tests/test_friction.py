@@ -452,7 +452,8 @@ def test_the_six_bar_driven_at_KD_solves_every_state_the_direct_solver_does(monk
     th, om, al, ld = _random_states(rng, 300)
     states = list(zip(th, om, al, ld))
     mech = presets.get("six_bar", driver="KD", **params)
-    mech.solver.kernel(None, False).compile()  # the C kernel, as a native FMU runs it
+    if not mech.solver.kernel(None, False).compile():  # the C kernel, as native FMUs run it
+        pytest.skip("no C compiler")
     refused, worst, solved = _refused_and_worst(mech, states)
     assert refused == [] and solved > 250 and worst <= 1e-11, (refused[:3], worst)
     monkeypatch.setattr(friction, "MAX_ITERATIONS", friction.ITERATIONS)
