@@ -286,7 +286,7 @@ def iterate(xp, x: list, step, fail, first=None, memory: tuple = ()) -> list:
     ``fail()`` raises where it does not converge or ``det <= 0``; on arrays, those
     states get NaN and ``fail(bad)`` is told which. (On traced numbers, the iterations
     are loops of the kernel: :func:`_loop`.)"""
-    tol = TOLERANCE if getattr(xp, "eps", None) is None else xp.eps()
+    tol = _tolerance(xp)
     done = det = None
     memory = tuple(memory)
     for k in range(MAX_ITERATIONS):
@@ -341,7 +341,7 @@ def _loop(tape, xp, x: list, det, memory: tuple, step, fail, reason: Reason,
     steps have none) and ``memory``, with its test after ``minimum`` steps, at most
     ``maximum``; then its checks, labelled ``reason``: that it converged, and that the
     last ``det`` > 0 (both written so that NaN passes, as on floats)."""
-    tol = TOLERANCE if getattr(xp, "eps", None) is None else xp.eps()
+    tol = _tolerance(xp)
     n, m = len(x), 0 if det is None else 1
 
     def body(carried):
@@ -577,7 +577,7 @@ def _effort_loop(tape, xp, run, ideal, fail, reason: Reason):
     2, the secant steps, until they converge (tested after :data:`ITERATIONS` steps,
     as on floats); 3, the solve at the effort found, whose reactions the loop hands
     out. Returns the effort and the :class:`Reactions` there."""
-    tol = TOLERANCE if getattr(xp, "eps", None) is None else xp.eps()
+    tol = _tolerance(xp)
     shape = []
 
     def body(carried):
