@@ -184,3 +184,16 @@ def test_the_six_bar_driven_off_the_crank_with_friction_set_after_the_build(nati
         u = _random_rows(mech, np.random.default_rng(7), 101)
         _equal_where_the_direct_solver_solves(fmu, mech, u, {**params, "driver": driver})
 
+
+
+def test_the_six_bar_with_friction_is_small_and_optimised(native_dist):
+    """Reference: the targets of the six-bar's native FMU with friction (its 20
+    structures): at most 4 MB of model C and a library of at most 3 MB, and no pragma in
+    its sources that turns the optimiser off (the builds are -O2); its friction
+    iterations are loops of its kernels, not unrolled steps."""
+    fmu = native_dist / f"{MODELS['six_bar']}.fmu"
+    with zipfile.ZipFile(fmu) as archive:
+        model_c = archive.read("sources/model.c").decode()
+        library = archive.getinfo(f"binaries/linux64/{MODELS['six_bar']}.so").file_size
+    assert len(model_c) <= 4_000_000 and library <= 3_000_000, (len(model_c), library)
+    assert "optimize" not in model_c and "for (int k" in model_c
