@@ -535,12 +535,13 @@ def test_a_loop_refuses_branches_inside_and_its_values_outside():
         trace(leaking, [3.0], {}, ("y",))
 
 
-def test_an_array_kernel_with_loops_is_the_one_state_kernel_bit_for_bit():
+def test_an_array_kernel_with_loops_is_the_one_state_kernel():
     """Reference: the Python kernel of one state (the interpreted formulas' floats).
-    Tolerance: none, bit for bit, and the same states refused. The six-bar driven at KD
-    with friction (a secant loop holding the groups' Newton loops) over 500 random
-    states, run on blocks by the compiled array kernel: a last bit could change how
-    many runs a loop takes, so its sin, cos and atan2 are the C library's."""
+    Tolerance: the same states refused, values within 1e-13 max(1, cond/100) of the
+    largest output (libmvec's sin, cos and atan2 are within a few ulp of the C
+    library's). The six-bar driven at KD with friction (a secant loop holding the
+    groups' Newton loops) over 500 random states, run on blocks by the compiled array
+    kernel, each state's loops until it converged."""
     mu = {n: 0.2 for n in presets.get("six_bar").parameters if n.startswith(("mu_", "muf_"))}
     mu.update({n: 0.01 for n in presets.get("six_bar").parameters if n.startswith("r_")})
     kernel = presets.get("six_bar", driver="KD", **mu).kernel()
@@ -550,12 +551,14 @@ def test_an_array_kernel_with_loops_is_the_one_state_kernel_bit_for_bit():
     rng = np.random.default_rng(8)
     states = rng.uniform([0, -30, -100, -300], [2 * np.pi, 30, 100, 300], size=(500, 4))
     values, ok = array([states[:, k].copy() for k in range(4)], len(states))
-    refused = 0
+    cond, refused = kernel.index["cond"], 0
     for i, state in enumerate(states.tolist()):
         r = kernel.function(*state)
         assert ok[i] == (type(r) is tuple)
         if type(r) is tuple:
-            assert [v[i] for v in values] == list(r), i
+            tol = 1e-13 * max(1.0, r[cond] / 100) * max(abs(r[j]) for j in kernel.checked)
+            assert all(abs(v[i] - r[j]) <= tol for j, v in enumerate(values)
+                       if j in kernel.checked), i
         else:
             refused += 1
     assert refused < 50

@@ -42,7 +42,7 @@ def c_literal(value: float) -> str:
 
 def _statements(tape: Tape, nodes: list, guards: dict, codes: dict, indent: str = "    ",
                 simd: bool = False, vectorise: bool = False, bodies: dict | None = None,
-                tangent: "_Tangent | None" = None, vector_functions: bool = True) -> list:
+                tangent: "_Tangent | None" = None) -> list:
     """One declaration per operation (each assigned once: no ``const``, which only
     lengthens large kernels' source); a failed guard returns its code, or with ``simd``
     marks the state (``bad``) and the computation goes on (NaNs, no traps), and the
@@ -84,8 +84,7 @@ def _statements(tape: Tape, nodes: list, guards: dict, codes: dict, indent: str 
         elif node.op in _SCALE:
             body.append(f"{indent}double t{i} = {a[0]} * {c_literal(_SCALE[node.op])};")
         else:
-            name = (f"lk_{node.op}" if simd and vector_functions and node.op in _VECTOR
-                    else _CALL[node.op])
+            name = f"lk_{node.op}" if simd and node.op in _VECTOR else _CALL[node.op]
             body.append(f"{indent}double t{i} = {name}({', '.join(a)});")
         if i in guards:
             if simd:
@@ -340,7 +339,6 @@ def _array_source(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
             ]
     if prog.bodies and vectorise:  # loops run on the block, each lane until it converges
         block = _looped_block(tape, prog, prefix, n_inputs, results, frozen, xs, ys)
-        declarations = []  # the C library's sin, cos and atan2 (see _looped_block)
     elif prog.bodies:  # loops: each state runs its own iterations, one after the other
         block = [
             "__attribute__((noinline))",
@@ -446,8 +444,8 @@ def _looped_block(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
     on the piece's lanes until every one has converged (a converged lane keeps its
     values: the values of each lane are the one-state function's). What one vector loop
     computes and another reads crosses in an array per value. Its sin, cos and atan2
-    are the C library's, never libmvec's (a last bit can change how many runs a loop
-    takes): its values are the one-state function's bit for bit."""
+    are libmvec's where the build says so (``LK_MVEC_*``), as in the kernels without
+    loops: then within a few ulp of the one-state function's, else bit for bit."""
     nodes = tape.nodes
     frozen_at = {name: k for k, name in enumerate(frozen)}
     home = {}  # node -> the vector loop it is computed in
@@ -533,7 +531,7 @@ def _looped_block(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
                 body = loads([a for i in run for a in nodes[i].args], inner, mine)
                 body += [f"{inner}int bad = badb[j];"] if guarded else []
                 body += _statements(tape, run, prog.guards, prog.codes, inner, simd=True,
-                                    vectorise=True, vector_functions=False)
+                                    vectorise=True)
                 body += [f"{inner}{array(i)}[j] = t{i};" for i in run if i in crossing]
                 body += [f"{inner}badb[j] = bad;"] if guarded else []
                 lines += lanes(body, indent)
@@ -792,8 +790,8 @@ def c_source(tape: Tape, n_inputs: int, results: list, parameters: tuple = (),
       an input), ``ok[i]`` is 0 where a guard fails (outputs NaN there). Compiled with
       ``-DLK_SIMD=1`` it runs blocks of states as vector loops (threads with OpenMP);
       ``-DLK_MVEC_SINCOS=1`` and ``-DLK_MVEC_ATAN2=1`` take sin, cos and atan2 from
-      glibc's libmvec (within a few ulp of the scalar ones; without them, and in a
-      kernel with loops always, every value is the one-state function's, bit for bit).
+      glibc's libmvec (within a few ulp of the scalar ones; without them every value
+      is the one-state function's, bit for bit).
 
     - with ``tangent``, ``int <prefix>_tangent(q, x, dx, y, dy)``: one state as
       ``<prefix>_one``, and ``dy``, the derivatives of the outputs along the direction
