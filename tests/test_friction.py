@@ -599,3 +599,84 @@ def test_each_friction_value_is_the_action_its_description_names(variant):
         both = ok & (f != 0.0) & (np.abs(motion) > 1e-12 * np.abs(om))
         assert both.sum() >= 10 or jf.mu == 0.0, jf.output
         assert np.all(np.sign(f[both]) == -np.sign(motion[both])), jf.output
+
+
+# -- the kernels' loops ------------------------------------------------------------------------
+def _refused_and_worst(mech, states):
+    """Over ``states``: the states the one-state kernel (Solver.attempt) refuses where the
+    direct solver solves, and its worst error relative to each output's largest
+    magnitude at the state (per unit), against the direct solver."""
+    solver_, units = mech.solver, mech.output_info
+    refused, worst, solved = [], 0.0, 0
+    for state in states:
+        try:
+            ref = mech.solve(*state, method="direct")
+        except SelfLockingError:
+            continue
+        got = solver_.attempt(list(state))
+        if type(got) is not tuple:
+            refused.append(state)
+            continue
+        solved += 1
+        scale = {}
+        for n in mech.output_names:
+            scale[units[n][0]] = max(scale.get(units[n][0], 0.0), abs(ref[n]))
+        for n, v in zip(solver_.wanted(None), got):
+            if n in mech.output_names and n != "eta":
+                worst = max(worst, abs(v - ref[n]) / max(scale[units[n][0]], 1e-300))
+    return refused, worst, solved
+
+
+def test_the_six_bar_driven_at_KD_solves_every_state_the_direct_solver_does(monkeypatch):
+    """Reference: the direct Newton on the whole system (method="direct"). Tolerance:
+    1e-11 of the largest output of the same unit at the state. Over 300 random states
+    with random friction, the compiled one-state kernel (whose iterations are loops)
+    refuses none that the direct solver solves; a kernel stopped after ITERATIONS steps (what the
+    unrolled kernels took) refuses some: the loops run beyond it there."""
+    from linkage_fmu import friction
+
+    rng = np.random.default_rng(29)
+    params = _friction_params("six_bar", rng, {"driver": "KD"})
+    params = {k: 2.0 * v for k, v in params.items()}  # mu up to 0.6, radii to 0.1 L
+    th, om, al, ld = _random_states(rng, 300)
+    states = list(zip(th, om, al, ld))
+    mech = presets.get("six_bar", driver="KD", **params)
+    if not mech.solver.kernel(None, False).compile():  # the C kernel, as native FMUs run it
+        pytest.skip("no C compiler")
+    refused, worst, solved = _refused_and_worst(mech, states)
+    assert refused == [] and solved > 250 and worst <= 1e-11, (refused[:3], worst)
+    monkeypatch.setattr(friction, "MAX_ITERATIONS", friction.ITERATIONS)
+    short = presets.get("six_bar", driver="KD", **params)
+    assert len(_refused_and_worst(short, states)[0]) > 0
+
+
+def test_a_kernel_traced_without_friction_solves_with_large_friction():
+    """Reference: the direct solver. Tolerance: 1e-11 of the largest output of the same
+    unit at the state. The slider-crank's kernel with friction traced at its defaults
+    (every mu 0, as a native FMU built with them traces it) run with mu 0.6 on every
+    pair and 0.1 m pins (its parameters are the kernel's arguments): it solves every
+    state the direct solver solves (150 random states), the signs of motion and the
+    friction law decided at run time."""
+    rng = np.random.default_rng(78)
+    mech = presets.preset("slider_crank").fmu_build()
+    kernel = mech.solver.kernel(None, False)
+    big = {"mu_O": 0.6, "r_O": 0.1, "mu_A": 0.6, "r_A": 0.1, "muf_B": 0.6, "r_B": 0.1,
+           "mu_guide": 0.6}
+    rubbing = presets.get("slider_crank", **big)
+    frozen = kernel.prepare(*(rubbing.parameters[n] for n in kernel.parameters))
+    run = kernel.make(*frozen)
+    th, om, al, ld = _random_states(rng, 150)
+    solved = 0
+    for state in zip(th, om, al, ld):
+        try:
+            ref = rubbing.solve(*state, method="direct")
+        except SelfLockingError:
+            continue
+        got = run(*state)
+        assert type(got) is tuple, (state, kernel.reasons[got - 1].text)
+        scale = max(abs(ref[n]) for n in rubbing.output_names if n.startswith("F"))
+        for n, v in zip(kernel.outputs, got):
+            if n.startswith(("F", "M", "P_")):
+                assert abs(v - ref[n]) <= 1e-11 * scale, (state, n, v, ref[n])
+        solved += 1
+    assert solved > 100

@@ -16,7 +16,7 @@ from hypothesis import strategies as st_
 from conftest import IDS, VARIANTS
 from linkage_fmu import AssemblyError, SingularPositionError, numerics, presets
 from linkage_fmu.kernels import TRACE, trace
-from linkage_fmu.kernels.trace import Reason
+from linkage_fmu.kernels.trace import Reason, TracingError
 
 STATES = st_.tuples(
     st_.floats(0.0, 2 * math.pi),
@@ -136,8 +136,9 @@ def test_the_compiled_array_kernel_is_the_python_kernel_to_a_few_ulp(monkeypatch
     and atan2 come from glibc's libmvec, within a few ulp of the C library's functions
     that Python's math module calls) hands back exactly the states the Python kernel
     does, and its values agree to 1e-13 max(1, cond/100) of the largest output; with
-    friction too, and where the kernel is too large to vectorise (its loop scalar,
-    max and min by a branch)."""
+    friction too (its iterations are loops, run on blocks of states until each state
+    converged), and where the kernel is too large to vectorise (its loop scalar, max and
+    min by a branch)."""
     if not vectorise:  # the module (the package's c_source is its function)
         source = importlib.import_module("linkage_fmu.kernels.c_source")
         monkeypatch.setattr(source, "VECTOR_OPERATIONS", 0)
@@ -437,3 +438,167 @@ def test_array_kernel_writes_the_rows_of_one_block():
     with pytest.raises(ValueError, match="out must be a float64 array of shape"):
         array(inputs, theta.size, np.lib.stride_tricks.as_strided(
             np.empty(theta.size + len(k.outputs)), (len(k.outputs), theta.size), (8, 8)))
+
+
+# -- loops ------------------------------------------------------------------------------------
+def _newton_sqrt(x, p, maximum=60, minimum=1):
+    """sqrt(a) by Newton from a (a loop of the kernel), the runs it took, scaled by p."""
+    a = x[0]
+    tape = a.tape
+
+    def body(carried):
+        y, runs = carried
+        z = 0.5 * (y + a / y)
+        return [z, runs + 1.0], tape.compare("gt", abs(z - y), 1e-15 * z)
+
+    (root, runs), converged = tape.loop([a, 0.0], body, minimum, maximum)
+    tape.check(converged, True, Reason("locking", "Newton did not converge"))
+    return [root * p["s"], runs]
+
+
+def _reference_sqrt(a, minimum=1):
+    """The same Newton iteration, written here on floats: the root and the runs."""
+    y, runs = a, 0
+    while True:
+        z = 0.5 * (y + a / y)
+        runs += 1
+        more = abs(z - y) > 1e-15 * z
+        y = z
+        if runs >= minimum and not more:
+            return y, runs
+
+
+def test_a_loop_is_newton_for_sqrt_in_python_c_arrays_summaries_and_tangent():
+    """Reference: math.sqrt (1 ulp), the iteration written on floats in the test (its
+    root bit for bit, its count of runs exactly: 1 to over 20 by state), and the
+    derivative 1 / (2 sqrt(a)) (1e-12 relative) through the carried derivatives. The
+    Python kernel, the C one-state, the C array and summary kernels and the tangent
+    agree; the runs respect the minimum; too few runs fail with the check's reason."""
+    k = trace(_newton_sqrt, [2.0], {"s": 1.0}, ("root", "runs"))
+    assert "for _k" in k.source
+    a = np.array([1.0, 2.0, 0.25, 7.5, 1e-6, 3e5, 1e12, 4e-9])
+    runs = []
+    for v in a.tolist():
+        root, n = k(v)
+        want, m = _reference_sqrt(v)
+        assert root == want and n == m and abs(root - math.sqrt(v)) <= 2.3e-16 * root
+        runs.append(n)
+    assert min(runs) <= 2 and max(runs) >= 20
+    if k.compile():
+        assert all(k.call(v) == k.function(v) for v in a.tolist())
+    array = k.array()
+    if array is not None:
+        (roots, counts), ok = array([a.copy()], a.size)
+        assert ok.all() and roots.tolist() == [k(v)[0] for v in a.tolist()]
+        assert counts.tolist() == runs
+        s = k.summary([("peak", ("runs",))])
+        assert s([[1.0]], [a.copy()], a.size)[0][3] == max(runs)
+    tangent = k.tangent()
+    if tangent is not None:
+        for v in a.tolist():
+            y, dy = tangent([v], [1.0])
+            assert y[0] == k(v)[0]
+            assert abs(dy[0] - 0.5 / math.sqrt(v)) <= 1e-12 * 0.5 / math.sqrt(v)
+    k5 = trace(lambda x, p: _newton_sqrt(x, p, minimum=5), [2.0], {"s": 1.0}, ("r", "n"))
+    assert k5(1.0) == (1.0, 5.0) and k5(1e12)[1] == _reference_sqrt(1e12, 5)[1]
+    k3 = trace(lambda x, p: _newton_sqrt(x, p, maximum=3), [1.0], {"s": 1.0}, ("r", "n"))
+    assert k3(1.0) == (1.0, 1.0) and k3(1e12) is None
+    assert k3.call(1e12) == 1 and k3.reasons[0].what == "Newton did not converge"
+
+
+def test_nested_loops_and_checks_inside_a_body():
+    """Reference: the fixed point of x = sqrt(x + a), (1 + sqrt(1 + 4 a)) / 2 (1e-15
+    relative), each square root a Newton loop inside the outer loop; a check inside the
+    outer body (the inner loop's convergence) fails the state where it fails in any run,
+    with its reason, in Python and C."""
+    def fixed_point(x, p, inner=60):
+        a = x[0]
+        tape = a.tape
+
+        def root(v):
+            def body(c):
+                z = 0.5 * (c[0] + v / c[0])
+                return [z], tape.compare("gt", abs(z - c[0]), 1e-15 * z)
+            (r,), converged = tape.loop([v], body, 1, inner)
+            tape.check(converged, True, Reason("locking", "the square root"))
+            return r
+
+        def outer(c):
+            z = root(c[0] + a)
+            return [z], tape.compare("gt", abs(z - c[0]), 1e-15 * z)
+
+        (x,), converged = tape.loop([a], outer, 1, 200)
+        tape.check(converged, True, Reason("locking", "the fixed point"))
+        return [x * p["s"]]
+
+    k = trace(fixed_point, [2.0], {"s": 1.0}, ("x",))
+    assert k.source.count("for _k") == 2
+    compiled = trace(fixed_point, [2.0], {"s": 1.0}, ("x",))
+    if not compiled.compile():
+        pytest.skip("no C compiler")
+    for a in (2.0, 0.3, 40.0, 1e6):
+        want = (1.0 + math.sqrt(1.0 + 4.0 * a)) / 2.0
+        assert abs(k(a)[0] - want) <= 1e-15 * want and compiled.call(a) == k(a)
+    short = trace(lambda x, p: fixed_point(x, p, inner=8), [0.5], {"s": 1.0}, ("x",))
+    short.compile()
+    assert short(0.5) is not None and short(1e6) is None
+    assert short.reasons[short.call(1e6) - 1].what == "the square root"
+
+
+def test_a_loop_refuses_branches_inside_and_its_values_outside():
+    """A formula that branches on a value of a loop's body, or reads one after the loop,
+    is a TracingError naming what it did."""
+    def branching(x, p):
+        tape = x[0].tape
+
+        def body(c):
+            z = c[0] * 0.5
+            if z > 1.0:  # a branch: refused
+                z = z - 1.0
+            return [z], tape.compare("gt", z, 1.0)
+        return tape.loop([x[0]], body, 1, 10)[0]
+
+    with pytest.raises(TracingError, match="branches .gt. on a value computed inside"):
+        trace(branching, [3.0], {}, ("y",))
+    kept = []
+
+    def leaking(x, p):
+        tape = x[0].tape
+
+        def body(c):
+            kept.append(c[0] * 2.0)
+            return [kept[-1]], tape.compare("lt", kept[-1], 100.0)
+        tape.loop([x[0]], body, 1, 10)
+        return [kept[-1] + 1.0]
+
+    with pytest.raises(TracingError, match="read outside it"):
+        trace(leaking, [3.0], {}, ("y",))
+
+
+def test_an_array_kernel_with_loops_is_the_one_state_kernel():
+    """Reference: the Python kernel of one state (the interpreted formulas' floats).
+    Tolerance: the same states refused, values within 1e-13 max(1, cond/100) of the
+    largest output (libmvec's sin, cos and atan2 are within a few ulp of the C
+    library's). The six-bar driven at KD with friction (a secant loop holding the
+    groups' Newton loops) over 500 random states, run on blocks by the compiled array
+    kernel, each state's loops until it converged."""
+    mu = {n: 0.2 for n in presets.get("six_bar").parameters if n.startswith(("mu_", "muf_"))}
+    mu.update({n: 0.01 for n in presets.get("six_bar").parameters if n.startswith("r_")})
+    kernel = presets.get("six_bar", driver="KD", **mu).kernel()
+    array = kernel.array()
+    if array is None:
+        pytest.skip("no C compiler")
+    rng = np.random.default_rng(8)
+    states = rng.uniform([0, -30, -100, -300], [2 * np.pi, 30, 100, 300], size=(500, 4))
+    values, ok = array([states[:, k].copy() for k in range(4)], len(states))
+    cond, refused = kernel.index["cond"], 0
+    for i, state in enumerate(states.tolist()):
+        r = kernel.function(*state)
+        assert ok[i] == (type(r) is tuple)
+        if type(r) is tuple:
+            tol = 1e-13 * max(1.0, r[cond] / 100) * max(abs(r[j]) for j in kernel.checked)
+            assert all(abs(v[i] - r[j]) <= tol for j, v in enumerate(values)
+                       if j in kernel.checked), i
+        else:
+            refused += 1
+    assert refused < 50

@@ -23,10 +23,11 @@ Newton iteration on its own friction values (at most three) from the frictionles
 solution, and then its statics once with them. A balancing effort away from the crank
 is found by a secant iteration on the virtual power balance over those group solves.
 :func:`direct` is the reference: Newton on the whole assembled system of equations.
-Every path takes the same :data:`ITERATIONS` steps first (a traced kernel takes exactly
-those, then checks that they converged), so that the floats are the same everywhere; a
-state they do not settle continues up to :data:`MAX_ITERATIONS`. A position at which
-the iteration has no solution reached from the frictionless one (the Jacobian's
+Every path takes the same :data:`ITERATIONS` steps first, then continues up to
+:data:`MAX_ITERATIONS` while they do not settle, so that the floats are the same
+everywhere; in a traced kernel the iterations are loops of the generated code, every
+sign of motion and branch of the friction law decided in them at run time. A position
+at which the iteration has no solution reached from the frictionless one (the Jacobian's
 determinant falls to zero on the way: the reactions grow without bound) is
 self-locking: :class:`~linkage_fmu.errors.SelfLockingError` for one state, NaN and
 :attr:`KinematicState.locked <linkage_fmu.groups.KinematicState>` for arrays (a state
@@ -41,7 +42,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import kinetostatics, numerics
+from . import kinetostatics
 from .groups.base import Joint, KinematicState, push
 from .kernels.trace import Reason
 from .numerics import ARRAY
@@ -276,29 +277,24 @@ def _tolerance(xp) -> float:
 
 
 # -- the iterations: the same steps on floats, arrays, mpmath and traced numbers ----------
-def _label(reason: Reason, *values) -> None:
-    for v in values:
-        if hasattr(v, "tape"):
-            numerics.label(v, reason)
-            return
-
-
 def not_(xp, outcome):
     """``not outcome``, of a float comparison or elementwise of an array's."""
     return (not outcome) if xp.scalar else ~outcome
 
 
-def iterate(xp, x: list, step, fail, what: str) -> list:
-    """``x <- x - d`` with ``(d, det) = step(x)``: :data:`ITERATIONS` steps, then more
-    (to :data:`MAX_ITERATIONS`) while the last step exceeds :data:`TOLERANCE` of ``x``;
-    ``det`` (or None) must stay > 0. On floats (and traced numbers, where the checks are
-    the kernel's guards) ``fail()`` raises where it does not converge or ``det <= 0``;
-    on arrays, those states get NaN and ``fail(bad)`` is told which."""
-    tol = TOLERANCE if getattr(xp, "eps", None) is None else xp.eps()
-    reason = Reason("locking", what)
+def iterate(xp, x: list, step, fail, first=None, memory: tuple = ()) -> list:
+    """``x <- x - d`` with ``(d, det, memory) = step(x, memory)`` (``first`` instead for
+    the first step, if given; ``memory``: what a step hands the next):
+    :data:`ITERATIONS` steps, then more (to :data:`MAX_ITERATIONS`) while the last step
+    exceeds :data:`TOLERANCE` of ``x``; ``det`` (or None) must stay > 0. On floats
+    ``fail()`` raises where it does not converge or ``det <= 0``; on arrays, those
+    states get NaN and ``fail(bad)`` is told which. (On traced numbers, the iterations
+    are loops of the kernel: :func:`_loop`.)"""
+    tol = _tolerance(xp)
     done = det = None
+    memory = tuple(memory)
     for k in range(MAX_ITERATIONS):
-        d, det = step(x)
+        d, det, memory = (first if k == 0 and first is not None else step)(x, memory)
         if done is None:
             x = [a - b for a, b in zip(x, d)]
         else:  # arrays: the states converged stay as they are
@@ -310,7 +306,6 @@ def iterate(xp, x: list, step, fail, what: str) -> list:
         # position, which the solver's check of the outputs names; locking is finite
         converged = not_(xp, moved > tol * size)
         if xp.scalar:
-            _label(reason, moved, size)
             if converged:
                 break
         else:
@@ -326,13 +321,47 @@ def iterate(xp, x: list, step, fail, what: str) -> list:
     if det is not None:
         held = not_(xp, det <= 0.0)
         if xp.scalar:
-            _label(reason, det)
             if not held:
                 fail()
         elif not held.all():
             fail(~held)
             x = [np.where(held, a, np.nan) for a in x]
     return x
+
+
+def _tape(*values):
+    """The tape of the first traced number among ``values``, or None."""
+    for v in values:
+        tape = getattr(v, "tape", None)
+        if tape is not None:
+            return tape
+    return None
+
+
+def _loop(tape, xp, x: list, det, memory: tuple, step, fail, reason: Reason,
+          minimum: int, maximum: int) -> list:
+    """:func:`iterate`'s steps on traced numbers as a loop of the kernel
+    (:meth:`~linkage_fmu.kernels.trace.Tape.loop`) carrying ``x``, ``det`` (None: the
+    steps have none) and ``memory``, with its test after ``minimum`` steps, at most
+    ``maximum``; then its checks, labelled ``reason``: that it converged, and that the
+    last ``det`` > 0 (both written so that NaN passes, as on floats)."""
+    tol = _tolerance(xp)
+    n, m = len(x), 0 if det is None else 1
+
+    def body(carried):
+        x, memory = carried[:n], tuple(carried[n + m:])
+        d, det, memory = step(x, memory)
+        x = [a - b for a, b in zip(x, d)]
+        moved, size = sum(xp.abs(b) for b in d), sum(xp.abs(a) for a in x)
+        return [*x, *([det] if m else []), *memory], tape.compare("gt", moved, tol * size)
+
+    carried, converged = tape.loop([*x, *([det] if m else []), *memory], body,
+                                   minimum, maximum)
+    if not tape.check(converged, True, reason):
+        fail()
+    if m and not tape.check(tape.compare("le", carried[n], 0.0), False, reason):
+        fail()
+    return carried[:n]
 
 
 def _scratch(W: dict | None, links) -> dict:
@@ -382,43 +411,44 @@ def solve_group(mech, st: KinematicState, grp, pairs: tuple, W: dict, R: dict,
         K = unit_responses(mech, st, grp, pairs)
     n = len(pairs)
 
-    def step(m):
-        first = m[0] is None
+    def step(m, flag=None):
+        # the first step, from m = 0 without its products (-d is the first iterate): on
+        # numbers where m[0] is None; in a kernel's loop, where the flag it carries is 1
+        if flag is None:
+            first = m[0] is None
+            pick = lambda a, b: a if first else b  # noqa: E731
+        else:
+            first = False
+            pick = lambda a, b: tape.select(flag, a, b)  # noqa: E731
         laws = []
         for i, jf in enumerate(pairs):
             a, b = r0[i]
             if not first:
+                a0, b0 = a, b
                 for k in range(n):
                     a, b = a + m[k] * K[k][i][0], b + m[k] * K[k][i][1]
+                a, b = pick(a0, a), pick(b0, b)
             laws.append(law(xp, jf, s[jf.joint.name], (a, b)))
-        g = [f[0] if first else m[i] - f[0] for i, f in enumerate(laws)]
+        g = [f[0] if first else pick(f[0], m[i] - f[0]) for i, f in enumerate(laws)]
         J = [[(1.0 if i == k else 0.0) - (laws[i][1] * K[k][i][0] + laws[i][2] * K[k][i][1])
               for k in range(n)] for i in range(n)]
         d = _solve(J, g)
-        return ([-v for v in d] if first else d), _determinant(J)
-
-    def first_step(m):  # from m = 0 without its products: -d is the first iterate
-        return step([None] * n)
+        return [pick(-v, v) for v in d], _determinant(J)
 
     what = _locks(grp, pairs)
-    m = iterate(xp, [0.0] * n, _Steps(first_step, step), _failure(mech, st, what), what)
+    fail = _failure(mech, st, what)
+    tape = _tape(st.theta, *(v for r in r0 for v in r))
+    if tape is not None:  # every step a run of one loop, the first by the flag it carries
+        m = _loop(tape, xp, [0.0] * n, 1.0, (1.0,),
+                  lambda m, memory: (*step(m, memory[0]), (0.0,)), fail,
+                  Reason("locking", what), ITERATIONS, MAX_ITERATIONS)
+    else:
+        m = iterate(xp, [0.0] * n, lambda m, memory: (*step(m), memory), fail,
+                    first=lambda m, memory: (*step([None] * n), memory))
     for jf, v in zip(pairs, m):
         apply(mech, st, W, jf, v)
         R.friction[jf.joint.name] = v
     return grp.statics(mech, st, W, R)
-
-
-class _Steps:
-    """The first step, then the others."""
-
-    def __init__(self, first, then):
-        self.first, self.then, self.started = first, then, False
-
-    def __call__(self, x):
-        if self.started:
-            return self.then(x)
-        self.started = True
-        return self.first(x)
 
 
 # -- the solutions --------------------------------------------------------------------------
@@ -511,32 +541,83 @@ def closed_form(mech, st: KinematicState, W: dict, omega, static: bool):
             R, _ = through(Wc)
             return R, ideal - virtual_power(R.friction, c) / q1
 
-        history = []
-
-        def step(x):
+        def first(x, memory):
+            # a Newton step first (its slope from a probe 1e-6 away), then secants: the
+            # fixed-point step overshoots where |dphi/de| > 1 and can reach a solution
+            # that does not continue the frictionless one
             _, phi = run(x[0])
             h = phi - x[0]
-            if not history:
-                # a Newton step first (its slope from a probe 1e-6 away), then secants: the
-                # fixed-point step overshoots where |dphi/de| > 1 and can reach a solution
-                # that does not continue the frictionless one
-                delta = 1e-6 * (xp.abs(x[0]) + xp.abs(h))
-                _, probe = run(x[0] + delta)
-                history.append((x[0], h))
-                return [h * delta * _inverse(xp, probe - (x[0] + delta) - h)], None
-            e_prev, h_prev = history[-1]
-            history.append((x[0], h))
-            return [h * (x[0] - e_prev) * _inverse(xp, h - h_prev)], None
+            delta = 1e-6 * (xp.abs(x[0]) + xp.abs(h))
+            _, probe = run(x[0] + delta)
+            return [h * delta * _inverse(xp, probe - (x[0] + delta) - h)], None, (x[0], h)
+
+        def step(x, memory):  # a secant through the last two values of the effort
+            e_prev, h_prev = memory
+            _, phi = run(x[0])
+            h = phi - x[0]
+            return [h * (x[0] - e_prev) * _inverse(xp, h - h_prev)], None, (x[0], h)
 
         what = "friction locks the linkage against its driver"
-        effort = iterate(xp, [ideal], step, _failure(mech, st, what), what)[0]
-        W = {k: list(v) for k, v in W.items()}
-        kinetostatics.add_effort(mech, st, W, effort)
-        R, _ = through(W)
+        fail = _failure(mech, st, what)
+        tape = _tape(st.theta, ideal)
+        if tape is None:
+            effort = iterate(xp, [ideal], step, fail, first=first)[0]
+            W = {k: list(v) for k, v in W.items()}
+            kinetostatics.add_effort(mech, st, W, effort)
+            R, _ = through(W)
+        else:  # one loop of the kernel, one solve through the groups per run
+            effort, R = _effort_loop(tape, xp, run, ideal, fail, Reason("locking", what))
     R.ideal = frictionless(mech, st, effort, R.friction, c)
     R.direction = direction(fr.drive, omega, static, xp)
     R.P_loss = 0.0 if static else -omega * virtual_power(R.friction, c)
     return R, effort
+
+
+def _effort_loop(tape, xp, run, ideal, fail, reason: Reason):
+    """The effort's iteration of :func:`closed_form` on traced numbers: one loop of the
+    kernel, one solve through the groups (``run``) per run, the same operations on the
+    same values as on floats. Its runs, by their ``phase``: 0, the solve at the
+    frictionless effort ``ideal`` (no step); 1, at the probe, taking the Newton step;
+    2, the secant steps, until they converge (tested after :data:`ITERATIONS` steps,
+    as on floats); 3, the solve at the effort found, whose reactions the loop hands
+    out. Returns the effort and the :class:`Reactions` there."""
+    tol = _tolerance(xp)
+    shape = []
+
+    def body(carried):
+        e, e_prev, h_prev, phase, count = carried
+        starting, probing = tape.compare("eq", phase, 0.0), tape.compare("eq", phase, 1.0)
+        final = tape.compare("eq", phase, 3.0)
+        delta = 1e-6 * (xp.abs(e_prev) + xp.abs(h_prev))  # after run 0: of its solve
+        point = tape.select(probing, e_prev + delta, e)
+        R, phi = run(point)
+        h = phi - point
+        inverse = _inverse(xp, h - h_prev)
+        d = tape.select(probing, h_prev * delta * inverse, h * (e - e_prev) * inverse)
+        d = tape.select(starting, 0.0, tape.select(final, 0.0, d))
+        x = e - d
+        moved, size = sum(xp.abs(b) for b in [d]), sum(xp.abs(a) for a in [x])
+        settled = tape.apply("min", min, tape.compare("ge", count, float(ITERATIONS)),
+                             1.0 - tape.compare("gt", moved, tol * size))
+        following = tape.apply("min", min, phase + 1.0, 2.0)
+        phase = tape.select(final, 3.0, tape.select(settled, 3.0, following))
+        shape[:] = [(k, len(v)) for k, v in R.items()] + list(R.friction)
+        last = [v for k in R for v in R[k]] + list(R.friction.values())
+        return ([x, e, tape.select(probing, h_prev, h), phase, count + 1.0],
+                tape.compare("ne", final, 1), last)
+
+    # MAX_ITERATIONS steps at most, after the first solve, and the last solve
+    carried, converged = tape.loop([ideal, ideal, 0.0, 0.0, 0.0], body, 0,
+                                   MAX_ITERATIONS + 2)
+    if not tape.check(converged, True, reason):
+        fail()
+    values = iter(carried[5:])
+    R = Reactions()
+    for item in shape:
+        if isinstance(item, tuple):
+            R[item[0]] = tuple(next(values) for _ in range(item[1]))
+    R.friction = {name: next(values) for name in shape if not isinstance(name, tuple)}
+    return carried[0], R
 
 
 def frictionless(mech, st: KinematicState, effort, friction: dict, c: dict):

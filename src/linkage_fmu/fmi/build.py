@@ -26,11 +26,13 @@ comes from the linkage's variable table through the writers of
 from __future__ import annotations
 
 import hashlib
+import os
 import shutil
 import sysconfig
 import tempfile
 import uuid
 import zipfile
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from .. import ranges
@@ -92,7 +94,7 @@ def compile_for(target: Platform, sources: list[Path], output: Path, fmi_version
     system C compiler if ``target`` is this machine's platform and it has one, else with
     zig's; then check that ``output`` is a library of ``target``'s format and processor
     that exports the FMI ``fmi_version`` functions and nothing else. ``level`` is the
-    optimisation flag (see :data:`~linkage_fmu.fmi.writers.LARGE_MODEL`).
+    optimisation flag.
 
     Raises
     ------
@@ -282,14 +284,19 @@ def build_native_fmu(source, out: str | Path | None = None, fmi_version: int = 2
         (root / "modelDescription.xml").write_bytes(writers.model_description(
             mech, "native", fmi_version, guid, (adapter.name,) if fmi_version == 2 else (),
             drive))
-        for folder, group in folders(chosen, fmi_version).items():
+        groups = folders(chosen, fmi_version)
+        # one compiler process per platform, as many at once as the machine has cores
+        with ThreadPoolExecutor(max(1, min(os.cpu_count() or 1, len(chosen)))) as pool:
+            thin = {p.name: pool.submit(compile_for, p, [adapter],
+                                        Path(tmp) / p.name / p.library(model), fmi_version,
+                                        include=[sources])
+                    for group in groups.values() for p in group}
+            done = {name: job.result() for name, job in thin.items()}
+        for folder, group in groups.items():
             (root / "binaries" / folder).mkdir(parents=True)
             library = root / "binaries" / folder / group[0].library(model)
-            level = "-O2" if len(model_c) <= writers.LARGE_MODEL else "-O0"
-            thin = [compile_for(p, [adapter], Path(tmp) / p.name / p.library(model),
-                                fmi_version, include=[sources], level=level) for p in group]
-            if len(thin) == 1:
-                shutil.move(thin[0], library)
+            if len(group) == 1:
+                shutil.move(done[group[0].name], library)
             else:  # FMI 2.0's darwin64: every Mac in one file
-                binaries.universal(thin, library)
+                binaries.universal([done[p.name] for p in group], library)
         return _archive(root, out / f"{model}.fmu")

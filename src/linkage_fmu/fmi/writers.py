@@ -332,32 +332,7 @@ def model_source(mech, rebuild, drive: bool = False,
         structures=[{"integers": [c[n] for n in integers], "strings": [str(c[n]) for n in strings],
                      "reasons": reasons(k)} for c, k in zip(built, kernels)],
         drive=drive, **drive_tables)
-    if len(source) > LARGE_MODEL:
-        source = _UNOPTIMISED.format(source=source)
     return source, built
-
-
-#: a model C longer than this (characters) asks GCC, clang and MSVC not to optimise it:
-#: GCC 12 takes minutes and over 1 GB at -O1 and above over the 24 MB of the six-bar's
-#: 20 structures with friction (-O1: 154 s; -O0: 19 s), whoever compiles the FMU's sources
-LARGE_MODEL = 4_000_000
-_UNOPTIMISED = """#if defined(__clang__)
-#pragma clang optimize off
-#elif defined(__GNUC__)
-#pragma GCC push_options
-#pragma GCC optimize ("O0")
-#elif defined(_MSC_VER)
-#pragma optimize("", off)
-#endif
-{source}
-#if defined(__clang__)
-#pragma clang optimize on
-#elif defined(__GNUC__)
-#pragma GCC pop_options
-#elif defined(_MSC_VER)
-#pragma optimize("", on)
-#endif
-"""
 
 
 #: the outputs of the drive FMU's kernel of its motion: the balancing moment and the

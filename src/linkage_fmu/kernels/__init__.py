@@ -1,4 +1,5 @@
-"""Kernels: formulas traced once into straight-line code, one kernel per plan.
+"""Kernels: formulas traced once into straight-line code and bounded loops, one kernel per
+plan.
 
 :func:`trace` runs a function of traced numbers (:mod:`~linkage_fmu.kernels.trace`)
 once and turns what it did into Python source
@@ -233,6 +234,6 @@ def trace(evaluate: Callable[[list, dict], list], inputs: Sequence[float],
         raise RuntimeError(f"{label}: the parameter step rejects the parameters it was traced "
                            f"with: {reasons[frozen - 1].text}")
     return Kernel(tuple(outputs), static, source, make_prepare, make, frozen,
-                  tuple(parameters), len(prog.state), time.perf_counter() - t0, tuple(checked),
+                  tuple(parameters), prog.operations, time.perf_counter() - t0, tuple(checked),
                   {name: i for i, name in enumerate(outputs)}, reasons, tape, results,
                   len(names))

@@ -1,4 +1,4 @@
-"""C source from a traced tape: the same straight-line code, compiled.
+"""C source from a traced tape: the same code (straight lines and loops), compiled.
 
 Each operation is the same IEEE operation as in Python (the build keeps
 ``-ffp-contract=off`` and no fast-math) and the elementary functions are the C
@@ -41,62 +41,160 @@ def c_literal(value: float) -> str:
 
 
 def _statements(tape: Tape, nodes: list, guards: dict, codes: dict, indent: str = "    ",
-                simd: bool = False, vectorise: bool = False) -> list:
-    """One declaration per operation; a failed guard returns its code, or with ``simd``
+                simd: bool = False, vectorise: bool = False, bodies: dict | None = None,
+                tangent: "_Tangent | None" = None) -> list:
+    """One declaration per operation (each assigned once: no ``const``, which only
+    lengthens large kernels' source); a failed guard returns its code, or with ``simd``
     marks the state (``bad``) and the computation goes on (NaNs, no traps), and the
     elementary functions are the vector ones (``lk_*``); with ``vectorise`` too, max
-    and min pick by the bits (no branch to keep the loop scalar)."""
+    and min pick by the bits (no branch to keep the loop scalar). A loop node is its
+    loop (``bodies``: loop node -> its body's operations); with ``tangent``, each
+    operation's derivative follows it."""
     body = []
     for i in nodes:
         node = tape.nodes[i]
         a = [operand(tape, j, c_literal) for j in node.args]
+        if node.op in ("final", "converged"):  # declared by their loop
+            continue
+        if node.op == "loop":
+            body += _loop(tape, tape.loops[i], guards, codes, indent, bodies, tangent)
+            continue
         if node.op in _COMPARE:
-            body.append(f"{indent}const int t{i} = {a[0]} {_INFIX[node.op]} {a[1]};")
+            body.append(f"{indent}int t{i} = {a[0]} {_INFIX[node.op]} {a[1]};")
+        elif node.op == "select":
+            pick = (f"lk_pick({a[0]} != 0, {a[1]}, {a[2]})" if vectorise
+                    else f"{a[0]} ? {a[1]} : {a[2]}")
+            body.append(f"{indent}double t{i} = {pick};")
+        elif node.op == "fails":  # a check inside a loop: its failure, kept
+            body.append(f"{indent}double t{i} = (double)(({a[0]} != 0.0) | "
+                        f"((({a[1]}) != 0) != {int(node.value)}));")
         elif node.op in _INFIX:
-            body.append(f"{indent}const double t{i} = {a[0]} {_INFIX[node.op]} {a[1]};")
+            body.append(f"{indent}double t{i} = {a[0]} {_INFIX[node.op]} {a[1]};")
         elif node.op == "neg":
-            body.append(f"{indent}const double t{i} = -{a[0]};")
+            body.append(f"{indent}double t{i} = -{a[0]};")
         elif node.op == "extern":
-            body.append(f"{indent}const double t{i} = {node.value}({', '.join(a)});")
+            body.append(f"{indent}double t{i} = {node.value}({', '.join(a)});")
         elif node.op == "sign":  # trace.sign: two comparisons, no branch
-            body.append(f"{indent}const double t{i} = (double)(({a[0]} > 0.0) - ({a[0]} < 0.0));")
+            body.append(f"{indent}double t{i} = (double)(({a[0]} > 0.0) - ({a[0]} < 0.0));")
         elif node.op in ("max", "min"):  # Python's max(a, b): b only if b > a (min: <)
             test = f"{a[1]} {'>' if node.op == 'max' else '<'} {a[0]}"
             pick = (f"lk_pick({test}, {a[1]}, {a[0]})" if vectorise
                     else f"{test} ? {a[1]} : {a[0]}")
-            body.append(f"{indent}const double t{i} = {pick};")
+            body.append(f"{indent}double t{i} = {pick};")
         elif node.op in _SCALE:
-            body.append(f"{indent}const double t{i} = {a[0]} * {c_literal(_SCALE[node.op])};")
+            body.append(f"{indent}double t{i} = {a[0]} * {c_literal(_SCALE[node.op])};")
         else:
             name = f"lk_{node.op}" if simd and node.op in _VECTOR else _CALL[node.op]
-            body.append(f"{indent}const double t{i} = {name}({', '.join(a)});")
+            body.append(f"{indent}double t{i} = {name}({', '.join(a)});")
         if i in guards:
             if simd:
                 body.append(f"{indent}bad |= {'!' if guards[i] else ''}t{i};")
             else:
                 body.append(f"{indent}if ({'!' if guards[i] else ''}t{i}) return {codes[i]};")
+        if tangent is not None:
+            body += tangent.line(i, indent)
     return body
 
 
-def _tangent_statements(tape: Tape, nodes: list, results: list, indent: str = "    ") -> list:
-    """Forward mode: after the values, the derivative ``d<i>`` of each operation along
-    the direction ``dx`` of the inputs (the parameters' is zero: they are not inputs
-    here), by the rules of calculus applied to the operation the tape holds; only for
-    the operations a result's derivative needs (not those only a guard reads)."""
-    body = []
-    zero = {i for i, n in enumerate(tape.nodes) if n.op == "const" or i in tape.fixed}
-    needed = {r.index for r in results if isinstance(r, Sym)}
-    for i in reversed(nodes):
-        if i in needed and tape.nodes[i].op != "sign":  # a sign has no derivative
-            needed.update(tape.nodes[i].args)
-    zero.update(i for i in nodes if i not in needed)
+def _loop(tape: Tape, L, guards: dict, codes: dict, indent: str, bodies: dict,
+          tangent: "_Tangent | None") -> list:
+    """A loop (:meth:`Tape.loop <linkage_fmu.kernels.trace.Tape.loop>`): its carried
+    values (and their derivatives) as variables, ``for`` over its runs, the new values
+    assigned together, the test after ``minimum`` runs; then its results."""
+    inner = indent + "    "
+    k = f"k{L.index}"
+    carried = [c for c in L.carries if tangent is not None and tangent.carried(c)]
+    lines = [
+        *(f"{indent}double t{c} = {operand(tape, a, c_literal)};"
+          for c, a in zip(L.carries, L.inits)),
+        *(f"{indent}double d{c} = {tangent.of(a) or '0.0'};"
+          for c, a in zip(L.carries, L.inits) if c in carried),
+        f"{indent}int t{L.converged} = 0;",
+        f"{indent}for (int {k} = 0; {k} < {L.maximum}; {k}++) {{",
+        *_statements(tape, bodies[L.index], guards, codes, inner, bodies=bodies,
+                     tangent=tangent),
+        *(f"{inner}double u{c} = {operand(tape, n, c_literal)};"
+          for c, n in zip(L.carries, L.news)),
+        *(f"{inner}double du{c} = {tangent.of(n) or '0.0'};"
+          for c, n in zip(L.carries, L.news) if c in carried),
+        *(f"{inner}t{c} = u{c};" for c in L.carries),
+        *(f"{inner}d{c} = du{c};" for c in carried),
+        f"{inner}if ({k} + 1 >= {L.minimum} && !({operand(tape, L.again, c_literal)})) {{",
+        f"{inner}    t{L.converged} = 1;",
+        f"{inner}    break;",
+        f"{inner}}}",
+        f"{indent}}}",
+        *(f"{indent}double t{f} = t{c};" for f, c in zip(L.finals, L.carries)),
+        *(f"{indent}double d{f} = d{c};" for f, c in zip(L.finals, L.carries)
+          if c in carried),
+        *(f"{indent}(void)t{n};" for n in (*L.finals, L.converged)),
+        *(f"{indent}(void)d{f};" for f, c in zip(L.finals, L.carries) if c in carried),
+        *(f"{indent}if ({'!' if guards[i] else ''}t{i}) return {codes[i]};"
+          for i in (*L.finals, L.converged) if i in guards),
+    ]
+    if tangent is not None:
+        tangent.zero.update(f for f, c in zip(L.finals, L.carries) if c not in carried)
+    return lines
 
-    def d(j):  # the derivative of operand j as C text, None where it is zero
-        node = tape.nodes[j]
-        if j in zero:
+
+class _Tangent:
+    """Forward mode: the derivative ``d<i>`` of each operation along the direction
+    ``dx`` of the inputs (the parameters' is zero: they are not inputs here), by the
+    rules of calculus applied to the operation the tape holds; only for the operations
+    a result's derivative needs (not those only a guard reads). A loop carries the
+    derivatives of its carried values with them."""
+
+    def __init__(self, tape: Tape, prog, results: list):
+        self.tape = tape
+        zero = {i for i, n in enumerate(tape.nodes) if n.op == "const" or i in tape.fixed}
+        needed = set()
+        todo = [r.index for r in results if isinstance(r, Sym)]
+        while todo:
+            i = todo.pop()
+            if i in needed:
+                continue
+            needed.add(i)
+            node = tape.nodes[i]
+            if node.op in ("sign", "converged", "fails") or node.op in _COMPARE:
+                continue  # piecewise constant: no derivative
+            if node.op == "final":
+                todo.append(tape.loops[node.args[0]].carries[node.value])
+            elif node.op == "carry":
+                L = next(L for L in tape.loops.values() if i in L.carries)
+                k = L.carries.index(i)
+                todo += [L.inits[k], L.news[k]]
+            elif node.op == "select":  # not through its condition
+                todo.extend(node.args[1:])
+            elif node.op != "loop":
+                todo.extend(node.args)
+        zero.update(i for i in range(len(tape.nodes)) if i not in needed)
+        self.zero, self.needed = zero, needed
+
+    def carried(self, c: int) -> bool:
+        return c in self.needed and c not in self.zero
+
+    def of(self, j: int) -> str | None:
+        """The derivative of operand ``j`` as C text, None where it is zero."""
+        node = self.tape.nodes[j]
+        if j in self.zero:
             return None
         return f"d{node.value}" if node.op == "input" else f"d{j}"
 
+    def line(self, i: int, indent: str) -> list:
+        """The declaration of the derivative of operation ``i`` (none where it is 0)."""
+        tape, node = self.tape, self.tape.nodes[i]
+        if node.op in _COMPARE or i in self.zero or node.op == "fails":
+            self.zero.add(i)
+            return []
+        e = _derivative(tape, i, self.of)
+        if e is None:
+            self.zero.add(i)
+            return []
+        return [f"{indent}double d{i} = w ? {e} : 0.0;"]
+
+
+def _derivative(tape: Tape, i: int, d) -> str | None:
+    """The derivative of operation ``i`` as C text (``d``: an operand's), None if 0."""
     def times(a, b):
         return None if a is None or b is None else f"{a} * {b}"
 
@@ -107,69 +205,65 @@ def _tangent_statements(tape: Tape, nodes: list, results: list, indent: str = " 
             return f"-({b})" if minus else b
         return f"{a} {'-' if minus else '+'} ({b})" if minus else f"{a} + {b}"
 
-    for i in nodes:
-        node = tape.nodes[i]
-        if node.op in _COMPARE or i not in needed:
-            continue
-        a = [operand(tape, j, c_literal) for j in node.args]
-        da = [d(j) for j in node.args]
-        t, op = f"t{i}", node.op
-        if op == "add":
-            e = plus(da[0], da[1])
-        elif op == "sub":
-            e = plus(da[0], da[1], minus=True)
-        elif op == "mul":
-            e = plus(times(da[0], a[1]), times(a[0], da[1]))
-        elif op == "div":
-            e = None if da[0] is None and da[1] is None else \
-                f"({plus(da[0], times(t, da[1]), minus=True)}) / {a[1]}"
-        elif op == "neg":
-            e = None if da[0] is None else f"-{da[0]}"
-        elif op == "sqrt":
-            e = None if da[0] is None else f"{da[0]} / (2.0 * {t})"
-        elif op == "sin":
-            e = times(f"cos({a[0]})", da[0])
-        elif op == "cos":
-            e = None if da[0] is None else f"-sin({a[0]}) * {da[0]}"
-        elif op == "tan":
-            e = times(f"(1.0 + {t} * {t})", da[0])
-        elif op in ("asin", "acos"):
-            e = None if da[0] is None else (
-                f"{'-' if op == 'acos' else ''}{da[0]} / sqrt(1.0 - {a[0]} * {a[0]})")
-        elif op == "atan":
-            e = None if da[0] is None else f"{da[0]} / (1.0 + {a[0]} * {a[0]})"
-        elif op == "atan2":  # atan2(y, x)
-            num = plus(times(a[1], da[0]), times(a[0], da[1]), minus=True)
-            e = None if num is None else f"({num}) / ({a[1]} * {a[1]} + {a[0]} * {a[0]})"
-        elif op == "hypot":
-            num = plus(times(a[0], da[0]), times(a[1], da[1]))
-            e = None if num is None else f"({num}) / {t}"
-        elif op == "abs":
-            e = None if da[0] is None else f"({a[0]} < 0.0 ? -{da[0]} : {da[0]})"
-        elif op == "pow":
-            parts = [None if da[0] is None else f"{a[1]} * pow({a[0]}, {a[1]} - 1.0) * {da[0]}",
-                     None if da[1] is None else f"{t} * log({a[0]}) * {da[1]}"]
-            e = plus(*parts)
-        elif op == "sign":  # piecewise constant
-            e = None
-        elif op in ("max", "min"):  # the operand Python's max/min returns
-            pick = ">" if op == "max" else "<"
-            e = None if da[0] is None and da[1] is None else \
-                f"({a[1]} {pick} {a[0]} ? {da[1] or '0.0'} : {da[0] or '0.0'})"
-        elif op in _SCALE:
-            e = times(da[0], c_literal(_SCALE[op]))
-        elif op == "extern":
-            if len(a) != 1:
-                raise ValueError(f"no derivative of the outside function {node.value} of "
-                                 f"{len(a)} arguments")
-            e = times(f"{node.value}_d({a[0]})", da[0])
-        else:
-            raise ValueError(f"no derivative rule for the operation {op!r}")
-        if e is None:
-            zero.add(i)
-        else:
-            body.append(f"{indent}const double d{i} = {e};")
-    return body, zero
+    node = tape.nodes[i]
+    a = [operand(tape, j, c_literal) for j in node.args]
+    da = [d(j) for j in node.args]
+    t, op = f"t{i}", node.op
+    if op == "add":
+        e = plus(da[0], da[1])
+    elif op == "sub":
+        e = plus(da[0], da[1], minus=True)
+    elif op == "mul":
+        e = plus(times(da[0], a[1]), times(a[0], da[1]))
+    elif op == "div":
+        e = None if da[0] is None and da[1] is None else \
+            f"({plus(da[0], times(t, da[1]), minus=True)}) / {a[1]}"
+    elif op == "neg":
+        e = None if da[0] is None else f"-{da[0]}"
+    elif op == "sqrt":
+        e = None if da[0] is None else f"{da[0]} / (2.0 * {t})"
+    elif op == "sin":
+        e = times(f"cos({a[0]})", da[0])
+    elif op == "cos":
+        e = None if da[0] is None else f"-sin({a[0]}) * {da[0]}"
+    elif op == "tan":
+        e = times(f"(1.0 + {t} * {t})", da[0])
+    elif op in ("asin", "acos"):
+        e = None if da[0] is None else (
+            f"{'-' if op == 'acos' else ''}{da[0]} / sqrt(1.0 - {a[0]} * {a[0]})")
+    elif op == "atan":
+        e = None if da[0] is None else f"{da[0]} / (1.0 + {a[0]} * {a[0]})"
+    elif op == "atan2":  # atan2(y, x)
+        num = plus(times(a[1], da[0]), times(a[0], da[1]), minus=True)
+        e = None if num is None else f"({num}) / ({a[1]} * {a[1]} + {a[0]} * {a[0]})"
+    elif op == "hypot":
+        num = plus(times(a[0], da[0]), times(a[1], da[1]))
+        e = None if num is None else f"({num}) / {t}"
+    elif op == "abs":
+        e = None if da[0] is None else f"({a[0]} < 0.0 ? -{da[0]} : {da[0]})"
+    elif op == "pow":
+        parts = [None if da[0] is None else f"{a[1]} * pow({a[0]}, {a[1]} - 1.0) * {da[0]}",
+                 None if da[1] is None else f"{t} * log({a[0]}) * {da[1]}"]
+        e = plus(*parts)
+    elif op == "sign":  # piecewise constant
+        e = None
+    elif op in ("max", "min"):  # the operand Python's max/min returns
+        pick = ">" if op == "max" else "<"
+        e = None if da[0] is None and da[1] is None else \
+            f"({a[1]} {pick} {a[0]} ? {da[1] or '0.0'} : {da[0] or '0.0'})"
+    elif op in _SCALE:
+        e = times(da[0], c_literal(_SCALE[op]))
+    elif op == "select":
+        e = None if da[1] is None and da[2] is None else \
+            f"({a[0]} ? {da[1] or '0.0'} : {da[2] or '0.0'})"
+    elif op == "extern":
+        if len(a) != 1:
+            raise ValueError(f"no derivative of the outside function {node.value} of "
+                             f"{len(a)} arguments")
+        e = times(f"{node.value}_d({a[0]})", da[0])
+    else:
+        raise ValueError(f"no derivative rule for the operation {op!r}")
+    return e
 
 
 #: the elementary functions with vector versions in glibc's libmvec
@@ -224,7 +318,13 @@ _VECTOR_DECLARATIONS = {
 def _array_source(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
                   frozen: list) -> list:
     n_out = len(results)
-    used = {tape.nodes[i].op for i in prog.state} & set(_VECTOR)
+    xs = ", ".join(f"const double *restrict xb{k}" for k in range(n_inputs))
+    ys = ", ".join(f"double *restrict y{k}" for k in range(n_out))
+    outputs = [operand(tape, r.index, c_literal) if isinstance(r, Sym) else c_literal(r)
+               for r in results]
+    vectorise = prog.operations <= VECTOR_OPERATIONS
+    used = {tape.nodes[i].op for body in (prog.state, *prog.bodies.values()) for i in body}
+    used &= set(_VECTOR)
     declarations = []
     for op in _VECTOR:
         if op in used:
@@ -237,12 +337,28 @@ def _array_source(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
                 f"static __attribute__((noinline)) double lk_{op}{body}",
                 "#endif",
             ]
-    xs = ", ".join(f"const double *restrict xb{k}" for k in range(n_inputs))
-    ys = ", ".join(f"double *restrict y{k}" for k in range(n_out))
-    outputs = [operand(tape, r.index, c_literal) if isinstance(r, Sym) else c_literal(r)
-               for r in results]
-    vectorise = len(prog.state) <= VECTOR_OPERATIONS
-    block = [
+    if prog.bodies and vectorise:  # loops run on the block, each lane until it converges
+        block = _looped_block(tape, prog, prefix, n_inputs, results, frozen, xs, ys)
+    elif prog.bodies:  # loops: each state runs its own iterations, one after the other
+        block = [
+            "__attribute__((noinline))",
+            f"static void {prefix}_block(size_t m, const double *restrict q"
+            + (f", {xs}" if xs else "") + (f", {ys}" if ys else "")
+            + ", unsigned char *restrict ok) {",
+            "    for (size_t j = 0; j < m; j++) {",
+            f"        double xi[{max(n_inputs, 1)}], yi[{max(n_out, 1)}];",
+            *(f"        xi[{k}] = xb{k}[j];" for k in range(n_inputs)),
+            f"        const int good = {prefix}_one(q, xi, yi) == 0;",
+            "        ok[j] = (unsigned char)good;",
+            *(f"        y{k}[j] = good ? yi[{k}] : NAN;" for k in range(n_out)),
+            "    }",
+            "}",
+            "",
+        ]
+        declarations = []
+    else:
+        block = None
+    block = block or [
         "LK_CLONES __attribute__((noinline))",
         f"static void {prefix}_block(size_t m, const double *restrict q"
         + (f", {xs}" if xs else "") + (f", {ys}" if ys else "")
@@ -250,7 +366,7 @@ def _array_source(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
         "    int badb[LK_BLOCK], anybad = 0;",
         "    (void)q;",
         "#pragma omp simd" if vectorise else
-        f"    /* {len(prog.state)} operations per state: not vectorised (see VECTOR_OPERATIONS) */",
+        f"    /* {prog.operations} operations per state: not vectorised (see VECTOR_OPERATIONS) */",
         "    for (size_t j = 0; j < m; j++) {",
         "        int bad = 0;",
         *(f"        const double {name} = q[{k}];" for k, name in enumerate(frozen)),
@@ -314,6 +430,174 @@ def _array_source(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
     return [_PICK, _SIMD_HEAD, *declarations, "", *block, *blocked,
             "#else /* one state after the other, through the one-state function */",
             *plain, "#endif", ""]
+
+
+#: lanes of a kernel with loops run together (its values that cross from one vector loop
+#: to another are kept in arrays of this length: they stay in the CPU caches)
+LOOP_LANES = 32
+
+
+def _looped_block(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
+                  frozen: list, xs: str, ys: str) -> list:
+    """``<prefix>_block`` of a kernel with loops: its straight parts are vector loops
+    over the lanes (states) of a piece of the block, and each loop of the kernel runs
+    on the piece's lanes until every one has converged (a converged lane keeps its
+    values: the values of each lane are the one-state function's). What one vector loop
+    computes and another reads crosses in an array per value. Its sin, cos and atan2
+    are libmvec's where the build says so (``LK_MVEC_*``), as in the kernels without
+    loops: then within a few ulp of the one-state function's, else bit for bit."""
+    nodes = tape.nodes
+    frozen_at = {name: k for k, name in enumerate(frozen)}
+    home = {}  # node -> the vector loop it is computed in
+
+    def split(order):
+        out, run = [], []
+        for i in order:
+            if nodes[i].op == "loop":
+                if run:
+                    out.append(("straight", run))
+                    run = []
+                L = tape.loops[i]
+                for c in L.carries:
+                    home[c] = ("carry", i)
+                for f in (*L.finals, L.converged):
+                    home[f] = ("loop", i)
+                out.append(("loop", i, split(prog.bodies[i])))
+            elif nodes[i].op not in ("final", "converged"):
+                run.append(i)
+        if run:
+            out.append(("straight", run))
+        for item in out:
+            if item[0] == "straight":
+                for i in item[1]:
+                    home[i] = id(item)
+        return out
+
+    tree = split(prog.state)
+
+    def variable(i):
+        return nodes[i].op not in ("input", "const") and operand(tape, i, c_literal) \
+            not in frozen_at
+
+    crossing = set()  # computed in one vector loop, read in another
+    for body in (prog.state, *prog.bodies.values()):
+        for i in body:
+            if nodes[i].op in ("loop", "final", "converged"):  # their loops read for them
+                continue
+            for a in nodes[i].args:
+                if variable(a) and home.get(a) != home.get(i):
+                    crossing.add(a)
+    for L in (tape.loops[i] for i in prog.bodies):
+        crossing.update(a for a in (*L.news, L.again, *L.inits) if variable(a))
+        crossing.update((*L.carries, L.converged))
+    crossing.update(r.index for r in results if isinstance(r, Sym) and variable(r.index))
+    alias = {}
+    for L in (tape.loops[i] for i in prog.bodies):
+        alias.update(zip(L.finals, L.carries))
+    arrays = sorted(i for i in crossing if i not in alias)
+    slot = {i: k for k, i in enumerate(arrays)}
+    acts = {i: len(arrays) + k for k, i in enumerate(sorted(prog.bodies))}
+
+    def array(i):
+        return f"a{alias.get(i, i)}"
+
+    def loads(operands, indent, skip=()):
+        lines, seen = [], set()
+        for a in operands:
+            node = nodes[a]
+            if a in seen or a in skip or node.op == "const":
+                continue
+            seen.add(a)
+            name = operand(tape, a, c_literal)
+            if name in frozen_at:
+                lines.append(f"{indent}const double {name} = q[{frozen_at[name]}];")
+            elif node.op == "input":
+                lines.append(f"{indent}const double {name} = xb{name[1:]}[j];")
+            elif a in crossing:
+                lines.append(f"{indent}const double {name} = {array(a)}[j];")
+        return lines
+
+    def lanes(body, indent, clause=""):
+        return [f"{indent}#pragma omp simd{clause}", f"{indent}for (size_t j = 0; j < m; j++) {{",
+                *body, f"{indent}}}"]
+
+    def emit(tree, indent, active):
+        lines = []
+        for item in tree:
+            if item[0] == "straight":
+                run, inner = item[1], indent + "    "
+                mine = set(run)
+                guarded = any(i in prog.guards for i in run)
+                body = loads([a for i in run for a in nodes[i].args], inner, mine)
+                body += [f"{inner}int bad = badb[j];"] if guarded else []
+                body += _statements(tape, run, prog.guards, prog.codes, inner, simd=True,
+                                    vectorise=True)
+                body += [f"{inner}{array(i)}[j] = t{i};" for i in run if i in crossing]
+                body += [f"{inner}badb[j] = bad;"] if guarded else []
+                lines += lanes(body, indent)
+                continue
+            index, sub = item[1], item[2]
+            L, inner = tape.loops[index], indent + "    "
+            act, k = f"act{index}", f"k{index}"
+            start = active and f"{active}[j]" or "(double)(badb[j] == 0)"
+            lines += [f"{indent}/* the loop of node {index}: {L.minimum} to {L.maximum} runs */"]
+            lines += lanes([*loads(L.inits, inner),
+                            *(f"{inner}{array(c)}[j] = {operand(tape, a, c_literal)};"
+                              for c, a in zip(L.carries, L.inits)),
+                            f"{inner}{array(L.converged)}[j] = 0.0;",
+                            f"{inner}{act}[j] = {start};"], indent)
+            lines += [f"{indent}for (int {k} = 0; {k} < {L.maximum}; {k}++) {{"]
+            lines += emit(sub, inner, act)
+            deep = inner + "    "
+            update = [*loads([*L.news, L.again], deep),
+                      f"{deep}const int on = {act}[j] != 0.0;",
+                      f"{deep}const int stop = {k} + 1 >= {L.minimum} && "
+                      f"!({operand(tape, L.again, c_literal)});",
+                      *(f"{deep}{array(c)}[j] = lk_pick(on, {operand(tape, n, c_literal)}, "
+                        f"{array(c)}[j]);" for c, n in zip(L.carries, L.news)),
+                      f"{deep}{array(L.converged)}[j] = lk_pick(on && stop, 1.0, "
+                      f"{array(L.converged)}[j]);",
+                      f"{deep}{act}[j] = (double)(on && !stop);",
+                      f"{deep}any |= on && !stop;"]
+            lines += [f"{inner}int any = 0;", *lanes(update, inner, " reduction(|:any)"),
+                      f"{inner}if (!any) break;", f"{indent}}}"]
+            checked = [i for i in (*L.finals, L.converged) if i in prog.guards]
+            if checked:
+                lines += lanes([*(f"{inner}badb[j] |= {'!' if prog.guards[i] else ''}"
+                                  f"({array(i)}[j] != 0.0);" for i in checked)], indent)
+        return lines
+
+    outputs = [operand(tape, r.index, c_literal) if isinstance(r, Sym) else c_literal(r)
+               for r in results]
+    ends = loads([r.index for r in results if isinstance(r, Sym)], "        ")
+    ends += [f"        y{k}[j0 + j] = {v};" for k, v in enumerate(outputs)]
+    total = len(arrays) + len(acts)
+    inputs = "".join(f", const double *restrict xs{k}" for k in range(n_inputs))
+    return [
+        "LK_CLONES __attribute__((noinline))",
+        f"static void {prefix}_block(size_t n, const double *restrict q{inputs}"
+        + (f", {ys}" if ys else "") + ", unsigned char *restrict ok) {",
+        f"    double buf[{max(total, 1)}][{LOOP_LANES}];",
+        *(f"    double *const {array(i)} = buf[{slot[i]}];" for i in arrays),
+        *(f"    double *const act{i} = buf[{acts[i]}];" for i in acts),
+        f"    for (size_t j0 = 0; j0 < n; j0 += {LOOP_LANES}) {{",
+        f"    const size_t m = n - j0 < {LOOP_LANES} ? n - j0 : {LOOP_LANES};",
+        f"    int badb[{LOOP_LANES}] = {{0}};",
+        *(f"    const double *restrict xb{k} = xs{k} + j0;" for k in range(n_inputs)),
+        *emit(tree, "    ", None),
+        "    #pragma omp simd",
+        "    for (size_t j = 0; j < m; j++) {",
+        *ends,
+        "        ok[j0 + j] = (unsigned char)(badb[j] == 0);",
+        "    }",
+        "    for (size_t j = 0; j < m; j++)",
+        "        if (badb[j]) {",
+        *(f"            y{k}[j0 + j] = NAN;" for k in range(len(results))),
+        "        }",
+        "    }",
+        "}",
+        "",
+    ]
 
 
 #: the reductions of a summary (:func:`c_source`): kind -> the outputs it reads
@@ -562,9 +846,11 @@ def c_source(tape: Tape, n_inputs: int, results: list, parameters: tuple = (),
     ``<PREFIX>_N_P``, ``_N_Q``, ``_N_X`` and ``_N_Y`` give the lengths of the four.
     """
     prog = program(tape, results)
-    used = {tape.nodes[i].value for i in (*prog.prepare, *prog.state, *prog.frozen)
+    inner = [i for body in prog.bodies.values() for i in body]
+    inner += [a for L in map(tape.loops.get, prog.bodies) for a in (*L.news, L.again)]
+    used = {tape.nodes[i].value for i in (*prog.prepare, *prog.state, *prog.frozen, *inner)
             if tape.nodes[i].op == "input"}
-    used.update(tape.nodes[a].value for i in (*prog.prepare, *prog.state)
+    used.update(tape.nodes[a].value for i in (*prog.prepare, *prog.state, *inner)
                 for a in tape.nodes[i].args if tape.nodes[a].op == "input")
     frozen = [operand(tape, i, c_literal) for i in prog.frozen]
     n_out, upper = len(results), prefix.upper()
@@ -594,39 +880,58 @@ def c_source(tape: Tape, n_inputs: int, results: list, parameters: tuple = (),
         "    return 0;",
         "}",
         "",
-        f"int {prefix}_one(const double *q, const double *x, double *y) {{",
-        *(f"    const double {name} = q[{k}];" for k, name in enumerate(frozen)),
-        *(f"    const double x{k} = x[{k}];" for k in range(n_inputs) if f"x{k}" in used),
-        *_statements(tape, prog.state, prog.guards, prog.codes),
-        *(f"    y[{k}] = {operand(tape, r.index, c_literal) if isinstance(r, Sym) else c_literal(r)};"
-          for k, r in enumerate(results)),
-        "    (void)q; (void)x; (void)y;",
-        "    return 0;",
-        "}",
-        "",
     ]
-    if tangent:
-        derivatives, zero = _tangent_statements(tape, prog.state, results)
+    outputs = [operand(tape, r.index, c_literal) if isinstance(r, Sym) else c_literal(r)
+               for r in results]
+    if not tangent:
+        head += [
+            f"int {prefix}_one(const double *q, const double *x, double *y) {{",
+            *(f"    const double {name} = q[{k}];" for k, name in enumerate(frozen)),
+            *(f"    const double x{k} = x[{k}];" for k in range(n_inputs) if f"x{k}" in used),
+            *_statements(tape, prog.state, prog.guards, prog.codes, bodies=prog.bodies),
+            *(f"    y[{k}] = {v};" for k, v in enumerate(outputs)),
+            "    (void)q; (void)x; (void)y;",
+            "    return 0;",
+            "}",
+            "",
+        ]
+    else:  # one function with its derivatives (where w), inlined in the two entry points
+        forward = _Tangent(tape, prog, results)
+        statements = _statements(tape, prog.state, prog.guards, prog.codes,
+                                 bodies=prog.bodies, tangent=forward)
 
         def d(r):
-            if not isinstance(r, Sym) or r.index in zero:
-                return "0.0"
-            node = tape.nodes[r.index]
-            return f"d{node.value}" if node.op == "input" else f"d{r.index}"
+            return (forward.of(r.index) or "0.0") if isinstance(r, Sym) else "0.0"
 
         head += [
-            f"int {prefix}_tangent(const double *q, const double *x, const double *dx, "
-            "double *y, double *dy) {",
+            "#ifndef LK_INLINE",
+            "#if defined(_MSC_VER)",
+            "#define LK_INLINE static __forceinline",
+            "#else",
+            "#define LK_INLINE static inline __attribute__((always_inline))",
+            "#endif",
+            "#endif",
+            f"LK_INLINE int {prefix}_eval(const double *q, const double *x, const double *dx, "
+            "double *y, double *dy, const int w) {",
             *(f"    const double {name} = q[{k}];" for k, name in enumerate(frozen)),
-            *(f"    const double x{k} = x[{k}], dx{k} = dx[{k}];" for k in range(n_inputs)
-              if f"x{k}" in used),
-            *_statements(tape, prog.state, prog.guards, prog.codes),
-            *derivatives,
-            *(f"    y[{k}] = {operand(tape, r.index, c_literal) if isinstance(r, Sym) else c_literal(r)};"
-              for k, r in enumerate(results)),
-            *(f"    dy[{k}] = {d(r)};" for k, r in enumerate(results)),
+            *(f"    const double x{k} = x[{k}], dx{k} = w ? dx[{k}] : 0.0;"
+              for k in range(n_inputs) if f"x{k}" in used),
+            *statements,
+            *(f"    y[{k}] = {v};" for k, v in enumerate(outputs)),
+            "    if (w) {",
+            *(f"        dy[{k}] = {d(r)};" for k, r in enumerate(results)),
+            "    }",
             "    (void)q; (void)x; (void)dx; (void)y; (void)dy;",
             "    return 0;",
+            "}",
+            "",
+            f"int {prefix}_one(const double *q, const double *x, double *y) {{",
+            f"    return {prefix}_eval(q, x, NULL, y, NULL, 0);",
+            "}",
+            "",
+            f"int {prefix}_tangent(const double *q, const double *x, const double *dx, "
+            "double *y, double *dy) {",
+            f"    return {prefix}_eval(q, x, dx, y, dy, 1);",
             "}",
             "",
         ]

@@ -1,7 +1,8 @@
-"""Straight-line Python source from a traced tape: the kernel that always works.
+"""Python source from a traced tape: the kernel that always works.
 
-One assignment per live operation, in the order the formulas did them (so the results
-are bit-identical to the interpreted formulas on floats), and an early return of the
+One assignment per live operation (a loop's body once, inside a ``for``), in the order
+the formulas did them (so the results are bit-identical to the interpreted formulas on
+floats), and an early return of the
 guard's code (:attr:`Program.codes <linkage_fmu.kernels.trace.Program.codes>`) where a
 guard does not hold. The work on the parameters alone is a separate function, run once
 per parameter set; its values are closed over by the kernel of a state.
@@ -29,10 +30,16 @@ def _literal(value: float) -> str:
     return f"({text})" if text.startswith("-") else text
 
 
-def _statements(tape: Tape, nodes: list, guards: dict, codes: dict, indent: str) -> list:
+def _statements(tape: Tape, nodes: list, guards: dict, codes: dict, indent: str,
+                bodies: dict | None = None) -> list:
     lines = []
     for i in nodes:
         node = tape.nodes[i]
+        if node.op in ("final", "converged"):  # written by their loop
+            continue
+        if node.op == "loop":
+            lines += _loop(tape, tape.loops[i], guards, codes, indent, bodies)
+            continue
         args = [operand(tape, a, _literal) for a in node.args]
         if node.op in _INFIX:
             expr = f"{args[0]} {_INFIX[node.op]} {args[1]}"
@@ -40,12 +47,38 @@ def _statements(tape: Tape, nodes: list, guards: dict, codes: dict, indent: str)
             expr = f"-{args[0]}"
         elif node.op == "extern":
             expr = f"{node.value}({', '.join(args)})"
+        elif node.op == "select":
+            expr = f"{args[1]} if {args[0]} else {args[2]}"
+        elif node.op == "fails":  # a check inside a loop: its failure, kept
+            expr = f"1.0 if ({args[0]} or bool({args[1]}) != {node.value}) else 0.0"
         else:
             expr = f"{_CALL[node.op]}({', '.join(args)})"
         lines.append(f"{indent}t{i} = {expr}")
         if i in guards:
             lines.append(f"{indent}if {'not ' if guards[i] else ''}t{i}: return {codes[i]}")
     return lines
+
+
+def _loop(tape: Tape, L, guards: dict, codes: dict, indent: str, bodies: dict) -> list:
+    """A loop (:meth:`Tape.loop <linkage_fmu.kernels.trace.Tape.loop>`): its carried
+    values, then ``for`` over its runs, the test after ``minimum`` of them."""
+    inner = indent + "    "
+    carries = [f"t{c}" for c in L.carries]
+    news = [operand(tape, n, _literal) for n in L.news]
+    return [
+        f"{indent}{_tuple(carries)} = {_tuple([operand(tape, a, _literal) for a in L.inits])}",
+        f"{indent}t{L.converged} = False",
+        f"{indent}for _k{L.index} in range({L.maximum}):",
+        *_statements(tape, bodies[L.index], guards, codes, inner, bodies),
+        f"{inner}{_tuple(carries)} = {_tuple(news)}",
+        f"{inner}if _k{L.index} >= {L.minimum - 1} and not "
+        f"{operand(tape, L.again, _literal)}:",
+        f"{inner}    t{L.converged} = True",
+        f"{inner}    break",
+        *(f"{indent}t{f} = t{c}" for f, c in zip(L.finals, L.carries)),
+        *(f"{indent}if {'not ' if guards[i] else ''}t{i}: return {codes[i]}"
+          for i in (*L.finals, L.converged) if i in guards),
+    ]
 
 
 def _tuple(items: list) -> str:
@@ -90,7 +123,7 @@ def python_source(tape: Tape, arguments: list[str], results: list,
         f"    return {_tuple(frozen)}",
         f"def make({', '.join(frozen)}):",
         f"    def kernel({', '.join(arguments)}):",
-        *_statements(tape, prog.state, prog.guards, codes, "        "),
+        *_statements(tape, prog.state, prog.guards, codes, "        ", prog.bodies),
         f"        return {_tuple(values)}",
         "    return kernel",
         "",
