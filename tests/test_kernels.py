@@ -17,6 +17,7 @@ from conftest import IDS, VARIANTS
 from linkage_fmu import AssemblyError, SingularPositionError, numerics, presets
 from linkage_fmu.kernels import TRACE, trace
 from linkage_fmu.kernels.trace import Reason, TracingError
+from linkage_fmu.kernels.c_source import SUMMARY_HEAD
 
 STATES = st_.tuples(
     st_.floats(0.0, 2 * math.pi),
@@ -492,7 +493,7 @@ def test_a_loop_is_newton_for_sqrt_in_python_c_arrays_summaries_and_tangent():
         assert ok.all() and roots.tolist() == [k(v)[0] for v in a.tolist()]
         assert counts.tolist() == runs
         s = k.summary([("peak", ("runs",))])
-        assert s([[1.0]], [a.copy()], a.size)[0][3] == max(runs)
+        assert s([[1.0]], [a.copy()], a.size)[0][len(SUMMARY_HEAD)] == max(runs)
     tangent = k.tangent()
     if tangent is not None:
         for v in a.tolist():
