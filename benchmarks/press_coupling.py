@@ -3,7 +3,8 @@
     python benchmarks/press_coupling.py [--quick]
 
 Builds the two FMUs of ``examples/press`` (the motor and the press's drive FMU), runs
-the system in libcosim from rest for 3 s (run-up and two strokes) at communication steps
+the system (the press with friction in its pins and guide) in libcosim from rest for 3 s
+(run-up and two strokes) at communication steps
 of 1e-2 to 1e-6 s (``--quick``: to 1e-5 s), and compares the crank speed, sampled every
 10 ms, with ``Mechanism.simulate`` under the same motor law at ``rtol = atol = 1e-12``.
 The error is the largest difference of the crank speed relative to the largest speed.
@@ -58,10 +59,11 @@ def markdown(table: list[dict]) -> str:
              "The motor FMU and the press's drive FMU in libcosim (fixed step), from rest "
              f"for {T_END:g} s, against `Mechanism.simulate` under the same motor law "
              "(rtol = atol = 1e-12). Error: the largest difference of the crank speed, "
-             "relative to the largest speed. Friction "
-             f"{'on' if press.FRICTION_ON else 'off (mu = 0)'}.", "",
-             "Run times on a shared machine, loading the system included; most of a step's "
-             "is libcosim's own (the press FMU's step alone, through fmpy: about 6 us).", "",
+             "relative to the largest speed. Friction in the press's pins and guide ("
+             + ", ".join(f"{k} = {v:g}" for k, v in press.FRICTION.items()) + ").", "",
+             "Run times on a shared machine, loading the system included: libcosim's own "
+             "work and the press FMU's step with friction (its cost alone: "
+             "`drive_friction.csv`).", "",
              "| step (s) | steps | max rel. speed error | error / step (1/s) | libcosim (s) "
              "| us per step |", "|---|---|---|---|---|---|"]
     lines += [f"| {r['step_s']:g} | {r['steps']} | {r['max_rel_speed_error']:.3g} | "

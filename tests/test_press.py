@@ -3,7 +3,8 @@ project's FMI framework, ``examples/press/motor.py``) driving the press's drive 
 an OSP system structure that libcosim runs.
 
 The reference is ``Mechanism.simulate`` (scipy's DOP853 over the library's solver) of the
-same press under the same motor law, its rotor a flywheel on the crank. libcosim's
+same press, with the same friction in its pins and guide, under the same motor law, its
+rotor a flywheel on the crank. libcosim's
 fixed-step algorithm holds the motor's torque over each communication step, so the two
 differ by a coupling error of first order in the step; the example's claim is that at a
 fine step it is within 1e-6 of the speed.
@@ -126,23 +127,26 @@ def test_the_motor_fmu_refuses_a_bad_line(fmus):
 
 
 def test_the_system_structure_holds_every_value_once():
-    """The system's file sets the press's parameters (the rotor's inertia in J1), the
-    start, the motor's line, and connects speed and torque both ways."""
+    """The system's file sets the press's parameters (the rotor's inertia in J1, every
+    coefficient of friction), the start, the motor's line, and connects speed and torque
+    both ways."""
     xml = press.system_structure(1e-6)
     assert "<BaseStepSize>1e-06</BaseStepSize>" in xml
     assert f'<InitialValue variable="J1"><Real value="{press.J_ROTOR!r}"/>' in xml
     assert f'variable="T_stall"><Real value="{press.MOTOR["T_stall"]!r}"/>' in xml
-    for mu in press.FRICTION:
-        value = press.FRICTION[mu] if press.FRICTION_ON else 0.0
+    for mu, value in press.FRICTION.items():
+        assert value > 0.0
         assert f'variable="{mu}"><Real value="{value!r}"/>' in xml
     with pytest.raises(ValueError, match="whole number of nanoseconds"):
         press.system_structure(1.5e-10)
 
 
 def test_libcosim_follows_simulate_at_a_fine_step(fmus):
-    """The press at work (at 6 rad/s, into its working stroke) for 0.2 s at a
-    communication step of 1e-6 s: the crank speed from libcosim is within 1e-6 of the
-    largest speed of ``simulate``'s, sampled every ms."""
+    """The press with friction at work (at 6 rad/s, into its working stroke) for 0.2 s at
+    a communication step of 1e-6 s: the crank speed from libcosim is within 1e-6 of the
+    largest speed of ``simulate``'s, sampled every ms, and the drive FMU's friction loss
+    ``P_loss`` within 1e-6 of the largest of ``simulate``'s (the kinetostatic solve with
+    friction at its states), which is tens of watts here."""
     pytest.importorskip("libcosimpy", reason="libcosimpy (the Open Simulation Platform's "
                                              "libcosim) is not installed")
     run = press.cosimulate(fmus, 1e-6, 0.2, 1e-3, start=AT_WORK)
@@ -152,17 +156,31 @@ def test_libcosim_follows_simulate_at_a_fine_step(fmus):
     # the ram takes energy: the crank slows down over the stroke
     assert reference["omega"].iloc[-1] < AT_WORK["omega0"] - 0.1
     assert press.coupling_error(run, reference) <= 1e-6
+    loss = reference["P_loss"].to_numpy()
+    assert np.max(loss) > 20.0 and np.min(loss) >= 0.0
+    assert np.max(np.abs(run["P_loss"] - loss)) <= 1e-6 * np.max(loss)
 
 
 def test_the_coupling_error_is_first_order(fmus):
     """From rest over 3 s (run-up and two strokes), steps of 1e-3 and 1e-4 s: the
     difference from ``simulate`` shrinks tenfold with the step (9 to 11 times), as the
-    held torque's error does; a difference in the models would not shrink."""
+    held torque's error does; a difference in the models would not shrink. At 1 ms the
+    figures a motor is sized by over the last stroke (the torque's rms, the motor's work,
+    the friction loss) are those of ``simulate``'s motion to 1e-3 relative."""
     pytest.importorskip("libcosimpy", reason="libcosimpy (the Open Simulation Platform's "
                                              "libcosim) is not installed")
-    errors = []
+    errors, strokes = [], []
     for h in (1e-3, 1e-4):
         run = press.cosimulate(fmus, h, 3.0, 1e-2)
-        errors.append(press.coupling_error(run, press.simulate(run.t)))
+        reference = press.simulate(run.t)
+        errors.append(press.coupling_error(run, reference))
+        strokes.append((press.stroke(run.t, run["theta"], run["omega"], run["motor.tau"],
+                                     run["P_loss"]),
+                        press.stroke(run.t, reference["theta"], reference["omega"],
+                                     reference["tau"], reference["P_loss"])))
     assert 9.0 <= errors[0] / errors[1] <= 11.0, errors
     assert errors[1] <= 2e-4, errors
+    got, expected = strokes[0]
+    assert expected["E_loss"] > 10.0
+    for name in ("tau_rms", "E_motor", "E_loss"):
+        assert got[name] == pytest.approx(expected[name], rel=1e-3), name

@@ -17,8 +17,13 @@ motion from ``Mechanism.simulate``.
   fixed-step algorithm exchanges them at every communication step ``h``. The motor's
   torque is held over a step, so the coupling error falls like ``h``.
 
+The pins and the guide have Coulomb friction (:data:`FRICTION`): the drive FMU finds the
+crank's acceleration from ``tau = Mb(theta, omega, alpha)`` with it, as ``simulate`` does,
+and reports the friction's power ``P_loss``. :func:`stroke` turns a motion into the figures
+a motor is sized by: the energy and the friction loss of a stroke, the torque's rms and peak.
+
 Every number of the system is here, once: :data:`PRESS`, :data:`MOTOR`, :data:`J_ROTOR`,
-:data:`PINS` and :data:`FRICTION` (used where :data:`FRICTION_ON`).
+:data:`PINS` and :data:`FRICTION`.
 """
 
 from __future__ import annotations
@@ -45,9 +50,6 @@ J_ROTOR = 20.0
 PINS = {"r_O": 0.02, "r_A": 0.015, "r_B": 0.01}
 #: the coefficients of friction of the press's pins and guide
 FRICTION = {"mu_O": 0.1, "mu_A": 0.1, "muf_B": 0.1, "mu_guide": 0.1}
-#: whether the pins and the guide have friction (:data:`FRICTION`), or mu = 0 everywhere.
-#: The drive FMU takes mu != 0 and ``simulate`` integrates friction once both model it.
-FRICTION_ON = False
 #: the press starts at rest, the ram at its top dead centre
 START = {"theta0": math.pi / 2, "omega0": 0.0}
 #: the drive FMU's integrator tolerance (relative and absolute) within each step
@@ -72,29 +74,28 @@ def description():
     return d.check()
 
 
-def parameters(friction: bool | None = None) -> dict:
-    """The press's parameters (the crank's ``J1`` without the rotor) with friction as
-    asked (default :data:`FRICTION_ON`): :data:`FRICTION`, or every mu 0."""
-    on = FRICTION_ON if friction is None else friction
-    return {**PRESS, **PINS, **(FRICTION if on else dict.fromkeys(FRICTION, 0.0))}
+def parameters() -> dict:
+    """The press's parameters that differ from the preset's (the crank's ``J1`` without
+    the rotor): :data:`PRESS`, :data:`PINS` and :data:`FRICTION`."""
+    return {**PRESS, **PINS, **FRICTION}
 
 
-def drive_parameters(friction: bool | None = None, start: dict | None = None) -> dict:
+def drive_parameters(start: dict | None = None) -> dict:
     """The press's drive FMU's parameters: :func:`parameters` with the rotor's inertia in
     ``J1``, the start ``theta0``, ``omega0`` (default :data:`START`) and the integrator's
     tolerance."""
-    p = parameters(friction)
+    p = parameters()
     J1 = p.get("J1", presets.preset("slider_crank").parameters["J1"]["default"])
     return {**p, "J1": float(J1) + J_ROTOR, **(start or START), "tolerance": TOLERANCE}
 
 
 def build(out: str | Path) -> Path:
     """Build both FMUs into the folder ``out``: the press's drive FMU, its parameters'
-    defaults the press's without friction, the rotor in ``J1`` (the system structure sets
-    each), and the motor's."""
+    defaults the press's (:func:`drive_parameters`; the system structure sets each again),
+    and the motor's."""
     out = Path(out)
     d = description()
-    defaults = {k: v for k, v in drive_parameters(friction=False).items() if k in d.parameters}
+    defaults = {k: v for k, v in drive_parameters().items() if k in d.parameters}
     build_native_fmu(d, out, drive=True, **defaults)
     motor.build_motor_fmu(out)
     return out
@@ -105,7 +106,7 @@ def _values(values: dict) -> str:
                    f'<Real value="{float(v)!r}"/></InitialValue>' for name, v in values.items())
 
 
-def system_structure(h: float, friction: bool | None = None, start: dict | None = None) -> str:
+def system_structure(h: float, start: dict | None = None) -> str:
     """``OspSystemStructure.xml`` of the system, its FMUs beside it, communication step
     ``h`` [s] (a whole number of libcosim's nanoseconds), from ``start`` (default
     :data:`START`).
@@ -127,7 +128,7 @@ def system_structure(h: float, friction: bool | None = None, start: dict | None 
     <Algorithm>fixedStep</Algorithm>
     <Simulators>
         <Simulator name="press" source="{PRESS_FMU}">
-            <InitialValues>{_values(drive_parameters(friction, start))}
+            <InitialValues>{_values(drive_parameters(start))}
             </InitialValues>
         </Simulator>
         <Simulator name="motor" source="{MOTOR_FMU}">
@@ -145,15 +146,14 @@ def system_structure(h: float, friction: bool | None = None, start: dict | None 
 """
 
 
-def check_parameters(folder: str | Path, friction: bool | None = None,
-                     start: dict | None = None) -> None:
+def check_parameters(folder: str | Path, start: dict | None = None) -> None:
     """Initialise each FMU in ``folder`` with the system's parameters through fmpy, and
-    raise a ValueError with the FMU's own message where one refuses them (a drive FMU whose
-    coefficients of friction are fixed at 0, given :data:`FRICTION`). libcosim would abort
+    raise a ValueError with the FMU's own message where one refuses them (a parameter out
+    of its range, a linkage that cannot be assembled at ``theta0``). libcosim would abort
     the whole process there: it throws from a worker thread on an FMU's Error."""
     import fmpy
 
-    for name, values in ((PRESS_FMU, drive_parameters(friction, start)), (MOTOR_FMU, MOTOR)):
+    for name, values in ((PRESS_FMU, drive_parameters(start)), (MOTOR_FMU, MOTOR)):
         said = []
         try:
             fmpy.simulate_fmu(str(Path(folder) / name), stop_time=1e-6, step_size=1e-6,
@@ -197,7 +197,7 @@ def sample_times(h: float, t_end: float, every: float) -> np.ndarray:
 
 
 def cosimulate(folder: str | Path, h: float, t_end: float, every: float = 1e-3,
-               friction: bool | None = None, start: dict | None = None) -> Run:
+               start: dict | None = None) -> Run:
     """Run the system in libcosim from 0 to ``t_end`` at the communication step ``h``
     from ``start`` (``theta0``, ``omega0``; default :data:`START`):
     write its ``OspSystemStructure.xml`` into ``folder`` (beside the FMUs :func:`build`
@@ -216,8 +216,8 @@ def cosimulate(folder: str | Path, h: float, t_end: float, every: float = 1e-3,
     log_output_level(CosimLogLevel.ERROR)
 
     folder = Path(folder)
-    check_parameters(folder, friction, start)
-    (folder / "OspSystemStructure.xml").write_text(system_structure(h, friction, start))
+    check_parameters(folder, start)
+    (folder / "OspSystemStructure.xml").write_text(system_structure(h, start))
     execution = CosimExecution.from_osp_config_file(str(folder / "OspSystemStructure.xml"))
     observer = CosimObserver.create_last_value()
     execution.add_observer(observer)
@@ -252,11 +252,11 @@ def motor_torque(t: float, theta: float, omega: float) -> float:
     return MOTOR["T_stall"] * (1.0 - omega / MOTOR["omega_noload"])
 
 
-def simulate(t: np.ndarray, friction: bool | None = None, start: dict | None = None):
+def simulate(t: np.ndarray, start: dict | None = None):
     """The reference: ``Mechanism.simulate`` of the press under :func:`motor_torque` with
     the rotor as a flywheel on the crank, from ``start`` (default :data:`START`) at time
     0, at the times ``t`` (after 0)."""
-    mech = description().build(**parameters(friction))
+    mech = description().build(**parameters())
     start = start or START
     run = mech.simulate(motor_torque, np.concatenate([[0.0], t]), theta0=start["theta0"],
                         omega0=start["omega0"], flywheel=J_ROTOR, rtol=REFERENCE_TOLERANCE,
@@ -277,3 +277,61 @@ def coupling_error(run: Run, reference) -> float:
     """
     omega = reference["omega"].to_numpy()
     return float(np.max(np.abs(run["omega"] - omega)) / np.max(np.abs(omega)))
+
+
+def stroke(t, theta, omega, tau, P_loss, theta_top: float = START["theta0"]) -> dict:
+    """The figures a motor is sized by, over the last whole revolution of a sampled motion
+    (one stroke: the crank from the top dead centre ``theta_top`` to the next; the crank
+    turning forwards, ``theta`` not wrapped).
+
+    Returns a dict: ``period`` [s] and the times ``t_start``, ``t_stop`` [s] of the
+    revolution; ``omega_mean`` [rad/s]; ``tau_rms``, ``tau_max``, ``tau_min`` [N m] (the
+    motor's torque: its rms sets the motor's heating, its peak the torque it must give);
+    ``E_motor`` and ``E_loss`` [J] (the motor's work on the crank and the friction's
+    loss over the stroke), ``P_motor_mean`` and ``P_loss_mean`` [W] (each over the
+    period), ``P_loss_max`` [W]. Integrals are trapezoidal over the samples, the ends of
+    the revolution interpolated linearly.
+
+    Raises
+    ------
+    ValueError
+        The motion holds no whole revolution from a top dead centre.
+
+    Examples
+    --------
+    A crank at 2 pi rad/s under 10 N m, losing 4 W: one revolution a second.
+
+    >>> t = np.linspace(0.0, 2.5, 251)
+    >>> s = stroke(t, np.pi / 2 + 2 * np.pi * t, np.full(251, 2 * np.pi), np.full(251, 10.0),
+    ...            np.full(251, 4.0))
+    >>> [round(s[k], 9) for k in ("t_start", "period", "tau_rms", "E_loss", "P_loss_mean")]
+    [1.0, 1.0, 10.0, 4.0, 4.0]
+    """
+    from scipy.integrate import cumulative_trapezoid
+
+    t, theta, omega, tau, P_loss = (np.asarray(x, dtype=float)
+                                    for x in (t, theta, omega, tau, P_loss))
+    turns = np.floor((theta - theta_top) / (2.0 * np.pi) + 1e-12)
+    k = np.flatnonzero(np.diff(turns) > 0)
+    if len(k) < 2:
+        raise ValueError("the motion holds no whole revolution from one top dead centre to "
+                         "the next: run it longer")
+
+    def crossing(i: int) -> float:
+        top = theta_top + 2.0 * np.pi * turns[i + 1]
+        return float(np.interp(top, theta[i:i + 2], t[i:i + 2]))
+
+    t0, t1 = crossing(k[-2]), crossing(k[-1])
+    period = t1 - t0
+
+    def over(y):
+        cumulative = cumulative_trapezoid(y, t, initial=0.0)
+        return float(np.interp(t1, t, cumulative) - np.interp(t0, t, cumulative))
+
+    inside = (t >= t0) & (t <= t1)
+    E_motor, E_loss = over(tau * omega), over(P_loss)
+    return {"t_start": t0, "t_stop": t1, "period": period, "omega_mean": 2.0 * np.pi / period,
+            "tau_rms": float(np.sqrt(over(tau ** 2) / period)),
+            "tau_max": float(np.max(tau[inside])), "tau_min": float(np.min(tau[inside])),
+            "E_motor": E_motor, "E_loss": E_loss, "P_motor_mean": E_motor / period,
+            "P_loss_mean": E_loss / period, "P_loss_max": float(np.max(P_loss[inside]))}

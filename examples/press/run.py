@@ -1,12 +1,12 @@
 """Build the crank press's two FMUs, run the system in libcosim and compare the crank's
 speed with ``Mechanism.simulate`` under the same motor law (see ``press.py``).
 
-    python examples/press/run.py                      # h = 1e-6 s over 3 s, ~1 min
+    python examples/press/run.py                      # h = 1e-6 s over 6 s, ~4 min
     python examples/press/run.py --step 1e-4 --no-plots
-    python examples/press/run.py --friction           # mu = 0.1 in the pins and guide
 
 Prints the coupling error (the largest difference of the crank speed, relative to the
-largest speed) and exits with status 1 where it exceeds ``--tolerance`` (1e-6); writes
+largest speed) and the motor-sizing figures of the last stroke (``press.stroke``), and
+exits with status 1 where the error exceeds ``--tolerance`` (1e-6); writes
 ``docs/press_speed.png`` and ``docs/press_loss.png`` (``--plots DIR`` elsewhere,
 ``--no-plots`` none) and, with ``--json FILE``, the figures and the sampled motion.
 """
@@ -29,9 +29,10 @@ import press  # noqa: E402
 ROOT = HERE.parent.parent
 
 
-def plot(run, reference, folder: Path, friction: bool) -> list[Path]:
+def plot(run, reference, cycle: dict, folder: Path) -> list[Path]:
     """Draw ``press_speed.png`` (the crank speed of both, and their difference) and
-    ``press_loss.png`` (the motor's power and the friction loss) into ``folder``."""
+    ``press_loss.png`` (the motor's torque, its power and the friction loss, the stroke
+    ``cycle`` of :func:`press.stroke` marked) into ``folder``."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -47,7 +48,8 @@ def plot(run, reference, folder: Path, friction: bool) -> list[Path]:
                 label="motor's no-load speed")
     top.set_ylabel("crank speed [rad/s]")
     top.legend(loc="lower right", fontsize=8)
-    top.set_title(f"Crank press started from rest (communication step {run.h:g} s)", fontsize=10)
+    top.set_title(f"Crank press with friction started from rest (communication step "
+                  f"{run.h:g} s)", fontsize=10)
     bottom.plot(t, (run["omega"] - omega) / np.max(np.abs(omega)), color="tab:red", lw=0.9)
     bottom.set_ylabel("difference /\nmax speed")
     bottom.set_xlabel("time [s]")
@@ -57,21 +59,27 @@ def plot(run, reference, folder: Path, friction: bool) -> list[Path]:
     fig.savefig(speed, dpi=110)
     plt.close(fig)
 
-    fig, ax = plt.subplots(figsize=(7.5, 4.2))
-    ax.plot(t, run["motor.P"], color="tab:blue", lw=1.2, label="motor's power into the crank")
-    ax.plot(t, run["P_loss"], color="tab:red", lw=1.6,
-            label="friction loss (drive FMU's P_loss)" if friction else
-            "friction loss (drive FMU's P_loss; mu = 0 in this run)")
-    if not friction:  # what the pins and guide would take along this motion
-        mech = press.description().build(**press.parameters(friction=True))
-        estimate = mech.solve(run["theta"], run["omega"], run["alpha"], load=0.0)["P_loss"]
-        mu = ", ".join(f"{k} {v:g}" for k, v in press.FRICTION.items())
-        ax.plot(t, np.asarray(estimate), color="tab:orange", lw=1.0, ls="--",
-                label=f"friction loss along this motion with {mu} (kinetostatics)")
-    ax.set_xlabel("time [s]")
-    ax.set_ylabel("power [W]")
-    ax.legend(loc="upper left", fontsize=8)
-    ax.set_title("Crank press: the motor's power and the friction loss", fontsize=10)
+    fig, (top, bottom) = plt.subplots(2, 1, sharex=True, figsize=(7.5, 5.5),
+                                      height_ratios=(1, 1.4))
+    for ax in (top, bottom):
+        ax.axvspan(cycle["t_start"], cycle["t_stop"], color="tab:gray", alpha=0.12, lw=0)
+    top.plot(t, run["motor.tau"], color="tab:blue", lw=1.2, label="motor torque")
+    top.axhline(cycle["tau_rms"], color="tab:blue", lw=0.8, ls="--",
+                label=f"rms over the last stroke: {cycle['tau_rms']:.0f} N m")
+    top.set_ylabel("torque at the crank [N m]")
+    top.legend(loc="upper right", fontsize=8)
+    top.set_title("Crank press: the motor's torque and power, the friction loss "
+                  "(last stroke shaded)", fontsize=10)
+    bottom.plot(t, run["motor.P"], color="tab:blue", lw=1.2, label="motor's power into the crank")
+    bottom.plot(t, run["P_loss"], color="tab:red", lw=1.4,
+                label="friction loss in the pins and guide (drive FMU's P_loss)")
+    bottom.axhline(cycle["P_loss_mean"], color="tab:red", lw=0.8, ls="--",
+                   label=f"mean loss over the last stroke: {cycle['P_loss_mean']:.1f} W "
+                         f"({cycle['E_loss']:.1f} J a stroke)")
+    bottom.set_xlabel("time [s]")
+    bottom.set_ylabel("power [W]")
+    bottom.set_ylim(0.0, 1.35 * max(np.max(run["motor.P"]), np.max(run["P_loss"])))
+    bottom.legend(loc="upper right", fontsize=8)
     fig.tight_layout()
     loss = folder / "press_loss.png"
     fig.savefig(loss, dpi=110)
@@ -83,42 +91,45 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--step", type=float, default=1e-6, help="communication step [s]")
-    parser.add_argument("--t-end", type=float, default=3.0, help="end time [s]")
+    parser.add_argument("--t-end", type=float, default=6.0, help="end time [s]")
     parser.add_argument("--every", type=float, default=1e-3, help="sampling interval [s]")
     parser.add_argument("--out", type=Path, default=ROOT / "dist" / "press",
                         help="folder of the FMUs and OspSystemStructure.xml")
-    parser.add_argument("--friction", action="store_true", default=None,
-                        help=f"friction in the pins and guide ({press.FRICTION}), whatever "
-                             f"press.FRICTION_ON says ({press.FRICTION_ON})")
     parser.add_argument("--tolerance", type=float, default=1e-6,
                         help="the largest coupling error accepted")
     parser.add_argument("--plots", type=Path, default=ROOT / "docs", help="folder of the plots")
     parser.add_argument("--no-plots", action="store_true", help="draw no plots")
     parser.add_argument("--json", type=Path, help="write the figures and the motion here")
     args = parser.parse_args(argv)
-    friction = press.FRICTION_ON if args.friction is None else args.friction
 
     press.build(args.out)
     start = time.perf_counter()
     try:
-        run = press.cosimulate(args.out, args.step, args.t_end, args.every, friction)
+        run = press.cosimulate(args.out, args.step, args.t_end, args.every)
         seconds = time.perf_counter() - start
-        reference = press.simulate(run.t, friction)
-    except ValueError as err:  # a parameter an FMU or simulate refuses: friction, today
+        reference = press.simulate(run.t)
+    except ValueError as err:  # a parameter an FMU or simulate refuses
         print(f"press: {err}", file=sys.stderr)
         return 2
     error = press.coupling_error(run, reference)
     steps = round(args.t_end / args.step)
-    print(f"press: {steps} steps of {args.step:g} s in libcosim ({seconds:.1f} s), friction "
-          f"{'on' if friction else 'off'}; crank speed: max {np.max(run['omega']):.6f} rad/s; "
-          f"coupling error (max |omega - simulate's| / max |omega|): {error:.3e}")
+    print(f"press: {steps} steps of {args.step:g} s in libcosim ({seconds:.1f} s); crank "
+          f"speed: max {np.max(run['omega']):.6f} rad/s; coupling error (max |omega - "
+          f"simulate's| / max |omega|): {error:.3e}")
+    cycle = press.stroke(run.t, run["theta"], run["omega"], run["motor.tau"], run["P_loss"])
+    print(f"press: last stroke, t = {cycle['t_start']:.3f} to {cycle['t_stop']:.3f} s "
+          f"({cycle['omega_mean']:.3f} rad/s mean): motor torque rms {cycle['tau_rms']:.1f} "
+          f"N m, {cycle['tau_min']:.1f} to {cycle['tau_max']:.1f} N m; motor's work "
+          f"{cycle['E_motor']:.1f} J ({cycle['P_motor_mean']:.1f} W mean); friction loss "
+          f"{cycle['E_loss']:.2f} J ({cycle['P_loss_mean']:.2f} W mean, "
+          f"{cycle['P_loss_max']:.1f} W peak)")
     if not args.no_plots:
-        for path in plot(run, reference, args.plots, friction):
+        for path in plot(run, reference, cycle, args.plots):
             print(f"wrote {path}")
     if args.json:
         args.json.write_text(json.dumps({
-            "step": args.step, "t_end": args.t_end, "friction": friction, "error": error,
-            "seconds": seconds, "t": run.t.tolist(), "omega": run["omega"].tolist(),
+            "step": args.step, "t_end": args.t_end, "error": error,
+            "seconds": seconds, "stroke": cycle, "t": run.t.tolist(), "omega": run["omega"].tolist(),
             "omega_simulate": reference["omega"].tolist(),
             "P_loss": run["P_loss"].tolist()}))
     if not error <= args.tolerance:
