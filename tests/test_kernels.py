@@ -507,6 +507,40 @@ def test_a_loop_is_newton_for_sqrt_in_python_c_arrays_summaries_and_tangent():
     assert k3.call(1e12) == 1 and k3.reasons[0].what == "Newton did not converge"
 
 
+def test_a_settled_loop_stops_once_converged_in_c(tmp_path):
+    """Reference: the Newton iteration for sqrt written on floats in the test, with its
+    test from the first run (its root bit for bit, its runs exactly) and math.sqrt (1
+    ulp). The C of a loop of minimum 5 with ``settle`` stops as soon as it converges
+    (1 run at a = 1, where the plain C takes 5); without it, the minimum holds."""
+    import ctypes
+
+    from linkage_fmu.ccompiler import CompilerError, compile_shared
+
+    k5 = trace(lambda x, p: _newton_sqrt(x, p, minimum=5), [2.0], {"s": 1.0}, ("r", "n"))
+    libraries = {}
+    for settle in (False, True):
+        source = tmp_path / f"settle{int(settle)}.c"
+        source.write_text(k5.c_source(array=False, prefix="k", settle=settle))
+        try:
+            libraries[settle] = ctypes.CDLL(str(compile_shared(
+                [source], tmp_path / f"settle{int(settle)}.so",
+                flags=("-O2", "-ffp-contract=off"))))
+        except CompilerError:
+            pytest.skip("no C compiler")
+    for v in (1.0, 2.0, 0.25, 7.5, 1e-6, 1e12):
+        for settle, lib in libraries.items():
+            q, y = (ctypes.c_double * 64)(), (ctypes.c_double * 2)()
+            assert lib.k_prepare((ctypes.c_double * 1)(1.0), q) == 0
+            assert lib.k_one(q, (ctypes.c_double * 1)(v), y) == 0
+            root, runs = _reference_sqrt(v, 1 if settle else 5)
+            assert y[0] == root and y[1] == runs
+            assert abs(y[0] - math.sqrt(v)) <= 2.3e-16 * y[0]
+    q, y = (ctypes.c_double * 64)(), (ctypes.c_double * 2)()
+    libraries[True].k_prepare((ctypes.c_double * 1)(1.0), q)
+    libraries[True].k_one(q, (ctypes.c_double * 1)(1.0), y)
+    assert (y[0], y[1]) == (1.0, 1.0)
+
+
 def test_nested_loops_and_checks_inside_a_body():
     """Reference: the fixed point of x = sqrt(x + a), (1 + sqrt(1 + 4 a)) / 2 (1e-15
     relative), each square root a Newton loop inside the outer loop; a check inside the

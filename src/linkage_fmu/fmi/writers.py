@@ -302,8 +302,10 @@ def model_source(mech, rebuild, drive: bool = False,
                              f"as a parameter (its drive is {direction!r}): at rest, friction "
                              "opposes the motion the crank is pushed to, either way")
         drive_tables = dict(
-            rhs_kernels=[r.c_source(array=False, prefix=f"r{s}", tangent=friction)
-                         for s, r in enumerate(rhs)],
+            # friction's loops stop once converged: Mb is a residual of the root alpha,
+            # several runs per evaluation of the derivatives (a quarter of the time)
+            rhs_kernels=[r.c_source(array=False, prefix=f"r{s}", tangent=friction,
+                                    settle=True) for s, r in enumerate(rhs)],
             n_r=max(len(r.frozen) for r in rhs), rhs_outputs=names, rhs_mb=names.index("Mb"),
             rhs_j=names.index("J_red"), rhs_reasons=[reasons(r) for r in rhs],
             alpha=index["alpha"], dtheta=index["der(theta)"], kernel_at=index[outputs[0]],

@@ -9,6 +9,8 @@ OpenMP where the compiler has it) that marks the states whose guards fail.
 
 from __future__ import annotations
 
+import copy
+import dataclasses
 import math
 
 from .trace import Sym, Tape, operand, program
@@ -802,7 +804,7 @@ def _summary_source(prefix: str, n_inputs: int, n_out: int, summary: list,
 
 def c_source(tape: Tape, n_inputs: int, results: list, parameters: tuple = (),
              prefix: str = "linkage", array: bool = True, tangent: bool = False,
-             summary: list | None = None) -> str:
+             summary: list | None = None, settle: bool = False) -> str:
     """C functions of the traced ``results``:
 
     - ``int <prefix>_prepare(const double *p, double *q)``: the parameter step, from the
@@ -844,7 +846,17 @@ def c_source(tape: Tape, n_inputs: int, results: list, parameters: tuple = (),
       result ``d`` in degrees: a transmission angle's distance from a toggle).
 
     ``<PREFIX>_N_P``, ``_N_Q``, ``_N_X`` and ``_N_Y`` give the lengths of the four.
+
+    With ``settle``, each loop tests whether to go on from its first run (a ``minimum``
+    above 1 taken as 1): it stops as soon as it converges, its values then within
+    rounding of those after its ``minimum`` runs rather than equal to them, for a caller
+    that needs them converged, not the same floats as the library's (the drive FMU's
+    kernel of its motion, an iteration's residual).
     """
+    if settle:
+        tape = copy.copy(tape)
+        tape.loops = {i: dataclasses.replace(L, minimum=min(L.minimum, 1))
+                      for i, L in tape.loops.items()}
     prog = program(tape, results)
     inner = [i for body in prog.bodies.values() for i in body]
     inner += [a for L in map(tape.loops.get, prog.bodies) for a in (*L.news, L.again)]
