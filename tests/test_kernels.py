@@ -637,3 +637,47 @@ def test_an_array_kernel_with_loops_is_the_one_state_kernel():
         else:
             refused += 1
     assert refused < 50
+
+
+def test_a_kernel_split_at_an_input_is_the_one_state_kernel(tmp_path):
+    """Reference: the direct solver's Mb and J_red with friction (1e-12 relative), and
+    the one-state C kernel bit for bit. The slider-crank's kernel of Mb and J_red with
+    friction in every pair, split at alpha (input 2): its fix once per (theta, omega,
+    load), then vary at several alpha, gives the one-state kernel's outputs and codes."""
+    import ctypes
+
+    from linkage_fmu.ccompiler import CompilerError, compile_shared
+
+    mech = presets.linkage("slider_crank", mu_O=0.15, r_O=0.02, mu_A=0.15, r_A=0.02,
+                           muf_B=0.2, r_B=0.015, mu_guide=0.15)
+    k = mech.kernel(("Mb", "J_red"))
+    source = tmp_path / "split.c"
+    source.write_text(k.c_source(array=False, prefix="k", vary=2))
+    try:
+        lib = ctypes.CDLL(str(compile_shared([source], tmp_path / "split.so",
+                                             flags=("-O2", "-ffp-contract=off"))))
+    except CompilerError:
+        pytest.skip("no C compiler")
+    D = ctypes.c_double
+    p = (D * len(k.parameters))(*[float(mech.parameters[n]) for n in k.parameters])
+    q = (D * 512)()
+    assert lib.k_prepare(p, q) == 0
+    rng = np.random.default_rng(29)
+    checked = 0
+    for theta, omega in zip(rng.uniform(-math.pi, math.pi, 12), rng.uniform(-9.0, 9.0, 12)):
+        x = (D * 4)(theta, omega, 0.0, 20.0)
+        f = (D * 512)()
+        fixed = lib.k_fix(q, x, f)
+        for alpha in (-300.0, -1.0, 0.0, 2.5, 58.7):
+            x[2] = alpha
+            one, split = (D * 2)(), (D * 2)()
+            code = lib.k_one(q, x, one)
+            assert (fixed or lib.k_vary(q, f, x, split)) == code
+            if code:
+                continue
+            assert list(split) == list(one)
+            s = mech.solve(theta, omega, alpha, load=20.0, outputs=("Mb", "J_red"))
+            assert abs(one[0] - s["Mb"]) <= 1e-12 * (1.0 + abs(s["Mb"]))
+            assert abs(one[1] - s["J_red"]) <= 1e-12 * s["J_red"]
+            checked += 1
+    assert checked >= 40

@@ -271,8 +271,9 @@ static Status friction_band(const Model *m, const Values *v, double theta, doubl
  * rounding, kept inside the bracket of the root its iterates found (Mb grows with alpha;
  * where a reaction passes through 0 it has a kink, about which the steps alone can cycle:
  * a step out of the bracket bisects it). A secant slope costs one run of the kernel of the
- * motion, dMb/dalpha from its forward-mode twin two and a half: the twin runs only where
- * the secant's slope is not positive, to tell a kink from friction locking the crank.
+ * motion's part that alpha changes, dMb/dalpha from its forward-mode twin a whole run
+ * and more: the twin runs only where the secant's slope is not positive, to tell a kink
+ * from friction locking the crank.
  * LK_DISCARD, saying why, where dMb/dalpha is not positive before a bracket is found
  * (friction locks the crank) or it does not converge. */
 static Status acceleration(const Model *m, const Values *v, const double *x, int dir,
@@ -289,7 +290,11 @@ static Status acceleration(const Model *m, const Values *v, const double *x, int
         *alpha = memo->memo_alpha;
         return LK_OK;
     }
-    if (refused(RHS_ONE[s](r, u, y), RHS_REASONS[s], LK_DISCARD, why, size)) return LK_DISCARD;
+    /* the work alpha does not change, once; then Mb at each alpha tried */
+    double f[N_RF + 1];
+    if (refused(RHS_FIX[s](r, u, f), RHS_REASONS[s], LK_DISCARD, why, size) ||
+        refused(RHS_VARY[s](r, f, u, y), RHS_REASONS[s], LK_DISCARD, why, size))
+        return LK_DISCARD;
     if (bad_inertia(y[RHS_J], why, size)) return LK_DISCARD;
     double a = (tau - y[RHS_MB]) / y[RHS_J], lo = -INFINITY, hi = INFINITY;
     /* the secant's other point: alpha = 0 (Eksergian's estimate holds friction at alpha
@@ -299,7 +304,7 @@ static Status acceleration(const Model *m, const Values *v, const double *x, int
     du[2] = 1.0;
     for (int n = 0; n < NEWTON_STEPS; n++) {
         u[2] = a;
-        if (refused(RHS_ONE[s](r, u, y), RHS_REASONS[s], LK_DISCARD, why, size))
+        if (refused(RHS_VARY[s](r, f, u, y), RHS_REASONS[s], LK_DISCARD, why, size))
             return LK_DISCARD;
         const double residual = y[RHS_MB] - tau;
         double slope = (residual - last_residual) / (a - last);
