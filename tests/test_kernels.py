@@ -507,6 +507,40 @@ def test_a_loop_is_newton_for_sqrt_in_python_c_arrays_summaries_and_tangent():
     assert k3.call(1e12) == 1 and k3.reasons[0].what == "Newton did not converge"
 
 
+def test_a_settled_loop_stops_once_converged_in_c(tmp_path):
+    """Reference: the Newton iteration for sqrt written on floats in the test, with its
+    test from the first run (its root bit for bit, its runs exactly) and math.sqrt (1
+    ulp). The C of a loop of minimum 5 with ``settle`` stops as soon as it converges
+    (1 run at a = 1, where the plain C takes 5); without it, the minimum holds."""
+    import ctypes
+
+    from linkage_fmu.ccompiler import CompilerError, compile_shared
+
+    k5 = trace(lambda x, p: _newton_sqrt(x, p, minimum=5), [2.0], {"s": 1.0}, ("r", "n"))
+    libraries = {}
+    for settle in (False, True):
+        source = tmp_path / f"settle{int(settle)}.c"
+        source.write_text(k5.c_source(array=False, prefix="k", settle=settle))
+        try:
+            libraries[settle] = ctypes.CDLL(str(compile_shared(
+                [source], tmp_path / f"settle{int(settle)}.so",
+                flags=("-O2", "-ffp-contract=off"))))
+        except CompilerError:
+            pytest.skip("no C compiler")
+    for v in (1.0, 2.0, 0.25, 7.5, 1e-6, 1e12):
+        for settle, lib in libraries.items():
+            q, y = (ctypes.c_double * 64)(), (ctypes.c_double * 2)()
+            assert lib.k_prepare((ctypes.c_double * 1)(1.0), q) == 0
+            assert lib.k_one(q, (ctypes.c_double * 1)(v), y) == 0
+            root, runs = _reference_sqrt(v, 1 if settle else 5)
+            assert y[0] == root and y[1] == runs
+            assert abs(y[0] - math.sqrt(v)) <= 2.3e-16 * y[0]
+    q, y = (ctypes.c_double * 64)(), (ctypes.c_double * 2)()
+    libraries[True].k_prepare((ctypes.c_double * 1)(1.0), q)
+    libraries[True].k_one(q, (ctypes.c_double * 1)(1.0), y)
+    assert (y[0], y[1]) == (1.0, 1.0)
+
+
 def test_nested_loops_and_checks_inside_a_body():
     """Reference: the fixed point of x = sqrt(x + a), (1 + sqrt(1 + 4 a)) / 2 (1e-15
     relative), each square root a Newton loop inside the outer loop; a check inside the
@@ -603,3 +637,47 @@ def test_an_array_kernel_with_loops_is_the_one_state_kernel():
         else:
             refused += 1
     assert refused < 50
+
+
+def test_a_kernel_split_at_an_input_is_the_one_state_kernel(tmp_path):
+    """Reference: the direct solver's Mb and J_red with friction (1e-12 relative), and
+    the one-state C kernel bit for bit. The slider-crank's kernel of Mb and J_red with
+    friction in every pair, split at alpha (input 2): its fix once per (theta, omega,
+    load), then vary at several alpha, gives the one-state kernel's outputs and codes."""
+    import ctypes
+
+    from linkage_fmu.ccompiler import CompilerError, compile_shared
+
+    mech = presets.linkage("slider_crank", mu_O=0.15, r_O=0.02, mu_A=0.15, r_A=0.02,
+                           muf_B=0.2, r_B=0.015, mu_guide=0.15)
+    k = mech.kernel(("Mb", "J_red"))
+    source = tmp_path / "split.c"
+    source.write_text(k.c_source(array=False, prefix="k", vary=2))
+    try:
+        lib = ctypes.CDLL(str(compile_shared([source], tmp_path / "split.so",
+                                             flags=("-O2", "-ffp-contract=off"))))
+    except CompilerError:
+        pytest.skip("no C compiler")
+    D = ctypes.c_double
+    p = (D * len(k.parameters))(*[float(mech.parameters[n]) for n in k.parameters])
+    q = (D * 512)()
+    assert lib.k_prepare(p, q) == 0
+    rng = np.random.default_rng(29)
+    checked = 0
+    for theta, omega in zip(rng.uniform(-math.pi, math.pi, 12), rng.uniform(-9.0, 9.0, 12)):
+        x = (D * 4)(theta, omega, 0.0, 20.0)
+        f = (D * 512)()
+        fixed = lib.k_fix(q, x, f)
+        for alpha in (-300.0, -1.0, 0.0, 2.5, 58.7):
+            x[2] = alpha
+            one, split = (D * 2)(), (D * 2)()
+            code = lib.k_one(q, x, one)
+            assert (fixed or lib.k_vary(q, f, x, split)) == code
+            if code:
+                continue
+            assert list(split) == list(one)
+            s = mech.solve(theta, omega, alpha, load=20.0, outputs=("Mb", "J_red"))
+            assert abs(one[0] - s["Mb"]) <= 1e-12 * (1.0 + abs(s["Mb"]))
+            assert abs(one[1] - s["J_red"]) <= 1e-12 * s["J_red"]
+            checked += 1
+    assert checked >= 40

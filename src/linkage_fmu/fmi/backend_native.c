@@ -267,16 +267,21 @@ static Status friction_band(const Model *m, const Values *v, double theta, doubl
 }
 
 /* The root alpha of tau = Mb(theta, omega, alpha) with friction (opposing `dir` where omega
- * is 0): Newton from Eksergian's estimate, to rounding, kept inside the bracket of the
- * root its iterates found (Mb grows with alpha; where a reaction passes through 0 it has a
- * kink, about which Newton alone can cycle: a step out of the bracket bisects it);
+ * is 0): secant steps from Eksergian's estimate (the first through Mb at alpha = 0), to
+ * rounding, kept inside the bracket of the root its iterates found (Mb grows with alpha;
+ * where a reaction passes through 0 it has a kink, about which the steps alone can cycle:
+ * a step out of the bracket bisects it). A secant slope costs one run of the kernel of the
+ * motion's part that alpha changes, dMb/dalpha from its forward-mode twin a whole run
+ * and more: the twin runs only where the secant's slope is not positive, to tell a kink
+ * from friction locking the crank.
  * LK_DISCARD, saying why, where dMb/dalpha is not positive before a bracket is found
  * (friction locks the crank) or it does not converge. */
 static Status acceleration(const Model *m, const Values *v, const double *x, int dir,
                            double *alpha, char *why, size_t size) {
     const int s = m->structure;
     const double *r = dir < 0 ? m->rb : m->r, tau = v->real[INPUTS[0]];
-    double u[N_INPUTS + 3], du[N_INPUTS + 3] = {0.0}, y[RHS_N_Y + 1], dy[RHS_N_Y + 1];
+    /* u zeroed: its last element is padding that the memo's key compares too */
+    double u[N_INPUTS + 3] = {0.0}, du[N_INPUTS + 3] = {0.0}, y[RHS_N_Y + 1], dy[RHS_N_Y + 1];
     char at[32], value[32];
     motion_inputs(v, x[0], x[1], 0.0, u);
     Model *memo = (Model *)m; /* the backend's own cache, not the model's state */
@@ -285,15 +290,24 @@ static Status acceleration(const Model *m, const Values *v, const double *x, int
         *alpha = memo->memo_alpha;
         return LK_OK;
     }
-    if (refused(RHS_ONE[s](r, u, y), RHS_REASONS[s], LK_DISCARD, why, size)) return LK_DISCARD;
+    /* the work alpha does not change, once; then Mb at each alpha tried */
+    double f[N_RF + 1];
+    if (refused(RHS_FIX[s](r, u, f), RHS_REASONS[s], LK_DISCARD, why, size) ||
+        refused(RHS_VARY[s](r, f, u, y), RHS_REASONS[s], LK_DISCARD, why, size))
+        return LK_DISCARD;
     if (bad_inertia(y[RHS_J], why, size)) return LK_DISCARD;
     double a = (tau - y[RHS_MB]) / y[RHS_J], lo = -INFINITY, hi = INFINITY;
+    /* the secant's other point: alpha = 0 (Eksergian's estimate holds friction at alpha
+     * = 0 fixed: it starts within a few per cent of the root, where the slope J alone,
+     * without friction, would start some ten times farther) */
+    double last = 0.0, last_residual = y[RHS_MB] - tau;
     du[2] = 1.0;
     for (int n = 0; n < NEWTON_STEPS; n++) {
         u[2] = a;
-        if (refused(RHS_TANGENT[s](r, u, du, y, dy), RHS_REASONS[s], LK_DISCARD, why, size))
+        if (refused(RHS_VARY[s](r, f, u, y), RHS_REASONS[s], LK_DISCARD, why, size))
             return LK_DISCARD;
-        const double residual = y[RHS_MB] - tau, slope = dy[RHS_MB];
+        const double residual = y[RHS_MB] - tau;
+        double slope = (residual - last_residual) / (a - last);
         if (!isfinite(a) || !isfinite(residual)) {
             set_text(why, size, "the crank's acceleration overflows float64: an input is too "
                      "large in magnitude");
@@ -302,6 +316,12 @@ static Status acceleration(const Model *m, const Values *v, const double *x, int
         if (residual == 0.0 || fabs(residual) <= 4.0 * DBL_EPSILON * fabs(tau)) break;
         if (residual > 0.0) hi = a;
         else lo = a;
+        if (!(slope > 0.0) || !isfinite(slope)) { /* a kink between the points, or locking */
+            if (refused(RHS_TANGENT[s](r, u, du, y, dy), RHS_REASONS[s], LK_DISCARD, why, size))
+                return LK_DISCARD;
+            slope = dy[RHS_MB];
+        }
+        last = a, last_residual = residual;
         double next = a - residual / slope;
         if (!(slope > 0.0) || !isfinite(slope)) {
             if (!isfinite(lo) || !isfinite(hi)) {
@@ -321,7 +341,7 @@ static Status acceleration(const Model *m, const Values *v, const double *x, int
             (isfinite(hi - lo) && hi - lo <= 4.0 * DBL_EPSILON * fmax(fabs(lo), fabs(hi))))
             break;
         if (n == NEWTON_STEPS - 1) {
-            snprintf(why, size, "Newton on the crank's acceleration (tau = Mb with friction) "
+            snprintf(why, size, "the iteration on the crank's acceleration (tau = Mb with friction) "
                      "did not converge in %d steps (alpha = %s)", NEWTON_STEPS,
                      shortest(a, at, sizeof at));
             return LK_DISCARD;

@@ -27,6 +27,7 @@ from __future__ import annotations
 import datetime
 import itertools
 import math
+import re
 from pathlib import Path
 
 import jinja2
@@ -297,13 +298,18 @@ def model_source(mech, rebuild, drive: bool = False,
         names = rhs[0].outputs
         direction = mech.description.drive
         friction = bool(mech.friction.active)
+        rhs_sources = [r.c_source(array=False, prefix=f"r{s}", tangent=friction, settle=True,
+                                  vary=2 if friction else None) for s, r in enumerate(rhs)]
         if friction and direction not in mech.kernel_parameters:
             raise ValueError(f"{mech.name}: a drive FMU needs the friction's drive direction "
                              f"as a parameter (its drive is {direction!r}): at rest, friction "
                              "opposes the motion the crank is pushed to, either way")
         drive_tables = dict(
-            rhs_kernels=[r.c_source(array=False, prefix=f"r{s}", tangent=friction)
-                         for s, r in enumerate(rhs)],
+            # friction's loops stop once converged: Mb is a residual of the root alpha,
+            # several runs per evaluation of the derivatives (a quarter of the time);
+            # what alpha (input 2) does not change runs once per state
+            rhs_kernels=rhs_sources, n_rf=max(int(re.search(r"_N_F (\d+)", c).group(1))
+                                              for c in rhs_sources) if friction else 0,
             n_r=max(len(r.frozen) for r in rhs), rhs_outputs=names, rhs_mb=names.index("Mb"),
             rhs_j=names.index("J_red"), rhs_reasons=[reasons(r) for r in rhs],
             alpha=index["alpha"], dtheta=index["der(theta)"], kernel_at=index[outputs[0]],

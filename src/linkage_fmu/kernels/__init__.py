@@ -111,12 +111,15 @@ class Kernel:
         return self.call is not self.function
 
     def c_source(self, array: bool = True, prefix: str = "linkage",
-                 tangent: bool = False) -> str:
+                 tangent: bool = False, settle: bool = False,
+                 vary: int | None = None) -> str:
         """The kernel as C (:mod:`~linkage_fmu.kernels.c_source`), its functions named
-        ``<prefix>_...``; with ``tangent``, its forward-mode derivatives too."""
+        ``<prefix>_...``; with ``tangent``, its forward-mode derivatives too; with
+        ``settle``, its loops stop as soon as they converge; with ``vary``, the state
+        step in two too, the work that does not depend on input ``vary`` apart."""
         return c_source(self.tape, self.n_inputs, self.results,
                         tuple(f"p{k}" for k in range(len(self.parameters))), prefix, array,
-                        tangent)
+                        tangent, settle=settle, vary=vary)
 
     def tangent(self):
         """The compiled forward-mode kernel

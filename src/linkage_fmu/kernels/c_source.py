@@ -9,6 +9,8 @@ OpenMP where the compiler has it) that marks the states whose guards fail.
 
 from __future__ import annotations
 
+import copy
+import dataclasses
 import math
 
 from .trace import Sym, Tape, operand, program
@@ -800,9 +802,78 @@ def _summary_source(prefix: str, n_inputs: int, n_out: int, summary: list,
     ]
 
 
+def _depends_on(tape: Tape, name: str) -> set:
+    """The nodes of ``tape`` that depend on its input ``name``: through their arguments,
+    and a loop through anything in its body (a loop node and its results stand for the
+    whole loop)."""
+    body: dict = {}
+    for i, scope in enumerate(tape.scopes):
+        if scope is not None:
+            body.setdefault(scope.index, []).append(i)
+    out: set = set()
+    for i, node in enumerate(tape.nodes):
+        if node.op == "input":
+            if node.value == name:
+                out.add(i)
+            continue
+        if any(a in out for a in node.args):
+            out.add(i)
+        elif node.op == "loop":
+            L = tape.loops[i]
+            if any(j in out for j in (*body.get(i, ()), *L.news, L.again)):
+                out.add(i)
+    return out
+
+
+def _split_source(tape: Tape, prog, prefix: str, frozen: list, results: list,
+                  n_inputs: int, vary: int) -> list:
+    """``<prefix>_fix(q, x, f)`` and ``<prefix>_vary(q, f, x, y)``: ``<prefix>_one``
+    in two, the work that does not depend on input ``vary`` (into ``f``, its values
+    the rest reads) and the rest, so that a caller varying that input alone runs the
+    first once; each returns 0 or the code of a guard that fails in it."""
+    moving = _depends_on(tape, f"x{vary}")
+    fixed = [i for i in prog.state if i not in moving]
+    rest = [i for i in prog.state if i in moving]
+    read = {a for i in rest for a in tape.nodes[i].args}
+    for index, body in prog.bodies.items():
+        if index in moving or tape.scopes[index] is not None:
+            L = tape.loops[index]
+            read.update(a for i in body for a in tape.nodes[i].args)
+            read.update([*L.news, L.again])
+    read.update(r.index for r in results if isinstance(r, Sym))
+    crossing = [i for i in fixed if i in read and tape.nodes[i].op not in ("const", "input")]
+    crossing += [i for i in fixed if i in read and tape.nodes[i].op == "final"
+                 and i not in crossing]
+    outputs = [operand(tape, r.index, c_literal) if isinstance(r, Sym) else c_literal(r)
+               for r in results]
+    loads = [f"    const double {name} = q[{k}]; (void){name};" for k, name in enumerate(frozen)]
+    inputs = [f"    const double x{k} = x[{k}]; (void)x{k};" for k in range(n_inputs)]
+    return [
+        f"#define {prefix.upper()}_N_F {max(len(crossing), 1)}",
+        f"int {prefix}_fix(const double *q, const double *x, double *f) {{",
+        *loads, *(line for k, line in enumerate(inputs) if k != vary),
+        *_statements(tape, fixed, prog.guards, prog.codes, bodies=prog.bodies),
+        *(f"    f[{k}] = t{i};" for k, i in enumerate(crossing)),
+        "    (void)q; (void)x; (void)f;",
+        "    return 0;",
+        "}",
+        "",
+        f"int {prefix}_vary(const double *q, const double *f, const double *x, double *y) {{",
+        *loads, *inputs,
+        *(f"    const double t{i} = f[{k}]; (void)t{i};" for k, i in enumerate(crossing)),
+        *_statements(tape, rest, prog.guards, prog.codes, bodies=prog.bodies),
+        *(f"    y[{k}] = {v};" for k, v in enumerate(outputs)),
+        "    (void)q; (void)f; (void)x; (void)y;",
+        "    return 0;",
+        "}",
+        "",
+    ]
+
+
 def c_source(tape: Tape, n_inputs: int, results: list, parameters: tuple = (),
              prefix: str = "linkage", array: bool = True, tangent: bool = False,
-             summary: list | None = None) -> str:
+             summary: list | None = None, settle: bool = False,
+             vary: int | None = None) -> str:
     """C functions of the traced ``results``:
 
     - ``int <prefix>_prepare(const double *p, double *q)``: the parameter step, from the
@@ -844,7 +915,22 @@ def c_source(tape: Tape, n_inputs: int, results: list, parameters: tuple = (),
       result ``d`` in degrees: a transmission angle's distance from a toggle).
 
     ``<PREFIX>_N_P``, ``_N_Q``, ``_N_X`` and ``_N_Y`` give the lengths of the four.
+
+    With ``settle``, each loop tests whether to go on from its first run (a ``minimum``
+    above 1 taken as 1): it stops as soon as it converges, its values then within
+    rounding of those after its ``minimum`` runs rather than equal to them, for a caller
+    that needs them converged, not the same floats as the library's (the drive FMU's
+    kernel of its motion, an iteration's residual).
+
+    With ``vary`` (an input's position), ``<prefix>_fix(q, x, f)`` and
+    ``<prefix>_vary(q, f, x, y)`` too: ``<prefix>_one`` in two, the work that does not
+    depend on input ``vary`` once into ``f`` (``<PREFIX>_N_F`` values), then the rest,
+    as often as that input alone changes; their outputs are ``<prefix>_one``'s.
     """
+    if settle:
+        tape = copy.copy(tape)
+        tape.loops = {i: dataclasses.replace(L, minimum=min(L.minimum, 1))
+                      for i, L in tape.loops.items()}
     prog = program(tape, results)
     inner = [i for body in prog.bodies.values() for i in body]
     inner += [a for L in map(tape.loops.get, prog.bodies) for a in (*L.news, L.again)]
@@ -935,6 +1021,8 @@ def c_source(tape: Tape, n_inputs: int, results: list, parameters: tuple = (),
             "}",
             "",
         ]
+    if vary is not None:
+        head += _split_source(tape, prog, prefix, frozen, results, n_inputs, vary)
     if not array:
         return "\n".join(head)
     locking = [code for index, code in prog.codes.items()

@@ -108,6 +108,12 @@ static int (*const RHS_ONE[N_STRUCTURES])(const double *, const double *, double
 {% if friction %}
 static int (*const RHS_TANGENT[N_STRUCTURES])(const double *, const double *, const double *,
                                               double *, double *) = { {%- for r in rhs_reasons %}r{{ loop.index0 }}_tangent, {% endfor %}};
+/* the kernel of the motion in two: the work that alpha does not change, once per state
+ * (RHS_FIX, into N_RF values), then the rest per alpha the iteration tries (RHS_VARY) */
+#define N_RF {{ n_rf }}
+static int (*const RHS_FIX[N_STRUCTURES])(const double *, const double *, double *) = { {%- for r in rhs_reasons %}r{{ loop.index0 }}_fix, {% endfor %}};
+static int (*const RHS_VARY[N_STRUCTURES])(const double *, const double *, const double *,
+                                           double *) = { {%- for r in rhs_reasons %}r{{ loop.index0 }}_vary, {% endfor %}};
 {% endif %}
 {% if plain_rhs %}
 
