@@ -408,9 +408,7 @@ def driven(mech, drive: float):
                          "built again with the other drive direction")
     if str(d.drive).strip() in d.parameters:
         return d.build(**{**mech.parameters, str(d.drive).strip(): float(drive)})
-    d = d.copy()
-    d.drive = float(drive)
-    return d._changed().build(**mech.parameters)
+    return d.with_drive(float(drive)).build(**mech.parameters)
 
 
 class _Direction:

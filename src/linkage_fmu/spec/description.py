@@ -473,6 +473,12 @@ class Description:
             d.parameters[name]["default"] = value
         return d._changed()
 
+    def with_drive(self, drive: Any) -> "Description":
+        """A copy whose crank's drive direction is ``drive`` (+1 or -1, or an expression)."""
+        d = self.copy()
+        d.drive = drive
+        return d._changed()
+
     # -- writing ---------------------------------------------------------------------
     def to_toml(self) -> str:
         """The description file of this description (:meth:`from_toml` reads it back).
