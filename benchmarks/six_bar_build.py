@@ -18,8 +18,9 @@ every pin of radius :data:`PIN` m, driven at OA (the crank) and at KD (off the c
 the effort's secant iteration in the kernel), ``steps`` states over one revolution at
 omega = 10 rad/s, alpha = 0, the FMU's default load. Each FMU is timed in its own fresh
 process, the two alternately in ``rounds`` rounds (this machine's drift hits both
-alike); the best of each is kept, and the steps each FMU discarded (states it refused)
-are counted.
+alike); the best of each is kept. The steps each FMU discarded (states it refused) are
+counted, and among them those this tree's direct solver solves (refused wrongly: the
+unrolled kernels' fixed iteration counts took some solvable states for self-locked).
 
 Where git, the project's history or the commit is not available, the old FMU's rows say
 so and carry no figures (the run goes on). The old build takes minutes at -O0: ``run.py``
@@ -72,6 +73,27 @@ def friction_values(parameters) -> dict[str, float]:
     """
     return {n: (PIN if n.startswith("r_") else MU) for n in parameters
             if n.startswith(("mu_", "muf_", "r_"))}
+
+
+def states(steps: int):
+    """The benchmark's crank angles: ``steps`` over one revolution, off pi/2's multiples."""
+    import numpy as np
+
+    return 2.0 * math.pi * (np.arange(steps) + 0.25) / steps
+
+
+def refused_solvable(driver: str, load: float, discarded: list[int], steps: int) -> int:
+    """How many of the ``discarded`` states (indices into :func:`states`) this tree's
+    direct solver solves (status SOLVED) at the benchmark's friction and ``driver``."""
+    import numpy as np
+
+    from linkage_fmu import presets
+    from linkage_fmu.solver import SOLVED
+
+    mech = presets.get("six_bar", driver=driver,
+                       **friction_values(presets.get("six_bar").parameters))
+    sol = mech.solve(states(steps), OMEGA, 0.0, load, method="direct")
+    return int(np.sum(np.asarray(sol.status)[discarded] == SOLVED))
 
 
 def old_tree(dest: Path, commit: str = UNROLLED) -> Path | str:
@@ -158,17 +180,18 @@ def step_job(fmu: str, driver: str, steps: int, repeats: int) -> dict:
     u = (c_double * 4)(0.0, OMEGA, 0.0, float(var["load"].start))
     y = (c_double * n_out)()
     h = 2.0 * math.pi / OMEGA / steps
-    thetas = [2.0 * math.pi * (i + 0.25) / steps for i in range(steps)]
+    thetas = states(steps).tolist()
     best, t = math.inf, 0.0
     for _ in range(repeats + 1):  # the first loop warms up
-        discarded = worst = 0
+        worst, discarded = 0, []
         peak_loss = 0.0
         start = time.perf_counter()
-        for theta in thetas:
+        for i, theta in enumerate(thetas):
             u[0] = theta
             worst |= set_real(comp, vr_i, 4, u)
             status = do_step(comp, t, h, 1)
-            discarded += status == 2  # fmi2Discard: a state the FMU refused
+            if status == 2:  # fmi2Discard: a state the FMU refused
+                discarded.append(i)
             worst |= status & ~2
             worst |= get_real(comp, vr_o, n_out, y)
             if status != 2:
@@ -182,7 +205,7 @@ def step_job(fmu: str, driver: str, steps: int, repeats: int) -> dict:
     if not peak_loss > 0.0:  # friction taken: the kernels with friction ran
         raise RuntimeError(f"{fmu} driven at {driver} lost no power to friction")
     return {"us_per_step": best / steps * 1e6, "discarded": discarded,
-            "P_loss_peak": peak_loss}
+            "P_loss_peak": peak_loss, "load": u[3]}
 
 
 def measure(steps: int = 2000, rounds: int = 3) -> list[dict]:
@@ -208,8 +231,11 @@ def measure(steps: int = 2000, rounds: int = 3) -> list[dict]:
                     times[name].append(time_steps(b["fmu"], driver, steps))
             for name, b in builds.items():
                 fastest = min(times[name], key=lambda r: r["us_per_step"])
+                refused = refused_solvable(driver, fastest["load"], fastest["discarded"],
+                                           steps)
                 rows.append({"fmu": name, "driver": driver, "us_per_step": fastest["us_per_step"],
-                             "discarded": fastest["discarded"], "steps": steps,
+                             "discarded": len(fastest["discarded"]), "steps": steps,
+                             "discarded_solvable": refused,
                              "P_loss_peak_W": fastest["P_loss_peak"],
                              "build_s": b["build_s"], "model_c_MB": b["model_c_MB"],
                              "library_MB": b["library_MB"], "level": b["level"],
@@ -218,6 +244,7 @@ def measure(steps: int = 2000, rounds: int = 3) -> list[dict]:
             for driver in DRIVERS:
                 rows.append({"fmu": f"unrolled ({UNROLLED})", "driver": driver,
                              "us_per_step": math.nan, "discarded": "", "steps": steps,
+                             "discarded_solvable": "",
                              "P_loss_peak_W": math.nan,
                              "build_s": math.nan, "model_c_MB": math.nan,
                              "library_MB": math.nan, "level": "",
@@ -236,15 +263,16 @@ def ratios(rows: list[dict]) -> dict[str, float]:
 
 def markdown(rows: list[dict]) -> list[str]:
     """Lines of the results' table of :func:`measure`'s ``rows``."""
-    lines = ["| FMU | driver | us per step | steps discarded | peak P_loss (W) | build (s) | "
-             "model C (MB) | library (MB) | compiled | note |",
-             "|---|---|---|---|---|---|---|---|---|---|"]
+    lines = ["| FMU | driver | us per step | states discarded (of them, the direct solver "
+             "solves) | peak P_loss (W) | build (s) | model C (MB) | library (MB) | compiled | "
+             "note |", "|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         if r["note"]:  # not measured
             lines.append(f"| {r['fmu']} | {r['driver']} |" + " - |" * 7 + f" {r['note']} |")
             continue
         lines.append(f"| {r['fmu']} | {r['driver']} | {r['us_per_step']:.3g} | "
-                     f"{r['discarded']} of {r['steps']} | {r['P_loss_peak_W']:.6g} | "
+                     f"{r['discarded']} of {r['steps']} ({r['discarded_solvable']}) | "
+                     f"{r['P_loss_peak_W']:.6g} | "
                      f"{r['build_s']:.3g} | "
                      f"{r['model_c_MB']:.3g} | {r['library_MB']:.3g} | {r['level']} | "
                      f"{r['note']} |")
