@@ -530,7 +530,8 @@ def friction_sections(drive: list[dict], six_bar: list[dict] | str) -> list[str]
               f"{six_bar[0]['steps']} states over a revolution at omega 10 rad/s, each FMU "
               f"in fresh processes in alternating rounds, best of each. Step of the "
               f"unrolled build / today's: "
-              + ", ".join(f"{ratio[d]:.3g} driven at {d}" for d in ratio) + ".", ""]
+              + ", ".join(f"{ratio[d]:.3g} driven at {d}" if not math.isnan(ratio[d])
+                          else f"not measured at {d}" for d in ratio) + ".", ""]
     return lines + six_bar_build.markdown(six_bar)
 
 
