@@ -312,19 +312,31 @@ def write(path: Path, rows: list[dict]) -> None:
         w.writerows(rows)
 
 
+def friction(out: Path = RESULTS) -> list[dict]:
+    """Build the slider-crank's drive FMU, measure :func:`friction_costs` on it and write
+    them to ``out/drive_friction.csv`` (``run.py`` calls this too)."""
+    from linkage_fmu.fmi import build_native_fmu
+
+    with tempfile.TemporaryDirectory(prefix="drive_friction_") as tmp:
+        rows = friction_costs(build_native_fmu("slider_crank", Path(tmp), 2, drive=True))
+    out.mkdir(parents=True, exist_ok=True)
+    write(out / "drive_friction.csv", rows)
+    return rows
+
+
+def friction_markdown(rows: list[dict]) -> list[str]:
+    """Lines of the table of :func:`friction`'s rows."""
+    return (["| drive FMU | friction | us per step (1 ms) | ratio | CPU us per step | ratio |",
+             "|---|---|---|---|---|---|"]
+            + [f"| {r['model']} | {r['friction']} | {r['fmpy_us']:.3g} | {r['ratio']:.3g} | "
+               f"{r['cpu_us']:.3g} | {r['cpu_ratio']:.3g} |" for r in rows])
+
+
 def main() -> int:
     from linkage_fmu import presets
     from linkage_fmu.fmi import build_native_fmu
 
-    with tempfile.TemporaryDirectory(prefix="drive_friction_") as tmp:
-        friction = friction_costs(build_native_fmu("slider_crank", Path(tmp), 2, drive=True))
-    RESULTS.mkdir(exist_ok=True)
-    write(RESULTS / "drive_friction.csv", friction)
-    print("| drive FMU | friction | us per step (1 ms) | ratio | CPU us per step | ratio |\n"
-          "|---|---|---|---|---|---|")
-    for r in friction:
-        print(f"| {r['model']} | {r['friction']} | {r['fmpy_us']:.3g} | {r['ratio']:.3g} | "
-              f"{r['cpu_us']:.3g} | {r['cpu_ratio']:.3g} |")
+    print("\n".join(friction_markdown(friction())))
     if "--friction" in sys.argv[1:]:
         return 0
     mech = presets.get("four_bar")

@@ -1,6 +1,6 @@
 """Run time against error for the four-bar and the slider-crank, in one run.
 
-    pip install -e ".[bench]" && python benchmarks/run.py [--quick]
+    pip install -e ".[bench]" && python benchmarks/run.py [--quick [--six-bar-build]]
 
 Writes ``benchmarks/results/``: ``work_precision.csv`` (every method: seconds per
 crank angle and its maximum relative error against the 40-digit mpmath reference),
@@ -10,7 +10,11 @@ cost per state against the array kernels and memory's floor: ``sweep_timing.py``
 ``optimize.csv`` (the four-bar's peak torque minimised against grids of the same budget:
 ``optimize_timing.py``), ``press_coupling.csv`` (the crank press of ``examples/press`` in
 libcosim: its coupling error against the communication step, ``press_coupling.py``),
-``results.md`` (the tables and the targets) and
+``drive_friction.csv`` (the drive FMU's step with friction against every mu 0:
+``drive_timing.py --friction``), ``six_bar_build.csv`` (the six-bar's native FMU with
+friction, built and timed against its last unrolled -O0 build from the project's git
+history: ``six_bar_build.py``; minutes, so only in the full run, or with ``--quick
+--six-bar-build``), ``results.md`` (the tables and the targets) and
 ``work_precision.png`` (log-log, time per angle against error).
 
 Common states: 360 crank angles over a revolution, omega = 10 rad/s, alpha = 0, load
@@ -18,7 +22,10 @@ Common states: 360 crank angles over a revolution, omega = 10 rad/s, alpha = 0, 
 normwise relative error per state (:func:`linkage_fmu.precise.relative_error`), its
 maximum over the states. Times are the best of several repeats (this machine is noisy).
 The friction rows: the slider-crank with mu = 0.1 in every pair and 0.01 m pins against
-its default (mu = 0), arrays and the compiled one-state kernel, the error on 50 states.
+its default (mu = 0), arrays and the compiled one-state kernel, the error on 50 states;
+the targets: friction's cost per state in the array kernel <= 3x frictionless, the drive
+FMU's step with friction <= 2x without, and (where the six-bar was built) its native
+FMU's model C <= 4 MB and library <= 3 MB.
 """
 
 from __future__ import annotations
@@ -38,17 +45,22 @@ from pathlib import Path
 
 import numpy as np
 
+import drive_timing
 import fmu_timing
 import kinepy_peer
 import optimize_timing
 import peers
 import press_coupling
 import seed_way
+import six_bar_build
 import sweep_timing
 from linkage_fmu import presets
 from linkage_fmu.interpolation import AngleTable
 from linkage_fmu.precise import references, relative_error
 
+#: names of the friction's targets (issue: friction in motion)
+FRICTION_ARRAYS = "friction (mu 0.1) / no friction, per state, array kernel"
+FRICTION_DRIVE = "drive FMU step with friction / every mu 0 (1 ms steps)"
 HERE = Path(__file__).resolve().parent
 RESULTS = HERE / "results"
 ROOT = HERE.parent
@@ -61,7 +73,10 @@ TARGETS = {"vectorised / seed per angle": 500.0, "scalar / seed per angle": 10.0
            "FMU step / trivial FMU step, median of alternating rounds": 1.3,
            "native FMU step / trivial native FMU step (fmpy)": 1.1,
            "C host: pythonfmu FMU step / native FMU step": 20.0,
-           "peer / our scalar, at equal or better error": 1.0}
+           "peer / our scalar, at equal or better error": 1.0,
+           FRICTION_ARRAYS: 3.0, FRICTION_DRIVE: 2.0,
+           "six-bar native FMU with friction: model C (MB)": 4.0,
+           "six-bar native FMU with friction: library (MB)": 3.0}
 
 
 def best_time(fn, repeats: int = 25) -> float:
@@ -474,8 +489,54 @@ def md_table(header: list, body: list) -> list[str]:
             + ["| " + " | ".join(str(c) for c in cells) + " |" for cells in body])
 
 
+def friction_targets(work: list[dict], drive: list[dict],
+                     six_bar: list[dict] | str) -> list[tuple[str, str, float]]:
+    """(preset, target's name, measured) of friction's targets: its cost per state in the
+    array kernel (:func:`friction_rows`), the drive FMU's step (``drive_timing.friction``)
+    and, where measured, the six-bar's native FMU's sizes (``six_bar_build``)."""
+    us = {r["method"]: r["us_per_angle"] for r in work if r["preset"] == "slider_crank"}
+    with_mu = next(r for r in drive if r["friction"] == "with friction")
+    out = [("slider_crank", FRICTION_ARRAYS, us["friction, mu = 0.1, vectorised"]
+            / us["no friction (mu = 0), vectorised"]),
+           ("slider_crank", FRICTION_DRIVE, with_mu["ratio"])]
+    if not isinstance(six_bar, str):
+        today = next(r for r in six_bar if r["fmu"].startswith("loops"))
+        out += [("six_bar", "six-bar native FMU with friction: model C (MB)",
+                 today["model_c_MB"]),
+                ("six_bar", "six-bar native FMU with friction: library (MB)",
+                 today["library_MB"])]
+    return out
+
+
+def friction_sections(drive: list[dict], six_bar: list[dict] | str) -> list[str]:
+    """results.md's sections of the drive FMU's step with friction and of the six-bar's
+    native FMU with friction against its unrolled -O0 build (or why it was not run)."""
+    lines = ["", "## Drive FMU step with friction (us; benchmarks/drive_timing.py --friction)",
+             "", "The slider-crank's drive FMU (`SliderCrankDrive`), 1 s from theta0 = 0.3 "
+             "rad, omega0 = 5 rad/s under tau = 1 N.m and 20 N on the piston, a 0.02 kg.m2 "
+             "flywheel, steps of 1 ms at the tolerance 1e-8 (set tau, doStep, get every "
+             "output through fmpy's ctypes functions), best of 5: with every mu 0 and with "
+             "mu 0.15 to 0.2 on 15 to 20 mm pins.", ""] + drive_timing.friction_markdown(drive)
+    lines += ["", "## Six-bar native FMU with friction: loops at -O2 against the unrolled "
+              "-O0 build (benchmarks/six_bar_build.py)", ""]
+    if isinstance(six_bar, str):
+        return lines + [f"Not measured in this run: {six_bar}."]
+    ratio = six_bar_build.ratios(six_bar)
+    lines += [f"Both built in this run for this machine (FMI 2.0, a fresh kernel cache "
+              f"each): the last commit with friction's iterations unrolled "
+              f"({six_bar_build.UNROLLED}, from the project's history) and this tree. A "
+              f"step through fmpy's ctypes functions (set 4 inputs, doStep, get every "
+              f"output), mu {six_bar_build.MU} in every pair, {six_bar_build.PIN} m pins, "
+              f"{six_bar[0]['steps']} states over a revolution at omega 10 rad/s, each FMU "
+              f"in fresh processes in alternating rounds, best of each. Step of the "
+              f"unrolled build / today's: "
+              + ", ".join(f"{ratio[d]:.3g} driven at {d}" if not math.isnan(ratio[d])
+                          else f"not measured at {d}" for d in ratio) + ".", ""]
+    return lines + six_bar_build.markdown(six_bar)
+
+
 def summary(work, fmu, host, comm, scl, first, sweeps, fused, optima, machine: str,
-            seconds: float) -> str:
+            seconds: float, drive: list[dict], six_bar: list[dict] | str) -> str:
     def get(preset, method):
         return next(r for r in work if r["preset"] == preset and r["method"] == method)
 
@@ -524,6 +585,9 @@ def summary(work, fmu, host, comm, scl, first, sweeps, fused, optima, machine: s
     for name, target in sweep_timing.TARGETS.items():
         lines.append(f"| four_bar | {name} | {ratios[name]:.3g} | <= {target:g} | "
                      f"{'yes' if ratios[name] <= target else 'no'} |")
+    for preset, name, value in friction_targets(work, drive, six_bar):
+        lines.append(f"| {preset} | {name} | {value:.3g} | <= {TARGETS[name]:g} | "
+                     f"{'yes' if value <= TARGETS[name] else 'no'} |")
     lines += ["", "## Run time and error", ""] + md_table(
         ["preset", "method", "variant", "us per angle", "max rel. error", "note"],
         [[r["preset"], r["method"], r["variant"], f"{r['us_per_angle']:.3g}",
@@ -575,6 +639,7 @@ def summary(work, fmu, host, comm, scl, first, sweeps, fused, optima, machine: s
               "Minimise `Mb_peak` over l_AB, l_BC, l_CD, l_AD subject to `mu_C_min_deg >= "
               "40` and `valid`; differential evolution against grids of the same number of "
               "evaluations.", ""] + optimize_timing.markdown(optima)
+    lines += friction_sections(drive, six_bar)
     lines += ["", "## Scale (four-bar, closed form, all outputs)", ""] + md_table(
         ["angles", "seconds", "ns per angle", "peak MB", "bytes per angle"],
         [[r["angles"]] + [f"{r[k]:.3g}" for k in (
@@ -600,6 +665,9 @@ def main(argv=None) -> int:
     parser.add_argument("--quick", action="store_true",
                         help="fewer states and sizes (a smoke run; results not for publishing)")
     parser.add_argument("--out", type=Path, default=RESULTS)
+    parser.add_argument("--six-bar-build", action="store_true",
+                        help="with --quick, build and time the six-bar's unrolled -O0 FMU "
+                             "against today's too (minutes; the full run always does)")
     parser.add_argument("--master", help=argparse.SUPPRESS)  # fresh-process helper
     args = parser.parse_args(argv)
     if args.master:
@@ -620,6 +688,8 @@ def main(argv=None) -> int:
         work += peer_rows(preset, load, ref)
     print("friction ...", flush=True)
     work += friction_rows(10_000 if args.quick else 100_000)
+    print("drive FMU with friction ...", flush=True)
+    drive = drive_timing.friction(args.out)
     with tempfile.TemporaryDirectory(prefix="linkage_bench_") as tmp:
         tmp = Path(tmp)
         print("FMUs ...", flush=True)
@@ -644,6 +714,11 @@ def main(argv=None) -> int:
     fused = sweep_timing.run(200 if args.quick else 1000, 3 if args.quick else 10)
     print("design optimisation ...", flush=True)
     optima = optimize_timing.optimisation_rows(1 if args.quick else 3)
+    if args.quick and not args.six_bar_build:
+        six_bar = "the run was --quick (add --six-bar-build, or run the full benchmark)"
+    else:
+        print("six-bar with friction: the unrolled -O0 build against today's ...", flush=True)
+        six_bar = six_bar_build.measure(500 if args.quick else 2000, 1 if args.quick else 3)
     args.out.mkdir(parents=True, exist_ok=True)
     write_csv(args.out / "work_precision.csv", work)
     write_csv(args.out / "fmu.csv", fmu)
@@ -654,9 +729,11 @@ def main(argv=None) -> int:
     write_csv(args.out / "sweep.csv", sweeps)
     write_csv(args.out / "sweep_fused.csv", fused[0])
     write_csv(args.out / "optimize.csv", optima)
+    if not isinstance(six_bar, str):
+        write_csv(args.out / "six_bar_build.csv", six_bar)
     plot(work, args.out / "work_precision.png")
     text = summary(work, fmu, host, comm, scl, first, sweeps, fused, optima, machine(),
-                   time.perf_counter() - start)
+                   time.perf_counter() - start, drive, six_bar)
     print("press coupling ...", flush=True)
     text += press_coupling.markdown(press_coupling.write(
         args.out, press_coupling.STEPS[:-1] if args.quick else press_coupling.STEPS))
