@@ -42,14 +42,15 @@ def c_literal(value: float) -> str:
 
 def _statements(tape: Tape, nodes: list, guards: dict, codes: dict, indent: str = "    ",
                 simd: bool = False, vectorise: bool = False, bodies: dict | None = None,
-                tangent: "_Tangent | None" = None) -> list:
+                tangent: "_Tangent | None" = None, peel: bool = False) -> list:
     """One declaration per operation (each assigned once: no ``const``, which only
     lengthens large kernels' source); a failed guard returns its code, or with ``simd``
     marks the state (``bad``) and the computation goes on (NaNs, no traps), and the
     elementary functions are the vector ones (``lk_*``); with ``vectorise`` too, max
     and min pick by the bits (no branch to keep the loop scalar). A loop node is its
     loop (``bodies``: loop node -> its body's operations); with ``tangent``, each
-    operation's derivative follows it."""
+    operation's derivative follows it. With ``peel`` (and ``simd``), a loop is its
+    first runs, straight (:func:`_peeled`)."""
     body = []
     for i in nodes:
         node = tape.nodes[i]
@@ -57,7 +58,8 @@ def _statements(tape: Tape, nodes: list, guards: dict, codes: dict, indent: str 
         if node.op in ("final", "converged"):  # declared by their loop
             continue
         if node.op == "loop":
-            body += _loop(tape, tape.loops[i], guards, codes, indent, bodies, tangent)
+            body += (_peeled(tape, tape.loops[i], guards, codes, indent, bodies) if peel
+                     else _loop(tape, tape.loops[i], guards, codes, indent, bodies, tangent))
             continue
         if node.op in _COMPARE:
             body.append(f"{indent}int t{i} = {a[0]} {_INFIX[node.op]} {a[1]};")
@@ -135,6 +137,64 @@ def _loop(tape: Tape, L, guards: dict, codes: dict, indent: str, bodies: dict,
     if tangent is not None:
         tangent.zero.update(f for f, c in zip(L.finals, L.carries) if c not in carried)
     return lines
+
+
+def _peeled(tape: Tape, L, guards: dict, codes: dict, indent: str, bodies: dict) -> list:
+    """A loop as its first :func:`peeled_runs` runs, straight in a vector loop over
+    states (the runs every state takes: no test between them, the carried values in
+    registers, not arrays): each run a block of the body's operations (its inner loops
+    peeled too). ``more`` is set where the loop would run again after them: that state's
+    values are not the loop's, and its caller recomputes it (the one-state function)."""
+    inner = indent + "    "
+    runs = peeled_runs(L)
+    lines = [f"{indent}double t{c} = {operand(tape, a, c_literal)};"
+             for c, a in zip(L.carries, L.inits)]
+    for run in range(runs):
+        lines += [
+            f"{indent}{{",
+            *_statements(tape, bodies[L.index], guards, codes, inner, simd=True,
+                         vectorise=True, bodies=bodies, peel=True),
+            *(f"{inner}double u{c} = {operand(tape, n, c_literal)};"
+              for c, n in zip(L.carries, L.news)),
+            (f"{inner}more |= ({operand(tape, L.again, c_literal)}) != 0;"
+             if run == runs - 1 else f"{inner}(void)({operand(tape, L.again, c_literal)});"),
+            *(f"{inner}t{c} = u{c};" for c in L.carries),
+            f"{indent}}}",
+        ]
+    lines += [
+        *(f"{indent}double t{f} = t{c};" for f, c in zip(L.finals, L.carries)),
+        f"{indent}const int t{L.converged} = 1; /* where not, more */",
+        *(f"{indent}(void)t{n};" for n in (*L.finals, L.converged)),
+        *(f"{indent}bad |= {'!' if guards[i] else ''}(t{i} != 0);"
+          for i in (*L.finals, L.converged) if i in guards),
+    ]
+    return lines
+
+
+def peeled_runs(L) -> int:
+    """The runs of the loop ``L`` every state takes (its test comes after them): its
+    minimum, and at least one."""
+    return max(L.minimum, 1)
+
+
+def peeled_operations(tape: Tape, prog) -> int | None:
+    """The operations per state of the state step with every loop peeled
+    (:func:`_peeled`), or None where a loop has no minimum (the effort's secant loop:
+    its runs are phases that every state goes through, so a state never stops after
+    its first run, and peeling it only adds work)."""
+    def count(nodes):
+        total = 0
+        for i in nodes:
+            if tape.nodes[i].op != "loop":
+                total += 1
+                continue
+            L = tape.loops[i]
+            inner = count(prog.bodies[i])
+            if L.minimum < 1 or inner is None:
+                return None
+            total += peeled_runs(L) * (inner + len(L.news))
+        return total
+    return count(prog.state)
 
 
 class _Tangent:
@@ -337,7 +397,10 @@ def _array_source(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
                 f"static __attribute__((noinline)) double lk_{op}{body}",
                 "#endif",
             ]
-    if prog.bodies and vectorise:  # loops run on the block, each lane until it converges
+    peeled = peeled_operations(tape, prog) if prog.bodies and vectorise else None
+    if peeled is not None and peeled <= VECTOR_OPERATIONS:  # the loops' first runs, straight
+        block = _peeled_block(tape, prog, prefix, n_inputs, outputs, frozen, xs, ys)
+    elif prog.bodies and vectorise:  # loops run on the block, each lane until it converges
         block = _looped_block(tape, prog, prefix, n_inputs, results, frozen, xs, ys)
     elif prog.bodies:  # loops: each state runs its own iterations, one after the other
         block = [
@@ -430,6 +493,59 @@ def _array_source(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
     return [_PICK, _SIMD_HEAD, *declarations, "", *block, *blocked,
             "#else /* one state after the other, through the one-state function */",
             *plain, "#endif", ""]
+
+
+def _peeled_block(tape: Tape, prog, prefix: str, n_inputs: int, outputs: list,
+                  frozen: list, xs: str, ys: str) -> list:
+    """``<prefix>_block`` of a kernel whose loops all have a minimum: one vector loop
+    over the block's states, straight, each loop its first runs (:func:`_peeled`: the
+    runs every state takes before the loop's test, as many as the one-state function
+    runs before it tests), then the one-state function for the states whose loops
+    would run on (theirs are its values, bit for bit). Friction's Newton loops settle in
+    their minimum runs almost everywhere, so almost every state is one pass of straight
+    vector code: no arrays between vector loops, no lanes waiting for others."""
+    n_out = len(outputs)
+    return [
+        "LK_CLONES __attribute__((noinline))",
+        f"static void {prefix}_block(size_t m, const double *restrict q"
+        + (f", {xs}" if xs else "") + (f", {ys}" if ys else "")
+        + ", unsigned char *restrict ok) {",
+        "    int badb[LK_BLOCK], moreb[LK_BLOCK], anybad = 0, anymore = 0;",
+        "    (void)q;",
+        "#pragma omp simd",
+        "    for (size_t j = 0; j < m; j++) {",
+        "        int bad = 0, more = 0;",
+        *(f"        const double {name} = q[{k}];" for k, name in enumerate(frozen)),
+        *(f"        const double x{k} = xb{k}[j];" for k in range(n_inputs)),
+        *(f"        (void)x{k};" for k in range(n_inputs)),
+        *_statements(tape, prog.state, prog.guards, prog.codes, "        ", simd=True,
+                     vectorise=True, bodies=prog.bodies, peel=True),
+        *(f"        y{k}[j] = {v};" for k, v in enumerate(outputs)),
+        "        badb[j] = bad;",
+        "        moreb[j] = more;",
+        "    }",
+        "    for (size_t j = 0; j < m; j++)",
+        "        anymore |= moreb[j];",
+        "    if (anymore) /* loops that run on: the one-state function */",
+        "        for (size_t j = 0; j < m; j++)",
+        "            if (moreb[j]) {",
+        f"                double xi[{max(n_inputs, 1)}], yi[{max(n_out, 1)}];",
+        *(f"                xi[{k}] = xb{k}[j];" for k in range(n_inputs)),
+        f"                badb[j] = {prefix}_one(q, xi, yi) != 0;",
+        *(f"                y{k}[j] = yi[{k}];" for k in range(n_out)),
+        "            }",
+        "    for (size_t j = 0; j < m; j++) {",
+        "        ok[j] = (unsigned char)(badb[j] == 0);",
+        "        anybad |= badb[j];",
+        "    }",
+        "    if (anybad) /* NaN the outputs of the failed states only */",
+        "        for (size_t j = 0; j < m; j++)",
+        "            if (badb[j]) {",
+        *(f"                y{k}[j] = NAN;" for k in range(n_out)),
+        "            }",
+        "}",
+        "",
+    ]
 
 
 #: lanes of a kernel with loops run together (its values that cross from one vector loop
