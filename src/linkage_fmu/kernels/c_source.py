@@ -399,7 +399,9 @@ def _array_source(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
             ]
     peeled = peeled_operations(tape, prog) if prog.bodies and vectorise else None
     if peeled is not None and peeled <= VECTOR_OPERATIONS:  # the loops' first runs, straight
-        block = _peeled_block(tape, prog, prefix, n_inputs, outputs, frozen, xs, ys)
+        block = [*_looped_block(tape, prog, prefix, n_inputs, results, frozen, xs, ys,
+                                "looped"),
+                 *_peeled_block(tape, prog, prefix, n_inputs, outputs, frozen, xs, ys)]
     elif prog.bodies and vectorise:  # loops run on the block, each lane until it converges
         block = _looped_block(tape, prog, prefix, n_inputs, results, frozen, xs, ys)
     elif prog.bodies:  # loops: each state runs its own iterations, one after the other
@@ -500,20 +502,30 @@ def _peeled_block(tape: Tape, prog, prefix: str, n_inputs: int, outputs: list,
     """``<prefix>_block`` of a kernel whose loops all have a minimum: one vector loop
     over the block's states, straight, each loop its first runs (:func:`_peeled`: the
     runs every state takes before the loop's test, as many as the one-state function
-    runs before it tests), then the one-state function for the states whose loops
-    would run on (theirs are its values, bit for bit). Friction's Newton loops settle in
-    their minimum runs almost everywhere, so almost every state is one pass of straight
-    vector code: no arrays between vector loops, no lanes waiting for others."""
+    runs before it tests); the states whose loops would run on are then gathered and
+    run by ``<prefix>_looped`` (:func:`_looped_block`: each state's loops until it
+    converges). Friction's Newton loops settle in their minimum runs almost everywhere
+    (every state of the slider-crank's benchmark), so almost every state is one pass of
+    straight vector code: no arrays between vector loops, no lanes waiting for others.
+    Where they do not (large friction: most states run on), the first :data:`PROBE`
+    states tell, and the whole block runs the looped loops. Either way a state's values
+    are the looped loops' (the same operations and vector functions: bit for bit on the
+    benchmark's states, large friction's too)."""
     n_out = len(outputs)
     return [
+        "#ifndef LK_PROBE",
+        f"#define LK_PROBE {PROBE}",
+        "#endif",
         "LK_CLONES __attribute__((noinline))",
         f"static void {prefix}_block(size_t m, const double *restrict q"
         + (f", {xs}" if xs else "") + (f", {ys}" if ys else "")
         + ", unsigned char *restrict ok) {",
         "    int badb[LK_BLOCK], moreb[LK_BLOCK], anybad = 0, anymore = 0;",
+        "    size_t lo = 0, hi = m < LK_PROBE ? m : LK_PROBE, ran = 0, on = 0;",
         "    (void)q;",
+        "    while (lo < m) {",
         "#pragma omp simd",
-        "    for (size_t j = 0; j < m; j++) {",
+        "    for (size_t j = lo; j < hi; j++) {",
         "        int bad = 0, more = 0;",
         *(f"        const double {name} = q[{k}];" for k, name in enumerate(frozen)),
         *(f"        const double x{k} = xb{k}[j];" for k in range(n_inputs)),
@@ -524,16 +536,48 @@ def _peeled_block(tape: Tape, prog, prefix: str, n_inputs: int, outputs: list,
         "        badb[j] = bad;",
         "        moreb[j] = more;",
         "    }",
-        "    for (size_t j = 0; j < m; j++)",
+        "        for (size_t j = lo; j < hi; j++)",
+        "            on += (size_t)moreb[j];",
+        "        ran = hi;",
+        "        if (4 * on > ran) { /* many states run on here: the block runs the loops */",
+        "            ran = 0;",
+        "            break;",
+        "        }",
+        "        lo = hi;",
+        "        hi = m;",
+        "    }",
+        "    if (ran < m) { /* the block, each state's loops until it converges */",
+        "        unsigned char okr[LK_BLOCK];",
+        f"        {prefix}_looped(m - ran, q" + "".join(f", xb{k} + ran" for k in range(n_inputs))
+        + "".join(f", y{k} + ran" for k in range(n_out)) + ", okr);",
+        "        for (size_t j = ran; j < m; j++)",
+        "            badb[j] = !okr[j - ran];",
+        "    }",
+        "    for (size_t j = 0; j < ran; j++)",
         "        anymore |= moreb[j];",
-        "    if (anymore) /* loops that run on: the one-state function */",
-        "        for (size_t j = 0; j < m; j++)",
+        "    if (anymore) { /* loops that run on: gathered, each until it converges */",
+        f"        double xg[{max(n_inputs, 1)}][LK_BLOCK + 8], "
+        f"yg[{max(n_out, 1)}][LK_BLOCK + 8];",
+        "        unsigned char okg[LK_BLOCK + 8];",
+        "        size_t at[LK_BLOCK], g = 0;",
+        "        for (size_t j = 0; j < ran; j++)",
         "            if (moreb[j]) {",
-        f"                double xi[{max(n_inputs, 1)}], yi[{max(n_out, 1)}];",
-        *(f"                xi[{k}] = xb{k}[j];" for k in range(n_inputs)),
-        f"                badb[j] = {prefix}_one(q, xi, yi) != 0;",
-        *(f"                y{k}[j] = yi[{k}];" for k in range(n_out)),
+        *(f"                xg[{k}][g] = xb{k}[j];" for k in range(n_inputs)),
+        "                at[g++] = j;",
         "            }",
+        "        /* whole vectors (copies of the last state): no lanes of scalar code */",
+        "        const size_t g8 = (g + 7) / 8 * 8;",
+        "        for (size_t i = g; i < g8; i++) {",
+        *(f"            xg[{k}][i] = xg[{k}][g - 1];" for k in range(n_inputs)),
+        "        }",
+        f"        {prefix}_looped(g8, q" + "".join(f", xg[{k}]" for k in range(n_inputs))
+        + "".join(f", yg[{k}]" for k in range(n_out)) + ", okg);",
+        "        for (size_t i = 0; i < g; i++) {",
+        "            const size_t j = at[i];",
+        "            badb[j] = !okg[i];",
+        *(f"            y{k}[j] = yg[{k}][i];" for k in range(n_out)),
+        "        }",
+        "    }",
         "    for (size_t j = 0; j < m; j++) {",
         "        ok[j] = (unsigned char)(badb[j] == 0);",
         "        anybad |= badb[j];",
@@ -548,13 +592,19 @@ def _peeled_block(tape: Tape, prog, prefix: str, n_inputs: int, outputs: list,
     ]
 
 
+#: the states of a block (:func:`_peeled_block`) whose loops' first runs tell whether the
+#: others' are worth running straight: where more than a quarter of them run on, the
+#: rest of the block runs the looped loops
+PROBE = 16
+
+
 #: lanes of a kernel with loops run together (its values that cross from one vector loop
 #: to another are kept in arrays of this length: they stay in the CPU caches)
 LOOP_LANES = 32
 
 
 def _looped_block(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
-                  frozen: list, xs: str, ys: str) -> list:
+                  frozen: list, xs: str, ys: str, name: str = "block") -> list:
     """``<prefix>_block`` of a kernel with loops: its straight parts are vector loops
     over the lanes (states) of a piece of the block, and each loop of the kernel runs
     on the piece's lanes until every one has converged (a converged lane keeps its
@@ -691,7 +741,7 @@ def _looped_block(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
     inputs = "".join(f", const double *restrict xs{k}" for k in range(n_inputs))
     return [
         "LK_CLONES __attribute__((noinline))",
-        f"static void {prefix}_block(size_t n, const double *restrict q{inputs}"
+        f"static void {prefix}_{name}(size_t n, const double *restrict q{inputs}"
         + (f", {ys}" if ys else "") + ", unsigned char *restrict ok) {",
         f"    double buf[{max(total, 1)}][{LOOP_LANES}];",
         *(f"    double *const {array(i)} = buf[{slot[i]}];" for i in arrays),
