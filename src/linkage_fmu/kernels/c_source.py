@@ -44,14 +44,15 @@ def c_literal(value: float) -> str:
 
 def _statements(tape: Tape, nodes: list, guards: dict, codes: dict, indent: str = "    ",
                 simd: bool = False, vectorise: bool = False, bodies: dict | None = None,
-                tangent: "_Tangent | None" = None) -> list:
+                tangent: "_Tangent | None" = None, peel: bool = False) -> list:
     """One declaration per operation (each assigned once: no ``const``, which only
     lengthens large kernels' source); a failed guard returns its code, or with ``simd``
     marks the state (``bad``) and the computation goes on (NaNs, no traps), and the
     elementary functions are the vector ones (``lk_*``); with ``vectorise`` too, max
     and min pick by the bits (no branch to keep the loop scalar). A loop node is its
     loop (``bodies``: loop node -> its body's operations); with ``tangent``, each
-    operation's derivative follows it."""
+    operation's derivative follows it. With ``peel`` (and ``simd``), a loop is its
+    first runs, straight (:func:`_peeled`)."""
     body = []
     for i in nodes:
         node = tape.nodes[i]
@@ -59,7 +60,8 @@ def _statements(tape: Tape, nodes: list, guards: dict, codes: dict, indent: str 
         if node.op in ("final", "converged"):  # declared by their loop
             continue
         if node.op == "loop":
-            body += _loop(tape, tape.loops[i], guards, codes, indent, bodies, tangent)
+            body += (_peeled(tape, tape.loops[i], guards, codes, indent, bodies) if peel
+                     else _loop(tape, tape.loops[i], guards, codes, indent, bodies, tangent))
             continue
         if node.op in _COMPARE:
             body.append(f"{indent}int t{i} = {a[0]} {_INFIX[node.op]} {a[1]};")
@@ -137,6 +139,64 @@ def _loop(tape: Tape, L, guards: dict, codes: dict, indent: str, bodies: dict,
     if tangent is not None:
         tangent.zero.update(f for f, c in zip(L.finals, L.carries) if c not in carried)
     return lines
+
+
+def _peeled(tape: Tape, L, guards: dict, codes: dict, indent: str, bodies: dict) -> list:
+    """A loop as its first :func:`peeled_runs` runs, straight in a vector loop over
+    states (the runs every state takes: no test between them, the carried values in
+    registers, not arrays): each run a block of the body's operations (its inner loops
+    peeled too). ``more`` is set where the loop would run again after them: that state's
+    values are not the loop's, and its caller recomputes it (the one-state function)."""
+    inner = indent + "    "
+    runs = peeled_runs(L)
+    lines = [f"{indent}double t{c} = {operand(tape, a, c_literal)};"
+             for c, a in zip(L.carries, L.inits)]
+    for run in range(runs):
+        lines += [
+            f"{indent}{{",
+            *_statements(tape, bodies[L.index], guards, codes, inner, simd=True,
+                         vectorise=True, bodies=bodies, peel=True),
+            *(f"{inner}double u{c} = {operand(tape, n, c_literal)};"
+              for c, n in zip(L.carries, L.news)),
+            (f"{inner}more |= ({operand(tape, L.again, c_literal)}) != 0;"
+             if run == runs - 1 else f"{inner}(void)({operand(tape, L.again, c_literal)});"),
+            *(f"{inner}t{c} = u{c};" for c in L.carries),
+            f"{indent}}}",
+        ]
+    lines += [
+        *(f"{indent}double t{f} = t{c};" for f, c in zip(L.finals, L.carries)),
+        f"{indent}const int t{L.converged} = 1; /* where not, more */",
+        *(f"{indent}(void)t{n};" for n in (*L.finals, L.converged)),
+        *(f"{indent}bad |= {'!' if guards[i] else ''}(t{i} != 0);"
+          for i in (*L.finals, L.converged) if i in guards),
+    ]
+    return lines
+
+
+def peeled_runs(L) -> int:
+    """The runs of the loop ``L`` every state takes (its test comes after them): its
+    minimum, and at least one."""
+    return max(L.minimum, 1)
+
+
+def peeled_operations(tape: Tape, prog) -> int | None:
+    """The operations per state of the state step with every loop peeled
+    (:func:`_peeled`), or None where a loop has no minimum (the effort's secant loop:
+    its runs are phases that every state goes through, so a state never stops after
+    its first run, and peeling it only adds work)."""
+    def count(nodes):
+        total = 0
+        for i in nodes:
+            if tape.nodes[i].op != "loop":
+                total += 1
+                continue
+            L = tape.loops[i]
+            inner = count(prog.bodies[i])
+            if L.minimum < 1 or inner is None:
+                return None
+            total += peeled_runs(L) * (inner + len(L.news))
+        return total
+    return count(prog.state)
 
 
 class _Tangent:
@@ -339,7 +399,12 @@ def _array_source(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
                 f"static __attribute__((noinline)) double lk_{op}{body}",
                 "#endif",
             ]
-    if prog.bodies and vectorise:  # loops run on the block, each lane until it converges
+    peeled = peeled_operations(tape, prog) if prog.bodies and vectorise else None
+    if peeled is not None and peeled <= VECTOR_OPERATIONS:  # the loops' first runs, straight
+        block = [*_looped_block(tape, prog, prefix, n_inputs, results, frozen, xs, ys,
+                                "looped"),
+                 *_peeled_block(tape, prog, prefix, n_inputs, outputs, frozen, xs, ys)]
+    elif prog.bodies and vectorise:  # loops run on the block, each lane until it converges
         block = _looped_block(tape, prog, prefix, n_inputs, results, frozen, xs, ys)
     elif prog.bodies:  # loops: each state runs its own iterations, one after the other
         block = [
@@ -434,13 +499,114 @@ def _array_source(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
             *plain, "#endif", ""]
 
 
+def _peeled_block(tape: Tape, prog, prefix: str, n_inputs: int, outputs: list,
+                  frozen: list, xs: str, ys: str) -> list:
+    """``<prefix>_block`` of a kernel whose loops all have a minimum: one vector loop
+    over the block's states, straight, each loop its first runs (:func:`_peeled`: the
+    runs every state takes before the loop's test, as many as the one-state function
+    runs before it tests); the states whose loops would run on are then gathered and
+    run by ``<prefix>_looped`` (:func:`_looped_block`: each state's loops until it
+    converges). Friction's Newton loops settle in their minimum runs almost everywhere
+    (every state of the slider-crank's benchmark), so almost every state is one pass of
+    straight vector code: no arrays between vector loops, no lanes waiting for others.
+    Where they do not (large friction: most states run on), the first :data:`PROBE`
+    states tell, and the whole block runs the looped loops. Either way a state's values
+    are the looped loops' (the same operations and vector functions: bit for bit on the
+    benchmark's states, large friction's too)."""
+    n_out = len(outputs)
+    return [
+        "#ifndef LK_PROBE",
+        f"#define LK_PROBE {PROBE}",
+        "#endif",
+        "LK_CLONES __attribute__((noinline))",
+        f"static void {prefix}_block(size_t m, const double *restrict q"
+        + (f", {xs}" if xs else "") + (f", {ys}" if ys else "")
+        + ", unsigned char *restrict ok) {",
+        "    int badb[LK_BLOCK], moreb[LK_BLOCK], anybad = 0, anymore = 0;",
+        "    size_t lo = 0, hi = m < LK_PROBE ? m : LK_PROBE, ran = 0, on = 0;",
+        "    (void)q;",
+        "    while (lo < m) {",
+        "#pragma omp simd",
+        "    for (size_t j = lo; j < hi; j++) {",
+        "        int bad = 0, more = 0;",
+        *(f"        const double {name} = q[{k}];" for k, name in enumerate(frozen)),
+        *(f"        const double x{k} = xb{k}[j];" for k in range(n_inputs)),
+        *(f"        (void)x{k};" for k in range(n_inputs)),
+        *_statements(tape, prog.state, prog.guards, prog.codes, "        ", simd=True,
+                     vectorise=True, bodies=prog.bodies, peel=True),
+        *(f"        y{k}[j] = {v};" for k, v in enumerate(outputs)),
+        "        badb[j] = bad;",
+        "        moreb[j] = more;",
+        "    }",
+        "        for (size_t j = lo; j < hi; j++)",
+        "            on += (size_t)moreb[j];",
+        "        ran = hi;",
+        "        if (hi < m && 4 * on > ran) { /* many of the first run on: all loop */",
+        "            ran = 0;",
+        "            break;",
+        "        }",
+        "        lo = hi;",
+        "        hi = m;",
+        "    }",
+        "    if (ran < m) { /* the block, each state's loops until it converges */",
+        "        unsigned char okr[LK_BLOCK];",
+        f"        {prefix}_looped(m - ran, q" + "".join(f", xb{k} + ran" for k in range(n_inputs))
+        + "".join(f", y{k} + ran" for k in range(n_out)) + ", okr);",
+        "        for (size_t j = ran; j < m; j++)",
+        "            badb[j] = !okr[j - ran];",
+        "    }",
+        "    for (size_t j = 0; j < ran; j++)",
+        "        anymore |= moreb[j];",
+        "    if (anymore) { /* loops that run on: gathered, each until it converges */",
+        f"        double xg[{max(n_inputs, 1)}][LK_BLOCK + 8], "
+        f"yg[{max(n_out, 1)}][LK_BLOCK + 8];",
+        "        unsigned char okg[LK_BLOCK + 8];",
+        "        size_t at[LK_BLOCK], g = 0;",
+        "        for (size_t j = 0; j < ran; j++)",
+        "            if (moreb[j]) {",
+        *(f"                xg[{k}][g] = xb{k}[j];" for k in range(n_inputs)),
+        "                at[g++] = j;",
+        "            }",
+        "        /* whole vectors (copies of the last state): no lanes of scalar code */",
+        "        const size_t g8 = (g + 7) / 8 * 8;",
+        "        for (size_t i = g; i < g8; i++) {",
+        *(f"            xg[{k}][i] = xg[{k}][g - 1];" for k in range(n_inputs)),
+        "        }",
+        f"        {prefix}_looped(g8, q" + "".join(f", xg[{k}]" for k in range(n_inputs))
+        + "".join(f", yg[{k}]" for k in range(n_out)) + ", okg);",
+        "        for (size_t i = 0; i < g; i++) {",
+        "            const size_t j = at[i];",
+        "            badb[j] = !okg[i];",
+        *(f"            y{k}[j] = yg[{k}][i];" for k in range(n_out)),
+        "        }",
+        "    }",
+        "    for (size_t j = 0; j < m; j++) {",
+        "        ok[j] = (unsigned char)(badb[j] == 0);",
+        "        anybad |= badb[j];",
+        "    }",
+        "    if (anybad) /* NaN the outputs of the failed states only */",
+        "        for (size_t j = 0; j < m; j++)",
+        "            if (badb[j]) {",
+        *(f"                y{k}[j] = NAN;" for k in range(n_out)),
+        "            }",
+        "}",
+        "",
+    ]
+
+
+#: the states of a block (:func:`_peeled_block`) whose loops' first runs tell whether the
+#: others' are worth running straight: where more than a quarter of them run on, the
+#: rest of the block runs the looped loops
+PROBE = 16
+
+
 #: lanes of a kernel with loops run together (its values that cross from one vector loop
 #: to another are kept in arrays of this length: they stay in the CPU caches)
 LOOP_LANES = 32
 
 
 def _looped_block(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
-                  frozen: list, xs: str, ys: str) -> list:
+                  frozen: list, xs: str, ys: str, name: str = "block") -> list:
     """``<prefix>_block`` of a kernel with loops: its straight parts are vector loops
     over the lanes (states) of a piece of the block, and each loop of the kernel runs
     on the piece's lanes until every one has converged (a converged lane keeps its
@@ -577,7 +743,7 @@ def _looped_block(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
     inputs = "".join(f", const double *restrict xs{k}" for k in range(n_inputs))
     return [
         "LK_CLONES __attribute__((noinline))",
-        f"static void {prefix}_block(size_t n, const double *restrict q{inputs}"
+        f"static void {prefix}_{name}(size_t n, const double *restrict q{inputs}"
         + (f", {ys}" if ys else "") + ", unsigned char *restrict ok) {",
         f"    double buf[{max(total, 1)}][{LOOP_LANES}];",
         *(f"    double *const {array(i)} = buf[{slot[i]}];" for i in arrays),
