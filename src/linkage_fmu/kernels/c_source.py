@@ -42,7 +42,12 @@ def c_literal(value: float) -> str:
     return f"({text})" if text.startswith("-") else text
 
 
-def _statements(tape: Tape, nodes: list, guards: dict, codes: dict, indent: str = "    ",
+#: the indent of a generated statement per level: one space (the six-bar's 20 structures
+#: with friction are over 100,000 lines of one-state C, and the indent was a seventh of it)
+INDENT = " "
+
+
+def _statements(tape: Tape, nodes: list, guards: dict, codes: dict, indent: str = INDENT,
                 simd: bool = False, vectorise: bool = False, bodies: dict | None = None,
                 tangent: "_Tangent | None" = None, peel: bool = False) -> list:
     """One declaration per operation (each assigned once: no ``const``, which only
@@ -105,7 +110,7 @@ def _loop(tape: Tape, L, guards: dict, codes: dict, indent: str, bodies: dict,
     """A loop (:meth:`Tape.loop <linkage_fmu.kernels.trace.Tape.loop>`): its carried
     values (and their derivatives) as variables, ``for`` over its runs, the new values
     assigned together, the test after ``minimum`` runs; then its results."""
-    inner = indent + "    "
+    inner = indent + INDENT
     k = f"k{L.index}"
     carried = [c for c in L.carries if tangent is not None and tangent.carried(c)]
     lines = [
