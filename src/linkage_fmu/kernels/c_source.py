@@ -382,6 +382,23 @@ _VECTOR_DECLARATIONS = {
 }
 
 
+def _marked(n_out: int) -> list:
+    """The end of a block of states: ``ok`` from the states' ``badb`` flags, and NaN in
+    the outputs of the failed states only."""
+    return [
+        "    for (size_t j = 0; j < m; j++) {",
+        "        ok[j] = (unsigned char)(badb[j] == 0);",
+        "        anybad |= badb[j];",
+        "    }",
+        "    if (anybad) /* NaN the outputs of the failed states only */",
+        "        for (size_t j = 0; j < m; j++)",
+        "            if (badb[j]) {",
+        *(f"                y{k}[j] = NAN;" for k in range(n_out)),
+        "            }",
+        "}",
+    ]
+
+
 def _array_source(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
                   frozen: list) -> list:
     n_out = len(results)
@@ -449,16 +466,7 @@ def _array_source(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
         *(f"        y{k}[j] = {v};" for k, v in enumerate(outputs)),
         "        badb[j] = bad;",
         "    }",
-        "    for (size_t j = 0; j < m; j++) {",
-        "        ok[j] = (unsigned char)(badb[j] == 0);",
-        "        anybad |= badb[j];",
-        "    }",
-        "    if (anybad) /* NaN the outputs of the failed states only */",
-        "        for (size_t j = 0; j < m; j++)",
-        "            if (badb[j]) {",
-        *(f"                y{k}[j] = NAN;" for k in range(n_out)),
-        "            }",
-        "}",
+        *_marked(n_out),
         "",
     ]
     signature = [f"void {prefix}_array(size_t n, const double *q, const double *const *x,",
@@ -585,16 +593,7 @@ def _peeled_block(tape: Tape, prog, prefix: str, n_inputs: int, outputs: list,
         *(f"            y{k}[j] = yg[{k}][i];" for k in range(n_out)),
         "        }",
         "    }",
-        "    for (size_t j = 0; j < m; j++) {",
-        "        ok[j] = (unsigned char)(badb[j] == 0);",
-        "        anybad |= badb[j];",
-        "    }",
-        "    if (anybad) /* NaN the outputs of the failed states only */",
-        "        for (size_t j = 0; j < m; j++)",
-        "            if (badb[j]) {",
-        *(f"                y{k}[j] = NAN;" for k in range(n_out)),
-        "            }",
-        "}",
+        *_marked(n_out),
         "",
     ]
 
