@@ -732,11 +732,11 @@ def main(argv=None) -> int:
     if not isinstance(six_bar, str):
         write_csv(args.out / "six_bar_build.csv", six_bar)
     plot(work, args.out / "work_precision.png")
-    text = summary(work, fmu, host, comm, scl, first, sweeps, fused, optima, machine(),
-                   time.perf_counter() - start, drive, six_bar)
     print("press coupling ...", flush=True)
-    text += press_coupling.markdown(press_coupling.write(
+    press = press_coupling.markdown(press_coupling.write(
         args.out, press_coupling.STEPS[:-1] if args.quick else press_coupling.STEPS))
+    text = summary(work, fmu, host, comm, scl, first, sweeps, fused, optima, machine(),
+                   time.perf_counter() - start, drive, six_bar) + press
     (args.out / "results.md").write_text(text)
     print(text)
     return 0
