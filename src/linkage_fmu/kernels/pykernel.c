@@ -6,8 +6,13 @@
  * nonzero where the output must be finite. The function returns the outputs as a tuple of
  * floats where it takes the state; None for an input that is not a finite float (the
  * caller checks and converts); the code of the failed guard (an int >= 1); or 0 where an
- * output that must be finite is not. The caller then classifies the state. Compiled with
- * MODULE_INIT defined as the PyInit_ name of the module. */
+ * output that must be finite is not. The caller then classifies the state.
+ *
+ * bind(state, cls, slots, values) returns the same function, except that where it takes
+ * the state it returns an instance of the class `cls` made without calling its __init__:
+ * the slot named slots[0] holds the outputs' tuple, the one named slots[k] values[k - 1]
+ * (slots: member descriptors of cls, as __slots__ makes them). Compiled with MODULE_INIT
+ * defined as the PyInit_ name of the module. */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
 #include <string.h>
@@ -16,7 +21,7 @@
 
 #define STATE_SIZE (LINKAGE_N_Q * sizeof(double) + LINKAGE_N_Y)
 
-static PyObject *one(PyObject *state, PyObject *const *args, Py_ssize_t nargs) {
+static PyObject *outputs(PyObject *state, PyObject *const *args, Py_ssize_t nargs) {
     double q[LINKAGE_N_Q + 1], x[LINKAGE_N_X + 1], y[LINKAGE_N_Y + 1];
     const char *bytes = PyBytes_AS_STRING(state);
     if (nargs != LINKAGE_N_X) {
@@ -48,21 +53,91 @@ static PyObject *one(PyObject *state, PyObject *const *args, Py_ssize_t nargs) {
     return out;
 }
 
-static PyMethodDef one_def = {"kernel", (PyCFunction)(void (*)(void))one, METH_FASTCALL,
+static PyMethodDef one_def = {"kernel", (PyCFunction)(void (*)(void))outputs, METH_FASTCALL,
                               "kernel(*inputs): the outputs as a tuple, None, or a code"};
 
-static PyObject *bind(PyObject *module, PyObject *state) {
+/* bound: (state, cls, descriptor 0, ..., descriptor n, value 1, ..., value n) */
+static PyObject *instance(PyObject *bound, PyObject *const *args, Py_ssize_t nargs) {
+    PyObject *out = outputs(PyTuple_GET_ITEM(bound, 0), args, nargs);
+    if (out == NULL || !PyTuple_CheckExact(out)) return out;
+    PyTypeObject *cls = (PyTypeObject *)PyTuple_GET_ITEM(bound, 1);
+    const Py_ssize_t n = (PyTuple_GET_SIZE(bound) - 1) / 2;
+    PyObject *obj = cls->tp_alloc(cls, 0);
+    if (obj == NULL) {
+        Py_DECREF(out);
+        return NULL;
+    }
+    for (Py_ssize_t k = 0; k < n; k++) {
+        PyObject *d = PyTuple_GET_ITEM(bound, 2 + k);
+        PyObject *v = k == 0 ? out : PyTuple_GET_ITEM(bound, 1 + n + k);
+        if (Py_TYPE(d)->tp_descr_set(d, obj, v) < 0) {
+            Py_DECREF(out);
+            Py_DECREF(obj);
+            return NULL;
+        }
+    }
+    Py_DECREF(out);
+    return obj;
+}
+
+static PyMethodDef instance_def = {
+    "kernel", (PyCFunction)(void (*)(void))instance, METH_FASTCALL,
+    "kernel(*inputs): the outputs in an instance of the bound class, None, or a code"};
+
+static PyObject *bind(PyObject *module, PyObject *args) {
     (void)module;
+    PyObject *state, *cls = NULL, *slots = NULL, *values = NULL;
+    if (!PyArg_ParseTuple(args, "O|OO!O!:bind", &state, &cls, &PyTuple_Type, &slots,
+                          &PyTuple_Type, &values))
+        return NULL;
     if (!PyBytes_CheckExact(state) || PyBytes_GET_SIZE(state) != (Py_ssize_t)STATE_SIZE) {
         PyErr_Format(PyExc_ValueError, "bind() takes bytes of length %zu",
                      (size_t)STATE_SIZE);
         return NULL;
     }
-    return PyCFunction_New(&one_def, state);
+    if (cls == NULL) return PyCFunction_New(&one_def, state);
+    if (slots == NULL || values == NULL || !PyType_Check(cls) ||
+        PyTuple_GET_SIZE(slots) != PyTuple_GET_SIZE(values) + 1) {
+        PyErr_SetString(PyExc_TypeError,
+                        "bind(state, cls, slots, values): a class, a tuple of its slots' "
+                        "names and a tuple of one value less");
+        return NULL;
+    }
+    const Py_ssize_t n = PyTuple_GET_SIZE(slots);
+    PyObject *bound = PyTuple_New(2 + 2 * n - 1);
+    if (bound == NULL) return NULL;
+    Py_INCREF(state);
+    PyTuple_SET_ITEM(bound, 0, state);
+    Py_INCREF(cls);
+    PyTuple_SET_ITEM(bound, 1, cls);
+    for (Py_ssize_t k = 0; k < n; k++) {
+        PyObject *d = PyObject_GetAttr(cls, PyTuple_GET_ITEM(slots, k));
+        if (d == NULL) {
+            Py_DECREF(bound);
+            return NULL;
+        }
+        if (!Py_IS_TYPE(d, &PyMemberDescr_Type)) {
+            PyErr_Format(PyExc_TypeError, "%R is not a slot of %R",
+                         PyTuple_GET_ITEM(slots, k), cls);
+            Py_DECREF(d);
+            Py_DECREF(bound);
+            return NULL;
+        }
+        PyTuple_SET_ITEM(bound, 2 + k, d);
+    }
+    for (Py_ssize_t k = 1; k < n; k++) {
+        PyObject *v = PyTuple_GET_ITEM(values, k - 1);
+        Py_INCREF(v);
+        PyTuple_SET_ITEM(bound, 1 + n + k, v);
+    }
+    PyObject *fn = PyCFunction_New(&instance_def, bound);
+    Py_DECREF(bound);
+    return fn;
 }
 
 static PyMethodDef methods[] = {
-    {"bind", bind, METH_O, "bind(state): the kernel with its parameter step's values"},
+    {"bind", bind, METH_VARARGS,
+     "bind(state[, cls, slots, values]): the kernel with its parameter step's values"},
     {NULL, NULL, 0, NULL},
 };
 
