@@ -368,26 +368,28 @@ class Mechanism:
             # which decides and raises
             w = self.start["omega"] if omega is None else omega
             a = self.start["alpha"] if alpha is None else alpha
-            if not named_loads:
-                x = loads if len(loads) == self._n_loads else \
-                    self._start_loads if not loads else self._lean_loads(loads, named_loads)
-            elif len(named_loads) == 1 and not loads and self._n_loads == 1:
-                # a linkage's one load by name (None for another name: the kernel
-                # refuses it, the general path says why)
-                x = (named_loads.get(self._load_name),)
+            if named_loads:
+                if not loads and len(named_loads) == 1 and self._n_loads == 1:
+                    # a linkage's one load by name (None for another name: the kernel
+                    # refuses it, the general path says why)
+                    x = (named_loads.get(self._load_name),)
+                else:
+                    x = self._lean_loads(loads, named_loads)
+            elif len(loads) == self._n_loads:
+                x = loads
             else:
-                x = self._lean_loads(loads, named_loads)
-            if x is not None and (type(w) is float or type(w) in _CONVERTED) and \
-                    (type(a) is float or type(a) in _CONVERTED):
+                x = self._start_loads if not loads else self._lean_loads(loads, named_loads)
+            try:  # the kernel checks every input: a finite float, else it returns None
                 hot = self._hot[1] if w != 0.0 or a != 0.0 else self._hot[0]
-                if hot is not None:
-                    # the kernel returns None for an input that is not a finite float
-                    r = hot(theta, w, a, x[0]) if len(x) == 1 else hot(theta, w, a, *x)
-                    if r is None:  # ints or numpy floats taken as floats
-                        x = _floats((theta, w, a, *x))
-                        r = None if x is None else hot(*x)
-                    if type(r) is Solution:
-                        return r
+            except (TypeError, ValueError):  # an array, or what compares oddly
+                hot = None
+            if hot is not None and x is not None:
+                r = hot(theta, w, a, x[0]) if len(x) == 1 else hot(theta, w, a, *x)
+                if r is None:  # ints or numpy floats taken as floats
+                    x = _floats((theta, w, a, *x))
+                    r = None if x is None else hot(*x)
+                if type(r) is Solution:
+                    return r
         return self.solver.solve(theta, omega, alpha, *loads, method=method, outputs=outputs,
                                  **named_loads)
 

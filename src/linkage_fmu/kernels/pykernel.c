@@ -50,6 +50,9 @@ static PyObject *outputs(PyObject *state, PyObject *const *args, Py_ssize_t narg
         }
         PyTuple_SET_ITEM(out, k, v);
     }
+    /* floats only: no cycle can pass through it (the collector would untrack it too,
+     * after traversing it in each collection until then) */
+    PyObject_GC_UnTrack(out);
     return out;
 }
 
