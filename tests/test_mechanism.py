@@ -346,3 +346,27 @@ def test_without_a_compiler_scalar_solves_past_hot_take_the_python_kernel(monkey
         for sol in (mech.solve(float(t), omega=10.0, alpha=1.0, load=2.0),
                     mech.solve(float(t), 10, 1, 2), mech.solve(float(t), 10.0, 1.0, 2.0)):
             assert dict(sol) == dict(ref)
+
+
+def test_a_lean_solution_is_a_mapping_of_floats_like_any_other():
+    """The lean path's Solution (its outputs kept unboxed) against the general path's for
+    the same state (reference: Solver.solve asked for every output by name): the same
+    names, floats (type float, equal bits), repr and valid; it copies, deep-copies and
+    pickles to an equal Solution; and it compares equal to the dict of its items."""
+    import copy
+    import pickle
+
+    from linkage_fmu.solver import Solution
+
+    mech = presets.get("slider_crank")
+    if not _lean(mech):
+        pytest.skip("no C compiler: solve has no lean path")
+    sol = mech.solve(0.7, omega=12.0, alpha=-3.0, load=40.0)
+    ref = mech.solver.solve(0.7, 12.0, -3.0, 40.0,
+                            outputs=tuple(mech.output_names + mech.diagnostic_names))
+    assert type(sol) is Solution and sol.valid is True and len(sol) == len(ref)
+    assert list(sol) == list(ref) and repr(sol) == repr(ref)
+    assert all(type(v) is float for v in sol.values())
+    assert np.array_equal(np.array(list(sol.values())), np.array(list(ref.values())))
+    for twin in (copy.copy(sol), copy.deepcopy(sol), pickle.loads(pickle.dumps(sol))):
+        assert type(twin) is Solution and twin == sol == dict(ref.items())

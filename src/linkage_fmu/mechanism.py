@@ -368,28 +368,27 @@ class Mechanism:
             # which decides and raises
             w = self.start["omega"] if omega is None else omega
             a = self.start["alpha"] if alpha is None else alpha
-            if named_loads:
-                if not loads and len(named_loads) == 1 and self._n_loads == 1:
-                    # a linkage's one load by name (None for another name: the kernel
-                    # refuses it, the general path says why)
-                    x = (named_loads.get(self._load_name),)
-                else:
-                    x = self._lean_loads(loads, named_loads)
-            elif len(loads) == self._n_loads:
-                x = loads
-            else:
-                x = self._start_loads if not loads else self._lean_loads(loads, named_loads)
             try:  # the kernel checks every input: a finite float, else it returns None
                 hot = self._hot[1] if w != 0.0 or a != 0.0 else self._hot[0]
             except (TypeError, ValueError):  # an array, or what compares oddly
                 hot = None
-            if hot is not None and x is not None:
-                r = hot(theta, w, a, x[0]) if len(x) == 1 else hot(theta, w, a, *x)
-                if r is None:  # ints or numpy floats taken as floats
-                    x = _floats((theta, w, a, *x))
-                    r = None if x is None else hot(*x)
+            if hot is not None:
+                if named_loads and len(named_loads) == 1 and not loads and self._n_loads == 1:
+                    # a linkage's one load by name (None for another name: the kernel
+                    # refuses it, the general path says why)
+                    r = hot(theta, w, a, named_loads.get(self._load_name))
+                else:
+                    x = loads if not named_loads and len(loads) == self._n_loads else \
+                        self._lean_loads(loads, named_loads)
+                    r = None if x is None else \
+                        hot(theta, w, a, x[0]) if len(x) == 1 else hot(theta, w, a, *x)
                 if type(r) is Solution:
                     return r
+                if r is None:  # ints or numpy floats, taken as floats
+                    x = self._lean_loads(loads, named_loads)
+                    x = None if x is None else _floats((theta, w, a, *x))
+                    if x is not None and type(r := hot(*x)) is Solution:
+                        return r
         return self.solver.solve(theta, omega, alpha, *loads, method=method, outputs=outputs,
                                  **named_loads)
 
@@ -399,6 +398,10 @@ class Mechanism:
         where the general path must decide (too many, unknown names, twice given, a
         load over the cycle given)."""
         position = self._load_position
+        if not named and len(loads) == len(position):
+            return loads
+        if not named and not loads:
+            return self._start_loads
         if not loads and len(named) == len(position):  # each by name
             x = []
             for name in position:

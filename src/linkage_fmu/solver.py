@@ -88,7 +88,8 @@ class Solution(Mapping):
     problems: dict = {}
 
     def __init__(self, values, valid, index: dict | None = None):
-        # a dict, or a tuple with the name -> position map its kernel shares
+        # a dict, or a sequence of floats (a tuple; the outputs a compiled kernel keeps
+        # unboxed: Solver.hot) with the name -> position map its kernel shares
         if index is None:
             index = {name: i for i, name in enumerate(values)}
             values = tuple(values.values())

@@ -115,10 +115,11 @@ class Kernel:
     def instances(self, cls: type, slots: tuple, values: tuple) -> Callable | None:
         """The compiled one-state kernel (once :meth:`compile` d; None before) returning
         where it takes the state, instead of the outputs' tuple, an instance of ``cls``
-        made without its ``__init__``: its slot ``slots[0]`` holds the tuple, each
-        following slot its value in ``values`` (saves building the caller's result in
-        Python: a scalar solve's lean path). Elsewhere it returns what :attr:`call`
-        does."""
+        made without its ``__init__``: its slot ``slots[0]`` holds the outputs (the same
+        floats, unboxed: a read-only sequence, see :func:`.compiled.scalar_kernel`),
+        each following slot its value in ``values`` (saves building the caller's result
+        in Python and boxing every output: a scalar solve's lean path). Elsewhere it
+        returns what :attr:`call` does."""
         if self._module is None:
             return None
         return compiled.scalar_kernel(self._module, self.frozen, self.checked,

@@ -317,8 +317,9 @@ def scalar_kernel(module, frozen, checked, result: tuple = ()) -> Callable:
 
     With ``result = (cls, slots, values)`` it returns, where it takes the state, an
     instance of the class ``cls`` instead, made without calling its ``__init__``: the
-    slot ``slots[0]`` holds the outputs' tuple and ``slots[k]`` holds ``values[k - 1]``
-    (``pykernel.c``)."""
+    slot ``slots[0]`` holds the outputs unboxed (a read-only sequence of floats, one
+    allocation where a tuple takes one per output; copied and pickled as a tuple) and
+    ``slots[k]`` holds ``values[k - 1]`` (``pykernel.c``)."""
     flags = bytearray(module.n_outputs)
     for i in checked:
         flags[i] = 1
