@@ -35,6 +35,8 @@ MOTION = ("theta", "omega", "alpha")
 #: the types :meth:`Mechanism.solve`'s lean path takes besides floats, as floats
 #: (:func:`_floats`)
 _CONVERTED = frozenset((int, np.float64))
+#: the types of omega and alpha it takes (not bool: the general path refuses it)
+_LEAN = _CONVERTED | {float}
 
 
 def _floats(inputs: tuple) -> list | None:
@@ -368,10 +370,9 @@ class Mechanism:
             # which decides and raises
             w = self.start["omega"] if omega is None else omega
             a = self.start["alpha"] if alpha is None else alpha
-            try:  # the kernel checks every input: a finite float, else it returns None
+            hot = None
+            if type(w) in _LEAN and type(a) in _LEAN:  # the kernel checks every input
                 hot = self._hot[1] if w != 0.0 or a != 0.0 else self._hot[0]
-            except (TypeError, ValueError):  # an array, or what compares oddly
-                hot = None
             if hot is not None:
                 if named_loads and len(named_loads) == 1 and not loads and self._n_loads == 1:
                     # a linkage's one load by name (None for another name: the kernel
