@@ -1,6 +1,6 @@
 """What the drive FMU's step costs, and its accuracy against its run time.
 
-    python benchmarks/drive_timing.py [--friction]
+    python benchmarks/drive_timing.py [--friction] [--out FOLDER | --results]
 
 Builds ``FourBarDrive.fmu`` (``linkage-fmu build --native --drive four_bar``, FMI 2.0)
 and drives the four-bar from ``theta0 = 0.3`` rad, ``omega0 = 5`` rad/s with ``tau = 2``
@@ -29,14 +29,17 @@ N.m for 1 s (to about 190 rad/s, 11 revolutions; the reference is
     fmpy's ctypes functions; best of 5, in wall time and in the thread's CPU time (which
     a machine shared with other work inflates less: a longer run is preempted more).
 
-Writes ``benchmarks/results/drive_step.csv``, ``drive_work_precision.csv``,
-``drive_work_precision.png`` and ``drive_friction.csv``, and ``docs/drive_four_bar.png``
-(the motion through the FMU in co-simulation and model exchange against the library's);
-prints the tables. ``--friction`` measures only the friction's cost.
+Writes ``drive_step.csv``, ``drive_work_precision.csv``, ``drive_work_precision.png``,
+``drive_friction.csv`` and ``drive_four_bar.png`` (the motion through the FMU in
+co-simulation and model exchange against the library's) to ``build/benchmarks/``
+(``--out`` another folder; ``--results``: the committed ``benchmarks/results/``, and
+the figure to ``docs/``: see ``folders.py``); prints the tables. ``--friction``
+measures only the friction's cost.
 """
 
 from __future__ import annotations
 
+import argparse
 import csv
 import math
 import os
@@ -50,8 +53,9 @@ from pathlib import Path
 
 import numpy as np
 
+import folders
+
 HERE = Path(__file__).resolve().parent
-RESULTS, DOCS = HERE / "results", HERE.parent / "docs"
 ROOT = HERE.parent
 TAU, THETA0, OMEGA0, STOP, H = 2.0, 0.3, 5.0, 1.0, 0.01
 TOLERANCES = (1e-4, 1e-6, 1e-8, 1e-10, 1e-12)
@@ -312,7 +316,7 @@ def write(path: Path, rows: list[dict]) -> None:
         w.writerows(rows)
 
 
-def friction(out: Path = RESULTS) -> list[dict]:
+def friction(out: Path = folders.DEFAULT) -> list[dict]:
     """Build the slider-crank's drive FMU, measure :func:`friction_costs` on it and write
     them to ``out/drive_friction.csv`` (``run.py`` calls this too)."""
     from linkage_fmu.fmi import build_native_fmu
@@ -332,12 +336,18 @@ def friction_markdown(rows: list[dict]) -> list[str]:
                f"{r['cpu_us']:.3g} | {r['cpu_ratio']:.3g} |" for r in rows])
 
 
-def main() -> int:
+def main(argv=None) -> int:
     from linkage_fmu import presets
     from linkage_fmu.fmi import build_native_fmu
 
-    print("\n".join(friction_markdown(friction())))
-    if "--friction" in sys.argv[1:]:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--friction", action="store_true",
+                        help="measure only the friction's cost (drive_friction.csv)")
+    folders.add_options(parser)
+    args = parser.parse_args(argv)
+    out = folders.folder(args)
+    print("\n".join(friction_markdown(friction(out))))
+    if args.friction:
         return 0
     mech = presets.get("four_bar")
     with tempfile.TemporaryDirectory(prefix="drive_timing_") as tmp:
@@ -345,11 +355,10 @@ def main() -> int:
         host = compile_host(Path(tmp))
         steps = step_costs(fmu, host)
         precision = work_precision(mech, fmu)
-        RESULTS.mkdir(exist_ok=True)
-        write(RESULTS / "drive_step.csv", steps)
-        write(RESULTS / "drive_work_precision.csv", precision)
-        work_precision_figure(precision, RESULTS / "drive_work_precision.png")
-        agreement_figure(mech, fmu, DOCS / "drive_four_bar.png")
+        write(out / "drive_step.csv", steps)
+        write(out / "drive_work_precision.csv", precision)
+        work_precision_figure(precision, out / "drive_work_precision.png")
+        agreement_figure(mech, fmu, folders.docs(args) / "drive_four_bar.png")
     print("| step | fmpy (ctypes), us per step | C host, us per step |\n|---|---|---|")
     for r in steps:
         host_us = f"{r['c_host_us']:.3g}" if r["c_host_us"] != "" else "-"

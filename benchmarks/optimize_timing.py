@@ -1,6 +1,6 @@
 """Design optimisation of the four-bar against a brute-force grid of the same size.
 
-    python benchmarks/optimize_timing.py [--seeds 3]
+    python benchmarks/optimize_timing.py [--seeds 3] [--out FOLDER | --results]
 
 Minimises the peak driving torque ``Mb_peak`` of the four-bar over four parameters,
 l_AB in [0.05, 0.15], l_BC in [0.25, 0.45], l_CD in [0.20, 0.40], l_AD in [0.30, 0.50]
@@ -18,7 +18,9 @@ rad/s, load 3 N.m on the rocker (as ``benchmarks/run.py``):
   and one seed of differential evolution on that cluster, if dask.distributed is
   importable.
 
-Writes ``benchmarks/results/optimize.csv`` and prints a Markdown table.
+Writes ``optimize.csv`` to ``build/benchmarks/`` (``--out`` another folder,
+``--results`` the committed ``benchmarks/results/``: see ``folders.py``) and prints a
+Markdown table.
 """
 
 from __future__ import annotations
@@ -31,11 +33,10 @@ from pathlib import Path
 
 import numpy as np
 
+import folders
 from linkage_fmu.optimize import optimize
 from linkage_fmu.sweep import grid, sweep
 
-HERE = Path(__file__).resolve().parent
-RESULTS = HERE / "results"
 VARY = {"l_AB": (0.05, 0.15), "l_BC": (0.25, 0.45), "l_CD": (0.20, 0.40),
         "l_AD": (0.30, 0.50)}
 SUBJECT_TO = ["mu_C_min_deg >= 40", "valid"]
@@ -135,15 +136,17 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, default=3, help="seeds of differential "
                                                              "evolution (default 3)")
+    folders.add_options(parser)
     args = parser.parse_args()
+    out = folders.folder(args)
     rows = optimisation_rows(args.seeds) + throughput_rows()
-    RESULTS.mkdir(exist_ok=True)
-    with open(RESULTS / "optimize.csv", "w", newline="") as f:
+    out.mkdir(parents=True, exist_ok=True)
+    with open(out / "optimize.csv", "w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=COLUMNS)
         writer.writeheader()
         writer.writerows(rows)
     print("\n".join(markdown(rows)))
-    print(f"\nwrote {RESULTS / 'optimize.csv'}")
+    print(f"\nwrote {out / 'optimize.csv'}")
 
 if __name__ == "__main__":
     main()

@@ -1,6 +1,6 @@
 """The crank press's coupling error against libcosim's communication step.
 
-    python benchmarks/press_coupling.py [--quick]
+    python benchmarks/press_coupling.py [--quick] [--out FOLDER | --results]
 
 Builds the two FMUs of ``examples/press`` (the motor and the press's drive FMU), runs
 the system (the press with friction in its pins and guide) in libcosim from rest for 3 s
@@ -10,8 +10,10 @@ of 1e-2 to 1e-6 s (``--quick``: to 1e-5 s), and compares the crank speed, sample
 The error is the largest difference of the crank speed relative to the largest speed.
 libcosim holds the motor's torque over each step, so the error falls like the step.
 
-Writes ``benchmarks/results/press_coupling.csv``, ``press_coupling.md`` and
-``press_coupling.png``; ``benchmarks/run.py`` calls :func:`write`.
+Writes ``press_coupling.csv``, ``press_coupling.md`` and ``press_coupling.png`` to
+``build/benchmarks/`` (``--out`` another folder, ``--results`` the committed
+``benchmarks/results/``: see ``folders.py``); ``benchmarks/run.py`` calls
+:func:`write`.
 """
 
 from __future__ import annotations
@@ -26,9 +28,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "examples" / "press"))
 
+import folders  # noqa: E402
 import press  # noqa: E402
 
-RESULTS = Path(__file__).resolve().parent / "results"
 STEPS = (1e-2, 1e-3, 1e-4, 1e-5, 1e-6)
 T_END, EVERY = 3.0, 1e-2
 
@@ -93,7 +95,7 @@ def plot(table: list[dict], path: Path) -> None:
     plt.close(fig)
 
 
-def write(out: Path = RESULTS, steps=STEPS) -> list[dict]:
+def write(out: Path = folders.DEFAULT, steps=STEPS) -> list[dict]:
     """Measure and write ``press_coupling.csv``, ``.md`` and ``.png`` into ``out``."""
     table = rows(steps)
     out.mkdir(parents=True, exist_ok=True)
@@ -109,9 +111,9 @@ def write(out: Path = RESULTS, steps=STEPS) -> list[dict]:
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="steps down to 1e-5 s only")
-    parser.add_argument("--out", type=Path, default=RESULTS)
+    folders.add_options(parser)
     args = parser.parse_args(argv)
-    print(markdown(write(args.out, STEPS[:-1] if args.quick else STEPS)))
+    print(markdown(write(folders.folder(args), STEPS[:-1] if args.quick else STEPS)))
     return 0
 
 

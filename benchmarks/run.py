@@ -1,9 +1,14 @@
 """Run time against error for the four-bar and the slider-crank, in one run.
 
     pip install -e ".[bench]" && python benchmarks/run.py [--quick [--six-bar-build]]
+        [--out FOLDER | --results]
+    python benchmarks/run.py --scalar [--states N] [--rounds N] [--out FOLDER | --results]
 
-Writes ``benchmarks/results/``: ``work_precision.csv`` (every method: seconds per
-crank angle and its maximum relative error against the 40-digit mpmath reference),
+Writes to ``build/benchmarks/`` (``--out``: another folder; ``--results``: the
+committed ``benchmarks/results/`` that README quotes, see ``folders.py``):
+``work_precision.csv`` (every method: seconds per crank angle and its maximum
+relative error against the 40-digit mpmath reference), ``scalar.csv`` (one state
+per call of ``solve`` against the seeds' way, timed in alternating rounds),
 ``fmu.csv``, ``c_host.csv``, ``communication.csv``, ``scale.csv``, ``first_calls.csv``,
 ``sweep.csv`` (design sweeps in this process and on Dask), ``sweep_fused.csv`` (a sweep's
 cost per state against the array kernels and memory's floor: ``sweep_timing.py``),
@@ -16,6 +21,9 @@ friction, built and timed against its last unrolled -O0 build from the project's
 history: ``six_bar_build.py``; minutes, so only in the full run, or with ``--quick
 --six-bar-build``), ``results.md`` (the tables and the targets) and
 ``work_precision.png`` (log-log, time per angle against error).
+
+``--scalar`` measures only ``scalar.csv`` (seconds; ``--states`` and ``--rounds`` make
+it smaller).
 
 Common states: 360 crank angles over a revolution, omega = 10 rad/s, alpha = 0, load
 3 N.m (four-bar, on the rocker) or 50 N (slider-crank, on the piston). Error is the
@@ -47,6 +55,7 @@ import numpy as np
 
 import drive_timing
 import fmu_timing
+import folders
 import kinepy_peer
 import optimize_timing
 import peers
@@ -62,13 +71,15 @@ from linkage_fmu.precise import references, relative_error
 FRICTION_ARRAYS = "friction (mu 0.1) / no friction, per state, array kernel"
 FRICTION_DRIVE = "drive FMU step with friction / every mu 0 (1 ms steps)"
 HERE = Path(__file__).resolve().parent
-RESULTS = HERE / "results"
 ROOT = HERE.parent
 PRESETS = {"four_bar": 3.0, "slider_crank": 50.0}  # preset -> load
 OMEGA, ALPHA, N_ANGLES = 10.0, 0.0, 360
 FMU_ROUNDS = 5  # alternating timing rounds of each FMU (see fmu_rows)
+SCALAR_ROUNDS = 40  # alternating timing rounds of the one-state solves (see scalar_rows)
+SCALAR_KINDS = ("seed way", "closed_form scalar", "closed_form scalar, positional")
 SEED = {"four_bar": seed_way.four_bar, "slider_crank": seed_way.slider_crank}
 TARGETS = {"vectorised / seed per angle": 500.0, "scalar / seed per angle": 10.0,
+           "scalar, positional / seed per angle": 10.0,
            "FMU step / trivial FMU step": 1.1, "max relative error (exact methods)": 1e-12,
            "FMU step / trivial FMU step, median of alternating rounds": 1.3,
            "native FMU step / trivial native FMU step (fmpy)": 1.1,
@@ -108,11 +119,13 @@ def ours(preset: str, load: float, ref: dict, static_ref: dict, big: int) -> lis
     many = np.random.default_rng(0).uniform(0.0, 2 * math.pi, big)
     rows = []
     for method in ("closed_form", "interpreted", "direct"):
-        sols = [mech.solve(float(t), OMEGA, ALPHA, load, method=method) for t in theta]
-        got = {n: np.array([s[n] for s in sols]) for n in mech.output_names}
-        t = best_time(lambda: [mech.solve(float(x), OMEGA, ALPHA, load, method=method)
-                               for x in theta]) / N_ANGLES
-        rows.append(row(preset, f"{method} scalar", "per angle", t, relative_error(got, ref).max()))
+        if method != "closed_form":  # closed_form scalar: scalar_rows, against the seeds
+            sols = [mech.solve(float(t), OMEGA, ALPHA, load, method=method) for t in theta]
+            got = {n: np.array([s[n] for s in sols]) for n in mech.output_names}
+            t = best_time(lambda: [mech.solve(float(x), OMEGA, ALPHA, load, method=method)
+                                   for x in theta]) / N_ANGLES
+            rows.append(row(preset, f"{method} scalar", "per angle", t,
+                            relative_error(got, ref).max()))
         t = best_time(lambda: mech.solve(many, OMEGA, ALPHA, load, method=method),
                       3 if method == "direct" else 9) / big
         err = relative_error(mech.solve(theta, OMEGA, ALPHA, load, method=method), ref).max()
@@ -175,16 +188,63 @@ def friction_rows(big: int = 100_000) -> list[dict]:
     return rows
 
 
-def seeds_way(preset: str, load: float, ref: dict) -> dict:
-    """Per angle: kinematics, the 9x9 matrix with numpy, ``np.linalg.solve``."""
+def scalar_rows(preset: str, load: float, ref: dict, n: int = N_ANGLES,
+                rounds: int = SCALAR_ROUNDS) -> list[dict]:
+    """One state per call at the ``n`` common angles: the seeds' way (kinematics, the 9x9
+    matrix with numpy, ``np.linalg.solve``) and ``mech.solve`` of plain floats, with
+    keywords as a user writes it (``solve(theta, omega=..., alpha=..., load=...)``) and
+    positionally, timed alternately in ``rounds`` rounds (a loaded machine's drift hits
+    them alike), the best of each; the compiled kernel hot first. Errors against
+    ``ref``, the mpmath reference at those angles."""
+    from linkage_fmu.solver import HOT_CALLS
+
     mech = presets.get(preset)
-    p, fn, theta = mech.parameters, SEED[preset], angles(N_ANGLES)
-    x = np.array([fn(p, float(t), OMEGA, ALPHA, load) for t in theta])
-    got = dict(zip(mech.output_names, x.T))
-    t = best_time(lambda: [fn(p, float(s), OMEGA, ALPHA, load) for s in theta]) / N_ANGLES
+    p, fn, theta = mech.parameters, SEED[preset], [float(t) for t in angles(n)]
+    for k in range(HOT_CALLS + 10):  # hot: the compiled one-state kernel
+        mech.solve(theta[k % n], OMEGA, ALPHA, load)
+
+    def seed():
+        return [fn(p, t, OMEGA, ALPHA, load) for t in theta]
+
+    def keywords():
+        return [mech.solve(t, omega=OMEGA, alpha=ALPHA, load=load) for t in theta]
+
+    def positional():
+        return [mech.solve(t, OMEGA, ALPHA, load) for t in theta]
+
+    kinds = {"seed way": seed, "closed_form scalar": keywords,
+             "closed_form scalar, positional": positional}
+    best = dict.fromkeys(kinds, math.inf)
+    for _ in range(rounds):
+        for kind, loop in kinds.items():
+            start = time.perf_counter()
+            loop()
+            best[kind] = min(best[kind], (time.perf_counter() - start) / n)
     # here and for the peers: their outputs only (the shaking force and moment are ours)
-    return row(preset, "seed way", "9x9 np.linalg.solve per angle", t,
-               relative_error(got, {n: ref[n] for n in got}).max())
+    x = np.array(seed())
+    got = dict(zip(mech.output_names, x.T))
+    rows = [row(preset, "seed way", "9x9 np.linalg.solve per angle", best["seed way"],
+                relative_error(got, {k: ref[k] for k in got}).max())]
+    for kind, variant in (("closed_form scalar", "solve(theta, omega=, alpha=, load=)"),
+                          ("closed_form scalar, positional", "solve(theta, omega, alpha, load)")):
+        sols = kinds[kind]()
+        got = {k: np.array([s[k] for s in sols]) for k in mech.output_names}
+        rows.append(row(preset, kind, variant, best[kind], relative_error(got, ref).max(),
+                        f"seed way / this: {best['seed way'] / best[kind]:.3g} "
+                        f"(alternating rounds, best of {rounds})"))
+    return rows
+
+
+def scalar_only(out: Path, n: int, rounds: int) -> list[dict]:
+    """``--scalar``: :func:`scalar_rows` of both presets, written to ``out/scalar.csv``."""
+    rows = []
+    for preset, load in PRESETS.items():
+        mech = presets.get(preset)
+        ref = references(mech, angles(n), OMEGA, ALPHA, load)
+        rows += scalar_rows(preset, load, ref, n, rounds)
+    out.mkdir(parents=True, exist_ok=True)
+    write_csv(out / "scalar.csv", rows)
+    return rows
 
 
 def peer_rows(preset: str, load: float, ref: dict) -> list[dict]:
@@ -549,6 +609,7 @@ def summary(work, fmu, host, comm, scl, first, sweeps, fused, optima, machine: s
         seed = get(preset, "seed way")["us_per_angle"]
         vec = get(preset, "closed_form vectorised")["us_per_angle"]
         sca = get(preset, "closed_form scalar")["us_per_angle"]
+        pos = get(preset, "closed_form scalar, positional")["us_per_angle"]
         def step(kind):
             return next(r for r in fmu if r["preset"] == preset and r["fmu"] == kind)
 
@@ -560,6 +621,7 @@ def summary(work, fmu, host, comm, scl, first, sweeps, fused, optima, machine: s
                                         "direct scalar", "direct vectorised"))
         checks = [("vectorised / seed per angle", seed / vec, ">="),
                   ("scalar / seed per angle", seed / sca, ">="),
+                  ("scalar, positional / seed per angle", seed / pos, ">="),
                   ("FMU step / trivial FMU step",
                    ours_fmu["fmpy_us_per_step"] / triv["fmpy_us_per_step"], "<="),
                   ("FMU step / trivial FMU step, median of alternating rounds",
@@ -664,7 +726,14 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true",
                         help="fewer states and sizes (a smoke run; results not for publishing)")
-    parser.add_argument("--out", type=Path, default=RESULTS)
+    folders.add_options(parser)
+    parser.add_argument("--scalar", action="store_true",
+                        help="only one state per call of solve against the seeds' way "
+                             "(scalar.csv; seconds)")
+    parser.add_argument("--states", type=int, default=N_ANGLES,
+                        help=f"with --scalar: crank angles (default {N_ANGLES})")
+    parser.add_argument("--rounds", type=int, default=SCALAR_ROUNDS,
+                        help=f"with --scalar: alternating timing rounds (default {SCALAR_ROUNDS})")
     parser.add_argument("--six-bar-build", action="store_true",
                         help="with --quick, build and time the six-bar's unrolled -O0 FMU "
                              "against today's too (minutes; the full run always does)")
@@ -672,6 +741,15 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     if args.master:
         print(json.dumps(master(json.loads(args.master))))
+        return 0
+    args.out = folders.folder(args)
+    if args.scalar:
+        rows = scalar_only(args.out, args.states, args.rounds)
+        print("\n".join(md_table(["preset", "call", "us per angle", "max rel. error", "note"],
+                                 [[r["preset"], f"{r['method']}: {r['variant']}",
+                                   f"{r['us_per_angle']:.3g}", f"{r['max_rel_error']:.2g}",
+                                   r["note"]] for r in rows])))
+        print(f"\nwrote {args.out / 'scalar.csv'}")
         return 0
     start = time.perf_counter()
     big = 20_000 if args.quick else 200_000
@@ -684,7 +762,7 @@ def main(argv=None) -> int:
         static_ref = references(mech, theta, 0.0, 0.0, load)
         print(f"{preset}: ours, seed way, peers ...", flush=True)
         work += ours(preset, load, ref, static_ref, big)
-        work.append(seeds_way(preset, load, ref))
+        work += scalar_rows(preset, load, ref)
         work += peer_rows(preset, load, ref)
     print("friction ...", flush=True)
     work += friction_rows(10_000 if args.quick else 100_000)
@@ -721,6 +799,7 @@ def main(argv=None) -> int:
         six_bar = six_bar_build.measure(500 if args.quick else 2000, 1 if args.quick else 3)
     args.out.mkdir(parents=True, exist_ok=True)
     write_csv(args.out / "work_precision.csv", work)
+    write_csv(args.out / "scalar.csv", [r for r in work if r["method"] in SCALAR_KINDS])
     write_csv(args.out / "fmu.csv", fmu)
     write_csv(args.out / "c_host.csv", host)
     write_csv(args.out / "communication.csv", comm)

@@ -1,6 +1,6 @@
 """The six-bar's native FMU with friction: today's build against the unrolled -O0 one.
 
-    python benchmarks/six_bar_build.py [--steps N] [--rounds N]
+    python benchmarks/six_bar_build.py [--steps N] [--rounds N] [--out FOLDER | --results]
 
 Until commit :data:`UNROLLED` friction's iterations were unrolled in the traced kernels, a
 fixed number of steps with the build-time state's sign and branch decisions, so the
@@ -25,7 +25,9 @@ unrolled kernels' fixed iteration counts took some solvable states for self-lock
 Where git, the project's history or the commit is not available, the old FMU's rows say
 so and carry no figures (the run goes on). The old build takes minutes at -O0: ``run.py``
 runs this in its full mode only (``--quick --six-bar-build`` forces it). On its own it
-writes ``benchmarks/results/six_bar_build.csv`` and prints the table.
+writes ``six_bar_build.csv`` to ``build/benchmarks/`` (``--out`` another folder,
+``--results`` the committed ``benchmarks/results/``: see ``folders.py``) and prints the
+table.
 """
 
 from __future__ import annotations
@@ -43,9 +45,10 @@ import time
 import zipfile
 from pathlib import Path
 
+import folders
+
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
-RESULTS = HERE / "results"
 #: the last commit whose kernels unrolled friction's iterations (the six-bar's FMU at -O0)
 UNROLLED = "b2ecb6f"
 MU, PIN = 0.1, 0.02
@@ -290,15 +293,16 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=int, default=2000)
     parser.add_argument("--rounds", type=int, default=3)
-    parser.add_argument("--out", type=Path, default=RESULTS)
+    folders.add_options(parser)
     parser.add_argument("--job", help=argparse.SUPPRESS)  # the fresh timing process
     args = parser.parse_args(argv)
     if args.job:
         print(json.dumps(step_job(**json.loads(args.job))))
         return 0
     rows = measure(args.steps, args.rounds)
-    args.out.mkdir(parents=True, exist_ok=True)
-    write(args.out / "six_bar_build.csv", rows)
+    out = folders.folder(args)
+    out.mkdir(parents=True, exist_ok=True)
+    write(out / "six_bar_build.csv", rows)
     print("\n".join(markdown(rows)))
     print({d: round(x, 3) for d, x in ratios(rows).items()})
     return 0

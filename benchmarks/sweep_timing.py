@@ -1,6 +1,6 @@
 """What a design sweep costs per state, against the kernels it runs and memory's floor.
 
-    python benchmarks/sweep_timing.py [--designs 1000] [--rounds 10]
+    python benchmarks/sweep_timing.py [--designs 1000] [--rounds 10] [--out FOLDER | --results]
 
 The four-bar (``four_bar`` preset) at ``--designs`` designs (a grid of l_AB, l_BC and
 m2) x 360 crank angles, omega = 10 rad/s, alpha = 0, load 3 N.m. In one run, in
@@ -30,7 +30,9 @@ rounds; this machine is shared), ns per state of:
     kernel has outputs) into preallocated arrays, built like the array kernel
     (``-O2``, OpenMP threads over the same states): what memory alone costs.
 
-Writes ``benchmarks/results/sweep_fused.csv`` and prints a markdown table with the
+Writes ``sweep_fused.csv`` to ``build/benchmarks/`` (``--out`` another folder,
+``--results`` the committed ``benchmarks/results/``: see ``folders.py``) and prints a
+markdown table with the
 ratios and their targets (sweep <= 1.5x the array kernel and <= 2x the Mb-only kernel;
 the array kernel within 3x of the 11-double floor).
 """
@@ -48,13 +50,13 @@ from pathlib import Path
 
 import numpy as np
 
+import folders
 from linkage_fmu.ccompiler import compile_shared
 from linkage_fmu.kernels.compiled import FLAGS
 from linkage_fmu.presets import linkage
 from linkage_fmu.sweep import THREADS, _reductions, grid, sweep
 
 HERE = Path(__file__).resolve().parent
-RESULTS = HERE / "results"
 OMEGA, ALPHA, LOAD, N_ANGLES = 10.0, 0.0, 3.0, 360
 BURST = 3  # calls of a measure in a row, each round
 TARGETS = {"sweep (fused) / array kernel": 1.5, "sweep (fused) / Mb-only kernel": 2.0,
@@ -181,10 +183,12 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--designs", type=int, default=1000)
     parser.add_argument("--rounds", type=int, default=10)
+    folders.add_options(parser)
     args = parser.parse_args()
+    out = folders.folder(args)
     rows, ratios = run(args.designs, args.rounds)
-    RESULTS.mkdir(exist_ok=True)
-    with open(RESULTS / "sweep_fused.csv", "w", newline="") as f:
+    out.mkdir(parents=True, exist_ok=True)
+    with open(out / "sweep_fused.csv", "w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=list(rows[0]))
         writer.writeheader()
         writer.writerows(rows)

@@ -14,6 +14,8 @@ import pytest
 from linkage_fmu import SingularPositionError, friction, groups, kinetostatics, presets
 from linkage_fmu.loads import wrenches
 
+from conftest import IDS, VARIANTS
+
 TH = np.linspace(0.05, 2 * np.pi, 25)
 
 
@@ -181,3 +183,190 @@ def test_an_overflow_names_the_load_values_of_the_state():
     with pytest.raises(OverflowInputError, match=r"load = 7.0, F_spring = 500.0 \(over the "
                                                  r"cycle\)"):
         d.build().solve(0.0, 1e160, 0.0, 7.0)
+
+
+
+def _outcome(call):
+    """What a call gives: the solution's type, valid, names and its floats' bits (NaN
+    included), or the error's type and message."""
+    try:
+        sol = call()
+    except Exception as err:  # noqa: BLE001  (the error is the outcome compared)
+        return type(err), str(err)
+    return (type(sol), np.asarray(sol.valid).tobytes(), tuple(sol),
+            np.asarray(list(sol.values()), dtype=np.float64).tobytes())
+
+
+def _lean(mech) -> bool:
+    """Compile the one-state kernels of every output (static and moving) and let a solve
+    of each take them: True once both lean paths are live (False: no C compiler)."""
+    from linkage_fmu.solver import WITNESS_ANGLES
+
+    for static in (False, True):
+        if not mech.solver.kernel(None, static).compile():
+            return False
+        for theta in WITNESS_ANGLES:
+            if mech.solver.hot[not static] is not None:
+                break
+            with contextlib.suppress(ValueError):
+                mech.solve(theta, *(0.0, 0.0) if static else (1.3, 0.7))
+    return None not in mech.solver.hot
+
+
+def _friction(name: str, base: dict, rng) -> dict:
+    """``base`` with a random mu in [0, 0.6] on every pair (enough for some states to
+    lock) and pin radii up to 0.05 of the length scale."""
+    mech = presets.get(name, **base)
+    params = dict(base)
+    for jf in mech.friction.joints:
+        j = jf.joint.name
+        params[next(k for k in mech.parameters if k.startswith("mu") and k.endswith(f"_{j}"))] = \
+            float(rng.uniform(0.0, 0.6))
+        if jf.revolute:
+            params[f"r_{j}"] = float(rng.uniform(0.0, 0.05) * mech.length_scale)
+    return params
+
+
+def _compare_lean(mech, calls, monkeypatch) -> tuple[list, int]:
+    """Each ``(args, kwargs)`` of ``calls`` through Mechanism.solve and through the
+    general path (Solver.solve asked for every output by a tuple of their names: the
+    kernel's tuple, else the interpreted formulas): the same outcome (:func:`_outcome`).
+    Returns the outcomes and how many solutions of plain floats needed the general
+    path."""
+    from linkage_fmu.solver import Solution, Solver
+
+    everything = tuple(mech.output_names + mech.diagnostic_names)
+    general = Solver.solve.__get__(mech.solver)
+    fallbacks = []
+
+    def spy(*args, **kwargs):
+        fallbacks.append(args)
+        return general(*args, **kwargs)
+
+    monkeypatch.setattr(mech.solver, "solve", spy)
+    outcomes, missed = [], 0
+    for args, kwargs in calls:
+        before = len(fallbacks)
+        got = _outcome(lambda: mech.solve(*args, **kwargs))
+        ref = _outcome(lambda: general(*args, outputs=everything, **kwargs))
+        assert got == ref, (args, kwargs, got[:2], ref[:2])
+        outcomes.append(got[0])
+        plain = all(type(v) is float for v in args + tuple(kwargs.values()))
+        missed += got[0] is Solution and plain and len(fallbacks) > before
+    return outcomes, missed
+
+
+@pytest.mark.parametrize("friction_on", [False, True], ids=["no friction", "friction"])
+@pytest.mark.parametrize("variant", VARIANTS, ids=IDS)
+def test_the_lean_scalar_path_gives_the_general_paths_outcome_bit_for_bit(variant, friction_on,
+                                                                         monkeypatch):
+    """Mechanism.solve's lean path (plain numbers, every output, the hot compiled kernel)
+    against the general path, over 120 random states in six call forms (positional,
+    keywords, a load by name, inputs left at their start values, ints and numpy floats)
+    and bad inputs: the same type, valid, names and float bits, or the same error and
+    message, with friction (mu up to 0.6) and without. Every solved state of plain
+    floats is served without the general path."""
+    from linkage_fmu.solver import Solution
+
+    name, base = variant
+    rng = np.random.default_rng(3)
+    mech = presets.get(name, **(_friction(name, base, rng) if friction_on else base))
+    if not _lean(mech):
+        pytest.skip("no C compiler: solve has no lean path")
+    loads = [ld.name for ld in mech.input_loads]
+    calls = []
+    for k in range(120):
+        th = float(rng.uniform(0.0, 2 * np.pi))
+        w, a = (0.0, 0.0) if k % 5 == 0 else (float(rng.uniform(-30.0, 30.0)),
+                                              float(rng.uniform(-100.0, 100.0)))
+        ld = [float(rng.uniform(-50.0, 50.0)) for _ in loads]
+        calls += [((th, w, a, *ld), {}),
+                  ((th,), {"omega": w, "alpha": a, **dict(zip(loads, ld))}),
+                  ((th,), {"omega": w}),
+                  ((th, w, a), {}),
+                  ((np.float64(th), int(w), int(a), *map(int, ld)), {}),
+                  ((th, w), {"alpha": a, **dict(zip(loads[:1], ld[:1]))})]
+    calls += [((math.nan,), {"omega": 1.0}), ((0.3,), {"omega": math.inf}),
+              ((0.3,), {"omega": True}), ((0.3, 1.0, 0.0, *[1.0] * len(loads)), {"load": 2.0}),
+              ((0.3,), {"omega": 1.0, "no_such_load": 1.0}), ((0.3,), {"omega": 10 ** 400}),
+              ((0.3, 1.0, 0.0, *[1.0] * (len(loads) + 1)), {}),
+              (("30 deg",), {"omega": "5 rpm"}), ((np.array([0.3, 0.4]),), {"omega": 1.0})]
+    outcomes, missed = _compare_lean(mech, calls, monkeypatch)
+    assert outcomes.count(Solution) > 100 and missed == 0
+
+
+def test_the_lean_scalar_path_raises_as_the_general_path_where_a_state_has_no_outputs(
+        monkeypatch):
+    """States without outputs through the lean path: the four-bar whose crank cannot
+    turn (l_AB = 0.3: AssemblyError), and the massless slider-crank of
+    test_friction.py with mu = 0.6 in its guide, whose piston locks where it moves out
+    against the load at theta in (pi, 3 pi / 2) (SelfLockingError), moving and at
+    rest: the same errors and messages as the general path."""
+    from linkage_fmu import AssemblyError, SelfLockingError
+
+    rng = np.random.default_rng(8)
+    four_bar = presets.get("four_bar", l_AB=0.3)
+    locking = presets.get("slider_crank", m1=0.0, J1=0.0, m2=0.0, J2=0.0, m3=0.0, g=0.0,
+                          l_OA=0.18, l_AB=0.2, mu_guide=0.6)
+    for mech in (four_bar, locking):
+        if not _lean(mech):
+            pytest.skip("no C compiler: solve has no lean path")
+    th = rng.uniform(0.0, 2 * np.pi, 200)
+    out, _ = _compare_lean(four_bar, [((float(t), 10.0), {"load": 1.0}) for t in th],
+                           monkeypatch)
+    assert 20 < out.count(AssemblyError) < 180
+    th = rng.uniform(np.pi, 1.5 * np.pi, 200)
+    out, _ = _compare_lean(locking, [((float(t),), {"omega": 5.0, "load": 250.0}) for t in th]
+                           + [((float(t), 0.0, 0.0, 250.0), {}) for t in th], monkeypatch)
+    assert out.count(SelfLockingError) > 20
+
+
+def test_without_a_compiler_scalar_solves_past_hot_take_the_python_kernel(monkeypatch,
+                                                                         tmp_path):
+    """No C compiler: the plan stays Python after HOT_CALLS one-state solves (one
+    warning), solve has no lean path and goes on giving the interpreted formulas'
+    floats (reference: method="interpreted", exact) in every call form."""
+    import warnings
+
+    from linkage_fmu.kernels import compiled
+    from linkage_fmu.solver import HOT_CALLS
+
+    monkeypatch.setenv("CC", "no-such-compiler")
+    monkeypatch.setenv("LINKAGE_FMU_CACHE", str(tmp_path))
+    compiled._no_compiler_warning.cache_clear()
+    mech = presets.get("four_bar")
+    th = np.linspace(0.1, 6.2, HOT_CALLS + 20)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # said once, tested in test_kernels
+        for t in th[:HOT_CALLS]:
+            mech.solve(float(t), omega=10.0, alpha=1.0, load=2.0)
+    assert mech.solver.hot == [None, None] and not mech.kernel().compiled
+    for t in th[HOT_CALLS:]:
+        ref = mech.solve(float(t), 10.0, 1.0, 2.0, method="interpreted")
+        for sol in (mech.solve(float(t), omega=10.0, alpha=1.0, load=2.0),
+                    mech.solve(float(t), 10, 1, 2), mech.solve(float(t), 10.0, 1.0, 2.0)):
+            assert dict(sol) == dict(ref)
+
+
+def test_a_lean_solution_is_a_mapping_of_floats_like_any_other():
+    """The lean path's Solution (its outputs kept unboxed) against the general path's for
+    the same state (reference: Solver.solve asked for every output by name): the same
+    names, floats (type float, equal bits), repr and valid; it copies, deep-copies and
+    pickles to an equal Solution; and it compares equal to the dict of its items."""
+    import copy
+    import pickle
+
+    from linkage_fmu.solver import Solution
+
+    mech = presets.get("slider_crank")
+    if not _lean(mech):
+        pytest.skip("no C compiler: solve has no lean path")
+    sol = mech.solve(0.7, omega=12.0, alpha=-3.0, load=40.0)
+    ref = mech.solver.solve(0.7, 12.0, -3.0, 40.0,
+                            outputs=tuple(mech.output_names + mech.diagnostic_names))
+    assert type(sol) is Solution and sol.valid is True and len(sol) == len(ref)
+    assert list(sol) == list(ref) and repr(sol) == repr(ref)
+    assert all(type(v) is float for v in sol.values())
+    assert np.array_equal(np.array(list(sol.values())), np.array(list(ref.values())))
+    for twin in (copy.copy(sol), copy.deepcopy(sol), pickle.loads(pickle.dumps(sol))):
+        assert type(twin) is Solution and twin == sol == dict(ref.items())

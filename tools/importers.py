@@ -4,7 +4,7 @@ FMU of both flavours and FMI versions, compared with the direct solver; the tabl
 
     python tools/importers.py --build [--dist DIR]       # build the FMUs first
     python tools/importers.py [--dist DIR] [--fmusim EXE] [--fmusim-fixed EXE]
-                              [--fmucheck EXE] [--out FILE]
+                              [--fmucheck EXE] [--out FILE | --results]
 
 Run it with ``PYTHONPATH=<checkout>/src``. The FMUs are ``DIR/fmi{2,3}/{pythonfmu,native}/
 <Model>.fmu`` (default ``DIR``: ``dist/importers``), one per preset of
@@ -48,7 +48,9 @@ The importers (each skipped, and its rows saying "not available", when absent):
   load = 5 at valueReferences 0..3, steps and reads; so it runs the FMUs whose inputs are
   exactly those four.
 
-Also writes ``importers.csv`` beside ``--out``: one line per FMU and importer.
+Writes ``build/benchmarks/importers.md`` (``--out FILE`` another file; ``--results``
+the committed ``benchmarks/results/importers.md``), and ``importers.csv`` beside it:
+one line per FMU and importer.
 """
 
 from __future__ import annotations
@@ -474,9 +476,14 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--fmusim", default=os.environ.get("FMUSIM"))
     parser.add_argument("--fmusim-fixed", default=os.environ.get("FMUSIM_FIXED"))
     parser.add_argument("--fmucheck", default=os.environ.get("FMUCHECK"))
-    parser.add_argument("--out", type=Path,
-                        default=ROOT / "benchmarks" / "results" / "importers.md")
+    where = parser.add_mutually_exclusive_group()
+    where.add_argument("--out", type=Path, default=ROOT / "build" / "benchmarks" / "importers.md",
+                       help="the table to write (default: build/benchmarks/importers.md)")
+    where.add_argument("--results", action="store_true",
+                       help="write the committed benchmarks/results/importers.md")
     args = parser.parse_args(argv)
+    if args.results:
+        args.out = ROOT / "benchmarks" / "results" / "importers.md"
     if args.build:
         build(args.dist)
     from test_c_host import readme_environment

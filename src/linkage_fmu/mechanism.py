@@ -10,6 +10,7 @@ built from a :class:`~linkage_fmu.spec.Description` (a description file, or a pr
 
 from __future__ import annotations
 
+from types import MappingProxyType
 from typing import Callable, Iterable, Sequence
 
 import numpy as np
@@ -29,6 +30,22 @@ __all__ = ["Mechanism", "Body", "Effort", "Solution", "METHODS", "MOTION"]
 
 #: the inputs every linkage has; its loads follow them
 MOTION = ("theta", "omega", "alpha")
+
+
+#: the types :meth:`Mechanism.solve`'s lean path takes besides floats, as floats
+#: (:func:`_floats`)
+_CONVERTED = frozenset((int, np.float64))
+#: the types of omega and alpha it takes (not bool: the general path refuses it)
+_LEAN = _CONVERTED | {float}
+
+
+def _floats(inputs: tuple) -> list | None:
+    """``inputs`` with each int or numpy float64 as a float (as the general path takes
+    them), or None where an int does not fit a float (the general path says why)."""
+    try:
+        return [float(v) if type(v) in _CONVERTED else v for v in inputs]
+    except OverflowError:
+        return None
 
 
 class Mechanism:
@@ -139,9 +156,16 @@ class Mechanism:
         self.computed_loads = tuple(load for load in self.loads if load.computed)
         #: the inputs of :meth:`solve`: theta, omega, alpha, then each input load by name
         self.input_names = MOTION + tuple(load.name for load in self.input_loads)
-        #: input name -> the value it takes where none is given
-        self.start = {**dict.fromkeys(MOTION, 0.0), **{ld.name: ld.start for ld in self.loads},
-                      **(start or {})}
+        # the input loads by name -> position, and their start values (the lean path)
+        self._load_position = {load.name: k for k, load in enumerate(self.input_loads)}
+        #: input name -> the value it takes where none is given (read-only: the lean
+        #: path of :meth:`solve` keeps the input loads' start values)
+        self.start = MappingProxyType({**dict.fromkeys(MOTION, 0.0),
+                                       **{ld.name: ld.start for ld in self.loads},
+                                       **(start or {})})
+        self._start_loads = tuple(self.start[ld.name] for ld in self.input_loads)
+        self._n_loads = len(self.input_loads)
+        self._load_name = self.input_loads[0].name if self.input_loads else None
         #: input name -> its unit (the loads over the cycle included)
         self.input_units = {"theta": "rad", "omega": "rad/s", "alpha": "rad/s2",
                             **{load.name: load.unit for load in self.loads}}
@@ -167,6 +191,7 @@ class Mechanism:
         self.output_info.update(diagnostics.info(self))
         #: solves it: plans, kernels, methods (:class:`~linkage_fmu.solver.Solver`)
         self.solver = Solver(self)
+        self._hot = self.solver.hot  # the lean path of solve: [static, moving]
 
     def _resolve(self, j: Joint) -> Joint:
         a = self.frame if j.a == FRAME else j.a
@@ -337,8 +362,64 @@ class Mechanism:
         >>> yoke.solve([0.0, math.pi / 2], omega=10.0, load=400.0)["F23y"].round(4)
         array([400., 300.])
         """
+        if outputs is None and method == "closed_form":
+            # the lean path: plain numbers, every output, the compiled kernel once hot
+            # (Solver.hot). It returns only the kernel's Solution, the floats the general
+            # path returns for the same inputs; anything else (text, arrays, a state
+            # without outputs, a kernel not yet hot, no compiler) goes on to the solver,
+            # which decides and raises
+            w = self.start["omega"] if omega is None else omega
+            a = self.start["alpha"] if alpha is None else alpha
+            hot = None
+            if type(w) in _LEAN and type(a) in _LEAN:  # the kernel checks every input
+                hot = self._hot[1] if w != 0.0 or a != 0.0 else self._hot[0]
+            if hot is not None:
+                if named_loads and len(named_loads) == 1 and not loads and self._n_loads == 1:
+                    # a linkage's one load by name (None for another name: the kernel
+                    # refuses it, the general path says why)
+                    r = hot(theta, w, a, named_loads.get(self._load_name))
+                else:
+                    x = loads if not named_loads and len(loads) == self._n_loads else \
+                        self._lean_loads(loads, named_loads)
+                    r = None if x is None else \
+                        hot(theta, w, a, x[0]) if len(x) == 1 else hot(theta, w, a, *x)
+                if type(r) is Solution:
+                    return r
+                if r is None:  # ints or numpy floats, taken as floats
+                    x = self._lean_loads(loads, named_loads)
+                    x = None if x is None else _floats((theta, w, a, *x))
+                    if x is not None and type(r := hot(*x)) is Solution:
+                        return r
         return self.solver.solve(theta, omega, alpha, *loads, method=method, outputs=outputs,
                                  **named_loads)
+
+    def _lean_loads(self, loads: tuple, named: dict) -> tuple | list | None:
+        """The input loads of :meth:`solve`'s lean path from those given positionally
+        (``loads``) and by name (``named``), each not given at its start value; None
+        where the general path must decide (too many, unknown names, twice given, a
+        load over the cycle given)."""
+        position = self._load_position
+        if not named and len(loads) == len(position):
+            return loads
+        if not named and not loads:
+            return self._start_loads
+        if not loads and len(named) == len(position):  # each by name
+            x = []
+            for name in position:
+                value = named.get(name)
+                if value is None:
+                    return None
+                x.append(value)
+            return x
+        if len(loads) > len(position):
+            return None
+        x = list(loads) + list(self._start_loads[len(loads):])
+        for name, value in named.items():
+            k = position.get(name)
+            if k is None or k < len(loads):
+                return None
+            x[k] = value
+        return x
 
     def table(self, theta, omega=None, alpha=None, *loads, method: str = "closed_form",
               outputs: Iterable[str] | None = None, **named_loads):

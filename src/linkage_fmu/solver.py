@@ -88,7 +88,8 @@ class Solution(Mapping):
     problems: dict = {}
 
     def __init__(self, values, valid, index: dict | None = None):
-        # a dict, or a tuple with the name -> position map its kernel shares
+        # a dict, or a sequence of floats (a tuple; the outputs a compiled kernel keeps
+        # unboxed: Solver.hot) with the name -> position map its kernel shares
         if index is None:
             index = {name: i for i, name in enumerate(values)}
             values = tuple(values.values())
@@ -195,8 +196,12 @@ class Solver:
         self._plans: dict = {}  # (outputs, static, method) -> Plan
         self._valid: set = {self._all}  # output tuples validated before
         self._kernels: dict = {}  # (outputs, static) -> Kernel, or _NoKernel
-        #: (static, moving): the compiled kernel of all outputs and its index, once hot
-        self._fast: list = [None, None]
+        #: [static, moving]: the compiled one-state kernel of every output, once it is
+        #: hot (None before), as ``hot(theta, omega, alpha, *loads)``: a
+        #: :class:`Solution` where the kernel takes the state (what :meth:`solve` returns
+        #: for it), else what :attr:`Kernel.call <linkage_fmu.kernels.Kernel.call>`
+        #: returns (:meth:`solve` decides)
+        self.hot: list = [None, None]
 
     # -- plans ------------------------------------------------------------------
     def wanted(self, outputs: Iterable[str] | None) -> tuple:
@@ -348,11 +353,11 @@ class Solver:
         mech = self.mech
         if outputs is None and method == "closed_form" and type(omega) is float and \
                 type(alpha) is float and not named_loads and len(loads) == len(mech.input_loads):
-            fast = self._fast[omega != 0.0 or alpha != 0.0]
+            fast = self.hot[omega != 0.0 or alpha != 0.0]
             if fast is not None:  # a compiled kernel that checks its inputs: FMU steps
-                r = fast[0](theta, omega, alpha, *loads)
-                if type(r) is tuple:
-                    return Solution(r, True, fast[1])
+                r = fast(theta, omega, alpha, *loads)
+                if type(r) is Solution:
+                    return r
         if method not in METHODS:
             raise ValueError(f"method must be one of {METHODS}, got {method!r}")
         wanted = self.wanted(outputs)
@@ -415,8 +420,10 @@ class Solver:
         """One state of finite floats: the kernel's tuple, or the interpreted formulas."""
         if method == "closed_form":
             r, k = self._kernel_call(values, wanted, given)
-            if wanted is self._all and k.compiled:
-                self._fast[values[1] != 0.0 or values[2] != 0.0] = (k.call, k.index)
+            if wanted is self._all and k.compiled and \
+                    self.hot[values[1] != 0.0 or values[2] != 0.0] is None:
+                self.hot[values[1] != 0.0 or values[2] != 0.0] = k.instances(
+                    Solution, ("_values", "_index", "valid"), (k.index, True))
             if type(r) is tuple and (math.isfinite(sum(r)) or finite([r[i] for i in k.checked])):
                 return Solution(r, True, k.index)
             # the interpreted formulas decide: they raise the exact error, or compute

@@ -69,6 +69,7 @@ class Kernel:
     #: what a one-state solve calls: the Python kernel, or once compiled, the C one
     call: Callable = field(default=None, repr=False)
     calls: int = 0  # one-state calls counted by the solver (which decides when to compile)
+    _module: object = field(default=None, repr=False)  # the compiled one-state extension
 
     def __post_init__(self):
         if self.function is None:
@@ -108,7 +109,21 @@ class Kernel:
                 module = None
             if module is not None:
                 self.call = compiled.scalar_kernel(module, self.frozen, self.checked)
+                self._module = module
         return self.call is not self.function
+
+    def instances(self, cls: type, slots: tuple, values: tuple) -> Callable | None:
+        """The compiled one-state kernel (once :meth:`compile` d; None before) returning
+        where it takes the state, instead of the outputs' tuple, an instance of ``cls``
+        made without its ``__init__``: its slot ``slots[0]`` holds the outputs (the same
+        floats, unboxed: a read-only sequence, see :func:`.compiled.scalar_kernel`),
+        each following slot its value in ``values`` (saves building the caller's result
+        in Python and boxing every output: a scalar solve's lean path). Elsewhere it
+        returns what :attr:`call` does."""
+        if self._module is None:
+            return None
+        return compiled.scalar_kernel(self._module, self.frozen, self.checked,
+                                      (cls, slots, values))
 
     def c_source(self, array: bool = True, prefix: str = "linkage",
                  tangent: bool = False, settle: bool = False,

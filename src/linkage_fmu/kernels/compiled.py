@@ -309,12 +309,19 @@ def _load_module(name: str, path: str):
     return module
 
 
-def scalar_kernel(module, frozen, checked) -> Callable:
+def scalar_kernel(module, frozen, checked, result: tuple = ()) -> Callable:
     """The compiled one-state kernel of ``module`` with the parameter step's values
     ``frozen``: ``kernel(theta, omega, alpha, *loads)`` returns the outputs as a tuple,
     or None where it does not take the state (an input that is not a finite float, a
-    guard fails, or an output at a position in ``checked`` is not finite)."""
+    guard fails, or an output at a position in ``checked`` is not finite).
+
+    With ``result = (cls, slots, values)`` it returns, where it takes the state, an
+    instance of the class ``cls`` instead, made without calling its ``__init__``: the
+    slot ``slots[0]`` holds the outputs unboxed (a read-only sequence of floats, one
+    allocation where a tuple takes one per output; copied and pickled as a tuple) and
+    ``slots[k]`` holds ``values[k - 1]`` (``pykernel.c``)."""
     flags = bytearray(module.n_outputs)
     for i in checked:
         flags[i] = 1
-    return module.bind(np.asarray(frozen, dtype=np.float64).tobytes() + bytes(flags))
+    return module.bind(np.asarray(frozen, dtype=np.float64).tobytes() + bytes(flags),
+                       *result)
