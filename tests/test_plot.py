@@ -715,6 +715,21 @@ def test_speed_of_the_free_scotch_yoke_without_a_flywheel():
     assert "no flywheel" in plot.speed(yoke, 1.0, load=0.0).axes[0].get_title()
 
 
+def test_speed_title_prints_a_zero_torque_as_0():
+    """The four-bar at 10 rad/s with no load: its loads (gravity, inertia) are
+    conservative, so the cycle mean of Mb at constant speed, the torque tau, is 0
+    (energy: the work of Mb over a revolution at constant speed is zero). The sum
+    leaves -2.3e-17 N m of rounding, which the title used to print; it prints 0. A real
+    torque is printed to 4 figures: the engine's at 3000 rpm, the mean of Mb over its
+    720 degree cycle in 1440 equal steps (within 1e-9 of the sizing's quadrature)."""
+    title = plot.speed(presets.get("four_bar"), 10.0, load=0.0).axes[0].get_title()
+    assert "τ = 0 N·m," in title and "e-" not in title
+    engine = linkage_fmu.load(EXAMPLE.parent / "engine.toml")
+    mean = float(engine.solve(np.radians(np.arange(0.0, 720.0, 0.5)), 100 * np.pi)["Mb"].mean())
+    title = plot.speed(engine, "3000 rpm").axes[0].get_title()
+    assert f"τ = {mean:.4g} N·m," in title and mean < -1.0
+
+
 # -- bad input -----------------------------------------------------------------------------
 def test_bad_input_is_refused_with_the_choices():
     four = presets.get("four_bar")

@@ -31,6 +31,7 @@ import numpy as np
 
 from . import __version__, presets, ranges
 from .expressions import evaluate
+from .printing import number
 from .solver import frame
 from .spec import Description, DescriptionError
 
@@ -564,7 +565,7 @@ def _emit(df, args) -> int:
         _in_pieces(df, lambda part, first: sys.stdout.write(part.to_csv(header=first)))
     else:
         _in_pieces(df, lambda part, first: sys.stdout.write(part.to_string(
-            header=first, float_format=lambda v: f"{v:.6f}") + "\n"))
+            header=first, float_format=lambda v: number(v, 6, fixed=True)) + "\n"))
     return 0
 
 

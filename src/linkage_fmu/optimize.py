@@ -37,6 +37,7 @@ import numpy as np
 import pandas as pd
 
 from .presets import linkage
+from .printing import number
 from .sweep import STATES_PER_TASK, dask_client, sweep
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -212,14 +213,14 @@ class OptimizationResult:
         name = self.objective.lstrip("-")
         what = "maximise" if self.objective.startswith("-") else "minimise"
         head = (f"{what} {name} subject to {', '.join(map(str, self.constraints)) or 'nothing'}"
-                f" ({self.method}, {self.evaluations} evaluations, {self.seconds:.3g} s)")
+                f" ({self.method}, {self.evaluations} evaluations, {number(self.seconds, 3)} s)")
         lines = [head, ("best design:" if self.feasible else
                         "no design meets every constraint; the one that breaks them least:")]
-        lines += [f"  {k} = {v:.10g}" for k, v in self.design.items()]
+        lines += [f"  {k} = {number(v, 10)}" for k, v in self.design.items()]
         lines.append("its summaries:")
         for k, v in self.summary.items():
             if k not in self.design and k != "problem":
-                lines.append(f"  {k} = {v:.10g}" if isinstance(v, (float, np.floating))
+                lines.append(f"  {k} = {number(v, 10)}" if isinstance(v, (float, np.floating))
                              else f"  {k} = {v}")
         return "\n".join(lines)
 

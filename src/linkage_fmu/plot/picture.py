@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, NamedTuple, Sequence
 
 import numpy as np
 
+from ..printing import number
 from .figures import figure_axes
 from .inputs import crank_angles, input_values, inputs_text, solve_at
 from .parts import force_pairs, link_points
@@ -94,7 +95,7 @@ def _draw_loads(ax: "Axes", loads: Sequence[_LoadAt], pos: dict, links: dict, sc
     for load, value, direction in loads:
         faint = value == 0.0  # no sense to show: the positive one, as a reminder
         style = dict(color=_LOAD_COLOR, alpha=0.35 if faint else 1.0, zorder=5)
-        text = f"{load.name} = {value:.4g} {load.unit}"
+        text = f"{load.name} = {number(value)} {load.unit}"
         if direction is not None:
             (x, y), length = pos[load.at], 0.15 * size if faint else value * scale
             u, v = length * direction[0], length * direction[1]
@@ -271,14 +272,14 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     quiver = ax.quiver(origins[:, 0], origins[:, 1], u, v, angles="xy", scale_units="xy",
                        scale=1.0, color="crimson", width=0.006, zorder=5, gid="forces")
     for p, (x, y), du, dv, (fx, fy) in zip(pairs, origins, u, v, forces):
-        labels.add(f"{p.name}\n{math.hypot(fx, fy):.3g} N", (x + du, y + dv), (du, dv),
+        labels.add(f"{p.name}\n{number(math.hypot(fx, fy), 3)} N", (x + du, y + dv), (du, dv),
                    "crimson", fontsize=8, gid=f"force:{p.name}")  # beyond the tip
     drawn_loads = _draw_loads(ax, loads_now, pos, links, scale, size, labels)
     labels.segments = np.r_[np.c_[origins, u, v], drawn_loads,
                             np.array(lines, dtype=float).reshape(-1, 4)]
     if largest > 0.0:
         ref = _nice(0.5 * largest)
-        key = ax.quiverkey(quiver, 0.5, 0.04, ref * scale, f"{ref:g} N", labelpos="E",
+        key = ax.quiverkey(quiver, 0.5, 0.04, ref * scale, f"{number(ref, 6)} N", labelpos="E",
                            coordinates="axes", color="crimson")
         key.set_gid("scale")
         labels.key = key
@@ -292,10 +293,10 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     ax.set_aspect("equal", adjustable="box")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
-    title = f"{mech.name} at θ = {th_deg:.4g}°, {inputs_text(mech, inputs)}\n"
+    title = f"{mech.name} at θ = {number(th_deg)}°, {inputs_text(mech, inputs)}\n"
     if effort is not None:
-        title += f"{effort} = {sol[effort]:.4g} {mech.output_info[effort][0]}; "
-    title += f"forces to scale {scale:.4g} m/N (1 N = {1000 * scale:.3g} mm)"
+        title += f"{effort} = {number(sol[effort])} {mech.output_info[effort][0]}; "
+    title += f"forces to scale {number(scale)} m/N (1 N = {number(1000 * scale, 3)} mm)"
     ax.set_title(title, fontsize=10)
     ax.grid(True, alpha=0.2)
     return fig
