@@ -465,6 +465,108 @@ def test_linkage_labels_do_not_overlap(make):
         plt.close(fig)
 
 
+def arrows_and_arcs(fig) -> list:
+    """(gid, path in display pixels, filled, half the line's width [px]) of every
+    arrow and arc of the linkage plot as drawn: each arrow of the force and load
+    quivers (its polygon: the quiver's paths by its transform, at its offsets), each
+    moment's arc (its line) and the arc's head (its patch's path)."""
+    from matplotlib.path import Path
+
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    px = fig.dpi / 72.0
+    out = []
+    for q in ax.collections:
+        gid = q.get_gid() or ""
+        if isinstance(q, Quiver) and (gid == "forces" or gid.startswith("load:")):
+            t, at = q.get_transform(), q.get_offset_transform().transform(q.get_offsets())
+            out += [(f"{gid}[{k}]", Path(t.transform(path.vertices) + o), True, 0.0)
+                    for k, (path, o) in enumerate(zip(q.get_paths(), at))]
+    for line in ax.lines:
+        if (line.get_gid() or "").startswith("load:"):
+            xy = line.get_transform().transform(line.get_xydata())
+            out.append((line.get_gid(), Path(xy), False, 0.5 * line.get_linewidth() * px))
+    for patch in ax.patches:
+        if (patch.get_gid() or "").startswith("load head:"):
+            path = patch.get_transform().transform_path(patch.get_path())
+            # its polygons: the vertex a CLOSEPOLY code carries is not a point of it
+            out += [(patch.get_gid(), Path(poly), True, 0.5 * patch.get_linewidth() * px)
+                    for poly in path.to_polygons(closed_only=False)]
+    return out
+
+
+def covered(boxes, marks) -> list:
+    """(label, arrow or arc) pairs where the label's box meets the drawn shape."""
+    from matplotlib.transforms import Bbox
+
+    out = []
+    for gid, text, box, _ in boxes:
+        for name, path, filled, pad in marks:
+            grown = Bbox.from_extents(box.x0 - pad, box.y0 - pad, box.x1 + pad, box.y1 + pad)
+            if path.intersects_bbox(grown, filled=filled):
+                out.append((gid, name))
+    return out
+
+
+#: (name, linkage, angles [deg]): every preset at a few angles, the four-bar at 60 deg
+#: with a load (its F43 label, load label and arc lay on each other) and the crank
+#: shaper at 60 deg (the README's picture: its load arrow crossed the F45 label)
+PICTURES = [(name, lambda name=name: presets.get(name), (30.0, 60.0, 200.0, 300.0))
+            for name in presets.names()] + [
+    ("six_bar-D", lambda: presets.get("six_bar", driver="D"), (60.0, 200.0)),
+    ("coupler-loaded", loaded_coupler, (0.0, 50.0, 130.0, 250.0))]
+
+
+@pytest.mark.parametrize("make, angles", [p[1:] for p in PICTURES], ids=[p[0] for p in PICTURES])
+def test_linkage_labels_keep_off_the_arrows_and_arcs(make, angles):
+    """Every label's box (the text as drawn) stays off every arrow and arc as matplotlib
+    draws them (the polygons of the quivers, the arcs' lines with their width, the
+    heads' patches, all in display pixels), and off every other label, at the default
+    size, at 4 x 3.5 inches and at the README's 120 dpi; the four-bar at 60 deg with a
+    load of 2 N m and of 0 too."""
+    mech = make()
+    cases = [(deg, {}) for deg in angles if mech.solve(math.radians(deg)).valid]
+    if mech.name == "four_bar":
+        cases += [(60.0, {"load": 2.0}), (60.0, {"load": 0.0, "omega": 10.0})]
+    assert cases
+    for deg, inputs in cases:
+        fig = plot.linkage(mech, theta_deg=deg, **inputs)
+        for size, dpi in (((8.0, 6.5), 100), ((4.0, 3.5), 100), ((8.0, 6.5), 120)):
+            fig.set_size_inches(*size)
+            fig.set_dpi(dpi)
+            boxes = label_boxes(fig)
+            marks = arrows_and_arcs(fig)
+            assert len(marks) >= len(plot.force_pairs(mech)), (deg, size)
+            assert not covered(boxes, marks), (deg, inputs, size, dpi, covered(boxes, marks))
+            assert not overlaps(boxes), (deg, inputs, size, dpi, overlaps(boxes))
+        plt.close(fig)
+
+
+def test_boxes_along_a_thick_line_cover_it():
+    """The boxes the labels keep off an arrow or arc by: every point within the half
+    width of the polyline (by its distance to the nearest segment, computed here
+    directly) lies in one of them; and none reaches farther than the half width plus
+    the step."""
+    from linkage_fmu.plot.label_placer import _along
+
+    rng = np.random.default_rng(3)
+    line = np.array([[0.0, 0.0], [37.0, 11.0], [40.0, -25.0], [40.5, -25.2]])
+    half, step = 2.5, 1.4
+    boxes = _along(line, half, step)
+    a, b = line[:-1], line[1:]
+    points = rng.uniform([-5.0, -30.0], [45.0, 15.0], (20000, 2))
+    d = b - a
+    t = np.clip(np.einsum("pkj,kj->pk", points[:, None, :] - a, d) / np.sum(d * d, axis=1),
+                0.0, 1.0)
+    off = points[:, None, :] - (a + t[..., None] * d)
+    near = np.hypot(off[..., 0], off[..., 1]).min(axis=1)
+    inside = ((points[:, None, 0] >= boxes[:, 0]) & (points[:, None, 0] <= boxes[:, 2]) &
+              (points[:, None, 1] >= boxes[:, 1]) & (points[:, None, 1] <= boxes[:, 3])).any(axis=1)
+    assert (near <= half).sum() > 1000
+    assert inside[near <= half].all()
+    assert not inside[near > math.sqrt(2.0) * (half + step / 2)].any()
+
+
 def test_place_boxes_keeps_boxes_apart_near_and_inside():
     """40 boxes about two anchors close by, a box taken between them: every two boxes
     (the taken one too) are at least the gap apart along x or y, each lies inside the

@@ -27,10 +27,11 @@ class LabelPlacer(_Artist):
     size of a text is in points and the linkage in metres, so where they collide
     depends on the figure): with :func:`place_boxes` in display pixels, in the order
     they were added, kept off each other, the marks (joint circles), the frame points'
-    symbols and the scale's key, and, where it costs at most :attr:`COVER_PT` more
-    distance, off the arrows and the links' lines too; inside the axes unless that
-    costs :attr:`LEAVE_PT` more. A label farther than :attr:`LEADER_PT` from its anchor
-    gets a thin line to it."""
+    symbols, the scale's key, the arrows (:attr:`quivers`, shaft and head as drawn)
+    and the moments' arcs (:attr:`curves`, :attr:`heads`), and, where it costs at most
+    :attr:`COVER_PT` more distance, off the links' lines too; inside the axes unless
+    that costs :attr:`LEAVE_PT` more. A label farther than :attr:`LEADER_PT` from its
+    anchor gets a thin line to it."""
 
     GAP_PT = 3.0  # spacing of the rings, and the least gap between labels
     MARK_PT = 5.0  # half the side of the square kept clear about a mark
@@ -45,7 +46,10 @@ class LabelPlacer(_Artist):
         self.labels: list = []  # (annotation, anchor [m], preferred direction [m])
         self.marks = np.empty((0, 2))  # [m]
         self.blocks = np.empty((0, 4))  # x0, y0, x1, y1 [m]: the frame points' symbols
-        self.segments = np.empty((0, 4))  # x, y, u, v [m]: arrows, links
+        self.segments = np.empty((0, 4))  # x, y, u, v [m]: the links' lines
+        self.quivers: list = []  # matplotlib Quivers: their arrows
+        self.curves: list = []  # (points (n, 2) [m], line width [pt]): the arcs
+        self.heads: list = []  # (x, y [m], size [pt]): an arc's head, its tip at x, y
         self.key = None
         ax.add_artist(self)
 
@@ -63,7 +67,7 @@ class LabelPlacer(_Artist):
 
     def _taken(self, renderer, px: float) -> np.ndarray:
         """The boxes [display px] labels keep off: the marks, the frame points'
-        symbols, the scale's key."""
+        symbols, the scale's key, the arrows, the arcs and their heads."""
         to = self.axes.transData.transform
         m = self.MARK_PT * px
         marks = to(self.marks).reshape(-1, 2)
@@ -78,7 +82,35 @@ class LabelPlacer(_Artist):
             half = max(0.5 * text.height, 3.0 * px)
             sep = 7.2 * px  # QuiverKey's labelsep, 0.1 inch
             boxes.append([[x - length, y - half, x + sep + text.width, y + half]])
+        for q in self.quivers:
+            boxes.append(self._arrows(q, px))
+        for xy, width in self.curves:
+            boxes.append(_along(to(np.reshape(xy, (-1, 2))), 0.5 * width * px, px))
+        for x, y, size in self.heads:
+            (hx, hy), h = to((x, y)), size * px
+            boxes.append([[hx - h, hy - h, hx + h, hy + h]])
         return np.concatenate([np.reshape(b, (-1, 4)) for b in boxes])
+
+    def _arrows(self, q, px: float) -> np.ndarray:
+        """Boxes [display px] covering the arrows of the quiver ``q`` (drawn with
+        ``angles="xy", scale_units="xy", scale=1``: from its tail to its tip in data
+        coordinates; its ``width`` a fraction of the axes' width): the shaft half its
+        width either side, the head (``headlength`` widths long) ``headwidth / 2``."""
+        if not q.get_visible():
+            return np.empty((0, 4))
+        to = self.axes.transData.transform
+        w = q.width * self.axes.bbox.width
+        xy = np.c_[q.X, q.Y].reshape(-1, 2)
+        uv = np.c_[q.U, q.V].reshape(-1, 2)
+        tail = {"tail": xy, "tip": xy - uv}.get(q.pivot, xy - 0.5 * uv)
+        boxes = [np.empty((0, 4))]
+        for a, b in zip(to(tail), to(tail + uv)):
+            n = float(np.hypot(*(b - a)))
+            d = (b - a) / n if n > 0.0 else np.zeros(2)
+            boxes.append(_along(np.array([a, b]), 0.5 * w, px))
+            boxes.append(_along(np.array([b - q.headlength * w * d, b]), 0.5 * q.headwidth * w,
+                                px))
+        return np.concatenate(boxes)
 
     def _lines(self, px: float) -> np.ndarray:
         """Small boxes [display px] along the segments, every 2 px."""
@@ -120,3 +152,25 @@ class LabelPlacer(_Artist):
             leader = bool(r > self.LEADER_PT * px)
             if ann.arrow_patch.get_visible() != leader:
                 ann.arrow_patch.set_visible(leader)
+
+
+def _along(points: np.ndarray, half: float, step: float) -> np.ndarray:
+    """Boxes ``x0, y0, x1, y1`` that together cover the polyline through ``points``
+    drawn ``2 * half`` wide: squares of side ``2 * half + step`` centred every
+    ``step`` or less along it (any point within ``half`` of the line lies within
+    ``half + step / 2`` of one of the centres along each axis).
+
+    Examples
+    --------
+    >>> _along(np.array([[0.0, 0.0], [4.0, 0.0]]), 1.0, 2.0).tolist()
+    [[-2.0, -2.0, 2.0, 2.0], [0.0, -2.0, 4.0, 2.0], [2.0, -2.0, 6.0, 2.0]]
+    """
+    out = [np.empty((0, 2))]
+    for a, b in zip(points, points[1:]):
+        n = int(min(math.ceil(np.hypot(*(b - a)) / step), 10_000)) + 1
+        out.append(a + np.linspace(0.0, 1.0, n)[:, None] * (b - a))
+    if len(points) == 1:
+        out.append(points)
+    centres = np.concatenate(out)
+    h = half + 0.5 * step
+    return np.c_[centres - h, centres + h]

@@ -86,9 +86,9 @@ def _draw_loads(ax: "Axes", loads: Sequence[_LoadAt], pos: dict, links: dict, sc
     """Draws each load, each labelled with its name and value: a force as an arrow
     ``value * direction * scale`` [m] ending at its point, a moment as an arc about the
     middle of its link's points, with its head in the moment's sense; a load of 0 in
-    its positive sense, faint, a force ``0.15 * size`` long. Returns the segments drawn
-    (``x, y, u, v`` [m]): lines for the labels to keep clear of, and ends for the axes'
-    limits."""
+    its positive sense, faint, a force ``0.15 * size`` long; each arrow and arc one
+    that ``labels`` keep off. Returns the segments drawn (``x, y, u, v`` [m]), whose
+    ends set the axes' limits."""
     from matplotlib.patches import FancyArrowPatch
 
     segments = []
@@ -99,8 +99,9 @@ def _draw_loads(ax: "Axes", loads: Sequence[_LoadAt], pos: dict, links: dict, sc
         if direction is not None:
             (x, y), length = pos[load.at], 0.15 * size if faint else value * scale
             u, v = length * direction[0], length * direction[1]
-            ax.quiver([x], [y], [u], [v], angles="xy", scale_units="xy", scale=1.0,
-                      pivot="tip", width=0.006, gid=f"load:{load.name}", **style)
+            labels.quivers.append(ax.quiver(
+                [x], [y], [u], [v], angles="xy", scale_units="xy", scale=1.0, pivot="tip",
+                width=0.006, gid=f"load:{load.name}", **style))
             segments.append((x - u, y - v, u, v))
             labels.add(text, (x - u, y - v), (-u, -v), _LOAD_COLOR, fontsize=8,
                        gid=f"load label:{load.name}")  # beyond the tail
@@ -115,6 +116,9 @@ def _draw_loads(ax: "Axes", loads: Sequence[_LoadAt], pos: dict, links: dict, sc
         ax.add_patch(FancyArrowPatch((x[-2], y[-2]), (x[-1], y[-1]), arrowstyle="-|>",
                                      mutation_scale=14, shrinkA=0.0, shrinkB=0.0, lw=1.6,
                                      gid=f"load head:{load.name}", **style))
+        labels.curves.append((np.c_[x, y], 1.6))
+        # the head: 0.4 of the mutation scale long, 0.2 either side, with its edge
+        labels.heads.append((x[-1], y[-1], 0.4 * 14 + 1.6))
         segments += [(a, b, c - a, d - b) for a, b, c, d in zip(x, y, x[1:], y[1:])]
         labels.add(text, (cx, cy + r), (0.0, 1.0), _LOAD_COLOR, fontsize=8,
                    gid=f"load label:{load.name}")
@@ -149,8 +153,8 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     faint, in its positive sense (a force 0.15 of the linkage's size long).
     The labels are placed when the figure is drawn
     (their size is in points, the linkage's in metres), each as near its point or tip
-    as it can be without covering another label, a joint, a frame point's symbol or the
-    scale, nor, unless that takes it much farther, an arrow or a link
+    as it can be without covering another label, a joint, a frame point's symbol, the
+    scale, an arrow or an arc, nor, unless that takes it much farther, a link
     (:func:`place_boxes`); with a thin line to it if it had to move away.
 
     Parameters
@@ -275,8 +279,8 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
         labels.add(f"{p.name}\n{number(math.hypot(fx, fy), 3)} N", (x + du, y + dv), (du, dv),
                    "crimson", fontsize=8, gid=f"force:{p.name}")  # beyond the tip
     drawn_loads = _draw_loads(ax, loads_now, pos, links, scale, size, labels)
-    labels.segments = np.r_[np.c_[origins, u, v], drawn_loads,
-                            np.array(lines, dtype=float).reshape(-1, 4)]
+    labels.quivers.append(quiver)
+    labels.segments = np.array(lines, dtype=float).reshape(-1, 4)
     if largest > 0.0:
         ref = _nice(0.5 * largest)
         key = ax.quiverkey(quiver, 0.5, 0.04, ref * scale, f"{number(ref, 6)} N", labelpos="E",
