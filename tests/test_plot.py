@@ -547,12 +547,12 @@ def test_boxes_along_a_thick_line_cover_it():
     width of the polyline (by its distance to the nearest segment, computed here
     directly) lies in one of them; and none reaches farther than the half width plus
     the step."""
-    from linkage_fmu.plot.label_placer import _along
+    from linkage_fmu.plot.placement import line_boxes
 
     rng = np.random.default_rng(3)
     line = np.array([[0.0, 0.0], [37.0, 11.0], [40.0, -25.0], [40.5, -25.2]])
     half, step = 2.5, 1.4
-    boxes = _along(line, half, step)
+    boxes = line_boxes(line, half, step)
     a, b = line[:-1], line[1:]
     points = rng.uniform([-5.0, -30.0], [45.0, 15.0], (20000, 2))
     d = b - a
@@ -560,11 +560,18 @@ def test_boxes_along_a_thick_line_cover_it():
                 0.0, 1.0)
     off = points[:, None, :] - (a + t[..., None] * d)
     near = np.hypot(off[..., 0], off[..., 1]).min(axis=1)
-    inside = ((points[:, None, 0] >= boxes[:, 0]) & (points[:, None, 0] <= boxes[:, 2]) &
-              (points[:, None, 1] >= boxes[:, 1]) & (points[:, None, 1] <= boxes[:, 3])).any(axis=1)
+    x, y = points[:, None, 0], points[:, None, 1]
+    inside = ((x >= boxes[:, 0]) & (x <= boxes[:, 2]) & (y >= boxes[:, 1]) &
+              (y <= boxes[:, 3])).any(axis=1)
     assert (near <= half).sum() > 1000
     assert inside[near <= half].all()
     assert not inside[near > math.sqrt(2.0) * (half + step / 2)].any()
+    # a line of more than 10,000 steps gets 10,000 boxes, each larger to cover it
+    boxes = line_boxes([(0.0, 0.0), (1e5, 0.0)], 1.0, 1.0)
+    assert len(boxes) == 10_001
+    assert np.all(boxes[:, 1] <= -1.0) and np.all(boxes[:, 3] >= 1.0)
+    assert boxes[0, 0] <= 0.0 and boxes[-1, 2] >= 1e5  # from end to end, no gap in x:
+    assert np.all(boxes[1:, 0] <= boxes[:-1, 2]) and np.all(np.diff(boxes[:, 0]) > 0)
 
 
 def test_place_boxes_keeps_boxes_apart_near_and_inside():

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .placement import place_boxes
+from .placement import line_boxes, place_boxes
 
 try:  # an artist; without matplotlib this still imports, and figures.pyplot() says so
     from matplotlib.artist import Artist as _Artist
@@ -85,7 +85,7 @@ class LabelPlacer(_Artist):
         for q in self.quivers:
             boxes.append(self._arrows(q, px))
         for xy, width in self.curves:
-            boxes.append(_along(to(np.reshape(xy, (-1, 2))), 0.5 * width * px, px))
+            boxes.append(line_boxes(to(np.reshape(xy, (-1, 2))), 0.5 * width * px, px))
         for x, y, size in self.heads:
             (hx, hy), h = to((x, y)), size * px
             boxes.append([[hx - h, hy - h, hx + h, hy + h]])
@@ -105,11 +105,11 @@ class LabelPlacer(_Artist):
         tail = {"tail": xy, "tip": xy - uv}.get(q.pivot, xy - 0.5 * uv)
         boxes = [np.empty((0, 4))]
         for a, b in zip(to(tail), to(tail + uv)):
-            n = float(np.hypot(*(b - a)))
-            d = (b - a) / n if n > 0.0 else np.zeros(2)
-            boxes.append(_along(np.array([a, b]), 0.5 * w, px))
-            boxes.append(_along(np.array([b - q.headlength * w * d, b]), 0.5 * q.headwidth * w,
-                                px))
+            length = float(np.hypot(*(b - a)))
+            d = (b - a) / length if length > 0.0 else np.zeros(2)
+            boxes.append(line_boxes(np.array([a, b]), 0.5 * w, px))
+            head = np.array([b - q.headlength * w * d, b])
+            boxes.append(line_boxes(head, 0.5 * q.headwidth * w, px))
         return np.concatenate(boxes)
 
     def _lines(self, px: float) -> np.ndarray:
@@ -153,24 +153,3 @@ class LabelPlacer(_Artist):
             if ann.arrow_patch.get_visible() != leader:
                 ann.arrow_patch.set_visible(leader)
 
-
-def _along(points: np.ndarray, half: float, step: float) -> np.ndarray:
-    """Boxes ``x0, y0, x1, y1`` that together cover the polyline through ``points``
-    drawn ``2 * half`` wide: squares of side ``2 * half + step`` centred every
-    ``step`` or less along it (any point within ``half`` of the line lies within
-    ``half + step / 2`` of one of the centres along each axis).
-
-    Examples
-    --------
-    >>> _along(np.array([[0.0, 0.0], [4.0, 0.0]]), 1.0, 2.0).tolist()
-    [[-2.0, -2.0, 2.0, 2.0], [0.0, -2.0, 4.0, 2.0], [2.0, -2.0, 6.0, 2.0]]
-    """
-    out = [np.empty((0, 2))]
-    for a, b in zip(points, points[1:]):
-        n = int(min(math.ceil(np.hypot(*(b - a)) / step), 10_000)) + 1
-        out.append(a + np.linspace(0.0, 1.0, n)[:, None] * (b - a))
-    if len(points) == 1:
-        out.append(points)
-    centres = np.concatenate(out)
-    h = half + 0.5 * step
-    return np.c_[centres - h, centres + h]
