@@ -27,11 +27,11 @@ class LabelPlacer(_Artist):
     size of a text is in points and the linkage in metres, so where they collide
     depends on the figure): with :func:`place_boxes` in display pixels, in the order
     they were added, kept off each other, the marks (joint circles), the frame points'
-    symbols, the scale's key, the arrows (:attr:`quivers`, shaft and head as drawn)
-    and the moments' arcs (:attr:`curves`, :attr:`heads`), and, where it costs at most
-    :attr:`COVER_PT` more distance, off the links' lines too; inside the axes unless
-    that costs :attr:`LEAVE_PT` more. A label farther than :attr:`LEADER_PT` from its
-    anchor gets a thin line to it."""
+    symbols, the scale's key, the arrows (:attr:`quivers`, shaft and head as drawn),
+    the moments' arcs and the guides (:attr:`curves`, :attr:`heads`), and, where it
+    costs at most :attr:`COVER_PT` more distance, off the links' lines too; inside the
+    axes unless that costs :attr:`LEAVE_PT` more. A label farther than
+    :attr:`LEADER_PT` from its anchor gets a thin line to it."""
 
     GAP_PT = 3.0  # spacing of the rings, and the least gap between labels
     MARK_PT = 5.0  # half the side of the square kept clear about a mark
@@ -48,7 +48,7 @@ class LabelPlacer(_Artist):
         self.blocks = np.empty((0, 4))  # x0, y0, x1, y1 [m]: the frame points' symbols
         self.segments = np.empty((0, 4))  # x, y, u, v [m]: the links' lines
         self.quivers: list = []  # matplotlib Quivers: their arrows
-        self.curves: list = []  # (points (n, 2) [m], line width [pt]): the arcs
+        self.curves: list = []  # (points (n, 2) [m], line width [pt]): arcs, guides
         self.heads: list = []  # (x, y [m], size [pt]): an arc's head, its tip at x, y
         self.key = None
         ax.add_artist(self)
@@ -67,7 +67,7 @@ class LabelPlacer(_Artist):
 
     def _taken(self, renderer, px: float) -> np.ndarray:
         """The boxes [display px] labels keep off: the marks, the frame points'
-        symbols, the scale's key, the arrows, the arcs and their heads."""
+        symbols, the scale's key, the arrows, the arcs and their heads, the guides."""
         to = self.axes.transData.transform
         m = self.MARK_PT * px
         marks = to(self.marks).reshape(-1, 2)

@@ -154,7 +154,7 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     The labels are placed when the figure is drawn
     (their size is in points, the linkage's in metres), each as near its point or tip
     as it can be without covering another label, a joint, a frame point's symbol, the
-    scale, an arrow or an arc, nor, unless that takes it much farther, a link
+    scale, an arrow, an arc or a guide, nor, unless that takes it much farther, a link
     (:func:`place_boxes`); with a thin line to it if it had to move away.
 
     Parameters
@@ -237,13 +237,16 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     s = 0.025 * size
     for name in mech.frame_points:
         _draw_frame_point(ax, *pos[name], s, name)
+    guides = []
     for j in mech.joints:  # fixed guides
         if j.normal is not None and not isinstance(j.normal, str) and mech.frame in (j.a, j.b):
             (x, y), (nx, ny) = pos[j.point], j.normal
             tx, ty = ny, -nx
             h = 0.35 * size
-            ax.plot([x - h * tx, x + h * tx], [y - h * ty, y + h * ty], ls=(0, (6, 3)),
-                    color="0.4", lw=1.2, zorder=1, gid=f"guide:{j.name}")
+            ends = np.array([(x - h * tx, y - h * ty), (x + h * tx, y + h * ty)])
+            ax.plot(*ends.T, ls=(0, (6, 3)), color="0.4", lw=1.2, zorder=1,
+                    gid=f"guide:{j.name}")
+            guides.append(ends)
     lines = []
     for k, (link, pts) in enumerate(links.items()):
         color = _LINK_COLORS[k % len(_LINK_COLORS)]
@@ -266,6 +269,7 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     ax.plot(jx, jy, "o", ms=7, mfc="white", mec="k", mew=1.3, ls="none", zorder=4,
             gid="joints")
     labels = LabelPlacer(ax)
+    labels.curves += [(ends, 1.2) for ends in guides]  # a dashed guide read as an arrow
     labels.marks = np.array([pos[p] for p in drawn], dtype=float).reshape(-1, 2)
     labels.blocks = np.array([(pos[p][0] - 1.6 * s, pos[p][1] - 2.2 * s, pos[p][0] + 1.6 * s,
                                pos[p][1]) for p in mech.frame_points]).reshape(-1, 4)
