@@ -412,3 +412,14 @@ def test_a_printed_table_shows_zeros_as_0():
     df = pd.read_csv(io.StringIO(csv), index_col=0)
     np.testing.assert_array_equal(df.iloc[0].to_numpy(),
                                   [float(sol[n][0]) for n in df.columns])
+
+
+def test_info_prints_a_load_direction_without_negative_zero():
+    """The slider-crank's piston force acts along -x: its direction is (-1, -0.0) as
+    the preset computes it, and info used to print "(-1, -0)"."""
+    from linkage_fmu import presets
+
+    (load,) = presets.get("slider_crank").loads
+    assert load.direction[0] == -1.0 and math.copysign(1.0, load.direction[1]) < 0  # the case
+    status, out, _ = run(["info", "slider_crank"])
+    assert status == 0 and "direction (-1, 0) fixed in the" in out and "-0)" not in out

@@ -520,7 +520,7 @@ def _info(d: Description) -> int:
     for load in mech.loads:
         where = (f"moment on link {load.body}" if load.kind == "moment" else
                  f"force on link {load.body} at {load.at}, direction "
-                 f"({load.direction[0]:.6g}, {load.direction[1]:.6g}) fixed in the "
+                 f"({number(load.direction[0], 6)}, {number(load.direction[1], 6)}) fixed in the "
                  f"{load.fixed_in}")
         value = (f"start {load.start!r}" if not load.computed else
                  f"over the cycle: {load.value.source}" if load.value is not None else
