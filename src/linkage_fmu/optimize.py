@@ -89,7 +89,7 @@ class Constraint:
     value: float | None = None
 
     def __str__(self) -> str:
-        return self.name if self.op is None else f"{self.name} {self.op} {self.value:.12g}"
+        return self.name if self.op is None else f"{self.name} {self.op} {number(self.value, 12)}"
 
     def satisfied(self, table: pd.DataFrame) -> np.ndarray:
         """Whether each row of the sweep ``table`` meets the constraint (a NaN summary
@@ -136,6 +136,8 @@ def parse_constraint(spec: str | Constraint | tuple) -> Constraint:
     Constraint(name='mu_C_min_deg', op='>=', value=40.0)
     >>> parse_constraint(" valid ")
     Constraint(name='valid', op=None, value=None)
+    >>> str(parse_constraint("eta_min >= 0.85")), str(parse_constraint("Mb_mean <= -0.0"))
+    ('eta_min >= 0.85', 'Mb_mean <= 0')
     >>> parse_constraint("F21_peak == 500")
     Traceback (most recent call last):
     ...
