@@ -828,6 +828,36 @@ def test_speed_of_the_free_scotch_yoke_without_a_flywheel():
     assert "no flywheel" in plot.speed(yoke, 1.0, load=0.0).axes[0].get_title()
 
 
+def test_a_zero_left_by_rounding_prints_as_0_in_the_picture_and_the_shaking_plot():
+    """The scotch yoke (no gravity, 10 rad/s, 400 N on the yoke): Mb = F r cos(theta) -
+    m3 r^2 omega^2 sin(2 theta) / 2 is 0 at 90 deg, and the solve leaves 1.8e-15 N m
+    (cos of the float nearest pi/2), which the picture's title printed. Its shaking
+    moment is zero to the 40-digit reference's 2.5e-15 N m (the binary inputs'
+    rounding), and the shaking plot printed its peak as 1.066e-14 N m. Both print 0:
+    within 1e-12 of the forces times the linkage's size (260 N on the 0.1 m crank; the
+    540 N shaking force times 0.1 m). A real value beside them keeps its figures."""
+    from linkage_fmu.precise import reference
+
+    yoke = presets.get("scotch_yoke")
+    assert yoke.parameters["g"] == 0.0
+    sol = yoke.solve(math.pi / 2, 10.0, 0.0, 400.0)
+    assert 0.0 < abs(sol["Mb"]) < 1e-14  # the case
+    title = plot.linkage(yoke, theta_deg=90.0, omega=10.0, load=400.0).axes[0].get_title()
+    assert "Mb = 0 N.m;" in title
+    title = plot.linkage(yoke, theta_deg=60.0, omega=10.0, load=400.0).axes[0].get_title()
+    mb = 400.0 * 0.1 * 0.5 - 10.0 * 0.01 * 100.0 * math.sin(math.radians(120.0)) / 2
+    assert f"Mb = {mb:.4g} N.m;" in title  # 15.67 N m
+
+    assert abs(float(reference(yoke, math.radians(30.0), 10.0, 0.0, 400.0)["shake_M"])) < 3e-15
+    moment = plot.shaking(yoke, omega=10.0, load=400.0).axes[1]
+    lines = by_gid(moment)
+    assert 1e-15 < np.max(np.abs(lines["shake_M"][0].get_ydata())) < 1e-13  # the case
+    assert lines["peak"][0].get_label() == "peak |shake_M| 0 N.m"
+    assert lines["mean"][0].get_label() == "mean 0 N.m"
+    (peak,) = [t for t in moment.texts if t.get_gid() == "peak label"]
+    assert peak.get_text().startswith("0 N.m\nat θ = ")
+
+
 def test_speed_title_prints_a_zero_torque_as_0():
     """The four-bar at 10 rad/s with no load: its loads (gravity, inertia) are
     conservative, so the cycle mean of Mb at constant speed, the torque tau, is 0

@@ -149,17 +149,21 @@ def torque(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads,
 
 
 def _draw_curve(ax: "Axes", rad: np.ndarray, deg: np.ndarray, values: np.ndarray, name: str,
-                unit: str) -> None:
+                unit: str, scale: float = 0.0) -> None:
     """The curve of :func:`torque`: ``values`` against ``deg``, their mean over ``rad``
-    and their peak magnitude, a line at 0, the axes' labels and the legend."""
+    and their peak magnitude, a line at 0, the axes' labels and the legend; the mean
+    printed 0 within :data:`ZERO_FRACTION` of the peak or ``scale``, the peak within
+    it of ``scale`` (the size of the terms the values are sums of)."""
     mean = revolution_mean(rad, values)
     i = _peak(values)
+    scale = abs(scale) if math.isfinite(scale) else 0.0
     ax.plot(deg, values, color="C0", lw=1.6, label=name, gid=name)
     ax.axhline(mean, color="C1", ls="--", lw=1.2,
-               label=f"mean {rounded(mean, abs(values[i]))} {unit}", gid="mean")
+               label=f"mean {rounded(mean, max(abs(values[i]), scale))} {unit}", gid="mean")
     ax.plot([deg[i]], [values[i]], "o", color="C3", ms=7,
-            label=f"peak |{name}| {number(abs(values[i]))} {unit}", gid="peak")
-    ax.annotate(f"{number(values[i])} {unit}\nat θ = {number(deg[i], 1, fixed=True)}°",
+            label=f"peak |{name}| {number(abs(values[i]), scale=scale)} {unit}", gid="peak")
+    ax.annotate(f"{number(values[i], scale=scale)} {unit}\n"
+                f"at θ = {number(deg[i], 1, fixed=True)}°",
                 (deg[i], values[i]), xytext=(12, -14 if values[i] > 0 else 14),
                 textcoords="offset points",
                 va="top" if values[i] > 0 else "bottom", fontsize=9, gid="peak label")
@@ -327,7 +331,11 @@ def shaking(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     _draw_hodograph(force_ax, fx, fy, deg, "shake", x, y)
     force_ax.set_title(f"{mech.name}: shaking force, what the moving links put on the "
                        f"frame\n{inputs_text(mech, inputs)}", fontsize=10)
-    _draw_curve(moment_ax, rad, deg, moment, m, mech.output_info[m][0])
+    # the moment is a sum of forces the size of the shaking force times lengths: the
+    # scotch yoke's is zero but for rounding (1e-14 N m beside 10 N m)
+    force = np.hypot(fx, fy)
+    arm = float(np.nanmax(force, initial=0.0)) * mech.length_scale
+    _draw_curve(moment_ax, rad, deg, moment, m, mech.output_info[m][0], scale=arm)
     moment_ax.set_title(f"shaking moment about the crank pivot {mech.crank.pivot}, "
                         "counter-clockwise positive", fontsize=10)
     return fig

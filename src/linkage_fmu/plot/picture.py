@@ -303,7 +303,11 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     ax.set_ylabel("y [m]")
     title = f"{mech.name} at θ = {number(th_deg)}°, {inputs_text(mech, inputs)}\n"
     if effort is not None:
-        title += f"{effort} = {number(sol[effort])} {mech.output_info[effort][0]}; "
+        # a sum of forces times lengths: what rounding leaves of a zero is 0 (the scotch
+        # yoke's Mb at 90 deg, 1.8e-15 N m beside 260 N on a 0.1 m crank)
+        arm = size if mech.effort.direction is None else 1.0
+        title += (f"{effort} = {number(sol[effort], scale=largest * arm)} "
+                  f"{mech.output_info[effort][0]}; ")
     title += f"forces to scale {number(scale)} m/N (1 N = {number(1000 * scale, 3)} mm)"
     ax.set_title(title, fontsize=10)
     ax.grid(True, alpha=0.2)
