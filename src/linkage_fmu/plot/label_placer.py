@@ -152,4 +152,3 @@ class LabelPlacer(_Artist):
             leader = bool(r > self.LEADER_PT * px)
             if ann.arrow_patch.get_visible() != leader:
                 ann.arrow_patch.set_visible(leader)
-
