@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import io
+import math
 from contextlib import redirect_stderr, redirect_stdout
 
 import numpy as np
@@ -382,3 +383,43 @@ def test_optimize_command_names_bad_input_and_no_feasible_design():
                                    "mu_C_min_deg <= 5", "--method", "grid", "--budget", "5"])
     assert status == 1 and "breaks mu_C_min_deg <= 5" in err
     assert "no design meets every constraint; the one that breaks them least:" in out
+
+
+def test_a_printed_table_shows_zeros_as_0():
+    """The scotch yoke at 90 and 270 deg with no load: several outputs are zero but for
+    rounding (F12x is -1e-15 or so), and the table printed used to show them as
+    -0.000000. Each cell is now the solver's value to 6 decimals, or 0 where that
+    rounds to zero; the CSV keeps every bit."""
+    from linkage_fmu import presets
+
+    status, out, _ = run(["table", "scotch_yoke", "--theta", "90,270", "--deg", "--load", "0"])
+    assert status == 0
+    rows = [line.split() for line in out.splitlines()[2:]]
+    assert not {"-0.000000", "0.000000", "-0"} & {cell for row in rows for cell in row}
+    names = out.splitlines()[0].split()
+    sol = presets.get("scotch_yoke").solve(np.radians([90.0, 270.0]), None, None, 0.0)
+    zeros = 0
+    for k, row in enumerate(rows):
+        assert float(row[0]) == [90.0, 270.0][k]
+        for name, cell in zip(names, row[1:]):
+            value = float(sol[name][k])
+            expected = "0" if abs(value) < 5e-7 else f"{value:.6f}"
+            assert cell == expected, (name, value, cell)
+            zeros += expected == "0" and value != 0.0 and math.copysign(1.0, value) < 0
+    assert zeros >= 3  # negative values that round to zero were among them
+    status, csv, _ = run(["table", "scotch_yoke", "--theta", "90", "--deg", "--load", "0",
+                          "--csv"])
+    df = pd.read_csv(io.StringIO(csv), index_col=0)
+    np.testing.assert_array_equal(df.iloc[0].to_numpy(),
+                                  [float(sol[n][0]) for n in df.columns])
+
+
+def test_info_prints_a_load_direction_without_negative_zero():
+    """The slider-crank's piston force acts along -x: its direction is (-1, -0.0) as
+    the preset computes it, and info used to print "(-1, -0)"."""
+    from linkage_fmu import presets
+
+    (load,) = presets.get("slider_crank").loads
+    assert load.direction[0] == -1.0 and math.copysign(1.0, load.direction[1]) < 0  # the case
+    status, out, _ = run(["info", "slider_crank"])
+    assert status == 0 and "direction (-1, 0) fixed in the" in out and "-0)" not in out

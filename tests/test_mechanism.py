@@ -156,6 +156,25 @@ def test_table_is_a_dataframe_with_one_column_per_output():
     np.testing.assert_allclose(df["Mb"], mech.solve(TH, 10.0, 0.0, 100.0)["Mb"], rtol=0)
 
 
+def test_a_table_holds_no_negative_zero():
+    """The slider-crank without friction at 90 and 180 deg: its friction outputs (Mf_O,
+    Mf_A, Mf_B, Ff_guide, P_loss) come out of the solve as -0.0 (mu = 0 times a
+    negative), which pandas printed as -0.0. The table holds 0.0 there, and every
+    other value as the solve gives it, bit for bit."""
+    mech = presets.get("slider_crank")
+    theta = np.radians([0.0, 90.0, 180.0])
+    sol = mech.solve(theta)
+    friction = ["Mf_O", "Mf_A", "Mf_B", "Ff_guide", "P_loss"]
+    assert all(math.copysign(1.0, v) < 0 for k in friction for v in sol[k][1:])  # the case
+    df = mech.table(theta)
+    assert not np.signbit(df.to_numpy()[df.to_numpy() == 0.0]).any()
+    assert "-0.0" not in df.to_string().split()
+    for k in df.columns:
+        np.testing.assert_array_equal(df[k].to_numpy(), sol[k])  # equal: -0.0 == 0.0
+        ok = sol[k] != 0.0
+        assert (np.signbit(df[k].to_numpy()[ok]) == np.signbit(sol[k][ok])).all()
+
+
 @pytest.mark.parametrize("inputs", [dict(omega=1e160), dict(omega=-1e200, alpha=1e300)])
 def test_inputs_that_overflow_are_an_error_not_a_silent_inf(mech, inputs):
     """Finite inputs too large for float64 arithmetic: an OverflowInputError naming the

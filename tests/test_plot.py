@@ -442,12 +442,58 @@ LABELLED = [(name, lambda name=name: presets.get(name)) for name in presets.name
     ("coupler", lambda: linkage_fmu.load(EXAMPLE))]
 
 
+def arrows_and_arcs(fig) -> list:
+    """(gid, path in display pixels, filled, half the line's width [px]) of every
+    arrow and arc of the linkage plot as drawn: each arrow of the force and load
+    quivers (its polygon: the quiver's paths by its transform, at its offsets), each
+    moment's arc (its line) and the arc's head (its patch's path); and each fixed
+    guide's dashed line, which next to a load arrow reads as part of it."""
+    from matplotlib.path import Path
+
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    px = fig.dpi / 72.0
+    out = []
+    for q in ax.collections:
+        gid = q.get_gid() or ""
+        if isinstance(q, Quiver) and (gid == "forces" or gid.startswith("load:")):
+            t, at = q.get_transform(), q.get_offset_transform().transform(q.get_offsets())
+            out += [(f"{gid}[{k}]", Path(t.transform(path.vertices) + o), True, 0.0)
+                    for k, (path, o) in enumerate(zip(q.get_paths(), at))]
+    for line in ax.lines:
+        if (line.get_gid() or "").startswith(("load:", "guide:")):
+            xy = line.get_transform().transform(line.get_xydata())
+            out.append((line.get_gid(), Path(xy), False, 0.5 * line.get_linewidth() * px))
+    for patch in ax.patches:
+        if (patch.get_gid() or "").startswith("load head:"):
+            path = patch.get_transform().transform_path(patch.get_path())
+            # its polygons: the vertex a CLOSEPOLY code carries is not a point of it
+            out += [(patch.get_gid(), Path(poly), True, 0.5 * patch.get_linewidth() * px)
+                    for poly in path.to_polygons(closed_only=False)]
+    return out
+
+
+def covered(boxes, marks) -> list:
+    """(label, arrow or arc) pairs where the label's box meets the drawn shape."""
+    from matplotlib.transforms import Bbox
+
+    out = []
+    for gid, text, box, _ in boxes:
+        for name, path, filled, pad in marks:
+            grown = Bbox.from_extents(box.x0 - pad, box.y0 - pad, box.x1 + pad, box.y1 + pad)
+            if path.intersects_bbox(grown, filled=filled):
+                out.append((gid, name))
+    return out
+
+
 @pytest.mark.parametrize("make", [m for _, m in LABELLED], ids=[n for n, _ in LABELLED])
 def test_linkage_labels_do_not_overlap(make):
     """At a few angles of every preset (the six-bar's labels at 60 deg used to lie on
-    top of each other): no two labels' boxes overlap as drawn, nor the scale's key,
-    and each stays within 45 pt of its point or arrow tip; the same figure again puts
-    them in the same places; after a resize they are placed again."""
+    top of each other): no two labels' boxes overlap as drawn, nor the scale's key, nor
+    does a label's box meet an arrow or an arc as matplotlib draws them, and each stays
+    within 45 pt of its point or arrow tip; the same figure again puts them in the same
+    places; after a resize, and at the 120 dpi the command line writes, they are placed
+    again."""
     mech = make()
     angles = [a for a in (30.0, 60.0, 200.0, 300.0) if mech.solve(math.radians(a)).valid]
     assert angles
@@ -456,13 +502,80 @@ def test_linkage_labels_do_not_overlap(make):
         boxes = label_boxes(fig)
         assert len(boxes) >= len(plot.force_pairs(mech)) + 3
         assert not overlaps(boxes), (deg, overlaps(boxes))
+        assert not covered(boxes, arrows_and_arcs(fig)), (deg, covered(boxes,
+                                                                       arrows_and_arcs(fig)))
         assert max(b[3] for b in boxes) < 45.0, (deg, [(b[0], b[3]) for b in boxes])
         again = label_boxes(plot.linkage(mech, theta_deg=deg))  # the same places again
         np.testing.assert_allclose([b[2].extents for b in again],
                                    [b[2].extents for b in boxes], rtol=0, atol=1e-9)
-        fig.set_size_inches(4.0, 3.5)
-        assert not overlaps(label_boxes(fig)), deg
+        for size, dpi in (((4.0, 3.5), 100), ((8.0, 6.5), 120)):
+            fig.set_size_inches(*size)
+            fig.set_dpi(dpi)
+            boxes = label_boxes(fig)
+            assert not overlaps(boxes), (deg, size, dpi)
+            assert not covered(boxes, arrows_and_arcs(fig)), (deg, size, dpi)
         plt.close(fig)
+
+
+@pytest.mark.parametrize("make, cases", [
+    (lambda: presets.get("four_bar"), [(60.0, {"load": 2.0}), (60.0, {"load": 0.0}),
+                                       (60.0, {"load": -2.0, "omega": 30.0})]),
+    (lambda: presets.get("crank_shaper"), [(60.0, {})]),
+    (loaded_coupler, [(0.0, {}), (50.0, {}), (130.0, {}), (250.0, {})]),
+], ids=["four_bar-60", "crank_shaper-60", "coupler-loaded"])
+def test_linkage_labels_keep_off_the_arrows_and_arcs(make, cases):
+    """The cases found: the four-bar at 60 deg with a moment on its rocker (its F43
+    label, the load's label and the load's arc lay on each other), the crank shaper at
+    60 deg (the README's picture: its load arrow crossed the F45 label), and the
+    coupler four-bar with forces and moments on several links. Every label's box (the
+    text as drawn) stays off every arrow and arc as matplotlib draws them (the
+    quivers' polygons, the arcs' lines with their width, the heads' patches, in
+    display pixels) and off every other label, at the default size and dpi, at 4 x 3.5
+    inches, and at the 120 dpi the command line writes."""
+    mech = make()
+    for deg, inputs in cases:
+        fig = plot.linkage(mech, theta_deg=deg, **inputs)
+        for size, dpi in (((8.0, 6.5), 100), ((4.0, 3.5), 100), ((8.0, 6.5), 120)):
+            fig.set_size_inches(*size)
+            fig.set_dpi(dpi)
+            boxes = label_boxes(fig)
+            marks = arrows_and_arcs(fig)
+            assert len(marks) >= len(plot.force_pairs(mech)) + len(mech.loads), (deg, size)
+            assert not covered(boxes, marks), (deg, inputs, size, dpi, covered(boxes, marks))
+            assert not overlaps(boxes), (deg, inputs, size, dpi, overlaps(boxes))
+        plt.close(fig)
+
+
+def test_boxes_along_a_thick_line_cover_it():
+    """The boxes the labels keep off an arrow or arc by: every point within the half
+    width of the polyline (by its distance to the nearest segment, computed here
+    directly) lies in one of them; and none reaches farther than the half width plus
+    the step."""
+    from linkage_fmu.plot.placement import line_boxes
+
+    rng = np.random.default_rng(3)
+    line = np.array([[0.0, 0.0], [37.0, 11.0], [40.0, -25.0], [40.5, -25.2]])
+    half, step = 2.5, 1.4
+    boxes = line_boxes(line, half, step)
+    a, b = line[:-1], line[1:]
+    points = rng.uniform([-5.0, -30.0], [45.0, 15.0], (20000, 2))
+    d = b - a
+    t = np.clip(np.einsum("pkj,kj->pk", points[:, None, :] - a, d) / np.sum(d * d, axis=1),
+                0.0, 1.0)
+    off = points[:, None, :] - (a + t[..., None] * d)
+    near = np.hypot(off[..., 0], off[..., 1]).min(axis=1)
+    x, y = points[:, None, 0], points[:, None, 1]
+    inside = ((x >= boxes[:, 0]) & (x <= boxes[:, 2]) & (y >= boxes[:, 1]) &
+              (y <= boxes[:, 3])).any(axis=1)
+    assert (near <= half).sum() > 1000
+    assert inside[near <= half].all()
+    assert not inside[near > math.sqrt(2.0) * (half + step / 2)].any()
+    # a line of more than 10,000 steps gets 10,000 boxes, each larger to cover it
+    boxes = line_boxes([(0.0, 0.0), (1e5, 0.0)], 1.0, 1.0)
+    assert len(boxes) == 10_001
+    assert np.all(boxes[:, 1] <= -1.0) and np.all(boxes[:, 3] >= 1.0)
+    assert boxes[0, 0] <= 0.0 and boxes[-1, 2] >= 1e5  # from end to end, no gap in x:
+    assert np.all(boxes[1:, 0] <= boxes[:-1, 2]) and np.all(np.diff(boxes[:, 0]) > 0)
 
 
 def test_place_boxes_keeps_boxes_apart_near_and_inside():
@@ -713,6 +826,51 @@ def test_speed_of_the_free_scotch_yoke_without_a_flywheel():
         assert lines["max"][0].get_xdata()[0] % 180.0 == pytest.approx(90.0, abs=1e-6)
         np.testing.assert_allclose(lines["mean"][0].get_ydata(), 2 * math.pi, rtol=1e-15)
     assert "no flywheel" in plot.speed(yoke, 1.0, load=0.0).axes[0].get_title()
+
+
+def test_a_zero_left_by_rounding_prints_as_0_in_the_picture_and_the_shaking_plot():
+    """The scotch yoke (no gravity, 10 rad/s, 400 N on the yoke): Mb = F r cos(theta) -
+    m3 r^2 omega^2 sin(2 theta) / 2 is 0 at 90 deg, and the solve leaves 1.8e-15 N m
+    (cos of the float nearest pi/2), which the picture's title printed. Its shaking
+    moment is zero to the 40-digit reference's 2.5e-15 N m (the binary inputs'
+    rounding), and the shaking plot printed its peak as 1.066e-14 N m. Both print 0:
+    within 1e-12 of the forces times the linkage's size (260 N on the 0.1 m crank; the
+    540 N shaking force times 0.1 m). A real value beside them keeps its figures."""
+    from linkage_fmu.precise import reference
+
+    yoke = presets.get("scotch_yoke")
+    assert yoke.parameters["g"] == 0.0
+    sol = yoke.solve(math.pi / 2, 10.0, 0.0, 400.0)
+    assert 0.0 < abs(sol["Mb"]) < 1e-14  # the case
+    title = plot.linkage(yoke, theta_deg=90.0, omega=10.0, load=400.0).axes[0].get_title()
+    assert "Mb = 0 N.m;" in title
+    title = plot.linkage(yoke, theta_deg=60.0, omega=10.0, load=400.0).axes[0].get_title()
+    mb = 400.0 * 0.1 * 0.5 - 10.0 * 0.01 * 100.0 * math.sin(math.radians(120.0)) / 2
+    assert f"Mb = {mb:.4g} N.m;" in title  # 15.67 N m
+
+    assert abs(float(reference(yoke, math.radians(30.0), 10.0, 0.0, 400.0)["shake_M"])) < 3e-15
+    moment = plot.shaking(yoke, omega=10.0, load=400.0).axes[1]
+    lines = by_gid(moment)
+    assert 1e-15 < np.max(np.abs(lines["shake_M"][0].get_ydata())) < 1e-13  # the case
+    assert lines["peak"][0].get_label() == "peak |shake_M| 0 N.m"
+    assert lines["mean"][0].get_label() == "mean 0 N.m"
+    (peak,) = [t for t in moment.texts if t.get_gid() == "peak label"]
+    assert peak.get_text().startswith("0 N.m\nat θ = ")
+
+
+def test_speed_title_prints_a_zero_torque_as_0():
+    """The four-bar at 10 rad/s with no load: its loads (gravity, inertia) are
+    conservative, so the cycle mean of Mb at constant speed, the torque tau, is 0
+    (energy: the work of Mb over a revolution at constant speed is zero). The sum
+    leaves -2.3e-17 N m of rounding, which the title used to print; it prints 0. A real
+    torque is printed to 4 figures: the engine's at 3000 rpm, the mean of Mb over its
+    720 degree cycle in 1440 equal steps (within 1e-9 of the sizing's quadrature)."""
+    title = plot.speed(presets.get("four_bar"), 10.0, load=0.0).axes[0].get_title()
+    assert "τ = 0 N·m," in title and "e-" not in title
+    engine = linkage_fmu.load(EXAMPLE.parent / "engine.toml")
+    mean = float(engine.solve(np.radians(np.arange(0.0, 720.0, 0.5)), 100 * np.pi)["Mb"].mean())
+    title = plot.speed(engine, "3000 rpm").axes[0].get_title()
+    assert f"τ = {mean:.4g} N·m," in title and mean < -1.0
 
 
 # -- bad input -----------------------------------------------------------------------------

@@ -31,6 +31,7 @@ import numpy as np
 
 from . import __version__, presets, ranges
 from .expressions import evaluate
+from .printing import number
 from .solver import frame
 from .spec import Description, DescriptionError
 
@@ -519,7 +520,7 @@ def _info(d: Description) -> int:
     for load in mech.loads:
         where = (f"moment on link {load.body}" if load.kind == "moment" else
                  f"force on link {load.body} at {load.at}, direction "
-                 f"({load.direction[0]:.6g}, {load.direction[1]:.6g}) fixed in the "
+                 f"({number(load.direction[0], 6)}, {number(load.direction[1], 6)}) fixed in the "
                  f"{load.fixed_in}")
         value = (f"start {load.start!r}" if not load.computed else
                  f"over the cycle: {load.value.source}" if load.value is not None else
@@ -564,7 +565,7 @@ def _emit(df, args) -> int:
         _in_pieces(df, lambda part, first: sys.stdout.write(part.to_csv(header=first)))
     else:
         _in_pieces(df, lambda part, first: sys.stdout.write(part.to_string(
-            header=first, float_format=lambda v: f"{v:.6f}") + "\n"))
+            header=first, float_format=lambda v: number(v, 6, fixed=True)) + "\n"))
     return 0
 
 

@@ -27,6 +27,7 @@ import numpy as np
 from . import motion
 from .expressions import evaluate
 from .numerics import finite_array, finite_float
+from .printing import number
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
@@ -262,31 +263,34 @@ class FlywheelSizing:
         rpm = 30.0 / math.pi
         turns = "revolution" if self.revolutions == 1 else "revolutions"
         deg = math.degrees
+
+        def n(value: float) -> str:
+            return number(value, 6)
+
         # a mean within rounding of the sum of Mb (conservative loads) is printed as 0
-        tau = self.tau_mean if abs(self.tau_mean) > 1e-12 * max(
-            abs(self.Mb_min), abs(self.Mb_max)) else 0.0
-        added = (f"{self.flywheel:.6g} kg.m2" if self.flywheel > 0.0 else
-                 f"none, the linkage's own is enough ({self.inertia - self.J_red_mean:.6g})")
+        tau = number(self.tau_mean, 6, scale=max(abs(self.Mb_min), abs(self.Mb_max)))
+        added = (f"{n(self.flywheel)} kg.m2" if self.flywheel > 0.0 else
+                 f"none, the linkage's own is enough ({n(self.inertia - self.J_red_mean)})")
         lines = [
-            f"{self.linkage}: a flywheel for {self.omega_mean:.6g} rad/s "
-            f"({self.omega_mean * rpm:.6g} rpm) within Cs = {self.Cs:.6g}, over a cycle of "
+            f"{self.linkage}: a flywheel for {n(self.omega_mean)} rad/s "
+            f"({n(self.omega_mean * rpm)} rpm) within Cs = {n(self.Cs)}, over a cycle of "
             f"{360 * self.revolutions} deg ({self.revolutions} {turns})",
-            f"  driving torque, constant   tau_mean = {tau:.6g} N.m (the cycle mean of Mb "
-            f"at constant speed, {self.Mb_min:.6g} .. {self.Mb_max:.6g})",
-            *([f"  friction losses            P_loss   = {self.P_loss_mean:.6g} W mean at "
-               f"constant speed (in tau_mean: {self.P_loss_mean / self.omega_mean:.6g} N.m)"]
+            f"  driving torque, constant   tau_mean = {tau} N.m (the cycle mean of Mb "
+            f"at constant speed, {n(self.Mb_min)} .. {n(self.Mb_max)})",
+            *([f"  friction losses            P_loss   = {n(self.P_loss_mean)} W mean at "
+               f"constant speed (in tau_mean: {n(self.P_loss_mean / self.omega_mean)} N.m)"]
               if self.P_loss_mean else []),
-            f"  fluctuation of energy      delta_E  = {self.delta_E:.6g} J (surplus largest "
-            f"at theta = {deg(self.theta_E_max):.2f} deg, smallest at "
-            f"{deg(self.theta_E_min):.2f} deg)",
-            f"  inertia needed             I        = {self.inertia:.6g} kg.m2 "
+            f"  fluctuation of energy      delta_E  = {n(self.delta_E)} J (surplus largest "
+            f"at theta = {number(deg(self.theta_E_max), 2, fixed=True)} deg, smallest at "
+            f"{number(deg(self.theta_E_min), 2, fixed=True)} deg)",
+            f"  inertia needed             I        = {n(self.inertia)} kg.m2 "
             "= delta_E / (Cs omega_mean**2)",
-            f"  the linkage's own          J_red    = {self.J_red_mean:.6g} kg.m2 mean "
-            f"({self.J_red_min:.6g} .. {self.J_red_max:.6g})",
+            f"  the linkage's own          J_red    = {n(self.J_red_mean)} kg.m2 mean "
+            f"({n(self.J_red_min)} .. {n(self.J_red_max)})",
             f"  flywheel to add            I - J_red = {added}",
-            f"  with it (equation of motion): omega = {self.omega_min:.6g} .. "
-            f"{self.omega_max:.6g} rad/s ({self.omega_min * rpm:.6g} .. "
-            f"{self.omega_max * rpm:.6g} rpm), Cs = {self.Cs_simulated:.6g}",
+            f"  with it (equation of motion): omega = {n(self.omega_min)} .. "
+            f"{n(self.omega_max)} rad/s ({n(self.omega_min * rpm)} .. "
+            f"{n(self.omega_max * rpm)} rpm), Cs = {n(self.Cs_simulated)}",
         ]
         return "\n".join(lines)
 

@@ -37,6 +37,7 @@ import numpy as np
 import pandas as pd
 
 from .presets import linkage
+from .printing import number
 from .sweep import STATES_PER_TASK, dask_client, sweep
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -88,7 +89,7 @@ class Constraint:
     value: float | None = None
 
     def __str__(self) -> str:
-        return self.name if self.op is None else f"{self.name} {self.op} {self.value:.12g}"
+        return self.name if self.op is None else f"{self.name} {self.op} {number(self.value, 12)}"
 
     def satisfied(self, table: pd.DataFrame) -> np.ndarray:
         """Whether each row of the sweep ``table`` meets the constraint (a NaN summary
@@ -135,6 +136,8 @@ def parse_constraint(spec: str | Constraint | tuple) -> Constraint:
     Constraint(name='mu_C_min_deg', op='>=', value=40.0)
     >>> parse_constraint(" valid ")
     Constraint(name='valid', op=None, value=None)
+    >>> str(parse_constraint("eta_min >= 0.85")), str(parse_constraint("Mb_mean <= -0.0"))
+    ('eta_min >= 0.85', 'Mb_mean <= 0')
     >>> parse_constraint("F21_peak == 500")
     Traceback (most recent call last):
     ...
@@ -212,14 +215,14 @@ class OptimizationResult:
         name = self.objective.lstrip("-")
         what = "maximise" if self.objective.startswith("-") else "minimise"
         head = (f"{what} {name} subject to {', '.join(map(str, self.constraints)) or 'nothing'}"
-                f" ({self.method}, {self.evaluations} evaluations, {self.seconds:.3g} s)")
+                f" ({self.method}, {self.evaluations} evaluations, {number(self.seconds, 3)} s)")
         lines = [head, ("best design:" if self.feasible else
                         "no design meets every constraint; the one that breaks them least:")]
-        lines += [f"  {k} = {v:.10g}" for k, v in self.design.items()]
+        lines += [f"  {k} = {number(v, 10)}" for k, v in self.design.items()]
         lines.append("its summaries:")
         for k, v in self.summary.items():
             if k not in self.design and k != "problem":
-                lines.append(f"  {k} = {v:.10g}" if isinstance(v, (float, np.floating))
+                lines.append(f"  {k} = {number(v, 10)}" if isinstance(v, (float, np.floating))
                              else f"  {k} = {v}")
         return "\n".join(lines)
 

@@ -20,6 +20,7 @@ import math
 import numpy as np
 
 from .errors import AssemblyError
+from .printing import number
 
 #: samples of a revolution before the ends of each range are refined
 SAMPLES = 3600
@@ -40,10 +41,16 @@ def runs(values: np.ndarray, ok: np.ndarray) -> list[tuple[float, float]]:
 
 def text(ranges: list[tuple[float, float]], unit: str = "deg", digits: int = 5) -> str:
     """The ranges in words, ``'0 to 135.95 and 224.05 to 360 deg'``; ``'none'`` for
-    no range, one angle alone as itself."""
+    no range, one angle alone as itself.
+
+    Examples
+    --------
+    >>> text([(-0.0, 135.9500001), (224.05, 360.0)]), text([(90.0, 90.0)]), text([])
+    ('0 to 135.95 and 224.05 to 360 deg', '90 deg', 'none')
+    """
     if not ranges:
         return "none"
-    parts = [f"{a:.{digits}g}" if a == b else f"{a:.{digits}g} to {b:.{digits}g}"
+    parts = [number(a, digits) if a == b else f"{number(a, digits)} to {number(b, digits)}"
              for a, b in ranges]
     return (", ".join(parts[:-1]) + " and " + parts[-1] if len(parts) > 1 else parts[0]) + \
         f" {unit}"

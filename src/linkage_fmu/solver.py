@@ -174,12 +174,15 @@ class _NoKernel:
 
 def frame(sol: Solution, theta):
     """The array solution ``sol`` at the angles ``theta`` as a pandas DataFrame, one column
-    per output, indexed by ``theta`` (broadcast to the solution's shape)."""
+    per output, indexed by ``theta`` (broadcast to the solution's shape); a negative
+    zero (a friction output without friction, ``-mu * |F|`` with ``mu = 0``) as 0, so
+    that a table printed shows no ``-0.0``."""
     import pandas as pd
 
     index = pd.Index(np.broadcast_to(theta, np.shape(next(iter(sol.values())))).ravel(),
                      name="theta")
-    return pd.DataFrame({k: np.ravel(v) for k, v in sol.items()}, index=index)
+    # x + 0.0 is x for every x but -0.0, which it makes 0.0
+    return pd.DataFrame({k: np.ravel(v) + 0.0 for k, v in sol.items()}, index=index)
 
 
 def finite(values) -> bool:

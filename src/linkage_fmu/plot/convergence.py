@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..printing import number
 from .figures import figure_axes
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -63,7 +64,7 @@ def convergence(result: "OptimizationResult", ax: "Axes | None" = None) -> "Figu
                 gid="polish")
     last = float(history["generation"].iloc[-1])
     ax.plot([last], [result.value], "*", color="C3", ms=12,
-            label=f"optimum {name} = {result.value:.6g}", gid="optimum")
+            label=f"optimum {name} = {number(result.value, 6)}", gid="optimum")
     ax.set_xlabel("generation" + (" (the last: the polish)" if len(polish) else ""))
     ax.set_ylabel(name)
     ax.grid(True, alpha=0.3)
@@ -71,6 +72,6 @@ def convergence(result: "OptimizationResult", ax: "Axes | None" = None) -> "Figu
     subject = ", ".join(map(str, result.constraints)) or "no constraint"
     what = "maximise" if result.objective.startswith("-") else "minimise"
     ax.set_title(f"{what} {name} subject to {subject}\n{result.evaluations} evaluations, "
-                 f"{result.seconds:.3g} s",
+                 f"{number(result.seconds, 3)} s",
                  fontsize=10)
     return fig

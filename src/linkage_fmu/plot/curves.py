@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..outputs import SHAKING
+from ..printing import ZERO_FRACTION, number
 from .figures import degree_axis, figure_axes, greek, pyplot
 from .inputs import crank_angles, finite_or_fail, input_values, inputs_text, solve_at
 from .parts import find_pair
@@ -19,10 +20,6 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
     from ..mechanism import Mechanism
-
-#: a mean within this fraction of its curve's largest magnitude is printed as 0
-ZERO_FRACTION = 1e-12
-
 
 # -- numbers behind the plots ------------------------------------------------------------
 def revolution_mean(theta: np.ndarray, values: np.ndarray) -> float:
@@ -60,9 +57,7 @@ def rounded(value: float, scale: float) -> str:
     >>> rounded(2.5e-11, 18.92), rounded(float("nan"), 1.0)
     ('2.5e-11', 'nan')
     """
-    if abs(value) <= ZERO_FRACTION * abs(scale):
-        return "0"
-    return f"{value:.4g}"
+    return number(value, 4, scale=scale)
 
 
 def _peak(values: np.ndarray) -> int:
@@ -154,18 +149,23 @@ def torque(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads,
 
 
 def _draw_curve(ax: "Axes", rad: np.ndarray, deg: np.ndarray, values: np.ndarray, name: str,
-                unit: str) -> None:
+                unit: str, scale: float = 0.0) -> None:
     """The curve of :func:`torque`: ``values`` against ``deg``, their mean over ``rad``
-    and their peak magnitude, a line at 0, the axes' labels and the legend."""
+    and their peak magnitude, a line at 0, the axes' labels and the legend; the mean
+    printed 0 within :data:`ZERO_FRACTION` of the peak or ``scale``, the peak within
+    it of ``scale`` (the size of the terms the values are sums of)."""
     mean = revolution_mean(rad, values)
     i = _peak(values)
+    scale = abs(scale) if math.isfinite(scale) else 0.0
     ax.plot(deg, values, color="C0", lw=1.6, label=name, gid=name)
     ax.axhline(mean, color="C1", ls="--", lw=1.2,
-               label=f"mean {rounded(mean, abs(values[i]))} {unit}", gid="mean")
+               label=f"mean {rounded(mean, max(abs(values[i]), scale))} {unit}", gid="mean")
     ax.plot([deg[i]], [values[i]], "o", color="C3", ms=7,
-            label=f"peak |{name}| {abs(values[i]):.4g} {unit}", gid="peak")
-    ax.annotate(f"{values[i]:.4g} {unit}\nat θ = {deg[i]:.1f}°", (deg[i], values[i]),
-                xytext=(12, -14 if values[i] > 0 else 14), textcoords="offset points",
+            label=f"peak |{name}| {number(abs(values[i]), scale=scale)} {unit}", gid="peak")
+    ax.annotate(f"{number(values[i], scale=scale)} {unit}\n"
+                f"at θ = {number(deg[i], 1, fixed=True)}°",
+                (deg[i], values[i]), xytext=(12, -14 if values[i] > 0 else 14),
+                textcoords="offset points",
                 va="top" if values[i] > 0 else "bottom", fontsize=9, gid="peak label")
     ax.axhline(0.0, color="0.6", lw=0.8, zorder=0, gid="zero")
     degree_axis(ax, deg)
@@ -241,12 +241,14 @@ def _draw_hodograph(ax: "Axes", fx: np.ndarray, fy: np.ndarray, deg: np.ndarray,
     ax.plot(fx, fy, color="C0", lw=1.6, label=f"{name} over θ", gid=name)
     ax.plot([0.0], [0.0], "+", color="k", ms=12, mew=1.5, label="origin", gid="origin")
     j = int(np.flatnonzero(np.isfinite(fx) & np.isfinite(fy))[0])
-    ax.plot([fx[j]], [fy[j]], "s", color="C2", ms=6, label=f"θ = {deg[j]:g}°", gid="start")
-    ax.plot([fx[i]], [fy[i]], "o", color="C3", ms=7, label=f"max |{name}| {magnitude:.4g} N",
+    ax.plot([fx[j]], [fy[j]], "s", color="C2", ms=6, label=f"θ = {number(deg[j], 6)}°",
+            gid="start")
+    ax.plot([fx[i]], [fy[i]], "o", color="C3", ms=7, label=f"max |{name}| {number(magnitude)} N",
             gid="peak")
     ax.plot([0.0, fx[i]], [0.0, fy[i]], "--", color="C3", lw=1.0, gid="peak vector")
-    ax.annotate(f"|{name}| = {magnitude:.4g} N\nat θ = {deg[i]:.1f}°", (fx[i], fy[i]),
-                xytext=(10, 10), textcoords="offset points", fontsize=9, gid="peak label")
+    ax.annotate(f"|{name}| = {number(magnitude)} N\nat θ = {number(deg[i], 1, fixed=True)}°",
+                (fx[i], fy[i]), xytext=(10, 10), textcoords="offset points", fontsize=9,
+                gid="peak label")
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel(f"{x} [N]")
     ax.set_ylabel(f"{y} [N]")
@@ -329,7 +331,11 @@ def shaking(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     _draw_hodograph(force_ax, fx, fy, deg, "shake", x, y)
     force_ax.set_title(f"{mech.name}: shaking force, what the moving links put on the "
                        f"frame\n{inputs_text(mech, inputs)}", fontsize=10)
-    _draw_curve(moment_ax, rad, deg, moment, m, mech.output_info[m][0])
+    # the moment is a sum of forces the size of the shaking force times lengths: the
+    # scotch yoke's is zero but for rounding (1e-14 N m beside 10 N m)
+    force = np.hypot(fx, fy)
+    arm = float(np.nanmax(force, initial=0.0)) * mech.length_scale
+    _draw_curve(moment_ax, rad, deg, moment, m, mech.output_info[m][0], scale=arm)
     moment_ax.set_title(f"shaking moment about the crank pivot {mech.crank.pivot}, "
                         "counter-clockwise positive", fontsize=10)
     return fig
@@ -410,11 +416,11 @@ def loss(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta_de
     eta_ax.plot(deg, eta, color="C0", lw=1.6, label="η", gid="eta")
     eta_ax.axhline(1.0, color="0.6", ls=":", lw=1.0, label="no friction", gid="ideal")
     if i is not None:
-        eta_ax.plot([deg[i]], [eta[i]], "o", color="C3", ms=7, label=f"min η {eta[i]:.4g}",
+        eta_ax.plot([deg[i]], [eta[i]], "o", color="C3", ms=7, label=f"min η {number(eta[i])}",
                     gid="min")
-        eta_ax.annotate(f"{eta[i]:.4g}\nat θ = {deg[i]:.1f}°", (deg[i], eta[i]),
-                        xytext=(12, 14), textcoords="offset points", va="bottom",
-                        fontsize=9, gid="min label")
+        eta_ax.annotate(f"{number(eta[i])}\nat θ = {number(deg[i], 1, fixed=True)}°",
+                        (deg[i], eta[i]), xytext=(12, 14), textcoords="offset points",
+                        va="bottom", fontsize=9, gid="min label")
     degree_axis(eta_ax, deg)
     eta_ax.set_ylabel("η [1]")
     eta_ax.set_title("instantaneous efficiency: 1 - P_loss / P_in (P_in: the power entering)",

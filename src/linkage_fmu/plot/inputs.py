@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Sequence
 
 import numpy as np
 
+from ..printing import number
 from ..solver import UNASSEMBLED
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -60,7 +61,7 @@ def inputs_text(mech: "Mechanism", inputs: dict) -> str:
     """``inputs`` as a title gives them: ``ω = 10 rad/s, α = 0 rad/s², ...``."""
     units = {"omega": "rad/s", "alpha": "rad/s²", **{l.name: l.unit for l in mech.loads}}
     greek = {"omega": "ω", "alpha": "α"}
-    return ", ".join(f"{greek.get(k, k)} = {v:g} {units[k]}" for k, v in inputs.items())
+    return ", ".join(f"{greek.get(k, k)} = {number(v, 6)} {units[k]}" for k, v in inputs.items())
 
 
 def finite_or_fail(mech: "Mechanism", values: np.ndarray, deg: np.ndarray, sol=None) -> None:
@@ -68,7 +69,7 @@ def finite_or_fail(mech: "Mechanism", values: np.ndarray, deg: np.ndarray, sol=N
     the array solution ``sol``, saying why its first state has no outputs where that is
     not that the linkage cannot be assembled (friction locks it, ...)."""
     if not np.isfinite(values).any():
-        angles = f"{deg.size} crank angles {deg[0]:g}..{deg[-1]:g} deg"
+        angles = f"{deg.size} crank angles {number(deg[0], 6)}..{number(deg[-1], 6)} deg"
         problems = getattr(sol, "problems", None) or {}
         if problems and UNASSEMBLED not in problems:
             first = min(problems.values(), key=lambda p: p.first)

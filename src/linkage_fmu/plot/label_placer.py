@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .placement import place_boxes
+from .placement import line_boxes, place_boxes
 
 try:  # an artist; without matplotlib this still imports, and figures.pyplot() says so
     from matplotlib.artist import Artist as _Artist
@@ -27,10 +27,11 @@ class LabelPlacer(_Artist):
     size of a text is in points and the linkage in metres, so where they collide
     depends on the figure): with :func:`place_boxes` in display pixels, in the order
     they were added, kept off each other, the marks (joint circles), the frame points'
-    symbols and the scale's key, and, where it costs at most :attr:`COVER_PT` more
-    distance, off the arrows and the links' lines too; inside the axes unless that
-    costs :attr:`LEAVE_PT` more. A label farther than :attr:`LEADER_PT` from its anchor
-    gets a thin line to it."""
+    symbols, the scale's key, the arrows (:attr:`quivers`, shaft and head as drawn),
+    the moments' arcs and the guides (:attr:`curves`, :attr:`heads`), and, where it
+    costs at most :attr:`COVER_PT` more distance, off the links' lines too; inside the
+    axes unless that costs :attr:`LEAVE_PT` more. A label farther than
+    :attr:`LEADER_PT` from its anchor gets a thin line to it."""
 
     GAP_PT = 3.0  # spacing of the rings, and the least gap between labels
     MARK_PT = 5.0  # half the side of the square kept clear about a mark
@@ -45,7 +46,10 @@ class LabelPlacer(_Artist):
         self.labels: list = []  # (annotation, anchor [m], preferred direction [m])
         self.marks = np.empty((0, 2))  # [m]
         self.blocks = np.empty((0, 4))  # x0, y0, x1, y1 [m]: the frame points' symbols
-        self.segments = np.empty((0, 4))  # x, y, u, v [m]: arrows, links
+        self.segments = np.empty((0, 4))  # x, y, u, v [m]: the links' lines
+        self.quivers: list = []  # matplotlib Quivers: their arrows
+        self.curves: list = []  # (points (n, 2) [m], line width [pt]): arcs, guides
+        self.heads: list = []  # (x, y [m], size [pt]): an arc's head, its tip at x, y
         self.key = None
         ax.add_artist(self)
 
@@ -63,7 +67,7 @@ class LabelPlacer(_Artist):
 
     def _taken(self, renderer, px: float) -> np.ndarray:
         """The boxes [display px] labels keep off: the marks, the frame points'
-        symbols, the scale's key."""
+        symbols, the scale's key, the arrows, the arcs and their heads, the guides."""
         to = self.axes.transData.transform
         m = self.MARK_PT * px
         marks = to(self.marks).reshape(-1, 2)
@@ -78,7 +82,35 @@ class LabelPlacer(_Artist):
             half = max(0.5 * text.height, 3.0 * px)
             sep = 7.2 * px  # QuiverKey's labelsep, 0.1 inch
             boxes.append([[x - length, y - half, x + sep + text.width, y + half]])
+        for q in self.quivers:
+            boxes.append(self._arrows(q, px))
+        for xy, width in self.curves:
+            boxes.append(line_boxes(to(np.reshape(xy, (-1, 2))), 0.5 * width * px, px))
+        for x, y, size in self.heads:
+            (hx, hy), h = to((x, y)), size * px
+            boxes.append([[hx - h, hy - h, hx + h, hy + h]])
         return np.concatenate([np.reshape(b, (-1, 4)) for b in boxes])
+
+    def _arrows(self, q, px: float) -> np.ndarray:
+        """Boxes [display px] covering the arrows of the quiver ``q`` (drawn with
+        ``angles="xy", scale_units="xy", scale=1``: from its tail to its tip in data
+        coordinates; its ``width`` a fraction of the axes' width): the shaft half its
+        width either side, the head (``headlength`` widths long) ``headwidth / 2``."""
+        if not q.get_visible():
+            return np.empty((0, 4))
+        to = self.axes.transData.transform
+        w = q.width * self.axes.bbox.width
+        xy = np.c_[q.X, q.Y].reshape(-1, 2)
+        uv = np.c_[q.U, q.V].reshape(-1, 2)
+        tail = {"tail": xy, "tip": xy - uv}.get(q.pivot, xy - 0.5 * uv)
+        boxes = [np.empty((0, 4))]
+        for a, b in zip(to(tail), to(tail + uv)):
+            length = float(np.hypot(*(b - a)))
+            d = (b - a) / length if length > 0.0 else np.zeros(2)
+            boxes.append(line_boxes(np.array([a, b]), 0.5 * w, px))
+            head = np.array([b - q.headlength * w * d, b])
+            boxes.append(line_boxes(head, 0.5 * q.headwidth * w, px))
+        return np.concatenate(boxes)
 
     def _lines(self, px: float) -> np.ndarray:
         """Small boxes [display px] along the segments, every 2 px."""

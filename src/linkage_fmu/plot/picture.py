@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, NamedTuple, Sequence
 
 import numpy as np
 
+from ..printing import number
 from .figures import figure_axes
 from .inputs import crank_angles, input_values, inputs_text, solve_at
 from .parts import force_pairs, link_points
@@ -85,21 +86,22 @@ def _draw_loads(ax: "Axes", loads: Sequence[_LoadAt], pos: dict, links: dict, sc
     """Draws each load, each labelled with its name and value: a force as an arrow
     ``value * direction * scale`` [m] ending at its point, a moment as an arc about the
     middle of its link's points, with its head in the moment's sense; a load of 0 in
-    its positive sense, faint, a force ``0.15 * size`` long. Returns the segments drawn
-    (``x, y, u, v`` [m]): lines for the labels to keep clear of, and ends for the axes'
-    limits."""
+    its positive sense, faint, a force ``0.15 * size`` long; each arrow and arc one
+    that ``labels`` keep off. Returns the segments drawn (``x, y, u, v`` [m]), whose
+    ends set the axes' limits."""
     from matplotlib.patches import FancyArrowPatch
 
     segments = []
     for load, value, direction in loads:
         faint = value == 0.0  # no sense to show: the positive one, as a reminder
         style = dict(color=_LOAD_COLOR, alpha=0.35 if faint else 1.0, zorder=5)
-        text = f"{load.name} = {value:.4g} {load.unit}"
+        text = f"{load.name} = {number(value)} {load.unit}"
         if direction is not None:
             (x, y), length = pos[load.at], 0.15 * size if faint else value * scale
             u, v = length * direction[0], length * direction[1]
-            ax.quiver([x], [y], [u], [v], angles="xy", scale_units="xy", scale=1.0,
-                      pivot="tip", width=0.006, gid=f"load:{load.name}", **style)
+            labels.quivers.append(ax.quiver(
+                [x], [y], [u], [v], angles="xy", scale_units="xy", scale=1.0, pivot="tip",
+                width=0.006, gid=f"load:{load.name}", **style))
             segments.append((x - u, y - v, u, v))
             labels.add(text, (x - u, y - v), (-u, -v), _LOAD_COLOR, fontsize=8,
                        gid=f"load label:{load.name}")  # beyond the tail
@@ -114,6 +116,9 @@ def _draw_loads(ax: "Axes", loads: Sequence[_LoadAt], pos: dict, links: dict, sc
         ax.add_patch(FancyArrowPatch((x[-2], y[-2]), (x[-1], y[-1]), arrowstyle="-|>",
                                      mutation_scale=14, shrinkA=0.0, shrinkB=0.0, lw=1.6,
                                      gid=f"load head:{load.name}", **style))
+        labels.curves.append((np.c_[x, y], 1.6))
+        # the head: 0.4 of the mutation scale long, 0.2 either side, with its edge
+        labels.heads.append((x[-1], y[-1], 0.4 * 14 + 1.6))
         segments += [(a, b, c - a, d - b) for a, b, c, d in zip(x, y, x[1:], y[1:])]
         labels.add(text, (cx, cy + r), (0.0, 1.0), _LOAD_COLOR, fontsize=8,
                    gid=f"load label:{load.name}")
@@ -148,8 +153,8 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     faint, in its positive sense (a force 0.15 of the linkage's size long).
     The labels are placed when the figure is drawn
     (their size is in points, the linkage's in metres), each as near its point or tip
-    as it can be without covering another label, a joint, a frame point's symbol or the
-    scale, nor, unless that takes it much farther, an arrow or a link
+    as it can be without covering another label, a joint, a frame point's symbol, the
+    scale, an arrow, an arc or a guide, nor, unless that takes it much farther, a link
     (:func:`place_boxes`); with a thin line to it if it had to move away.
 
     Parameters
@@ -232,13 +237,16 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     s = 0.025 * size
     for name in mech.frame_points:
         _draw_frame_point(ax, *pos[name], s, name)
+    guides = []
     for j in mech.joints:  # fixed guides
         if j.normal is not None and not isinstance(j.normal, str) and mech.frame in (j.a, j.b):
             (x, y), (nx, ny) = pos[j.point], j.normal
             tx, ty = ny, -nx
             h = 0.35 * size
-            ax.plot([x - h * tx, x + h * tx], [y - h * ty, y + h * ty], ls=(0, (6, 3)),
-                    color="0.4", lw=1.2, zorder=1, gid=f"guide:{j.name}")
+            ends = np.array([(x - h * tx, y - h * ty), (x + h * tx, y + h * ty)])
+            ax.plot(*ends.T, ls=(0, (6, 3)), color="0.4", lw=1.2, zorder=1,
+                    gid=f"guide:{j.name}")
+            guides.append(ends)
     lines = []
     for k, (link, pts) in enumerate(links.items()):
         color = _LINK_COLORS[k % len(_LINK_COLORS)]
@@ -261,6 +269,7 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     ax.plot(jx, jy, "o", ms=7, mfc="white", mec="k", mew=1.3, ls="none", zorder=4,
             gid="joints")
     labels = LabelPlacer(ax)
+    labels.curves += [(ends, 1.2) for ends in guides]  # a dashed guide read as an arrow
     labels.marks = np.array([pos[p] for p in drawn], dtype=float).reshape(-1, 2)
     labels.blocks = np.array([(pos[p][0] - 1.6 * s, pos[p][1] - 2.2 * s, pos[p][0] + 1.6 * s,
                                pos[p][1]) for p in mech.frame_points]).reshape(-1, 4)
@@ -271,14 +280,14 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     quiver = ax.quiver(origins[:, 0], origins[:, 1], u, v, angles="xy", scale_units="xy",
                        scale=1.0, color="crimson", width=0.006, zorder=5, gid="forces")
     for p, (x, y), du, dv, (fx, fy) in zip(pairs, origins, u, v, forces):
-        labels.add(f"{p.name}\n{math.hypot(fx, fy):.3g} N", (x + du, y + dv), (du, dv),
+        labels.add(f"{p.name}\n{number(math.hypot(fx, fy), 3)} N", (x + du, y + dv), (du, dv),
                    "crimson", fontsize=8, gid=f"force:{p.name}")  # beyond the tip
     drawn_loads = _draw_loads(ax, loads_now, pos, links, scale, size, labels)
-    labels.segments = np.r_[np.c_[origins, u, v], drawn_loads,
-                            np.array(lines, dtype=float).reshape(-1, 4)]
+    labels.quivers.append(quiver)
+    labels.segments = np.array(lines, dtype=float).reshape(-1, 4)
     if largest > 0.0:
         ref = _nice(0.5 * largest)
-        key = ax.quiverkey(quiver, 0.5, 0.04, ref * scale, f"{ref:g} N", labelpos="E",
+        key = ax.quiverkey(quiver, 0.5, 0.04, ref * scale, f"{number(ref, 6)} N", labelpos="E",
                            coordinates="axes", color="crimson")
         key.set_gid("scale")
         labels.key = key
@@ -292,10 +301,14 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     ax.set_aspect("equal", adjustable="box")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
-    title = f"{mech.name} at θ = {th_deg:.4g}°, {inputs_text(mech, inputs)}\n"
+    title = f"{mech.name} at θ = {number(th_deg)}°, {inputs_text(mech, inputs)}\n"
     if effort is not None:
-        title += f"{effort} = {sol[effort]:.4g} {mech.output_info[effort][0]}; "
-    title += f"forces to scale {scale:.4g} m/N (1 N = {1000 * scale:.3g} mm)"
+        # a sum of forces times lengths: what rounding leaves of a zero is 0 (the scotch
+        # yoke's Mb at 90 deg, 1.8e-15 N m beside 260 N on a 0.1 m crank)
+        arm = size if mech.effort.direction is None else 1.0
+        title += (f"{effort} = {number(sol[effort], scale=largest * arm)} "
+                  f"{mech.output_info[effort][0]}; ")
+    title += f"forces to scale {number(scale)} m/N (1 N = {number(1000 * scale, 3)} mm)"
     ax.set_title(title, fontsize=10)
     ax.grid(True, alpha=0.2)
     return fig

@@ -94,3 +94,27 @@ def place_boxes(anchors, sizes, toward, taken=(), frame=None, gap: float = 1.0,
         centres[n] = 0.5 * (box[:2] + box[2:])
         boxes.append(box[None, :])
     return centres, distances
+
+
+def line_boxes(points: np.ndarray, half: float, step: float) -> np.ndarray:
+    """Boxes ``x0, y0, x1, y1`` that together cover the polyline through ``points``
+    (shape ``(n, 2)``) drawn ``2 * half`` wide, for :func:`place_boxes` to keep boxes
+    off: squares of side ``2 * half + step`` centred every ``step`` or less along it
+    (a point within ``half`` of the line lies within ``half + step / 2`` of one of the
+    centres along each axis).
+
+    Examples
+    --------
+    >>> line_boxes(np.array([[0.0, 0.0], [4.0, 0.0]]), 1.0, 2.0).tolist()
+    [[-2.0, -2.0, 2.0, 2.0], [0.0, -2.0, 4.0, 2.0], [2.0, -2.0, 6.0, 2.0]]
+    """
+    points = np.asarray(points, dtype=float).reshape(-1, 2)
+    out, spacing = [points[:1]], step
+    for a, b in zip(points, points[1:]):
+        length = float(np.hypot(*(b - a)))
+        n = int(min(math.ceil(length / step), 10_000))  # at most 10,000 a segment...
+        spacing = max(spacing, length / max(n, 1))  # ...farther apart, larger
+        out.append(a + np.linspace(0.0, 1.0, n + 1)[1:, None] * (b - a))
+    centres = np.concatenate(out)
+    h = half + 0.5 * spacing
+    return np.c_[centres - h, centres + h]

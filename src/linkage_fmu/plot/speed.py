@@ -10,6 +10,7 @@ import numpy as np
 
 from ..flywheel import flywheel as size_flywheel
 from ..flywheel import periodic_motion
+from ..printing import number
 from .figures import degree_axis, figure_axes
 from .inputs import input_values
 
@@ -101,24 +102,33 @@ def speed(mech: "Mechanism", omega=None, *loads, Cs=None, flywheel=None,
     fig, ax = figure_axes(ax)
     ax.plot(deg, w, color="C0", lw=1.6, label="ω", gid="omega")
     ax.axhline(mean, color="C1", ls="--", lw=1.2,
-               label=f"mean {mean:.4g} rad/s ({mean * _RPM:.4g} rpm)", gid="mean")
+               label=f"mean {number(mean)} rad/s ({number(mean * _RPM)} rpm)", gid="mean")
     if asked is not None:  # the width Cs asks for, about the middle of the swing
         middle = 0.5 * (run.omega_max + run.omega_min)
         for k, sign in enumerate((1.0, -1.0)):
             ax.axhline(middle + sign * asked * mean / 2.0, color="0.5", ls=":", lw=1.0,
-                       label=f"width Cs ω_mean, Cs = {asked:g}" if k == 0 else None,
+                       label=f"width Cs ω_mean, Cs = {number(asked, 6)}" if k == 0 else None,
                        gid="band")
     for gid, value, where, colour in (("max", run.omega_max, run.theta_omega_max, "C3"),
                                       ("min", run.omega_min, run.theta_omega_min, "C2")):
         ax.plot([math.degrees(where)], [value], "o", color=colour, ms=6,
-                label=f"{gid} {value:.5g} rad/s at θ = {math.degrees(where):.1f}°", gid=gid)
+                label=f"{gid} {number(value, 5)} rad/s at "
+                f"θ = {number(math.degrees(where), 1, fixed=True)}°", gid=gid)
     degree_axis(ax, deg)
     ax.set_ylabel("crank speed ω [rad/s]")
     rpm = ax.secondary_yaxis("right", functions=(lambda v: v * _RPM, lambda v: v / _RPM))
     rpm.set_ylabel("[rpm]")
     ax.legend(loc="best", fontsize=9)
-    what = (f"flywheel {run.flywheel:.4g} kg·m² (sized for Cs = {asked:g})" if asked is not None
-            else f"flywheel {run.flywheel:.4g} kg·m²" if run.flywheel else "no flywheel")
-    ax.set_title(f"{mech.name}: crank speed under a constant torque τ = {run.tau:.4g} N·m, "
-                 f"{what}\nCs = (ω_max - ω_min) / ω_mean = {run.Cs:.4g}", fontsize=10)
+    what = (f"flywheel {number(run.flywheel)} kg·m² (sized for Cs = {number(asked, 6)})"
+            if asked is not None else f"flywheel {number(run.flywheel)} kg·m²"
+            if run.flywheel else "no flywheel")
+    # tau is the mean of Mb at constant speed over the cycle: zero for conservative
+    # loads, to within the rounding of a sum of Mb's values (four-bar, 10 rad/s, no
+    # load: -2.3e-17 N m of Mb up to 0.27 N m)
+    effort = mech.solve(np.radians(deg), mean, 0.0, outputs=(mech.effort.name,),
+                        **named)[mech.effort.name]
+    size = float(np.nanmax(np.abs(effort), initial=0.0))
+    ax.set_title(f"{mech.name}: crank speed under a constant torque "
+                 f"τ = {number(run.tau, scale=size)} N·m, {what}\n"
+                 f"Cs = (ω_max - ω_min) / ω_mean = {number(run.Cs)}", fontsize=10)
     return fig

@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..printing import number
 from .figures import degree_axis, figure_axes, greek
 from .inputs import crank_angles, finite_or_fail
 
@@ -145,8 +146,10 @@ def transmission(mech: "Mechanism", theta=None, *, theta_deg=None,
         ax.plot(deg, np.degrees(mu), color=color, lw=1.6, label=label, gid=name)
         i = int(np.nanargmin(mu))
         ax.plot([deg[i]], [np.degrees(mu[i])], "v", color=color, ms=8,
-                label=f"min {label} = {np.degrees(mu[i]):.1f}°", gid=f"min:{name}")
-        ax.annotate(f"min {label} = {np.degrees(mu[i]):.1f}°\nat θ = {deg[i]:.1f}°",
+                label=f"min {label} = {number(np.degrees(mu[i]), 1, fixed=True)}°",
+                gid=f"min:{name}")
+        ax.annotate(f"min {label} = {number(np.degrees(mu[i]), 1, fixed=True)}°\n"
+                    f"at θ = {number(deg[i], 1, fixed=True)}°",
                     (deg[i], np.degrees(mu[i])), xytext=(8, -18), textcoords="offset points",
                     fontsize=9, color=color, gid=f"min label:{name}")
         for j, t in enumerate(toggles(mech, name, rad, mu, valid)):
