@@ -18,9 +18,10 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 from fmpy import read_model_description
 
-from conftest import MODELS
+from conftest import FLAVOURS, MODELS
 from linkage_fmu import presets
 
 HOST = Path(__file__).with_name("fmu_raw_host.py")
@@ -191,6 +192,45 @@ def test_the_state_machine_is_enforced(fmu2, tmp_path):
                                  OK, OK, ERROR, ERROR, OK, OK, ERROR, OK, OK, OK, OK]
     assert r[9][1] == [0.11]  # the fixed parameter kept its initialisation value
     assert r[11][1] == 0 and r[12][1] == 0.25
+
+
+@pytest.fixture(scope="module", params=FLAVOURS)
+def four_bar2(request, tmp_path_factory) -> Path:
+    """The folder of the four-bar's FMI 2.0 FMU of one flavour, built for this module."""
+    from linkage_fmu.fmi import build_fmu, build_native_fmu
+
+    out = tmp_path_factory.mktemp(f"four_bar-{request.param}")
+    (build_fmu if request.param == "pythonfmu" else build_native_fmu)("four_bar", out)
+    return out
+
+
+#: fmi2StatusKind: DoStepStatus, PendingStatus, LastSuccessfulTime, Terminated
+KINDS = {0: "fmi2DoStepStatus", 1: "fmi2PendingStatus", 2: "fmi2LastSuccessfulTime",
+         3: "fmi2Terminated"}
+
+
+def test_every_status_kind_that_cannot_be_retrieved_is_discard_with_a_log(four_bar2, tmp_path):
+    """FMI 2.0 (4.2.3): 'if a status is required which cannot be retrieved by the slave it
+    returns fmi2Discard'. Kind -1 used to answer Error with no log from fmi2GetStatus, its
+    Integer and its String variants, and every other kind Discard with a log: now every
+    kind but fmi2LastSuccessfulTime (Real) and fmi2Terminated (Boolean) is Discard, from
+    every query, with one log naming the call and the kind."""
+    kinds = [-1, *KINDS, 4, 7, 2 ** 31 - 1, -2 ** 31]
+    ops = start(dist=four_bar2) + [["a", "doStep", 0.0, 0.25], ["a", "statusKinds", kinds]]
+    answers = raw(four_bar2, ops, tmp_path)["results"][-1][1]
+    queries = ("fmi2GetStatus", "fmi2GetRealStatus", "fmi2GetIntegerStatus",
+               "fmi2GetBooleanStatus", "fmi2GetStringStatus")
+    assert sorted(answers) == sorted(f"{q}({k})" for q in queries for k in kinds)
+    given = {("fmi2GetRealStatus", 2), ("fmi2GetBooleanStatus", 3)}
+    for q in queries:
+        for k in kinds:
+            status, said = answers[f"{q}({k})"]
+            if (q, k) in given:
+                assert (status, said) == (OK, None), (q, k)
+                continue
+            assert status == DISCARD, (q, k, status)
+            name = f" ({KINDS[k]})" if k in KINDS else ""
+            assert said.startswith(f"{q}: status kind {k}{name} cannot be retrieved: "), said
 
 
 def test_an_invalid_parameter_set_fails_exit_initialization_until_it_is_fixed(fmu2, tmp_path):
