@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 import shutil
 import subprocess
 import zipfile
@@ -244,6 +245,57 @@ def test_discard_at_the_assembly_limit(fmus, tmp_path, version):
     assert last["read"] == OK and all(math.isfinite(last[n]) for n in ("alpha", "F21x"))
     assert last["J_red"] > 1e6 * rows[0]["J_red"]
     assert "cannot be assembled" in out["log"][-1][1] and "lastSuccessfulTime" in out["log"][-1][1]
+
+
+#: the most substeps one doStep takes (``MAX_SUBSTEPS`` in fmi/continuous.c)
+MAX_SUBSTEPS = 10000
+
+
+@pytest.mark.parametrize("version", (2, 3))
+def test_a_step_takes_a_bounded_number_of_substeps(fmus, tmp_path, version):
+    """tau = 1e10 spins the crank to 1e8 rad/s within microseconds: a step of 10 ms would
+    need millions of substeps (each doStep took a million, 0.35-0.67 s, then a Discard
+    saying only "more than 1000000 substeps"). Now the step ends where 10,000 substeps
+    reach: Discard, lastSuccessfulTime there, theta and omega that state's (read with
+    OK); the log gives the speed (the omega read, to the last digit) and the substeps the
+    tolerance would need (more than 10,000), and steps that fit. The next steps, at
+    tau = 1 with the crank still spinning, answer the same. tau = 1e300 discards the step
+    at t = 0, nothing changed, naming omega, alpha and the resolution of the time."""
+    plan = [[1e10, 0.01], [1e10, 0.01], [1.0, 0.01], [1.0, 0.01]]
+    out = host({"job": "steps", "fmu": str(fmus[version]), "steps": plan,
+                "start": {"theta0": THETA0, "omega0": OMEGA0}}, tmp_path)
+    assert out["init"] == OK
+    start = 0.0
+    call = "fmi3DoStep" if version == 3 else "fmi2DoStep"
+    for row in out["rows"]:
+        assert row["status"] == DISCARD
+        assert start < row["last"] < start + 0.01 and math.isfinite(row["theta"])
+        said = row["said"][-1]
+        assert said.startswith(f"{call}: the step from t = {start!r} ends at t = "
+                               f"{row['last']!r} (theta = {row['theta']!r}, omega = "
+                               f"{row['omega']!r}; lastSuccessfulTime)"), said
+        words = re.search(r"10000 substeps, the most one step takes, end there: the crank "
+                          r"turns at omega = (\S+) rad/s, and the tolerance 1e-08 needs "
+                          r"about (\S+) substeps for the whole step \(steps of about (\S+) s "
+                          r"fit\)$", said)
+        assert words, said
+        assert float(words[1]) == row["omega"] and abs(row["omega"]) > 1e6
+        assert float(words[2]) > MAX_SUBSTEPS
+        assert float(words[3]) == pytest.approx(row["last"] - start, rel=0.05)
+        start = row["last"]
+    out = host({"job": "steps", "fmu": str(fmus[version]), "steps": [[1e300, 0.01]],
+                "start": {"theta0": THETA0, "omega0": OMEGA0}}, tmp_path)
+    (row,) = out["rows"]
+    assert (row["status"], row["last"], row["theta"], row["omega"]) == (DISCARD, 0.0, THETA0,
+                                                                       OMEGA0)
+    words = re.search(r"the motion cannot start at t = 0.0 from theta = 0.3, omega = 5.0: at "
+                      r"omega = 5.0 rad/s and alpha = (\S+) rad/s2 the tolerance 1e-08 needs "
+                      r"substeps shorter than the resolution of the time \((\S+) s\)$",
+                      row["said"][-1])
+    assert words, row["said"]
+    j_red = MECH.solve(THETA0, OMEGA0, 0.0)["J_red"]
+    assert float(words[1]) == pytest.approx(1e300 / j_red, rel=1e-6)
+    assert float(words[2]) == pytest.approx(4 * np.finfo(float).eps * 0.01, rel=0.05)
 
 
 @pytest.mark.parametrize("version", (2, 3))
