@@ -186,6 +186,9 @@ class Host:
             value = c_int()
             status = fn["fmi2GetBooleanStatus"](component, a[0], byref(value))
             return status, value.value
+        if op == "lastLog":  # the last message logged since the last lastLog, by any call
+            last, self.last = self.last, None
+            return 0, last
         if op == "statusKinds":  # every status query with each kind: [status, its log]
             answers = {}
             for query, ctype in (("fmi2GetStatus", c_int), ("fmi2GetRealStatus", c_double),

@@ -34,8 +34,8 @@ import jinja2
 
 from .. import __version__
 from ..kernels.c_source import c_literal
-from .variables import (MOTION_STATE, TOLERANCE, Variable, crank_choices, drive_variables,
-                        variables)
+from .variables import (MOTION_STATE, TOLERANCE, Variable, bounds, crank_choices,
+                        drive_variables, variables)
 
 TEMPLATES = Path(__file__).with_name("templates")
 #: unit -> (SI base-unit exponents, display units as (name, factor))
@@ -118,7 +118,7 @@ def _environment(autoescape: bool) -> jinja2.Environment:
                              undefined=jinja2.StrictUndefined)
     env.filters.update(c_string=c_string, c_double=lambda v: c_literal(float(v)),
                        xml_double=lambda v: repr(float(v)), xml_value=_xml_value, py_repr=repr)
-    env.globals.update(TYPES=_TYPES, TYPES3=_TYPES3, RULES=_RULES, kind=_kind)
+    env.globals.update(TYPES=_TYPES, TYPES3=_TYPES3, RULES=_RULES, kind=_kind, bounds=bounds)
     return env
 
 
