@@ -18,7 +18,7 @@ linkage_fmu. Jobs (``job["job"]``), each on the FMU ``job["fmu"]`` with the star
   exitInitializationMode: each status and the log;
 - ``steps``: co-simulation steps ``job["steps"]`` (``[tau, h]`` each), each from the last
   successful time of the one before (a Discard too): per step the status, the last
-  successful time, ``theta``, ``omega``, the CPU time it took (reported, never judged
+  successful time, ``theta`` and ``omega`` with the read's status, the CPU time it took (reported, never judged
   here) and what it logged.
 """
 
@@ -139,8 +139,8 @@ def steps(d, plan):
         cpu = time.process_time()
         status, last = d.step(t, h)
         cpu = time.process_time() - cpu
-        got = d.get(["theta", "omega"])[1] or {}
-        rows.append({"status": status, "last": last, "cpu": cpu, **got,
+        read, got = d.get(["theta", "omega"])
+        rows.append({"status": status, "last": last, "cpu": cpu, "read": read, **(got or {}),
                      "said": [text for _, text in d.log[n:]]})
         t = last
     return rows
