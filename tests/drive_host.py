@@ -15,12 +15,17 @@ linkage_fmu. Jobs (``job["job"]``), each on the FMU ``job["fmu"]`` with the star
   exchange instances);
 - ``exchange``: a model-exchange instance's derivatives at given states;
 - ``strings``: the strings ``job["strings"]`` set in initialisation mode, then
-  exitInitializationMode: each status and the log.
+  exitInitializationMode: each status and the log;
+- ``steps``: co-simulation steps ``job["steps"]`` (``[tau, h]`` each), each from the last
+  successful time of the one before (a Discard too): per step the status, the last
+  successful time, ``theta`` and ``omega`` with the read's status, the CPU time it took (reported, never judged
+  here) and what it logged.
 """
 
 import json
 import math
 import sys
+import time
 from ctypes import byref, c_double, c_int, c_uint, c_void_p
 
 from fmpy import extract, read_model_description
@@ -126,6 +131,21 @@ def run(d, tau, h, stop, outputs):
     return rows
 
 
+def steps(d, plan):
+    rows, t = [], 0.0
+    for tau, h in plan:
+        d.set({"tau": tau})
+        n = len(d.log)
+        cpu = time.process_time()
+        status, last = d.step(t, h)
+        cpu = time.process_time() - cpu
+        read, got = d.get(["theta", "omega"])
+        rows.append({"status": status, "last": last, "cpu": cpu, "read": read, **(got or {}),
+                     "said": [text for _, text in d.log[n:]]})
+        t = last
+    return rows
+
+
 def main():
     with open(sys.argv[1]) as f:
         job = json.load(f)
@@ -195,6 +215,10 @@ def main():
         answers["derivatives fine"] = m.call(get_dx, x, 2)[0]
         out["answers"] = answers
         out["log"] = d.log + m.log
+    elif job["job"] == "steps":
+        d = Drive(unzip, md)
+        out["init"] = d.initialise(job.get("start", {}))
+        out["rows"] = steps(d, job["steps"])
     elif job["job"] == "strings":
         d = Drive(unzip, md)
         if d.v3:

@@ -39,10 +39,12 @@ class Host:
         self.log = {}
         self.keep_log = keep_log
         self.counts = [0] * 6
+        self.last = None  # the last message logged
         self._callbacks = []
 
     def _logger(self, component, instance, status, category, message):
         self.counts[min(status, 5)] += 1
+        self.last = message.decode(errors="replace")
         lst = self.log.setdefault(str(status), [])
         if len(lst) < self.keep_log:
             lst.append(message.decode(errors="replace"))
@@ -184,6 +186,20 @@ class Host:
             value = c_int()
             status = fn["fmi2GetBooleanStatus"](component, a[0], byref(value))
             return status, value.value
+        if op == "lastLog":  # the last message logged since the last lastLog, by any call
+            last, self.last = self.last, None
+            return 0, last
+        if op == "statusKinds":  # every status query with each kind: [status, its log]
+            answers = {}
+            for query, ctype in (("fmi2GetStatus", c_int), ("fmi2GetRealStatus", c_double),
+                                 ("fmi2GetIntegerStatus", c_int),
+                                 ("fmi2GetBooleanStatus", c_int),
+                                 ("fmi2GetStringStatus", c_char_p)):
+                for kind in a[0]:
+                    self.last, value = None, ctype()
+                    status = fn[query](component, kind, byref(value))
+                    answers[f"{query}({kind})"] = [status, self.last]
+            return 0, answers
         if op == "nulls":  # NULL arrays and pointers where the standard wants them
             return 0, [
                 fn["fmi2SetReal"](component, None, 2, None),

@@ -16,7 +16,11 @@ linkage_fmu, so a pythonfmu FMU runs the package it bundles. Jobs (``job["job"]`
   instance (NULL, freed, another instance's, garbage);
 - ``structure`` (FMI 3.0): the dependencies each variable answers before and after
   initialisation, and a run through event mode;
-- ``resources`` (FMI 3.0): instances made with each of a list of resource paths.
+- ``resources`` (FMI 3.0): instances made with each of a list of resource paths;
+- ``huge`` (FMI 3.0): every typed get and set called in step mode with
+  nValueReferences = nValues = 2**31 on a small array whose first entry is unknown (the
+  count past the array must not be read: a read past it is this process's crash), then
+  one valid read.
 """
 
 import json
@@ -24,7 +28,9 @@ import math
 import struct
 import sys
 import zlib
-from ctypes import POINTER, byref, c_int, c_size_t, c_uint, c_void_p, cast
+from ctypes import (CDLL, POINTER, byref, c_bool, c_char_p, c_double, c_float, c_int, c_int8,
+                    c_int16, c_int32, c_int64, c_size_t, c_uint, c_uint8, c_uint16, c_uint32,
+                    c_uint64, c_void_p, cast)
 
 from fmpy import extract, read_model_description
 from fmpy.fmi1 import FMICallException
@@ -382,6 +388,43 @@ def resources_job(job, path, unzip, md, log):
     return {"results": results}
 
 
+#: FMI 3.0's typed get and set functions: (type, the C type of one value)
+TYPES3 = [("Float32", c_float), ("Float64", c_double), ("Int8", c_int8), ("UInt8", c_uint8),
+          ("Int16", c_int16), ("UInt16", c_uint16), ("Int32", c_int32), ("UInt32", c_uint32),
+          ("Int64", c_int64), ("UInt64", c_uint64), ("Boolean", c_bool), ("String", c_char_p),
+          ("Binary", c_void_p), ("Clock", c_bool)]
+
+
+def huge_job(job, path, unzip, md, log):
+    """Each typed get and set with a count of 2**31 over an array of four references whose
+    first is unknown: {call: [status, what it logged]}, and a valid read after them."""
+    s = Slave(path, unzip, md, "a", log)
+    s.initialise({})
+    raw = CDLL(s.s.dll._name)  # fresh function objects: argtypes set here, not fmpy's
+    n = 2 ** 31
+    unknown = max(v.valueReference for v in md.modelVariables) + 1000
+    refs = (c_uint * 4)(unknown, 0, 0, 0)
+    results = {}
+    for name, ctype in TYPES3:
+        for verb in ("Get", "Set"):
+            call = f"fmi3{verb}{name}"
+            f = getattr(raw, call)
+            f.restype = c_int
+            values = (ctype * 4)()
+            args = [c_void_p(s.s.component), refs, c_size_t(n)]
+            if name == "Binary":
+                args.append((c_size_t * 4)())  # valueSizes
+            args.append(values)
+            if name != "Clock":
+                args.append(c_size_t(n))  # nValues
+            k = len(log)
+            status = f(*args)
+            results[call] = [status, " | ".join(m for _, m in log[k:])]
+    outs = [v.valueReference for v in md.modelVariables if v.causality == "output"]
+    after = s.status(s.s.getFloat64, outs[:1])
+    return {"results": results, "after": [after[0], after[1] and after[1][0]]}
+
+
 def main(job):
     path = job["fmu"]
     md = read_model_description(path)
@@ -391,7 +434,7 @@ def main(job):
         return forge_job(job, Slave(path, unzip, md, "a", log, job.get("event_mode", False)),
                          log)
     return {"fresh": fresh_job, "pointers": pointers_job, "structure": structure_job,
-            "resources": resources_job}[job["job"]](job, path, unzip, md, log)
+            "resources": resources_job, "huge": huge_job}[job["job"]](job, path, unzip, md, log)
 
 
 def _plain(x):

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 import shutil
 import subprocess
 import zipfile
@@ -111,6 +112,27 @@ def test_cosimulation_against_the_library(fmus, reference, tau):
         for name in ("F21x", "F43y", "J_red"):
             assert np.max(np.abs(r[name] - sol[name])) <= 1e-12 * np.max(np.abs(sol[name]))
     assert errors[1e-10][0] * 5 <= errors[1e-8][0] and errors[1e-10][1] * 5 <= errors[1e-8][1]
+
+
+@pytest.mark.parametrize("version", (2, 3))
+def test_fmpys_defaults_meet_the_default_tolerance(fmus, version):
+    """``fmpy.simulate_fmu(fmu)`` with every default: fmpy steps at the default
+    experiment's ``stepSize`` (it ignores ``step_size`` in co-simulation), declared a
+    round 1 ms (a degree of the revolution at 10 rad/s is 1.75 ms), with the tolerance
+    1e-8 of the parameter ``tolerance``; the run, one revolution at the start speed
+    under tau = 0 from theta = 0, agrees with ``Mechanism.simulate`` at 1e-13 within
+    that tolerance of 1 + |value| for theta and omega (measured 2.1e-11 and 4.1e-10)."""
+    from fmpy import read_model_description
+
+    experiment = read_model_description(str(fmus[version])).defaultExperiment
+    assert (float(experiment.stepSize), float(experiment.tolerance)) == (1e-3, 1e-8)
+    assert float(experiment.stopTime) == 2 * math.pi / MECH.start["omega"]
+    result = simulate_fmu(str(fmus[version]), fmi_type="CoSimulation", step_size=1e-4)
+    t = result["time"]
+    assert len(t) == 630 and np.allclose(np.diff(t[:-1]), 1e-3, rtol=1e-9, atol=0)
+    ref = MECH.simulate(0.0, t, rtol=1e-13, atol=1e-13)
+    assert relative_error(result, ref, "theta") <= 1e-8
+    assert relative_error(result, ref, "omega") <= 1e-8
 
 
 def test_fmi3_cosimulation_is_fmi2s(fmus):
@@ -244,6 +266,57 @@ def test_discard_at_the_assembly_limit(fmus, tmp_path, version):
     assert last["read"] == OK and all(math.isfinite(last[n]) for n in ("alpha", "F21x"))
     assert last["J_red"] > 1e6 * rows[0]["J_red"]
     assert "cannot be assembled" in out["log"][-1][1] and "lastSuccessfulTime" in out["log"][-1][1]
+
+
+#: the most substeps one doStep takes (``MAX_SUBSTEPS`` in fmi/continuous.c)
+MAX_SUBSTEPS = 1000
+
+
+@pytest.mark.parametrize("version", (2, 3))
+def test_a_step_takes_a_bounded_number_of_substeps(fmus, tmp_path, version):
+    """tau = 1e10 spins the crank to 2e7 rad/s within 45 microseconds: a step of 10 ms
+    would need millions of substeps (each doStep took a million, 0.35-0.67 s, then a Discard
+    saying only "more than 1000000 substeps"). Now the step ends where 1000 substeps
+    reach: Discard, lastSuccessfulTime there, theta and omega that state's (read with
+    OK); the log gives the speed (the omega read, to the last digit) and the substeps the
+    tolerance would need (more than 1000), and steps that fit. The next steps, at
+    tau = 1 with the crank still spinning, answer the same. tau = 1e300 discards the step
+    at t = 0, nothing changed, naming omega, alpha and the resolution of the time."""
+    plan = [[1e10, 0.01], [1e10, 0.01], [1.0, 0.01], [1.0, 0.01]]
+    out = host({"job": "steps", "fmu": str(fmus[version]), "steps": plan,
+                "start": {"theta0": THETA0, "omega0": OMEGA0}}, tmp_path)
+    assert out["init"] == OK
+    start = 0.0
+    call = "fmi3DoStep" if version == 3 else "fmi2DoStep"
+    for row in out["rows"]:
+        assert row["status"] == DISCARD and row["read"] == OK
+        assert start < row["last"] < start + 0.01 and math.isfinite(row["theta"])
+        said = row["said"][-1]
+        assert said.startswith(f"{call}: the step from t = {start!r} ends at t = "
+                               f"{row['last']!r} (theta = {row['theta']!r}, omega = "
+                               f"{row['omega']!r}; lastSuccessfulTime)"), said
+        words = re.search(r"1000 substeps, the most one step takes, end there: the crank "
+                          r"turns at omega = (\S+) rad/s, and the tolerance 1e-08 needs "
+                          r"about (\S+) substeps for the whole step \(steps of about (\S+) s "
+                          r"fit\)$", said)
+        assert words, said
+        assert float(words[1]) == row["omega"] and abs(row["omega"]) > 1e6
+        assert float(words[2]) > MAX_SUBSTEPS
+        assert float(words[3]) == pytest.approx(row["last"] - start, rel=0.05)
+        start = row["last"]
+    out = host({"job": "steps", "fmu": str(fmus[version]), "steps": [[1e300, 0.01]],
+                "start": {"theta0": THETA0, "omega0": OMEGA0}}, tmp_path)
+    (row,) = out["rows"]
+    assert (row["status"], row["last"], row["theta"], row["omega"]) == (DISCARD, 0.0, THETA0,
+                                                                       OMEGA0)
+    words = re.search(r"the motion cannot start at t = 0.0 from theta = 0.3, omega = 5.0: at "
+                      r"omega = 5.0 rad/s and alpha = (\S+) rad/s2 the tolerance 1e-08 needs "
+                      r"substeps shorter than the resolution of the time \((\S+) s\)$",
+                      row["said"][-1])
+    assert words, row["said"]
+    j_red = MECH.solve(THETA0, OMEGA0, 0.0)["J_red"]
+    assert float(words[1]) == pytest.approx(1e300 / j_red, rel=1e-6)
+    assert float(words[2]) == pytest.approx(4 * np.finfo(float).eps * 0.01, rel=0.05)
 
 
 @pytest.mark.parametrize("version", (2, 3))

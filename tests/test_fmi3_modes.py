@@ -11,6 +11,10 @@ run time, for the native and the pythonfmu FMUs, each driven from a fresh proces
   modelDescription's ``<ModelStructure>`` (parsed by fmpy) declares: an output's
   ``InitialUnknown`` dependencies before ExitInitializationMode, its ``Output`` ones after,
   kind ``dependent``; nothing for inputs, parameters and ``time``.
+- Every typed get and set (Float32 to Clock) with nValueReferences = nValues = 2**31 over
+  an array of four references whose first is unknown answers Error naming entry 0, and
+  reads nothing past it: the host (a fresh process) lives, and a valid read after them
+  answers OK with the direct solver's value to 1e-12.
 """
 
 from __future__ import annotations
@@ -20,7 +24,7 @@ from fmpy import read_model_description
 
 from linkage_fmu.fmi import build_fmu, build_native_fmu
 
-from test_fmu_states import assert_outputs, host, inputs, parameters
+from test_fmu_states import assert_outputs, direct, host, inputs, parameters
 
 FMUS = {"native-four_bar": ("native", "four_bar"), "native-six_bar": ("native", "six_bar"),
         "pythonfmu-four_bar": ("pythonfmu", "four_bar")}
@@ -72,3 +76,32 @@ def test_event_mode_where_the_importer_uses_it(fmus, key, tmp_path):
         assert r["last"] == pytest.approx(0.1 * (k + 1), abs=1e-15)
         assert_outputs(flavour, r["event"], params, row)
         assert_outputs(flavour, r["step"], params, row)
+
+
+@pytest.fixture(scope="module")
+def four_bars(tmp_path_factory):
+    out = tmp_path_factory.mktemp("fmi3-four_bar")
+    return {flavour: (build_native_fmu if flavour == "native" else build_fmu)(
+        "four_bar", out / flavour, fmi_version=3) for flavour in ("native", "pythonfmu")}
+
+
+TYPES3 = ("Float32", "Float64", "Int8", "UInt8", "Int16", "UInt16", "Int32", "UInt32", "Int64",
+          "UInt64", "Boolean", "String", "Binary", "Clock")
+
+
+@pytest.mark.parametrize("flavour", ["native", "pythonfmu"])
+def test_a_count_past_the_array_stops_at_its_first_unknown_reference(four_bars, flavour,
+                                                                      tmp_path):
+    md = read_model_description(str(four_bars[flavour]))
+    unknown = max(v.valueReference for v in md.modelVariables) + 1000
+    out = host({"job": "huge", "fmu": str(four_bars[flavour])}, tmp_path)
+    calls = [f"fmi3{verb}{t}" for t in TYPES3 for verb in ("Get", "Set")]
+    assert sorted(out["results"]) == sorted(calls)
+    for call in calls:
+        assert out["results"][call] == [3, f"{call}: value reference {unknown} (entry 0) is "
+                                        "not a variable of FourBar"], call
+    first = next(v.name for v in md.modelVariables if v.causality == "output")
+    start = {v.name: float(v.start) for v in md.modelVariables if v.causality == "input"}
+    expected = direct({}, [start[n] for n in ("theta", "omega", "alpha", "load")])[first]
+    assert out["after"][0] == 0
+    assert out["after"][1] == pytest.approx(expected, rel=1e-12, abs=1e-12)

@@ -18,9 +18,10 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 from fmpy import read_model_description
 
-from conftest import MODELS
+from conftest import FLAVOURS, MODELS
 from linkage_fmu import presets
 
 HOST = Path(__file__).with_name("fmu_raw_host.py")
@@ -191,6 +192,98 @@ def test_the_state_machine_is_enforced(fmu2, tmp_path):
                                  OK, OK, ERROR, ERROR, OK, OK, ERROR, OK, OK, OK, OK]
     assert r[9][1] == [0.11]  # the fixed parameter kept its initialisation value
     assert r[11][1] == 0 and r[12][1] == 0.25
+
+
+@pytest.fixture(scope="module", params=FLAVOURS)
+def four_bar2(request, tmp_path_factory) -> Path:
+    """The folder of the four-bar's FMI 2.0 FMU of one flavour, built for this module."""
+    from linkage_fmu.fmi import build_fmu, build_native_fmu
+
+    out = tmp_path_factory.mktemp(f"four_bar-{request.param}")
+    (build_fmu if request.param == "pythonfmu" else build_native_fmu)("four_bar", out)
+    return out
+
+
+#: fmi2StatusKind: DoStepStatus, PendingStatus, LastSuccessfulTime, Terminated
+KINDS = {0: "fmi2DoStepStatus", 1: "fmi2PendingStatus", 2: "fmi2LastSuccessfulTime",
+         3: "fmi2Terminated"}
+
+
+def test_every_status_kind_that_cannot_be_retrieved_is_discard_with_a_log(four_bar2, tmp_path):
+    """FMI 2.0 (4.2.3): 'if a status is required which cannot be retrieved by the slave it
+    returns fmi2Discard'. Kind -1 used to answer Error with no log from fmi2GetStatus, its
+    Integer and its String variants, and every other kind Discard with a log: now every
+    kind but fmi2LastSuccessfulTime (Real) and fmi2Terminated (Boolean) is Discard, from
+    every query, with one log naming the call and the kind."""
+    kinds = [-1, *KINDS, 4, 7, 2 ** 31 - 1, -2 ** 31]
+    ops = start(dist=four_bar2) + [["a", "doStep", 0.0, 0.25], ["a", "statusKinds", kinds]]
+    answers = raw(four_bar2, ops, tmp_path)["results"][-1][1]
+    queries = ("fmi2GetStatus", "fmi2GetRealStatus", "fmi2GetIntegerStatus",
+               "fmi2GetBooleanStatus", "fmi2GetStringStatus")
+    assert sorted(answers) == sorted(f"{q}({k})" for q in queries for k in kinds)
+    given = {("fmi2GetRealStatus", 2), ("fmi2GetBooleanStatus", 3)}
+    for q in queries:
+        for k in kinds:
+            status, said = answers[f"{q}({k})"]
+            if (q, k) in given:
+                assert (status, said) == (OK, None), (q, k)
+                continue
+            assert status == DISCARD, (q, k, status)
+            name = f" ({KINDS[k]})" if k in KINDS else ""
+            assert said.startswith(f"{q}: status kind {k}{name} cannot be retrieved: "), said
+
+
+@pytest.fixture(scope="module")
+def four_bar_drive(tmp_path_factory) -> Path:
+    """The folder of the four-bar's drive FMU (FMI 2.0), built for this module."""
+    from linkage_fmu.fmi import build_native_fmu
+
+    out = tmp_path_factory.mktemp("four_bar-drive")
+    build_native_fmu("four_bar", out, drive=True)
+    return out
+
+
+@pytest.mark.parametrize("which", ["four_bar", "drive"])
+def test_a_value_just_outside_a_declared_bound_is_refused(four_bar2, four_bar_drive, which,
+                                                          tmp_path):
+    """Every ``min`` and ``max`` the modelDescription declares (read by fmpy), the
+    next float64 outside it (the next integer for an Integer) set in initialisation
+    mode: the set or exitInitializationMode answers Error, and the log names the
+    parameter; at the bound itself, no log names the parameter's rule. Both flavours
+    of the four-bar, and its drive FMU (tolerance in [1e-14, 0.1], drive +1 or -1)."""
+    dist = four_bar2 if which == "four_bar" else four_bar_drive
+    model = "FourBar" if which == "four_bar" else "FourBarDrive"
+    md = read_model_description(str(dist / f"{model}.fmu"))
+    cases = []
+    for v in md.modelVariables:
+        if v.causality != "parameter":
+            continue
+        for bound, sign in ((v.min, -1), (v.max, 1)):
+            if bound is None:
+                continue
+            if v.type == "Integer":
+                cases.append((v, int(bound), int(bound) + sign))
+            else:
+                cases.append((v, float(bound), math.nextafter(float(bound), sign * math.inf)))
+    assert len(cases) >= (20 if which == "four_bar" else 22)
+    ops = []
+    for k, (v, at, outside) in enumerate(cases):
+        op = "setInteger" if v.type == "Integer" else "setReal"
+        for value in (outside, at):
+            name = f"{k}-{value!r}"
+            ops += [[name, "new", model], [name, "setup", 0.0, None], [name, "enter"],
+                    [name, op, [v.valueReference], [value]], [name, "exit"],
+                    [name, "lastLog"], [name, "free"]]
+    results = raw(dist, ops, tmp_path, models=(model,))["results"]
+    for k, (v, at, outside) in enumerate(cases):
+        (_, _), (_, _), (_, _), (set_out, _), (exit_out, _), (_, said), _ = \
+            results[14 * k: 14 * k + 7]
+        assert ERROR in (set_out, exit_out), (v.name, outside)
+        assert f"{v.name} must be" in said, (v.name, outside, said)
+        (set_at, _), (exit_at, _), (_, said_at) = (results[14 * k + 10], results[14 * k + 11],
+                                                   results[14 * k + 12])
+        assert set_at == OK and f"{v.name} must be" not in (said_at or ""), (v.name, at,
+                                                                             said_at)
 
 
 def test_an_invalid_parameter_set_fails_exit_initialization_until_it_is_fixed(fmu2, tmp_path):

@@ -6,7 +6,8 @@
  * a message is doubled; its memory functions), SetupExperiment before
  * EnterInitializationMode, the status queries fmi2Terminated (true after a discarded
  * step, until a step succeeds: fmpy then ends a run instead of retrying the same inputs
- * for ever) and fmi2LastSuccessfulTime, and the resource location as a file URI.
+ * for ever) and fmi2LastSuccessfulTime (every other kind is fmi2Discard, as 4.2.3 says of
+ * a status the slave cannot give), and the resource location as a file URI.
  */
 #include "fmi2Functions.h"
 #include "framework.h"
@@ -143,19 +144,39 @@ fmi2Status fmi2CancelStep(fmi2Component c) {
                                  "returns fmi2Pending");
 }
 
-/* -- status queries ------------------------------------------------------------------ */
-/* One status query: the instance if `kind` is `known` and `value` is given, else NULL
- * with the call's answer in *status. */
+/* -- status queries ------------------------------------------------------------------
+ * Two statuses can be retrieved: fmi2LastSuccessfulTime (a Real) and fmi2Terminated (a
+ * Boolean). Every other kind, or a known kind asked of the other functions, is a status
+ * this slave cannot give, which FMI 2.0 (4.2.3) answers with fmi2Discard: the same answer,
+ * with a log naming the kind and why, whatever the kind's number (-1 included). */
+static const char *status_kind_name(int kind) {
+    static const char *const NAMES[] = {"fmi2DoStepStatus", "fmi2PendingStatus",
+                                        "fmi2LastSuccessfulTime", "fmi2Terminated"};
+    return kind >= 0 && kind < 4 ? NAMES[kind] : NULL;
+}
+
+/* The instance if `kind` is the one status `known` of the call (-1: none) and `value` is
+ * given, else NULL with the call's answer in *status. */
 static Instance *query(fmi2Component c, const char *call, int kind, int known, const void *value,
                        fmi2Status *status) {
     Instance *in = lk_instance(c, call);
     *status = fmi2Error;
     if (!in) return NULL;
-    if (!value) say(in, LK_ERROR, "%s: value is NULL", call);
-    else if (kind != known)
-        *status = (fmi2Status)say(in, LK_DISCARD, "%s: this status is not known (only "
-                                  "fmi2LastSuccessfulTime and fmi2Terminated are)", call);
-    return value && kind == known ? in : NULL;
+    if (!value) {
+        say(in, LK_ERROR, "%s: value is NULL", call);
+        return NULL;
+    }
+    if (known >= 0 && kind == known) return in;
+    const char *name = status_kind_name(kind);
+    const char *why = !name ? "it is not an fmi2StatusKind"
+                      : kind <= 1 ? "doStep never returns fmi2Pending"
+                      : kind == 2 ? "fmi2LastSuccessfulTime is fmi2GetRealStatus's"
+                                  : "fmi2Terminated is fmi2GetBooleanStatus's";
+    *status = (fmi2Status)say(in, LK_DISCARD, "%s: status kind %d%s%s%s cannot be retrieved: %s "
+                              "(this slave gives fmi2LastSuccessfulTime and fmi2Terminated)",
+                              call, kind, name ? " (" : "", name ? name : "", name ? ")" : "",
+                              why);
+    return NULL;
 }
 
 fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind s, fmi2Status *value) {

@@ -208,21 +208,28 @@ static Status require(const Instance *in, const char *call, unsigned allowed) {
     return say(in, LK_ERROR, "%s is not allowed in state %s", call, MACHINE_NAMES[in->machine]);
 }
 
+/* Entry `i` of a call's value references, `vr`: a variable of `type`, or Error. */
+static Status check_ref(const Instance *in, const char *call, ValueReference vr, size_t i,
+                        int type, const char *type_name) {
+    if (vr >= N_VARIABLES || !VARIABLES[vr].name)
+        return say(in, LK_ERROR, "%s: value reference %u (entry %zu) is not a variable of "
+                   MODEL_IDENTIFIER, call, (unsigned)vr, i);
+    if (VARIABLES[vr].type != type)
+        return say(in, LK_ERROR, "%s: value reference %u ('%s') is a %s, not a %s", call,
+                   (unsigned)vr, VARIABLES[vr].name, TYPE_NAMES[VARIABLES[vr].type], type_name);
+    return LK_OK;
+}
+
+/* Each reference is checked before the next is read: the count is the caller's word, and
+ * a count past its array ends at the first entry that is not a variable of `type`. */
 static Status check_refs(const Instance *in, const char *call, const ValueReference vr[],
                          size_t nvr, const void *values, int type, const char *type_name) {
     if (nvr == 0) return LK_OK;
     if (!vr || !values)
         return say(in, LK_ERROR, "%s: %s is NULL with %zu value references", call,
                    !vr ? "the value reference array" : "the value array", nvr);
-    for (size_t i = 0; i < nvr; i++) {
-        if (vr[i] >= N_VARIABLES || !VARIABLES[vr[i]].name)
-            return say(in, LK_ERROR, "%s: value reference %u (entry %zu) is not a variable of "
-                       MODEL_IDENTIFIER, call, (unsigned)vr[i], i);
-        if (VARIABLES[vr[i]].type != type)
-            return say(in, LK_ERROR, "%s: value reference %u ('%s') is a %s, not a %s", call,
-                       (unsigned)vr[i], VARIABLES[vr[i]].name,
-                       TYPE_NAMES[VARIABLES[vr[i]].type], type_name);
-    }
+    for (size_t i = 0; i < nvr; i++)
+        if (check_ref(in, call, vr[i], i, type, type_name)) return LK_ERROR;
     return LK_OK;
 }
 

@@ -84,6 +84,39 @@ class Variable:
     discrete: bool = False
 
 
+#: the smallest positive float64: the inclusive ``min`` that says ``> 0``
+SMALLEST_POSITIVE = math.nextafter(0.0, 1.0)
+
+
+def bounds(v: Variable) -> tuple[float | None, float | None]:
+    """The ``min`` and ``max`` a modelDescription declares for ``v`` (``None``: none):
+    those of the rule the FMU's validation enforces (``config.h`` holds the same
+    ``rule``, ``minimum``, ``maximum`` and ``allowed``), inclusive as FMI's are: ``> 0``
+    is ``min`` the smallest positive float64, ``>= 0`` is ``min`` 0, ``+1 or -1`` is
+    [-1, 1] (the values between are refused too), an Integer's allowed values give
+    their least and greatest; a String has none.
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets
+    >>> table = {v.name: v for v in drive_variables(presets.get("four_bar"))}
+    >>> [bounds(table[n]) for n in ("l_AB", "m1", "mu_A", "beta1", "branch", "tolerance")]
+    [(5e-324, None), (0.0, None), (0.0, None), (None, None), (-1, 1), (1e-14, 0.1)]
+    """
+    if v.type == "Integer" and v.allowed:
+        return min(v.allowed), max(v.allowed)
+    if v.type != "Real" or v.causality != "parameter":
+        return None, None
+    low, high = v.minimum, v.maximum
+    if v.rule == "> 0":
+        low = max(low, SMALLEST_POSITIVE)
+    elif v.rule == ">= 0":
+        low = max(low, 0.0)
+    elif v.rule == "+1 or -1":
+        low, high = max(low, -1.0), min(high, 1.0)
+    return (low if math.isfinite(low) else None), (high if math.isfinite(high) else None)
+
+
 def _one_of(options) -> str:
     return "one of " + ", ".join(repr(str(o)) for o in options)
 

@@ -34,7 +34,8 @@ import jinja2
 
 from .. import __version__
 from ..kernels.c_source import c_literal
-from .variables import MOTION_STATE, Variable, crank_choices, drive_variables, variables
+from .variables import (MOTION_STATE, TOLERANCE, Variable, bounds, crank_choices,
+                        drive_variables, variables)
 
 TEMPLATES = Path(__file__).with_name("templates")
 #: unit -> (SI base-unit exponents, display units as (name, factor))
@@ -117,7 +118,7 @@ def _environment(autoescape: bool) -> jinja2.Environment:
                              undefined=jinja2.StrictUndefined)
     env.filters.update(c_string=c_string, c_double=lambda v: c_literal(float(v)),
                        xml_double=lambda v: repr(float(v)), xml_value=_xml_value, py_repr=repr)
-    env.globals.update(TYPES=_TYPES, TYPES3=_TYPES3, RULES=_RULES, kind=_kind)
+    env.globals.update(TYPES=_TYPES, TYPES3=_TYPES3, RULES=_RULES, kind=_kind, bounds=bounds)
     return env
 
 
@@ -128,6 +129,25 @@ def _stop(mech) -> float:
     """A revolution at the start speed (1 s for a linkage that starts at rest)."""
     w0 = abs(mech.start["omega"])
     return 2.0 * math.pi / w0 if w0 else 1.0
+
+
+def drive_step(stop: float) -> float:
+    """The drive FMU's default communication step for a run of ``stop`` seconds: the
+    largest 1, 2 or 5 times a power of ten not above ``stop / 360`` (a degree of the
+    revolution at the start speed), so that an importer's default grid (fmpy's
+    ``simulate_fmu`` samples at the default experiment's ``stepSize``) has round times.
+
+    The integrator holds its own substeps to ``tolerance`` whatever the step; inputs are
+    held over a step, so a varying ``tau`` needs steps as short as its variation asks.
+
+    Examples
+    --------
+    >>> drive_step(2 * 3.141592653589793 / 10), drive_step(1.0), drive_step(0.02)
+    (0.001, 0.002, 5e-05)
+    """
+    fine = stop / 360.0
+    power = 10.0 ** math.floor(math.log10(fine))
+    return max(m * power for m in (1, 2, 5) if m * power <= fine * (1 + 1e-12))
 
 
 def dependencies(table: list[Variable]) -> tuple[dict, dict]:
@@ -187,6 +207,8 @@ def model_description(mech, flavour: str, fmi_version: int, guid: str,
         now=datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
         sources=sources, units=UNITS.items() if fmi_version == 2 else
         {**UNITS, "s": ({"s": 1}, [])}.items(), categories=LOG_CATEGORIES, stop=_stop(mech),
+        step=drive_step(_stop(mech)) if drive else _stop(mech) / 360.0,
+        tolerance=TOLERANCE if drive else None,
         variables=list(enumerate(table)), depends=depends, initial=initial).encode("utf-8")
 
 
