@@ -181,3 +181,60 @@ def test_an_overflow_names_the_load_values_of_the_state():
     with pytest.raises(OverflowInputError, match=r"load = 7.0, F_spring = 500.0 \(over the "
                                                  r"cycle\)"):
         d.build().solve(0.0, 1e160, 0.0, 7.0)
+
+
+def test_a_parameter_whose_arithmetic_overflows_is_the_librarys_error():
+    """The four-bar with l_CD = 1e308: (l_BC + l_CD)**2 overflows Python's float (an
+    OverflowError, where C and numpy give inf). Every method raises the library's
+    OverflowInputError, a ValueError naming the overflow and the parameter; an array
+    solve marks every state OVERFLOW with NaN outputs; the FMUs' call gives the reason."""
+    from linkage_fmu import OverflowInputError
+    from linkage_fmu.solver import METHODS, OVERFLOW
+
+    mech = presets.get("four_bar", l_CD=1e308)
+    for method in METHODS:
+        with pytest.raises(OverflowInputError, match=r"overflows float64 at theta = 0.5, "
+                           r"omega = 10.0.*parameter l_CD = 1e\+308") as err:
+            mech.solve(0.5, omega=10.0, method=method)
+        assert isinstance(err.value, ValueError)
+        sol = mech.solve(np.array([0.5, 2.0]), omega=10.0, method=method)
+        assert not sol.valid.any() and np.isnan(sol["Mb"]).all()
+        assert sol.status.tolist() == [OVERFLOW, OVERFLOW]
+        assert sol.problems[OVERFLOW].reason.kind == "overflow"
+        assert mech.solver.attempt([0.5, 10.0, 0.0, 0.0], None, method).text == \
+            "the outputs overflow float64: an input is too large in magnitude"
+
+
+def test_a_singular_matrix_in_the_direct_method_is_the_librarys_error():
+    """The slotted lever with mu_slot = 1e308: the direct method's Jacobian became
+    exactly singular and numpy.linalg.LinAlgError escaped, where the closed form
+    raises OverflowInputError. Now every method raises that, and an array solve by the
+    direct method marks the states OVERFLOW instead of failing the whole batch."""
+    from linkage_fmu import OverflowInputError
+    from linkage_fmu.solver import METHODS, OVERFLOW
+
+    mech = presets.get("slotted_lever", mu_slot=1e308)
+    for method in METHODS:
+        with pytest.raises(OverflowInputError, match="the outputs overflow float64 at "
+                                                     "theta = 0.3"):
+            mech.solve(0.3, omega=10.0, method=method)
+    sol = mech.solve(np.array([0.3, 2.3]), omega=10.0, method="direct")
+    assert sol.status.tolist() == [OVERFLOW, OVERFLOW] and np.isnan(sol["Mb"]).all()
+
+
+@pytest.mark.parametrize("name, parameter", [("scotch_yoke", "J3"), ("slotted_lever", "J2")])
+def test_a_non_finite_diagnostic_is_no_solution(name, parameter):
+    """ScotchYoke with J3 = 1e308 gave dJ_red = NaN, SlottedLever with J2 = 1e308
+    dJ_red = -inf, as a valid solution: every output counts, diagnostics included
+    (only eta may be NaN at a solved state, where no power enters). Both are the
+    overflow error for every method, at rest too, and OVERFLOW over arrays."""
+    from linkage_fmu import OverflowInputError
+    from linkage_fmu.solver import METHODS, OVERFLOW
+
+    mech = presets.get(name, **{parameter: 1e308})
+    for method in METHODS:
+        for omega in (0.0, 10.0):
+            with pytest.raises(OverflowInputError, match=rf"parameter {parameter} = 1e\+308"):
+                mech.solve(0.5, omega=omega, method=method)
+        sol = mech.solve(np.array([0.5, 2.0]), omega=10.0, method=method)
+        assert sol.status.tolist() == [OVERFLOW, OVERFLOW]
