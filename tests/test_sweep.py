@@ -259,3 +259,17 @@ def test_a_parameter_set_the_parameter_step_cannot_build(preset, parameter):
     assert fused.loc[0, "unassembled"] == THETA.size and not fused.loc[0, "valid"]
     assert math.isnan(fused.loc[0, f"{mech.effort.name}_peak"])
     assert fused.loc[1, "valid"] and fused.loc[1, "problem"] == ""
+
+
+def test_a_design_whose_outputs_overflow_is_invalid_with_a_reason():
+    """The slotted lever with mu_slot = 1e308 assembles and is not locked at any angle,
+    but its outputs overflow at every one: its row said valid, with NaN summaries and no
+    reason. Now it is invalid and says why, in the C's table and numpy's alike (as the
+    library's solve raises OverflowInputError there); the default beside it is valid."""
+    designs = {"mu_slot": [1e308, 0.3]}
+    for fused in (True, False):
+        table = sweep("slotted_lever", designs, THETA, 10.0, fused=fused)
+        assert not table.loc[0, "valid"], fused
+        assert table.loc[0, "problem"] == ("the outputs overflow float64: a parameter is too "
+                                           "large in magnitude"), fused
+        assert table.loc[1, "valid"] and table.loc[1, "problem"] == "", fused

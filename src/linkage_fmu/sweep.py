@@ -169,7 +169,24 @@ def sweep(source, designs: pd.DataFrame | Mapping[str, Sequence], theta=None,
     else:
         parts = _on_dask(scheduler, args)
     table = pd.concat(parts, ignore_index=True)
+    _overflowing(table, f"{mech.effort.name}_peak")
     return pd.concat([designs, table], axis=1)
+
+
+#: why a design that assembles at every angle has no finite balancing effort
+OVERFLOW = "the outputs overflow float64: a parameter is too large in magnitude"
+
+
+def _overflowing(table: pd.DataFrame, peak: str) -> None:
+    """Mark invalid, saying why, the designs called valid whose balancing effort's
+    ``peak`` is not finite: their arithmetic overflows (``mu_slot = 1e308``), where a
+    valid row used to hold NaN summaries and no reason."""
+    if peak not in table:
+        return
+    bad = table["valid"].to_numpy(bool) & ~np.isfinite(table[peak].to_numpy(float))
+    if bad.any():
+        table.loc[bad, "valid"] = False
+        table.loc[bad, "problem"] = OVERFLOW
 
 
 def _on_dask(scheduler, args: list) -> list:
