@@ -206,20 +206,31 @@ def test_a_parameter_whose_arithmetic_overflows_is_the_librarys_error():
 
 
 def test_a_singular_matrix_in_the_direct_method_is_the_librarys_error():
-    """The slotted lever with mu_slot = 1e308: the direct method's Jacobian became
-    exactly singular and numpy.linalg.LinAlgError escaped, where the closed form
-    raises OverflowInputError. Now every method raises that, and an array solve by the
-    direct method marks the states OVERFLOW instead of failing the whole batch."""
-    from linkage_fmu import OverflowInputError
-    from linkage_fmu.solver import METHODS, OVERFLOW
+    """The slider-crank with l_AB = 1e308 by the direct method (the issue saw
+    numpy.linalg.LinAlgError escape): the library's SingularPositionError for every
+    method, saying what both FMU flavours log. A LinAlgError from inside the direct
+    method (an exactly singular Jacobian of the friction's Newton steps: mocked here, as
+    no coefficient of friction up to the largest taken makes one) is the library's
+    error too, not numpy's; and the batched solve gives NaN for an exactly singular
+    state, the others as numpy solves them alone (1e-15)."""
+    from linkage_fmu.solver import METHODS, STATE_ERRORS
 
-    mech = presets.get("slotted_lever", mu_slot=1e308)
+    mech = presets.get("slider_crank", l_AB=1e308)
     for method in METHODS:
-        with pytest.raises(OverflowInputError, match="the outputs overflow float64 at "
-                                                     "theta = 0.3"):
-            mech.solve(0.3, omega=10.0, method=method)
-    sol = mech.solve(np.array([0.3, 2.3]), omega=10.0, method="direct")
-    assert sol.status.tolist() == [OVERFLOW, OVERFLOW] and np.isnan(sol["Mb"]).all()
+        with pytest.raises(SingularPositionError) as err:
+            mech.solve(0.5, omega=10.0, method=method)
+        assert err.value.reason.text == ("the linkage is at a singular position: the dyad at "
+                                         "B is at a toggle")
+    rubbing = presets.get("slider_crank", mu_guide=0.1)
+    with mock.patch.object(friction.kinetostatics, "_solve",
+                           side_effect=np.linalg.LinAlgError("Singular matrix")):
+        with pytest.raises(STATE_ERRORS):
+            rubbing.solve(0.5, omega=10.0, method="direct")
+    A = np.array([[[2.0, 1.0], [1.0, 3.0]], [[1.0, 2.0], [2.0, 4.0]]])
+    b = np.array([[1.0, 2.0], [1.0, 1.0]])
+    x = kinetostatics._solve(A, b)
+    np.testing.assert_allclose(x[0], np.linalg.solve(A[0], b[0]), rtol=1e-15)
+    assert np.isnan(x[1]).all()
 
 
 @pytest.mark.parametrize("name, parameter", [("scotch_yoke", "J3"), ("slotted_lever", "J2")])

@@ -211,3 +211,26 @@ def test_an_output_without_a_finite_value_is_a_warning(flavours, tmp_path):
     assert reference["log"] == [
         [WARNING, "fmi2GetReal: output eta has no finite value at the inputs theta = 0.5, "
                   "omega = 0.0, alpha = 0.0, load = 0.0 at t = 0.1: it reads nan"]]
+
+
+def test_a_coefficient_of_friction_beyond_the_largest_taken_is_refused_alike(flavours,
+                                                                            tmp_path):
+    """ScotchYoke with mu_guide = 1e308 stepped OK in the native FMU (its guide's normal
+    force is 0 up to rounding, times 1e308) where the library's methods disagreed. Every
+    coefficient of friction above 1000 (parameters.MU_MAX) is refused: the same Error
+    and log from every flavour, then fixed, the instance goes on."""
+    calls = [("enter", ()), ("set", ("mu_guide", 1e308)), ("outputs", ()), ("exit", ()),
+             ("set", ("mu_guide", 1000.0)), ("exit", ()), ("inputs", (0.5, 10.0, 0.0, 0.0)),
+             ("step", (0.0, 0.1)), ("terminate", ())]
+    runs = {name: answers_to(folder / "ScotchYoke.fmu", calls, tmp_path)
+            for name, folder in flavours.items() if (folder / "ScotchYoke.fmu").exists()}
+    assert len(runs) >= 3
+    why = ("the parameter set is invalid: mu_guide must be <= 1000.0 (coefficient of friction "
+           "in the prismatic pair guide (links 4 and 3)), got 1e+308")
+    for name, run in runs.items():
+        assert [status for _, status, _ in run["answers"]] == [
+            OK, OK, WARNING, ERROR, OK, OK, OK, OK, OK], name
+        assert run["log"] == [
+            [WARNING, f"fmi2GetReal: {why}; the outputs are NaN"],
+            [ERROR, f"fmi2ExitInitializationMode: {why}; the instance stays in "
+                    "initialisation mode until it is fixed"]], name
