@@ -203,14 +203,16 @@ def test_a_force_at_a_point_not_on_its_body_is_refused(tmp_path):
     """A force on the four-bar's coupler (body 2) at the frame pivot D of the rocker was
     taken silently and changed Mb (10.46 to 5.43 N m): D is a point of the rocker and
     the frame, not of the coupler. Refused, naming the load, the point and the body:
-    from the Python API (a Load given to a Mechanism), a description and its file."""
+    from the Python API (a Load given to a Mechanism), a description, and its file (as a
+    problem of the file, named with it)."""
     words = r"load F_c acts on body 2 at point D, which is not a point of body 2"
     with pytest.raises(ValueError, match=words):
         _four_bar_with("2", "D").build()
     path = tmp_path / "off_body.toml"
     path.write_text(_four_bar_with("2", "D").to_toml())
-    with pytest.raises(ValueError, match=words):
-        Description.read(path).build()
+    with pytest.raises(DescriptionError, match=rf"off_body.toml: 1 problem:\n  \[\[loads\]\] "
+                                               rf"#2 \(F_c\) at: {words} \(its points: B, C\)"):
+        Description.read(path)
     base = presets.get("four_bar")
     from linkage_fmu import Mechanism
     from linkage_fmu.loads import Load
