@@ -333,8 +333,9 @@ def check(plan: Plan, results: list) -> Counter:
             elif fragile:
                 tally["ill-conditioned, not compared"] += 1
             else:
-                assert status == OK, (i, u, status)
                 ref = np.array(values)
+                # eta has no value where no power enters: a read of it warns, others are OK
+                assert status == (WARNING if np.isnan(ref).any() else OK), (i, u, status)
                 scale = np.maximum(np.abs(ref), 1e-3 * np.nanmax(np.abs(ref[:-1])))
                 assert np.all((np.abs(got - ref) <= 1e-9 * scale)
                               | (np.isnan(got) & np.isnan(ref))), (

@@ -3,7 +3,10 @@ fresh process and print, as JSON, the status of each call and every log message:
 scenario of ``test_status_policy.py``, which compares the four FMUs' answers. Never
 imported by the tests, and it never imports linkage_fmu: each FMU runs what it bundles.
 
-    python tests/policy_host.py FourBar.fmu
+    python tests/policy_host.py FourBar.fmu [SCENARIO.json]
+
+SCENARIO.json, where given, holds other calls in the form of :data:`SCENARIO` (a list of
+[operation, arguments]), for any FMU whose inputs are theta, omega, alpha and load.
 """
 
 from __future__ import annotations
@@ -50,7 +53,7 @@ def status_of(call) -> int:
         return err.status
 
 
-def main(path: str) -> dict:
+def main(path: str, scenario: list = SCENARIO) -> dict:
     md = read_model_description(path)
     version = md.fmiVersion[0]
     vr = {v.name: v.valueReference for v in md.modelVariables}
@@ -123,7 +126,7 @@ def main(path: str) -> dict:
         }
         free_ = fmu.freeInstance
     answers = []
-    for op, args in SCENARIO:
+    for op, args in scenario:
         if op in ("outputs", "output"):
             status, values = calls[op]()
             answers.append([op, status, values])
@@ -134,4 +137,7 @@ def main(path: str) -> dict:
 
 
 if __name__ == "__main__":
-    print(json.dumps(main(sys.argv[1])), flush=True)
+    calls = SCENARIO
+    if len(sys.argv) > 2:
+        calls = json.loads(pathlib.Path(sys.argv[2]).read_text(), parse_constant=float)
+    print(json.dumps(main(sys.argv[1], calls)), flush=True)

@@ -410,6 +410,38 @@ def test_bad_friction_values_are_refused():
         presets.get("slider_crank", r_A=-0.01)
 
 
+@pytest.mark.parametrize("name", ["scotch_yoke", "slider_crank", "four_bar", "slotted_lever",
+                                  "crank_shaper"])
+def test_every_method_agrees_up_to_the_largest_coefficient_taken(name):
+    """Reference: the direct method (Newton on the whole system). With mu = 1e308 the
+    methods disagreed: ScotchYoke's guide, whose normal force is 0 up to rounding, locked
+    in the closed form and not in the direct method (mu times rounding decides); and the
+    direct method locked the slotted lever at mu_slot = 1e5 where the closed form solves
+    it. A coefficient above parameters.MU_MAX (1000) is refused, naming it; at MU_MAX,
+    each coefficient alone, every method gives the same answer at 5 angles: the same
+    error, or the balancing effort within 1e-11 relative."""
+    from linkage_fmu.parameters import MU_MAX
+
+    mus = sorted(presets.preset(name).friction_parameters(("mu",)))
+    with pytest.raises(ValueError, match=rf"{mus[0]} must be <= 1000.0 .*got 1e\+308"):
+        presets.get(name, **{mus[0]: 1e308})
+    for mu in mus:
+        mech = presets.get(name, **{mu: MU_MAX})
+        for theta in (0.3, 1.1, 2.3, 4.0, 5.5):
+            answers = {}
+            for method in solver.METHODS:
+                try:
+                    answers[method] = mech.solve(theta, 10.0, method=method)[mech.effort.name]
+                except ValueError as err:
+                    answers[method] = type(err).__name__
+            direct = answers["direct"]
+            for method, answer in answers.items():
+                if isinstance(direct, str):
+                    assert answer == direct, (mu, theta, answers)
+                else:
+                    assert answer == pytest.approx(direct, rel=1e-11), (mu, theta, answers)
+
+
 @pytest.mark.parametrize("variant", [v for v in VARIANTS
                                      if not presets.get(v[0], **v[1]).effort_on_crank],
                          ids=[i for v, i in zip(VARIANTS, IDS)

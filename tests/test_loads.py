@@ -188,3 +188,56 @@ def _with_file(text: str) -> str:
     lines = [('table = "gas.csv"' if line.startswith("table = ") else line)
              for line in text.splitlines()]
     return "\n".join(lines) + "\n"
+
+
+def _four_bar_with(body: str, at: str, point: bool = False) -> Description:
+    """The four-bar preset with a force of 100 N straight down on ``body`` at ``at``
+    (``point``: first place ``P`` on the coupler, 0.1 m along it from B)."""
+    d = presets.preset("four_bar").copy()
+    if point:
+        d.group("point", link="2", **{"from": "B"}, name="P", along=0.1)
+    return d.load("F_c", body=body, kind="force", at=at, direction=[0, -1], start=100.0)
+
+
+def test_a_force_at_a_point_not_on_its_body_is_refused(tmp_path):
+    """A force on the four-bar's coupler (body 2) at the frame pivot D of the rocker was
+    taken silently and changed Mb (10.46 to 5.43 N m): D is a point of the rocker and
+    the frame, not of the coupler. Refused, naming the load, the point and the body:
+    from the Python API (a Load given to a Mechanism), a description, and its file (as a
+    problem of the file, named with it)."""
+    words = r"load F_c acts on body 2 at point D, which is not a point of body 2"
+    with pytest.raises(ValueError, match=words):
+        _four_bar_with("2", "D").build()
+    path = tmp_path / "off_body.toml"
+    path.write_text(_four_bar_with("2", "D").to_toml())
+    with pytest.raises(DescriptionError, match=rf"off_body.toml: 1 problem:\n  \[\[loads\]\] "
+                                               rf"#2 \(F_c\) at: {words} \(its points: B, C\)"):
+        Description.read(path)
+    base = presets.get("four_bar")
+    from linkage_fmu import Mechanism
+    from linkage_fmu.loads import Load
+
+    with pytest.raises(ValueError, match=words):
+        Mechanism("mine", base.frame, base.frame_points, base.groups[:2], base.bodies,
+                  base.effort, [], [Load("F_c", "2", "force", at="D", direction=(0.0, -1.0))],
+                  base.g)
+
+
+def test_a_force_at_a_point_of_its_body_is_taken():
+    """The points of a body: its joints' (C, shared by the coupler and the rocker) and a
+    point placed on it by coordinates (P on the coupler). Virtual power is the
+    reference: a force F at the pin C needs the same Mb on whichever link of the pin it
+    acts, and its share of Mb balances the force's power: Mb omega + F . v_C = 0, so
+    with F = (0, -100 N), Mb grows by 100 N dy_C/dtheta (dy_C/dtheta by a central
+    difference of the position: 1e-6 relative)."""
+    theta, omega = 0.7, 10.0
+    on_2, on_3 = (_four_bar_with(b, "C").build(g=0.0) for b in ("2", "3"))
+    base = presets.get("four_bar", g=0.0).solve(theta, omega)["Mb"]
+    Mb = on_2.solve(theta, omega)["Mb"]
+    assert Mb == pytest.approx(on_3.solve(theta, omega)["Mb"], rel=1e-12)
+    h = 1e-6
+    dy = (on_2.kinematics(theta + h, 0).p["C"][1]
+          - on_2.kinematics(theta - h, 0).p["C"][1]) / (2 * h)
+    assert Mb - base == pytest.approx(100.0 * dy, rel=1e-6)
+    placed = _four_bar_with("2", "P", point=True).build(g=0.0)
+    assert math.isfinite(placed.solve(theta, omega)["Mb"])

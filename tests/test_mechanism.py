@@ -389,3 +389,71 @@ def test_a_lean_solution_is_a_mapping_of_floats_like_any_other():
     assert np.array_equal(np.array(list(sol.values())), np.array(list(ref.values())))
     for twin in (copy.copy(sol), copy.deepcopy(sol), pickle.loads(pickle.dumps(sol))):
         assert type(twin) is Solution and twin == sol == dict(ref.items())
+
+
+def test_a_parameter_whose_arithmetic_overflows_is_the_librarys_error():
+    """The four-bar with l_CD = 1e308: (l_BC + l_CD)**2 overflows Python's float (an
+    OverflowError, where C and numpy give inf). Every method raises the library's
+    OverflowInputError, a ValueError naming the overflow and the parameter; an array
+    solve marks every state OVERFLOW with NaN outputs; the FMUs' call gives the reason."""
+    from linkage_fmu import OverflowInputError
+    from linkage_fmu.solver import METHODS, OVERFLOW
+
+    mech = presets.get("four_bar", l_CD=1e308)
+    for method in METHODS:
+        with pytest.raises(OverflowInputError, match=r"overflows float64 at theta = 0.5, "
+                           r"omega = 10.0.*parameter l_CD = 1e\+308") as err:
+            mech.solve(0.5, omega=10.0, method=method)
+        assert isinstance(err.value, ValueError)
+        sol = mech.solve(np.array([0.5, 2.0]), omega=10.0, method=method)
+        assert not sol.valid.any() and np.isnan(sol["Mb"]).all()
+        assert sol.status.tolist() == [OVERFLOW, OVERFLOW]
+        assert sol.problems[OVERFLOW].reason.kind == "overflow"
+        assert mech.solver.attempt([0.5, 10.0, 0.0, 0.0], None, method).text == \
+            "the outputs overflow float64: an input is too large in magnitude"
+
+
+def test_a_singular_matrix_in_the_direct_method_is_the_librarys_error():
+    """The slider-crank with l_AB = 1e308 by the direct method (the issue saw
+    numpy.linalg.LinAlgError escape): the library's SingularPositionError for every
+    method, saying what both FMU flavours log. A LinAlgError from inside the direct
+    method (an exactly singular Jacobian of the friction's Newton steps: mocked here, as
+    no coefficient of friction up to the largest taken makes one) is the library's
+    error too, not numpy's; and the batched solve gives NaN for an exactly singular
+    state, the others as numpy solves them alone (1e-15)."""
+    from linkage_fmu.solver import METHODS, STATE_ERRORS
+
+    mech = presets.get("slider_crank", l_AB=1e308)
+    for method in METHODS:
+        with pytest.raises(SingularPositionError) as err:
+            mech.solve(0.5, omega=10.0, method=method)
+        assert err.value.reason.text == ("the linkage is at a singular position: the dyad at "
+                                         "B is at a toggle")
+    rubbing = presets.get("slider_crank", mu_guide=0.1)
+    with mock.patch.object(friction.kinetostatics, "_solve",
+                           side_effect=np.linalg.LinAlgError("Singular matrix")):
+        with pytest.raises(STATE_ERRORS):
+            rubbing.solve(0.5, omega=10.0, method="direct")
+    A = np.array([[[2.0, 1.0], [1.0, 3.0]], [[1.0, 2.0], [2.0, 4.0]]])
+    b = np.array([[1.0, 2.0], [1.0, 1.0]])
+    x = kinetostatics._solve(A, b)
+    np.testing.assert_allclose(x[0], np.linalg.solve(A[0], b[0]), rtol=1e-15)
+    assert np.isnan(x[1]).all()
+
+
+@pytest.mark.parametrize("name, parameter", [("scotch_yoke", "J3"), ("slotted_lever", "J2")])
+def test_a_non_finite_diagnostic_is_no_solution(name, parameter):
+    """ScotchYoke with J3 = 1e308 gave dJ_red = NaN, SlottedLever with J2 = 1e308
+    dJ_red = -inf, as a valid solution: every output counts, diagnostics included
+    (only eta may be NaN at a solved state, where no power enters). Both are the
+    overflow error for every method, at rest too, and OVERFLOW over arrays."""
+    from linkage_fmu import OverflowInputError
+    from linkage_fmu.solver import METHODS, OVERFLOW
+
+    mech = presets.get(name, **{parameter: 1e308})
+    for method in METHODS:
+        for omega in (0.0, 10.0):
+            with pytest.raises(OverflowInputError, match=rf"parameter {parameter} = 1e\+308"):
+                mech.solve(0.5, omega=omega, method=method)
+        sol = mech.solve(np.array([0.5, 2.0]), omega=10.0, method=method)
+        assert sol.status.tolist() == [OVERFLOW, OVERFLOW]

@@ -259,3 +259,20 @@ def test_a_parameter_set_the_parameter_step_cannot_build(preset, parameter):
     assert fused.loc[0, "unassembled"] == THETA.size and not fused.loc[0, "valid"]
     assert math.isnan(fused.loc[0, f"{mech.effort.name}_peak"])
     assert fused.loc[1, "valid"] and fused.loc[1, "problem"] == ""
+
+
+def test_a_design_whose_outputs_overflow_is_invalid_with_a_reason():
+    """The slotted lever with J2 = 1e308 assembles and is not locked at any angle, but
+    its arithmetic overflows: the C's table said valid, with Mb_rms = inf and no reason.
+    Now the row is invalid and says why (numpy's table refused the set already: its
+    parameter step overflows in Python); the default beside it is valid. A coefficient
+    of friction of 1e308 is refused, naming it."""
+    for fused in (True, False):
+        table = sweep("slotted_lever", {"J2": [1e308, 0.3]}, THETA, 10.0, fused=fused)
+        assert not table.loc[0, "valid"] and table.loc[0, "problem"], fused
+        assert table.loc[1, "valid"] and table.loc[1, "problem"] == "", fused
+        friction = sweep("slotted_lever", {"mu_slot": [1e308]}, THETA, 10.0, fused=fused)
+        assert friction.loc[0, "problem"].startswith("mu_slot must be <= 1000.0"), fused
+    fused = sweep("slotted_lever", {"J2": [1e308]}, THETA, 10.0)
+    assert fused.loc[0, "problem"] == ("the outputs overflow float64: a parameter is too "
+                                       "large in magnitude")

@@ -80,9 +80,11 @@ class SelfLockingError(ValueError):
 
 
 class OverflowInputError(ValueError):
-    """Finite inputs whose magnitudes make the outputs overflow float64 (``omega = 1e160``).
+    """Finite inputs or parameters whose magnitudes make the outputs overflow float64
+    (``omega = 1e160``, ``l_CD = 1e308``), any output, the diagnostics included.
 
-    Raised for scalar inputs; array inputs give the non-finite values as they come.
+    Raised for scalar inputs, naming the largest input or parameter; over arrays those
+    states have the status :data:`~linkage_fmu.solver.OVERFLOW`.
 
     Examples
     --------
@@ -92,6 +94,11 @@ class OverflowInputError(ValueError):
     ... except OverflowInputError as err:
     ...     print(str(err).split(":")[0])
     four_bar
+    >>> try:
+    ...     presets.get("four_bar", l_CD=1e308).solve(0.3, omega=10.0)
+    ... except OverflowInputError as err:
+    ...     print(str(err).split("magnitude ")[1])
+    (the largest: parameter l_CD = 1e+308)
     """
 
     def __init__(self, mechanism: str, detail: str):

@@ -692,7 +692,7 @@ def direct(mech, st: KinematicState, W: dict, omega, static: bool, xp, n_states:
         B = np.empty((n_states, n))
         for r, v in rhs:
             B[:, r] = v
-        x = np.linalg.solve(A, B[..., None])[..., 0].T  # x[k]: unknown k over states
+        x = kinetostatics._solve(A, B).T  # x[k]: unknown k over states (NaN: singular)
         tol = TOLERANCE
     sign_A = _det_sign(A, precise)
     done = np.zeros(n_states, bool)
@@ -723,7 +723,7 @@ def direct(mech, st: KinematicState, W: dict, omega, static: bool, xp, n_states:
                 J[:, r, col] += fa * v
                 J[:, r, col + 1] += fb * v * scale(jf)
         with np.errstate(all="ignore"):
-            d = np.linalg.solve(J, G[..., None])[..., 0].T
+            d = kinetostatics._solve(J, G).T  # NaN where J is singular (an overflow)
             held = np.where(done, held, _det_sign(J, False) == sign_A)
             x = np.where(done, x, x - d)
             if k + 1 >= ITERATIONS:

@@ -128,6 +128,7 @@ class Mechanism:
         self.cg = {b.name: b.cg for b in self.bodies}
         self.owner = owner
         self.joints = tuple(self._resolve(j) for grp in groups for j in grp.joints)
+        _check_load_points(name, self.loads, self.bodies, owner, self.joints)
         #: the friction in its joints (:class:`~linkage_fmu.friction.LinkageFriction`)
         self.friction = resolve_friction(self, friction)
         self.effort_on_crank = effort.direction is None and effort.body == groups[0].link
@@ -431,3 +432,35 @@ class Mechanism:
     def kernel(self, outputs: Iterable[str] | None = None, static: bool = False):
         """The traced kernel of the plan ``(outputs, static)``: :meth:`.Solver.kernel`."""
         return self.solver.kernel(outputs, static)
+
+
+def _check_load_points(name: str, loads: Sequence[Load], bodies: Sequence[Body],
+                       owner: dict, joints: Sequence[Joint]) -> None:
+    """Refuse a force load whose point ``at`` is not on its body: a point a group placed
+    on it (a crank's tip, a point fixed on the link), its centre of mass or its ``ref``,
+    or the point of one of its joints. Elsewhere the force would act on a point of the
+    plane the body does not reach, with another body's (or the frame's) point named.
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets
+    >>> from linkage_fmu.loads import Load
+    >>> mech = presets.get("four_bar")
+    >>> F = Load("F", "2", "force", at="D", direction=(0.0, -1.0))
+    >>> _check_load_points(mech.name, [F], mech.bodies, mech.owner, mech.joints)
+    Traceback (most recent call last):
+    ...
+    ValueError: four_bar: load F acts on body 2 at point D, which is not a point of body 2 (its points: B, C, S2)
+    """
+    points = {b.name: {b.ref, b.cg} for b in bodies}
+    for point, link in owner.items():
+        points.get(link, set()).add(point)
+    for j in joints:
+        for link in (j.a, j.b):
+            points.get(link, set()).add(j.point)
+    for load in loads:
+        if load.kind == "force" and load.at not in points.get(load.body, {load.at}):
+            on = ", ".join(sorted(points[load.body]))
+            raise ValueError(f"{name}: load {load.name} acts on body {load.body} at point "
+                             f"{load.at}, which is not a point of body {load.body} (its "
+                             f"points: {on})")

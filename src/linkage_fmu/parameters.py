@@ -24,6 +24,12 @@ _REAL_KINDS = {
     "friction": ("1", ">= 0", lambda v: v >= 0.0),
     "sign": ("1", "+1 or -1", lambda v: v in (1.0, -1.0)),
 }
+#: the largest coefficient of friction taken (a parameter of kind ``friction`` without a
+#: ``maximum`` of its own has this one). The friction of a pair is mu times its normal
+#: force, and a normal force that is 0 comes out of the arithmetic as rounding, about
+#: 1e-16 of the loads: up to 1e6 that gives friction of 1e-10 of the loads at most;
+#: from about 1e15 rounding decides whether the pair locks, and the methods disagree
+MU_MAX = 1e3
 #: kind -> the rule of a value of the kinds that are not real numbers
 _OTHER_KINDS = {"branch": "+1 or -1", "choice": "one of its choices"}
 #: every kind: the real-valued ones, ``branch`` (+1 or -1) and ``choice`` (one of a list)
@@ -57,7 +63,7 @@ def unit_and_rule(kind: str) -> tuple[str, str]:
     """
     if kind in _REAL_KINDS:
         unit, rule, _ = _REAL_KINDS[kind]
-        return unit, rule
+        return unit, rule + (f" and <= {MU_MAX:g}" if kind == "friction" else "")
     if kind in _OTHER_KINDS:
         return "", _OTHER_KINDS[kind]
     raise ValueError(f"unknown parameter kind {kind!r}; the kinds are {', '.join(KINDS)}")
@@ -71,7 +77,8 @@ class Parameter:
     gravity, force, moment, number, friction`` (a coefficient, >= 0), ``sign`` (a real
     +1 or -1: a direction) (real numbers with a unit and a rule),
     ``branch`` (+1 or -1) or ``choice`` (one of ``choices``). ``minimum`` and
-    ``maximum``, when given, bound a real value (inclusive). A real value may be given
+    ``maximum``, when given, bound a real value (inclusive); a ``friction`` coefficient's
+    ``maximum`` is at most :data:`MU_MAX`. A real value may be given
     as text: a number with a unit of its kind (``"120 mm"``), or an expression of
     numbers (``"pi / 2"``); it is taken in SI.
 
@@ -95,6 +102,10 @@ class Parameter:
     choices: tuple = ()
     minimum: float | None = None
     maximum: float | None = None
+
+    def __post_init__(self):
+        if self.kind == "friction" and (self.maximum is None or self.maximum > MU_MAX):
+            object.__setattr__(self, "maximum", MU_MAX)
 
     @property
     def unit(self) -> str:

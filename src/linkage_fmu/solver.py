@@ -56,8 +56,9 @@ STATE_ERRORS = (AssemblyError, SingularPositionError, OverflowInputError, SelfLo
 class Plan(NamedTuple):
     """What a call asks for: the ``outputs`` (validated names), whether the scene is
     ``static``, the ``method``, and what they need: the balancing ``effort``, the
-    ``reactions``, the ``diagnostics``; ``checked``: the outputs that must be finite
-    (not those that may be NaN at a solved state: ``eta`` where no power enters);
+    ``reactions``, the ``diagnostics``; ``checked``: the outputs that must be finite,
+    diagnostics included (not those that may be NaN at a solved state: ``eta`` where no
+    power enters);
     ``given``: the loads over the cycle given as inputs (after the input loads)."""
 
     outputs: tuple
@@ -235,7 +236,7 @@ class Solver:
                 any(n not in diag and n not in efforts for n in outputs) or (
                     effort and mech.friction.active),  # the effort needs the reactions
                 bool(diag.intersection(outputs)),
-                tuple(n for n in outputs if n in mech.output_info and n not in diag
+                tuple(n for n in outputs if n in mech.output_info
                       and n not in mech.partial_outputs), given)
         return plan
 
@@ -285,14 +286,18 @@ class Solver:
 
         def witnesses():
             yield from WITNESS_ANGLES
-            for a, b in ranges.assembles(mech):  # a linkage that turns part of a revolution
+            try:
+                found = ranges.assembles(mech)  # a linkage that turns part of a revolution
+            except OverflowError:  # its parameters overflow: no state to trace
+                found = ()
+            for a, b in found:
                 yield math.radians(0.5 * (a + b))
 
         for theta in witnesses():
             try:  # a witness must be solvable
                 mech.evaluate(plan, theta, omega, alpha, loads, SCALAR)
-            except (ValueError, ZeroDivisionError) as err:
-                last = err
+            except (ValueError, ArithmeticError, np.linalg.LinAlgError) as err:
+                last = err  # an overflow at these parameters: no witness here either
                 continue
             parameters = {n: mech.parameters[n] for n in mech.kernel_parameters}
 
@@ -351,7 +356,9 @@ class Solver:
         SingularPositionError
             Scalar state at which the equations are exactly singular.
         OverflowInputError
-            Scalar finite inputs whose outputs overflow float64.
+            Scalar finite inputs whose outputs overflow float64, or parameters whose
+            arithmetic does (arrays: every state ``OVERFLOW``); a non-finite diagnostic
+            (``dJ_red``) counts as any output.
         """
         mech = self.mech
         if outputs is None and method == "closed_form" and type(omega) is float and \
@@ -386,18 +393,25 @@ class Solver:
         flat = [a.reshape(-1) for a in arrays]  # views where possible: no scalar copied n times
         n = flat[0].size
         out = None
-        if method == "closed_form" and n:
-            out = self._compiled_arrays(arrays_given, flat, n, wanted, given)
-            method = "interpreted"  # without a C compiler: numpy
-        if out is None:
-            out = {name: np.empty(n) for name in wanted}
-            valid = np.empty(n, dtype=bool)
-            self._interpreted_arrays(flat, method, wanted, out, valid, slice(0, n), given)
-        else:
-            out, valid = out
+        try:
+            if method == "closed_form" and n:
+                out = self._compiled_arrays(arrays_given, flat, n, wanted, given)
+                method = "interpreted"  # without a C compiler: numpy
+            if out is None:
+                out = {name: np.empty(n) for name in wanted}
+                valid = np.empty(n, dtype=bool)
+                self._interpreted_arrays(flat, method, wanted, out, valid, slice(0, n), given)
+            else:
+                out, valid = out
+        except OverflowError:  # Python floats (the parameters') raise where numpy gives inf
+            out = {name: np.full(n, np.nan) for name in wanted}
+            valid = np.zeros(n, dtype=bool)
 
-        def classify(sol: ArraySolution):
-            return self._classify(sol, flat, method, wanted, given)
+            def classify(sol: ArraySolution):
+                return self._overflowed(sol, flat, wanted, given)
+        else:
+            def classify(sol: ArraySolution):
+                return self._classify(sol, flat, method, wanted, given)
 
         return ArraySolution({k: v.reshape(shape) for k, v in out.items()},
                              valid.reshape(shape), classify)
@@ -461,8 +475,8 @@ class Solver:
             if math.isfinite(sum(out[n] for n in plan.checked)) or \
                     all(math.isfinite(out[n]) for n in plan.checked):
                 return {n: float(out[n]) for n in wanted}
-        except ZeroDivisionError:
-            pass
+        except (ZeroDivisionError, OverflowError, np.linalg.LinAlgError):
+            pass  # Python's float arithmetic raises what C's gives as inf or NaN
         raise self._unbounded(values, given)
 
     def _unbounded(self, values, given: tuple = ()) -> ValueError:
@@ -470,17 +484,21 @@ class Solver:
         overflow if the position is well conditioned, else a singular position."""
         mech = self.mech
         theta = values[0]
-        st = mech.kinematics(theta, 0 if mech.effort_on_crank else 1, SCALAR)
+        inputs = ", ".join(f"{n} = {v!r}" for n, v in zip(mech.input_names + given, values))
+        try:
+            st = mech.kinematics(theta, 0 if mech.effort_on_crank else 1, SCALAR)
+        except OverflowError:  # the position itself overflows
+            return OverflowInputError(mech.name, f"the arithmetic overflows float64 at "
+                                      f"{inputs}: {_largest(mech, values, given)}")
         try:  # a finite condition: the position is fine, the inputs overflow
             cond = diagnostics.values(mech, st)["cond"]
-        except ZeroDivisionError:
+        except (ZeroDivisionError, OverflowError):
             cond = math.inf
         if math.isfinite(cond):
-            inputs = ", ".join(f"{n} = {v!r}" for n, v in zip(mech.input_names + given, values))
             inputs += "".join(f", {ld.name} = {float(ld.at_state(st))!r} (over the cycle)"
                               for ld in mech.computed_loads if ld.name not in given)
             return OverflowInputError(mech.name, f"the outputs overflow float64 at {inputs}: "
-                                      "an input is too large in magnitude")
+                                      f"{_largest(mech, values, given)}")
         return SingularPositionError(mech.name, theta, diagnostics.singular_detail(mech, st),
                                      diagnostics.singular_what(mech, st))
 
@@ -583,6 +601,20 @@ class Solver:
                 problems[code] = Problem(reason, str(error or reason.text), i, int(where.size))
         return status.reshape(np.shape(sol.valid)), problems
 
+    def _overflowed(self, sol: ArraySolution, flat, wanted, given=()) -> tuple:
+        """Every state of ``sol`` overflows: what its parameters compute overflows
+        float64 (a Python float raises OverflowError where arrays would give inf)."""
+        state = [float(a[0]) for a in flat]
+        try:
+            self._interpreted_one(state, "interpreted", wanted, given)
+            error = None
+        except STATE_ERRORS as err:
+            error = err
+        reason = error.reason if error is not None else Reason("overflow")
+        n = int(np.size(sol.valid))
+        status = np.full(np.shape(sol.valid), OVERFLOW, dtype=np.int8)
+        return status, {OVERFLOW: Problem(reason, str(error or reason.text), 0, n)}
+
     def _locked(self, flat, wanted, given=()) -> np.ndarray:
         """Which of the states ``flat`` friction locks (the formulas on arrays): those
         that assemble and whose friction has no solution."""
@@ -593,6 +625,21 @@ class Solver:
         if st.invalid is not None:
             locked &= ~st.invalid
         return locked
+
+
+def _largest(mech, values, given: tuple = ()) -> str:
+    """Which input or parameter is too large, for a message: the largest in magnitude.
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets
+    >>> _largest(presets.get("four_bar", l_CD=1e308), [0.5, 10.0, 0.0, 0.0])
+    'an input is too large in magnitude (the largest: parameter l_CD = 1e+308)'
+    """
+    named = [(f"input {n}", v) for n, v in zip(mech.input_names + given, values)]
+    named += [(f"parameter {n}", v) for n, v in mech.parameters.items() if type(v) is float]
+    name, value = max(named, key=lambda nv: abs(nv[1]))
+    return f"an input is too large in magnitude (the largest: {name} = {value!r})"
 
 
 def _solved(st) -> np.ndarray | bool:

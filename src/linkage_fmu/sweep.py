@@ -169,7 +169,27 @@ def sweep(source, designs: pd.DataFrame | Mapping[str, Sequence], theta=None,
     else:
         parts = _on_dask(scheduler, args)
     table = pd.concat(parts, ignore_index=True)
+    _overflowing(table, (f"{mech.effort.name}_peak", f"{mech.effort.name}_rms"))
     return pd.concat([designs, table], axis=1)
+
+
+#: why a design that assembles at every angle has no finite balancing effort
+OVERFLOW = "the outputs overflow float64: a parameter is too large in magnitude"
+
+
+def _overflowing(table: pd.DataFrame, summaries: tuple) -> None:
+    """Mark invalid, saying why, the designs called valid whose balancing effort's
+    ``summaries`` (peak and rms) are not finite: their arithmetic overflows
+    (``J2 = 1e308``), where a valid row used to hold NaN or inf and no reason."""
+    bad = table["valid"].to_numpy(bool, copy=True)
+    finite = np.ones(bad.size, bool)
+    for name in summaries:
+        if name in table:
+            finite &= np.isfinite(table[name].to_numpy(float))
+    bad &= ~finite
+    if bad.any():
+        table.loc[bad, "valid"] = False
+        table.loc[bad, "problem"] = OVERFLOW
 
 
 def _on_dask(scheduler, args: list) -> list:

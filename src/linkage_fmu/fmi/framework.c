@@ -763,8 +763,22 @@ static Status read_outputs(Instance *in, const char *call) {
     return LK_OK;
 }
 
+/* An output read at inputs that were solved but that has no finite value (eta where no
+ * power enters): a Warning, as every read of a NaN, logged once per change of the inputs. */
+static Status no_value(Instance *in, const char *call, const Variable *v, double value) {
+    if (in->reported) return LK_WARNING;
+    char inputs[1024], at[32], text[32];
+    describe_inputs(in, inputs, sizeof inputs);
+    say(in, LK_WARNING, "%s: output %s has no finite value at the inputs %s at t = %s: it "
+        "reads %s", call, v->name, inputs, shortest(in->time, at, sizeof at),
+        shortest(value, text, sizeof text));
+    in->reported = 1;
+    return LK_WARNING;
+}
+
 /* Outputs are read from the last evaluation: NaN with a Warning where the inputs cannot be
- * solved or the parameters are invalid. */
+ * solved or the parameters are invalid; a Warning for any other output that is not finite:
+ * no read answers OK with a value that is not a finite number. */
 static Status lk_get_real(void *c, const char *call, const ValueReference vr[], size_t nvr,
                           double value[]) {
     INSTANCE(c, call);
@@ -780,8 +794,9 @@ static Status lk_get_real(void *c, const char *call, const ValueReference vr[], 
         }
         Status s = read_outputs(in, call);
         if (s == LK_ERROR) return LK_ERROR;
-        if (s > status) status = s;
         value[i] = in->outputs[v->index];
+        if (s == LK_OK && !isfinite(value[i])) s = no_value(in, call, v, value[i]);
+        if (s > status) status = s;
     }
     return status;
 }

@@ -55,7 +55,7 @@ class Kernel:
     parameters: tuple = ()  # parameter names, in the order of the parameter step's arguments
     operations: int = 0  # per state
     seconds: float = 0.0  # tracing and generation
-    checked: tuple = ()  # positions of the outputs that must be finite (not diagnostics)
+    checked: tuple = ()  # positions of the outputs that must be finite (not eta)
     index: dict = field(default_factory=dict)  # output name -> position in the tuple
     #: code - 1 -> why that guard fails (the parameter step's checks and the state's)
     reasons: tuple = ()

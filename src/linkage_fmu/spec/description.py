@@ -58,7 +58,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..groups import Field, Group
+from ..groups import OWNER, Field, Group
 from ..expressions import Expression, check_units
 from ..outputs import SHAKING
 from ..parameters import KINDS, Parameter
@@ -658,6 +658,10 @@ class _Checker:
         self.links: dict[str, str] = {}  # moving link -> where it was added
         self.joints: dict[str, str] = {}  # pair -> where it was made
         self.prismatic: set = set()  # the pairs that slide
+        #: moving link -> the points on it (its joints', those placed on it), and point
+        #: -> the link that owns it; None once a group could not be read for them
+        self.on: dict[str, set] | None = {}
+        self.owner: dict[str, str] = {}
         self.load_names: list = []
         # names a load or output cannot take: inputs, parameters, the outputs every
         # linkage has
@@ -825,6 +829,29 @@ class _Checker:
             self.joints[joint] = where
         self.prismatic.update(spec[k] for k, f in cls.FIELDS.items()
                               if f.role == "new joint" and isinstance(spec.get(k), str))
+        self.points_on_links(cls, spec)
+
+    def points_on_links(self, cls: type, spec: dict) -> None:
+        """Which points the group puts on which link: built with stand-in numbers (its
+        pairs and points are names, whatever the numbers); a group that cannot be built
+        so (a problem listed above) ends this bookkeeping, and the linkage's own check
+        refuses a load off its body then."""
+        if self.on is None:
+            return
+        stand_in = {"vector": (1.0, 0.0), "branch": 1}
+        try:
+            grp = cls.from_spec(spec, lambda key: stand_in.get(cls.FIELDS[key].role, 1.0))
+            joints, owners = grp.joints, dict(grp.owners)
+        except Exception:  # noqa: BLE001 -- a group with problems: listed by the checks
+            self.on = None
+            return
+        for point, link in owners.items():
+            self.on.setdefault(link, set()).add(point)
+        for j in joints:
+            a = self.owner.get(j.point, owners.get(j.point)) if j.a == OWNER else j.a
+            for link in (a, j.b):
+                self.on.setdefault(link, set()).add(j.point)
+        self.owner.update(owners)
 
     def friction(self) -> None:
         for joint, spec in self.d.friction.items():
@@ -899,6 +926,8 @@ class _Checker:
             self.found.append(f"{where} cg: give along/across or distance/angle, not both")
         if cg["from"] not in self.placed:
             self.found.append(f"{where} cg from: point {cg['from']!r} is not placed")
+        elif self.on is not None:  # the point its centre of mass is placed from: on it
+            self.on.setdefault(link, set()).add(cg["from"])
         for key in ("along", "across", "distance", "angle"):
             if key in cg:
                 self.expr(f"{where} cg {key}", cg[key], unit="rad" if key == "angle" else "m")
@@ -979,9 +1008,15 @@ class _Checker:
                       unit=unit)
 
     def force_load(self, where: str, spec: dict) -> None:
-        if spec.get("at") not in self.placed:
+        at, body = spec.get("at"), spec.get("body")
+        if at not in self.placed:
             self.found.append(f"{where} at: a force needs the placed point it acts at, got "
-                              f"{spec.get('at')!r}")
+                              f"{at!r}")
+        elif self.on is not None and body in self.links and at not in self.on.get(body, ()):
+            points = ", ".join(sorted(self.on.get(body, ())))
+            self.found.append(f"{where} at: load {spec.get('name')} acts on body {body} at "
+                              f"point {at}, which is not a point of body {body} (its points: "
+                              f"{points})")
         self.vector(f"{where} direction", spec.get("direction"))
         if spec.get("fixed_in") not in ("frame", "link"):
             self.found.append(f"{where} fixed_in: must be 'frame' or 'link'")

@@ -212,7 +212,11 @@ The kinds, each with its SI unit and the rule its value meets:
 
 {_table(("kind", "unit", "measures", "rule"), kinds)}
 
-A value outside its rule, `min` or `max` is refused, naming the parameter."""
+A value outside its rule, `min` or `max` is refused, naming the parameter. An FMU's
+modelDescription declares the same bounds as each variable's `min` and `max` (`> 0` as
+`min="5e-324"`, the smallest positive float64; `>= 0` as `min="0.0"`; a branch or a sign
+as -1 and 1), and the FMU refuses a value outside them with an Error (a real at
+`ExitInitializationMode`, an integer when it is set)."""
 
 
 def _points() -> str:
