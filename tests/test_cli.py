@@ -382,3 +382,112 @@ def test_optimize_command_names_bad_input_and_no_feasible_design():
                                    "mu_C_min_deg <= 5", "--method", "grid", "--budget", "5"])
     assert status == 1 and "breaks mu_C_min_deg <= 5" in err
     assert "no design meets every constraint; the one that breaks them least:" in out
+
+
+def bad_inputs(tmp_path) -> list:
+    """(argv, the one line expected on stderr) of user errors, each naming the file or
+    the option and what is wrong; the files are made in ``tmp_path``."""
+    import zipfile
+
+    from pathlib import Path
+
+    example = (Path(__file__).parents[1] / "examples" / "coupler_four_bar.toml").read_text()
+    files = {"mu.toml": example + "\n[friction.C]\nmu = -0.1\nradius = 0.01\n",
+             "unjoined.toml": example.replace('name = "F03"\nby = "0"\non = "3"',
+                                              'name = "F03"\nby = "0"\non = "2"'),
+             "empty.csv": "", "columns.csv": "l_AB,nope\n0.1,1\n", "text.fmu": "not a zip"}
+    for name, text in files.items():
+        (tmp_path / name).write_text(text)
+    with zipfile.ZipFile(tmp_path / "other.fmu", "w") as fmu:
+        fmu.writestr("modelDescription.xml", '<fmiModelDescription fmiVersion="2.0">'
+                     '<CoSimulation modelIdentifier="Other"/></fmiModelDescription>')
+    (tmp_path / "folder.fmu").mkdir()
+    t = str(tmp_path)
+    return [
+        (["check", f"{t}/none.fmu"], f"{t}/none.fmu: no such file"),
+        (["check", f"{t}/folder.fmu"], f"{t}/folder.fmu: a folder, not an FMU file"),
+        (["check", f"{t}/text.fmu"], f"{t}/text.fmu: not an FMU (an FMU is a zip archive)"),
+        (["check", f"{t}/other.fmu"], f"{t}/other.fmu: not an FMU of a linkage built by "
+                                      "linkage_fmu (it has no resources/Other.toml)"),
+        (["sweep", "four_bar", "--samples", f"{t}/none.csv"], f"--samples {t}/none.csv: no "
+                                                                "such file"),
+        (["sweep", "four_bar", "--samples", f"{t}/empty.csv"], f"--samples {t}/empty.csv: "
+                                                                 "not a CSV table of designs"),
+        (["sweep", "four_bar", "--samples", f"{t}/columns.csv"],
+         f"--samples {t}/columns.csv: four_bar has no parameter 'nope'"),
+        (["table", f"{t}/mu.toml"], f"{t}/mu.toml: [friction.C] mu = -0.1 must be >= 0"),
+        (["info", f"{t}/unjoined.toml"], f"{t}/unjoined.toml: [[outputs]] #3 (F03): no joint "
+                                         "between bodies '0' and '2'"),
+        (["table", f"{t}/none.toml"], f"{t}/none.toml: cannot read it: No such file or "
+                                      "directory"),
+        (["info", "four_bars"], "four_bars: no such file, and not a preset; the presets are"),
+        (["table", "four_bar", "--load", "3 Nm"], "load = '3 Nm' must be a moment (N.m), but "
+                                                  "it is [length] / [mass]; did you mean "
+                                                  "'3 N*m'?"),
+        (["table", "four_bar", "-o", f"{t}/none/x.csv"], f"{t}/none/x.csv: No such file or "
+                                                         "directory"),
+        (["reference", "-o", f"{t}/none/d.md"], f"{t}/none/d.md: No such file or directory"),
+        (["plot", "four_bar", "--what", "mu", "-o", f"{t}/none/m.png"],
+         f"{t}/none/m.png: No such file or directory"),
+        (["table", "four_bar", "--theta", "0:1:0"], "--theta '0:1:0': need START <= STOP"),
+        (["sweep", "four_bar", "--grid", "l_AB=1:0:1"], "--grid l_AB '1:0:1': need START"),
+        (["table", "four_bar", "--omega", "1 furlong"], "--omega = '1 furlong' must be an "
+                                                        "angular speed"),
+        (["check", f"{t}/none.fmu", "--steps", "0"], "--steps must be >= 1, got 0"),
+    ]
+
+
+def test_no_traceback_from_bad_input(tmp_path):
+    """Every user error ends the command with status 2 and one line on stderr: the file
+    or option, the key, what is wrong (a missing FMU, a drive FMU and a missing samples
+    file printed tracebacks; the drive FMU's check is in test_drive.py)."""
+    for argv, line in bad_inputs(tmp_path):
+        status, out, err = run(argv)
+        assert status == 2 and out == "", (argv, status, err)
+        assert err.count("\n") == 1 and err.startswith(f"linkage-fmu: {line}"), (argv, err)
+
+
+def test_every_example_in_the_help_is_taken():
+    """Each option's help that shows a value with a unit, ("1800 rpm"), and says its unit,
+    [rad/s], is taken as that option's value (--alpha offered "1800 rpm" and refused it);
+    --alpha "100 rad/s^2" gives the library's solve at alpha = 100 rad/s2, to the digit."""
+    import argparse
+    import re
+
+    from linkage_fmu import presets
+    from linkage_fmu.expressions import evaluate
+
+    parser = argparse.ArgumentParser()
+    captured = {}
+    original = argparse.ArgumentParser.parse_args
+
+    def capture(self, args=None, namespace=None):
+        captured["parser"] = self
+        raise SystemExit(0)
+
+    argparse.ArgumentParser.parse_args = capture
+    try:
+        try:
+            main(["info", "four_bar"])
+        except SystemExit:
+            pass
+    finally:
+        argparse.ArgumentParser.parse_args = original
+    subparsers = next(a for a in captured["parser"]._actions
+                      if isinstance(a, argparse._SubParsersAction))
+    examples = []
+    for name, sub in subparsers.choices.items():
+        for action in sub._actions:
+            help_ = action.help or ""
+            unit = re.search(r"\[([^\]]+)\]", help_)
+            for example in re.findall(r'\("([^"]+)"\)', help_):
+                assert unit, (name, action.dest, help_)
+                examples.append((name, action.option_strings[0], example))
+                evaluate(example, unit.group(1), action.option_strings[0])
+    assert ("table", "--alpha", "100 rad/s^2") in examples
+    assert ("simulate", "--theta0", "30 deg") in examples and len(examples) >= 10
+    status, out, _ = run(["table", "four_bar", "--theta", "0.5", "--alpha", "100 rad/s^2",
+                          "--omega", "1e1", "--csv", "--outputs", "Mb"])
+    assert status == 0
+    ref = presets.get("four_bar").solve(np.array([0.5]), 10.0, 100.0, outputs=["Mb"])
+    assert pd.read_csv(io.StringIO(out))["Mb"].iloc[0] == ref["Mb"][0]
