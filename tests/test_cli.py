@@ -447,6 +447,18 @@ def test_no_traceback_from_bad_input(tmp_path):
         assert err.count("\n") == 1 and err.startswith(f"linkage-fmu: {line}"), (argv, err)
 
 
+def test_a_missing_optional_dependency_is_one_line(monkeypatch):
+    """``sweep --scheduler local`` without dask.distributed: status 2 and the library's
+    line saying what to install, not an ImportError's traceback."""
+    import sys
+
+    monkeypatch.setitem(sys.modules, "dask.distributed", None)  # import fails
+    status, out, err = run(["sweep", "four_bar", "--grid", "l_AB=0.1", "--n", "4",
+                            "--scheduler", "local"])
+    assert status == 2 and out == "" and err.count("\n") == 1
+    assert err.startswith("linkage-fmu: a sweep on Dask needs dask.distributed: pip install")
+
+
 def test_every_example_in_the_help_is_taken():
     """Each option's help that shows a value with a unit, ("1800 rpm"), and says its unit,
     [rad/s], is taken as that option's value (--alpha offered "1800 rpm" and refused it);

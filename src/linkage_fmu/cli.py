@@ -482,6 +482,12 @@ def main(argv: list[str] | None = None) -> int:
         where = f"{err.filename}: " if err.filename else ""
         print(f"linkage-fmu: {where}{err.strerror or err}", file=sys.stderr)
         return 2
+    except ImportError as err:  # an optional dependency (dask, pyarrow): its message says how
+        print(f"linkage-fmu: {err}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("linkage-fmu: interrupted", file=sys.stderr)
+        return 130
 
 
 def _check(args) -> int:
