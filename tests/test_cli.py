@@ -447,6 +447,22 @@ def test_no_traceback_from_bad_input(tmp_path):
         assert err.count("\n") == 1 and err.startswith(f"linkage-fmu: {line}"), (argv, err)
 
 
+def test_a_warning_is_a_line_of_the_command(tmp_path):
+    """A description's warning (a plain cg angle of 90: radians) is one line
+    ``linkage-fmu: warning: FILE: KEY ...``, not Python's warning with a source line of
+    the library; the command goes on (status 0)."""
+    from pathlib import Path
+
+    example = (Path(__file__).parents[1] / "examples" / "coupler_four_bar.toml").read_text()
+    path = tmp_path / "angle.toml"
+    path.write_text(example.replace('cg = { from = "A" }  # a massless crank',
+                                    'cg = { from = "A", distance = 0.01, angle = 90 }'))
+    status, _, err = run(["info", str(path)])
+    assert status == 0 and err == (f"linkage-fmu: warning: {path}: [bodies.1] cg angle = 90 "
+                                   'is taken in radians (5156.62 deg); write "90 deg" for '
+                                   "degrees\n")
+
+
 def test_a_missing_optional_dependency_is_one_line(monkeypatch):
     """``sweep --scheduler local`` without dask.distributed: status 2 and the library's
     line saying what to install, not an ImportError's traceback."""

@@ -26,6 +26,7 @@ import argparse
 import math
 import re
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -249,7 +250,18 @@ def _index(spec: str | None, theta: np.ndarray, degrees: bool) -> tuple[np.ndarr
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run the command line; returns the exit status."""
+    """Run the command line; returns the exit status. Warnings are printed as lines of
+    the command (``linkage-fmu: warning: ...``), not with the library's source line."""
+    with warnings.catch_warnings():
+        warnings.showwarning = _warning
+        return _main(argv)
+
+
+def _warning(message, category, filename, lineno, file=None, line=None) -> None:
+    print(f"linkage-fmu: warning: {message}", file=file or sys.stderr)
+
+
+def _main(argv: list[str] | None) -> int:
     parser = argparse.ArgumentParser(
         prog="linkage-fmu", description="Kinetostatics of crank-driven planar linkages: "
         "joint reactions and driving torque, as tables and FMUs.", epilog=EPILOG,
