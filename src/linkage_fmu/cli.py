@@ -514,7 +514,13 @@ def _check(args) -> int:
     if not Path(args.fmu).is_file():
         raise UsageError(f"{args.fmu}: no such file" if not Path(args.fmu).exists() else
                          f"{args.fmu}: a folder, not an FMU file")
-    result = check_fmu(args.fmu, args.steps)
+    from fmpy.fmi1 import FMICallException
+
+    try:
+        result = check_fmu(args.fmu, args.steps)
+    except (FMICallException, RuntimeError) as err:  # the FMU failed a call, or the run
+        print(f"linkage-fmu: {args.fmu}: the check failed: {err}", file=sys.stderr)
+        return 1
     problems = validate_fmu(args.fmu)
     if result.motion_error is not None:  # a drive FMU
         if result.unsolved_deg:

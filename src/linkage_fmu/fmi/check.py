@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import ranges
-from ..errors import AssemblyError, SingularPositionError
+from ..errors import AssemblyError, SelfLockingError, SingularPositionError
 from ..mechanism import Mechanism
 from .run import fmu_kind, revolution, step_fmu
 
@@ -173,8 +173,8 @@ def check_drive(fmu: str | Path, mech: Mechanism, steps: int = 360) -> CheckResu
         try:  # at simulate's default tolerances: at 1e-13 it creeps to the limit (73 s)
             mech.simulate(tau, t[:reached + 2], theta0, omega0, **loads)
             mismatched = 1
-        except (AssemblyError, SingularPositionError):
-            pass
+        except (AssemblyError, SingularPositionError, SelfLockingError, RuntimeError):
+            pass  # it cannot go on either: the linkage does not assemble, or locks
         where = float(np.degrees(rows["theta"].iloc[reached - 1] if reached else theta0))
         unsolved = ((where, where),)
     motion_error = 0.0
@@ -185,12 +185,14 @@ def check_drive(fmu: str | Path, mech: Mechanism, steps: int = 360) -> CheckResu
             got, expected = rows[name].to_numpy()[:reached], ref[name].to_numpy()
             err = float(np.max(np.abs(got - expected) / (1.0 + np.abs(expected))))
             motion_error = err if not err <= motion_error else motion_error
-    done = rows.iloc[:reached]
-    own = mech.solve(done["theta"].to_numpy(), done["omega"].to_numpy(),
-                     done["alpha"].to_numpy(), **loads, method="direct")
-    outputs = list(mech.output_names + mech.diagnostic_names)
-    err, where_ = compare({n: done[n].to_numpy() for n in outputs}, own, outputs)
-    return CheckResult(f"{mech.description.model}Drive", float(err), where_, reached,
+    err, worst = 0.0, ""
+    if reached > 0:
+        done = rows.iloc[:reached]
+        own = mech.solve(done["theta"].to_numpy(), done["omega"].to_numpy(),
+                         done["alpha"].to_numpy(), **loads, method="direct")
+        outputs = list(mech.output_names + mech.diagnostic_names)
+        err, worst = compare({n: done[n].to_numpy() for n in outputs}, own, outputs)
+    return CheckResult(f"{mech.description.model}Drive", float(err), worst, reached,
                        seconds, unsolved, mismatched, motion_error)
 
 
