@@ -519,3 +519,35 @@ def test_every_example_in_the_help_is_taken():
     assert status == 0
     ref = presets.get("four_bar").solve(np.array([0.5]), 10.0, 100.0, outputs=["Mb"])
     assert pd.read_csv(io.StringIO(out))["Mb"].iloc[0] == ref["Mb"][0]
+
+
+def test_the_examples_of_the_help_run(tmp_path, monkeypatch):
+    """Each command of ``linkage-fmu --help``'s examples runs as written (status 0),
+    from a folder holding the project's examples/ and, as my_linkage.toml, the coupler
+    four-bar (its loads F_P and T4); those that build FMUs, check them or start a Dask
+    cluster aside (their commands are tested in test_drive.py, test_fmu.py and above)."""
+    import os
+    import shlex
+    from pathlib import Path
+
+    import pytest
+
+    from linkage_fmu.cli import EPILOG
+
+    pytest.importorskip("matplotlib")
+    examples = Path(__file__).parents[1] / "examples"
+    os.symlink(examples, tmp_path / "examples")
+    (tmp_path / "my_linkage.toml").write_text((examples / "coupler_four_bar.toml").read_text())
+    monkeypatch.chdir(tmp_path)
+    lines = EPILOG.replace("\\\n", " ").splitlines()[1:]
+    skipped = ("build", "check", "--samples")
+    ran = []
+    for line in lines:
+        argv = shlex.split(line)
+        assert argv[0] == "linkage-fmu", line
+        if any(word in argv for word in skipped) or not argv[1:]:
+            continue
+        status, _, err = run(argv[1:])
+        assert status == 0, (line, err)
+        ran.append(argv[1])
+    assert {"info", "table", "sweep", "optimize", "plot", "simulate", "flywheel"} <= set(ran)
