@@ -402,6 +402,7 @@ def bad_inputs(tmp_path) -> list:
         fmu.writestr("modelDescription.xml", '<fmiModelDescription fmiVersion="2.0">'
                      '<CoSimulation modelIdentifier="Other"/></fmiModelDescription>')
     (tmp_path / "folder.fmu").mkdir()
+    (tmp_path / "folder.csv").mkdir()
     t = str(tmp_path)
     return [
         (["check", f"{t}/none.fmu"], f"{t}/none.fmu: no such file"),
@@ -424,11 +425,16 @@ def bad_inputs(tmp_path) -> list:
         (["table", "four_bar", "--load", "3 Nm"], "load = '3 Nm' must be a moment (N.m), but "
                                                   "it is [length] / [mass]; did you mean "
                                                   "'3 N*m'?"),
-        (["table", "four_bar", "-o", f"{t}/none/x.csv"], f"{t}/none/x.csv: No such file or "
-                                                         "directory"),
-        (["reference", "-o", f"{t}/none/d.md"], f"{t}/none/d.md: No such file or directory"),
+        (["table", "four_bar", "-o", f"{t}/none/x.csv"], f"-o {t}/none/x.csv: there is no "
+                                                         f"folder {t}/none"),
+        (["reference", "-o", f"{t}/none/d.md"], f"-o {t}/none/d.md: there is no folder"),
         (["plot", "four_bar", "--what", "mu", "-o", f"{t}/none/m.png"],
-         f"{t}/none/m.png: No such file or directory"),
+         f"-o {t}/none/m.png: there is no folder {t}/none"),
+        (["optimize", "four_bar", "--vary", "l_AB=0.1:0.2", "--minimize", "Mb_peak", "--csv",
+          f"{t}/none/h.csv"], f"--csv {t}/none/h.csv: there is no folder {t}/none"),
+        (["table", "four_bar", "-o", f"{t}/text.fmu/x.csv"], f"-o {t}/text.fmu/x.csv: there is "
+                                                             "no folder"),
+        (["table", "four_bar", "-o", f"{t}/folder.csv"], f"{t}/folder.csv: Is a directory"),
         (["table", "four_bar", "--theta", "0:1:0"], "--theta '0:1:0': need START <= STOP"),
         (["sweep", "four_bar", "--grid", "l_AB=1:0:1"], "--grid l_AB '1:0:1': need START"),
         (["table", "four_bar", "--omega", "1 furlong"], "--omega = '1 furlong' must be an "

@@ -441,6 +441,7 @@ def _main(argv: list[str] | None) -> int:
             _load_options({"table": table, "sweep": sweep, "optimize": opt, "plot": plot,
                            "simulate": simulate, "flywheel": fly}[command], named)
         args = parser.parse_args(argv)
+        _writable(args)
         if args.command == "check":
             return _check(args)
         if args.command == "reference":
@@ -500,6 +501,16 @@ def _main(argv: list[str] | None) -> int:
     except KeyboardInterrupt:
         print("linkage-fmu: interrupted", file=sys.stderr)
         return 130
+
+
+def _writable(args) -> None:
+    """A UsageError, before any work, if a file the command writes is in no folder (a
+    long sweep's table would be lost at the end)."""
+    for attr, option in (("output", "-o"), ("csv", "--csv"), ("plot", "--plot")):
+        path = getattr(args, attr, None)
+        if isinstance(path, str) and not Path(path).resolve().parent.is_dir():
+            raise UsageError(f"{option} {path}: there is no folder "
+                             f"{Path(path).parent}")
 
 
 def _check(args) -> int:
