@@ -355,6 +355,10 @@ def test_check_compares_the_drive_with_simulate(fmus, tmp_path, capsys):
     assert limit - 1.0 < stop < limit and result["mismatched"] == 0
     assert f"reached theta = {stop:.6g} deg" in captured.err and "as simulate stops" in captured.err
     assert "Traceback" not in captured.err
+    from linkage_fmu.fmi.run import run_fmu
+
+    with pytest.raises(ValueError, match="a drive FMU, whose inputs are tau and the loads"):
+        run_fmu(fmus[2])  # revolution() would set theta, an output of the drive FMU
 
 
 @pytest.mark.parametrize("which", (2, "limit2"))

@@ -252,8 +252,14 @@ def run_fmu(fmu: str | Path, inputs: np.ndarray | None = None, steps: int = 360,
     FMURunError
         With ``strict``, the first discarded step: which, at what time, and what the
         FMU logged.
+    ValueError
+        ``fmu`` is not an FMU of a linkage, or is a drive FMU and no ``inputs`` are
+        given.
     """
-    mech = fmu_linkage(fmu)
+    mech, drive = fmu_kind(fmu)
+    if drive and inputs is None:  # revolution() gives the inverse FMU's inputs
+        raise ValueError(f"{fmu}: a drive FMU, whose inputs are tau and the loads: give "
+                         "them as inputs (or check it: linkage-fmu check)")
     u = revolution(mech, steps) if inputs is None else inputs
     rows, messages = step_fmu(fmu, u, start_values,
                               outputs or list(mech.output_names + mech.diagnostic_names))
