@@ -398,6 +398,7 @@ def bad_inputs(tmp_path) -> list:
              "empty.csv": "", "columns.csv": "l_AB,nope\n0.1,1\n", "text.fmu": "not a zip"}
     for name, text in files.items():
         (tmp_path / name).write_text(text)
+    (tmp_path / "latin1.toml").write_bytes(b"# \xe9\n[linkage]\n")
     with zipfile.ZipFile(tmp_path / "other.fmu", "w") as fmu:
         fmu.writestr("modelDescription.xml", '<fmiModelDescription fmiVersion="2.0">'
                      '<CoSimulation modelIdentifier="Other"/></fmiModelDescription>')
@@ -421,6 +422,7 @@ def bad_inputs(tmp_path) -> list:
                                          "between bodies '0' and '2'"),
         (["table", f"{t}/none.toml"], f"{t}/none.toml: cannot read it: No such file or "
                                       "directory"),
+        (["info", f"{t}/latin1.toml"], f"{t}/latin1.toml: not UTF-8 text: byte 0xe9 at 2"),
         (["info", "four_bars"], "four_bars: no such file, and not a preset; the presets are"),
         (["table", "four_bar", "--load", "3 Nm"], "load = '3 Nm' must be a moment (N.m), but "
                                                   "it is [length] / [mass]; did you mean "

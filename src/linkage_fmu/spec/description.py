@@ -414,6 +414,9 @@ class Description:
             text = path.read_text(encoding="utf-8")
         except OSError as err:
             raise DescriptionError(str(path), [f"cannot read it: {err.strerror}"]) from None
+        except UnicodeDecodeError as err:
+            raise DescriptionError(str(path), [f"not UTF-8 text: byte {err.object[err.start]:#x} "
+                                               f"at {err.start}"]) from None
         return cls.from_toml(text, str(path))
 
     # -- checking --------------------------------------------------------------------
