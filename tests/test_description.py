@@ -428,6 +428,8 @@ def test_a_value_the_builder_refuses_is_one_line_naming_the_file_and_the_key(tmp
         "unjoined.toml": (text.replace('name = "F03"\nby = "0"\non = "3"',
                                        'name = "F03"\nby = "0"\non = "2"'),
                           "[[outputs]] #3 (F03): no joint between bodies '0' and '2'"),
+        "direction.toml": (text.replace("direction = [0, -1]", "direction = [0, 0]"),
+                           "[[loads]] F_P: direction (0.0, 0.0) has no length"),
     }
     for name, (source, message) in cases.items():
         (tmp_path / name).write_text(source)

@@ -133,10 +133,14 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
                 scale = f"1 {spec['table_unit']} * ({scale})"
             over_cycle = dict(table=_table(rows, float(spec["period_deg"]), where),
                               scale=number(f"{where} scale", scale))
-        loads.append(Load(spec["name"], spec["body"], spec["kind"], spec.get("at", ""),
-                          direction, spec.get("fixed_in", "frame"), spec.get("unit", ""),
-                          spec.get("description", ""),
-                          start(f"{where} start", spec.get("start", 0.0)), **over_cycle))
+        value = start(f"{where} start", spec.get("start", 0.0))
+        try:
+            loads.append(Load(spec["name"], spec["body"], spec["kind"], spec.get("at", ""),
+                              direction, spec.get("fixed_in", "frame"), spec.get("unit", ""),
+                              spec.get("description", ""), value, **over_cycle))
+        except ValueError as err:  # "load F_P: direction ... has no length"
+            text = str(err).removeprefix(f"load {spec['name']}: ")
+            raise ValueError(f"{origin}: {where}: {text}") from None
 
     chosen = None
     for when, spec in d.efforts.items():
