@@ -100,7 +100,7 @@ def main(argv: list[str] | None = None) -> int:
                     fmu = build_native_fmu(source, out, platforms=platforms)
                 else:
                     fmu = build_fmu(source, out)
-            except (CompilerError, ValueError) as err:
+            except (CompilerError, ValueError, OSError) as err:
                 print(f"build_fmu.py: cannot build the {flavour} FMU of {source}: {err}",
                       file=sys.stderr)
                 return 2

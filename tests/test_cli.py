@@ -423,3 +423,180 @@ def test_info_prints_a_load_direction_without_negative_zero():
     assert load.direction[0] == -1.0 and math.copysign(1.0, load.direction[1]) < 0  # the case
     status, out, _ = run(["info", "slider_crank"])
     assert status == 0 and "direction (-1, 0) fixed in the" in out and "-0)" not in out
+
+
+def bad_inputs(tmp_path) -> list:
+    """(argv, the one line expected on stderr) of user errors, each naming the file or
+    the option and what is wrong; the files are made in ``tmp_path``."""
+    import zipfile
+
+    from pathlib import Path
+
+    example = (Path(__file__).parents[1] / "examples" / "coupler_four_bar.toml").read_text()
+    files = {"mu.toml": example + "\n[friction.C]\nmu = -0.1\nradius = 0.01\n",
+             "unjoined.toml": example.replace('name = "F03"\nby = "0"\non = "3"',
+                                              'name = "F03"\nby = "0"\non = "2"'),
+             "empty.csv": "", "columns.csv": "l_AB,nope\n0.1,1\n", "text.fmu": "not a zip"}
+    for name, text in files.items():
+        (tmp_path / name).write_text(text)
+    (tmp_path / "latin1.toml").write_bytes(b"# \xe9\n[linkage]\n")
+    with zipfile.ZipFile(tmp_path / "other.fmu", "w") as fmu:
+        fmu.writestr("modelDescription.xml", '<fmiModelDescription fmiVersion="2.0">'
+                     '<CoSimulation modelIdentifier="Other"/></fmiModelDescription>')
+    (tmp_path / "folder.fmu").mkdir()
+    (tmp_path / "folder.csv").mkdir()
+    t = str(tmp_path)
+    return [
+        (["check", f"{t}/none.fmu"], f"{t}/none.fmu: no such file"),
+        (["check", f"{t}/folder.fmu"], f"{t}/folder.fmu: a folder, not an FMU file"),
+        (["check", f"{t}/text.fmu"], f"{t}/text.fmu: not an FMU (an FMU is a zip archive)"),
+        (["check", f"{t}/other.fmu"], f"{t}/other.fmu: not an FMU of a linkage built by "
+                                      "linkage_fmu (it has no resources/Other.toml)"),
+        (["sweep", "four_bar", "--samples", f"{t}/none.csv"], f"--samples {t}/none.csv: no "
+                                                                "such file"),
+        (["sweep", "four_bar", "--samples", f"{t}/empty.csv"], f"--samples {t}/empty.csv: "
+                                                                 "not a CSV table of designs"),
+        (["sweep", "four_bar", "--samples", f"{t}/columns.csv"],
+         f"--samples {t}/columns.csv: four_bar has no parameter 'nope'"),
+        (["table", f"{t}/mu.toml"], f"{t}/mu.toml: [friction.C] mu = -0.1 must be >= 0"),
+        (["info", f"{t}/unjoined.toml"], f"{t}/unjoined.toml: [[outputs]] #3 (F03): no joint "
+                                         "between bodies '0' and '2'"),
+        (["table", f"{t}/none.toml"], f"{t}/none.toml: cannot read it: No such file or "
+                                      "directory"),
+        (["info", f"{t}/latin1.toml"], f"{t}/latin1.toml: not UTF-8 text: byte 0xe9 at 2"),
+        (["info", "four_bars"], "four_bars: no such file, and not a preset; the presets are"),
+        (["table", "four_bar", "--load", "3 Nm"], "load = '3 Nm' must be a moment (N.m), but "
+                                                  "it is [length] / [mass]; did you mean "
+                                                  "'3 N*m'?"),
+        (["table", "four_bar", "-o", f"{t}/none/x.csv"], f"-o {t}/none/x.csv: there is no "
+                                                         f"folder {t}/none"),
+        (["reference", "-o", f"{t}/none/d.md"], f"-o {t}/none/d.md: there is no folder"),
+        (["plot", "four_bar", "--what", "mu", "-o", f"{t}/none/m.png"],
+         f"-o {t}/none/m.png: there is no folder {t}/none"),
+        (["optimize", "four_bar", "--vary", "l_AB=0.1:0.2", "--minimize", "Mb_peak", "--csv",
+          f"{t}/none/h.csv"], f"--csv {t}/none/h.csv: there is no folder {t}/none"),
+        (["table", "four_bar", "-o", f"{t}/text.fmu/x.csv"], f"-o {t}/text.fmu/x.csv: there is "
+                                                             "no folder"),
+        (["table", "four_bar", "-o", f"{t}/folder.csv"], f"{t}/folder.csv: Is a directory"),
+        (["table", "four_bar", "--theta", "0:1:0"], "--theta '0:1:0': need START <= STOP"),
+        (["sweep", "four_bar", "--grid", "l_AB=1:0:1"], "--grid l_AB '1:0:1': need START"),
+        (["table", "four_bar", "--omega", "1 furlong"], "--omega = '1 furlong' must be an "
+                                                        "angular speed"),
+        (["check", f"{t}/none.fmu", "--steps", "0"], "--steps must be >= 1, got 0"),
+    ]
+
+
+def test_no_traceback_from_bad_input(tmp_path):
+    """Every user error ends the command with status 2 and one line on stderr: the file
+    or option, the key, what is wrong (a missing FMU, a drive FMU and a missing samples
+    file printed tracebacks; the drive FMU's check is in test_drive.py)."""
+    for argv, line in bad_inputs(tmp_path):
+        status, out, err = run(argv)
+        assert status == 2 and out == "", (argv, status, err)
+        assert err.count("\n") == 1 and err.startswith(f"linkage-fmu: {line}"), (argv, err)
+
+
+def test_a_warning_is_a_line_of_the_command(tmp_path):
+    """A description's warning (a plain cg angle of 90: radians) is one line
+    ``linkage-fmu: warning: FILE: KEY ...``, not Python's warning with a source line of
+    the library; the command goes on (status 0)."""
+    from pathlib import Path
+
+    example = (Path(__file__).parents[1] / "examples" / "coupler_four_bar.toml").read_text()
+    path = tmp_path / "angle.toml"
+    path.write_text(example.replace('cg = { from = "A" }  # a massless crank',
+                                    'cg = { from = "A", distance = 0.01, angle = 90 }'))
+    status, _, err = run(["info", str(path)])
+    assert status == 0 and err == (f"linkage-fmu: warning: {path}: [bodies.1] cg angle = 90 "
+                                   'is taken in radians (5156.62 deg); write "90 deg" for '
+                                   "degrees\n")
+
+
+def test_a_missing_optional_dependency_is_one_line(monkeypatch):
+    """``sweep --scheduler local`` without dask.distributed: status 2 and the library's
+    line saying what to install, not an ImportError's traceback."""
+    import sys
+
+    monkeypatch.setitem(sys.modules, "dask.distributed", None)  # import fails
+    status, out, err = run(["sweep", "four_bar", "--grid", "l_AB=0.1", "--n", "4",
+                            "--scheduler", "local"])
+    assert status == 2 and out == "" and err.count("\n") == 1
+    assert err.startswith("linkage-fmu: a sweep on Dask needs dask.distributed: pip install")
+
+
+def test_every_example_in_the_help_is_taken():
+    """Each option's help that shows a value with a unit, ("1800 rpm"), and says its unit,
+    [rad/s], is taken as that option's value (--alpha offered "1800 rpm" and refused it);
+    --alpha "100 rad/s^2" gives the library's solve at alpha = 100 rad/s2, to the digit."""
+    import argparse
+    import re
+
+    from linkage_fmu import presets
+    from linkage_fmu.expressions import evaluate
+
+    parser = argparse.ArgumentParser()
+    captured = {}
+    original = argparse.ArgumentParser.parse_args
+
+    def capture(self, args=None, namespace=None):
+        captured["parser"] = self
+        raise SystemExit(0)
+
+    argparse.ArgumentParser.parse_args = capture
+    try:
+        try:
+            main(["info", "four_bar"])
+        except SystemExit:
+            pass
+    finally:
+        argparse.ArgumentParser.parse_args = original
+    subparsers = next(a for a in captured["parser"]._actions
+                      if isinstance(a, argparse._SubParsersAction))
+    examples = []
+    for name, sub in subparsers.choices.items():
+        for action in sub._actions:
+            help_ = action.help or ""
+            unit = re.search(r"\[([^\]]+)\]", help_)
+            for example in re.findall(r'\("([^"]+)"\)', help_):
+                assert unit, (name, action.dest, help_)
+                examples.append((name, action.option_strings[0], example))
+                evaluate(example, unit.group(1), action.option_strings[0])
+    assert ("table", "--alpha", "100 rad/s^2") in examples
+    assert ("simulate", "--theta0", "30 deg") in examples and len(examples) >= 10
+    status, out, _ = run(["table", "four_bar", "--theta", "0.5", "--alpha", "100 rad/s^2",
+                          "--omega", "1e1", "--csv", "--outputs", "Mb"])
+    assert status == 0
+    ref = presets.get("four_bar").solve(np.array([0.5]), 10.0, 100.0, outputs=["Mb"])
+    assert pd.read_csv(io.StringIO(out))["Mb"].iloc[0] == ref["Mb"][0]
+
+
+def test_the_examples_of_the_help_run(tmp_path, monkeypatch):
+    """Each command of ``linkage-fmu --help``'s examples runs as written (status 0),
+    from a folder holding the project's examples/ and, as my_linkage.toml, the coupler
+    four-bar (its loads F_P and T4); those that build FMUs, check them or start a Dask
+    cluster aside (their commands are tested in test_drive.py, test_fmu.py and above)."""
+    import os
+    import shlex
+    from pathlib import Path
+
+    import pytest
+
+    from linkage_fmu.cli import EPILOG
+
+    pytest.importorskip("matplotlib")
+    examples = Path(__file__).parents[1] / "examples"
+    os.symlink(examples, tmp_path / "examples")
+    (tmp_path / "my_linkage.toml").write_text((examples / "coupler_four_bar.toml").read_text())
+    monkeypatch.chdir(tmp_path)
+    lines = EPILOG.replace("\\\n", " ").splitlines()[1:]
+    skipped = ("build", "check", "--samples")
+    ran = []
+    for line in lines:
+        argv = shlex.split(line)
+        assert argv[0] == "linkage-fmu", line
+        if any(word in argv for word in skipped) or not argv[1:]:
+            continue
+        status, _, err = run(argv[1:])
+        assert status == 0, (line, err)
+        ran.append(argv[1])
+    assert {"info", "table", "sweep", "optimize", "plot", "simulate", "flywheel"} <= set(ran)

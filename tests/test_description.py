@@ -410,3 +410,32 @@ def test_a_plain_angle_beyond_two_pi_is_noted_and_units_are_checked(tmp_path):
     with pytest.raises(DescriptionError, match=r"\[bodies.2\] cg distance = '0.2 kg' must be "
                                                r"a length \(m\), but it is a mass \(kg\)"):
         d._changed().check()
+
+
+def test_a_value_the_builder_refuses_is_one_line_naming_the_file_and_the_key(tmp_path):
+    """Each on one line: the file, the table and key, the value (once: ``mu = -0.1 =
+    -0.1`` before; an expression's value after it) and what is wrong; an output force
+    between bodies that share no joint names its ``[[outputs]]`` entry (it lacked the
+    file); a file that cannot be read is one line too."""
+    text = EXAMPLE.read_text()
+    cases = {
+        "mu.toml": (text + '\n[friction.C]\nmu = -0.1\nradius = 0.01\n',
+                    "[friction.C] mu = -0.1 must be >= 0"),
+        "expr.toml": (text + '\n[friction.C]\nmu = "-0.1 * 2"\nradius = 0.01\n',
+                      "[friction.C] mu = '-0.1 * 2' = -0.2 must be >= 0"),
+        "radius.toml": (text + '\n[friction.C]\nmu = 0.1\nradius = "-l_AB"\n',
+                        "[friction.C] radius = '-l_AB' = -0.1 must be >= 0"),
+        "unjoined.toml": (text.replace('name = "F03"\nby = "0"\non = "3"',
+                                       'name = "F03"\nby = "0"\non = "2"'),
+                          "[[outputs]] #3 (F03): no joint between bodies '0' and '2'"),
+        "direction.toml": (text.replace("direction = [0, -1]", "direction = [0, 0]"),
+                           "[[loads]] F_P: direction (0.0, 0.0) has no length"),
+    }
+    for name, (source, message) in cases.items():
+        (tmp_path / name).write_text(source)
+        with pytest.raises(ValueError) as info:
+            linkage_fmu.load(str(tmp_path / name))
+        assert str(info.value) == f"{tmp_path / name}: {message}", name
+    with pytest.raises(DescriptionError) as info:
+        linkage_fmu.load(str(tmp_path / "none.toml"))
+    assert str(info.value) == f"{tmp_path / 'none.toml'}: cannot read it: No such file or directory"

@@ -1,11 +1,26 @@
-"""The README shows what the project ships (its examples run as doctests)."""
+"""The README shows what the project ships (its examples run as doctests), and each of
+its python blocks runs on its own, as written, from the project root."""
 
 from __future__ import annotations
 
+import os
 import re
+import subprocess
+import sys
 from pathlib import Path
 
+import pytest
+
+import linkage_fmu
+
 ROOT = Path(__file__).parents[1]
+README = (ROOT / "README.md").read_text()
+#: (line in the README, text) of each python block
+BLOCKS = [(README.count("\n", 0, m.start()) + 1, m.group(1))
+          for m in re.finditer(r"```python\n(.*?)```", README, flags=re.S)]
+#: runs a doctest file, exit status 1 if an example fails
+DOCTEST = ("import doctest, sys; failed, _ = doctest.testfile(sys.argv[1], "
+           "module_relative=False); sys.exit(failed > 0)")
 
 
 def test_the_readme_shows_the_example_files_as_they_are():
@@ -24,3 +39,30 @@ def test_the_readme_shows_the_example_files_as_they_are():
         code = line.split(" #")[0].strip()
         if code and code != "# ...":
             assert code in engine, line
+
+
+@pytest.mark.parametrize("line, block", BLOCKS, ids=[f"line{n}" for n, _ in BLOCKS])
+def test_each_python_block_runs_on_its_own(line, block, tmp_path):
+    """In a fresh interpreter from the project root, nothing from the blocks before it
+    (pytest's README doctest shares one namespace over the whole file, so a block using
+    ``np`` or ``mech`` of an earlier one passed there and failed for a reader): a block
+    of ``>>>`` examples as a doctest, any other as a script; the block of run_fmu builds
+    the FMU it runs (dist/native/FourBar.fmu, as ``linkage-fmu build --native``)."""
+    if ">>>" in block:
+        (tmp_path / "block.txt").write_text(block)
+        command = [sys.executable, "-c", DOCTEST, str(tmp_path / "block.txt")]
+    else:
+        command = [sys.executable, "-c", block]
+    source = str(Path(linkage_fmu.__file__).parents[1])  # the package under test
+    env = {**os.environ, "MPLBACKEND": "Agg",
+           "PYTHONPATH": os.pathsep.join(filter(None, [source, os.environ.get("PYTHONPATH")]))}
+    run = subprocess.run(command, cwd=ROOT, env=env, capture_output=True, text=True,
+                         timeout=900)
+    assert run.returncode == 0, f"README line {line}:\n{run.stdout[-3000:]}{run.stderr[-3000:]}"
+
+
+def test_every_python_block_is_found():
+    """The ten python blocks, four of them doctests: a block the pattern missed would
+    go untested."""
+    assert len(BLOCKS) == README.count("```python") == 10
+    assert sum(">>>" in b for _, b in BLOCKS) == 4

@@ -5,6 +5,7 @@ the definitions: 1 in = 0.0254 m, 1 lbf = 4.4482216152605 N, 1 bar = 1e5 Pa, 1 r
 from __future__ import annotations
 
 import math
+import re
 
 import pytest
 
@@ -92,3 +93,21 @@ def test_solve_takes_inputs_and_parameters_with_units():
         yoke.solve(0.0, "1800 mm")
     with pytest.raises(ValueError, match=r"theta = '3 N' must be an angle"):
         yoke.solve("3 N")
+
+@pytest.mark.parametrize("text, si", [("1e3", 1e3), ("1E3", 1e3), ("1e300", 1e300),
+                                      ("2.5e-3", 2.5e-3), (".5e2", 50.0)])
+def test_a_number_in_exponent_form_is_a_number_not_a_unit(text, si):
+    """``1e3`` is the float 1000.0 (Python's reading of the text), not 1 of a unit
+    ``e3``; ``2.5e-3 m`` stays 2.5 mm."""
+    assert evaluate(text, "N.m", "tau") == si == float(text)
+    assert evaluate(f"{text} m", "m", "l") == float(text)
+
+
+@pytest.mark.parametrize("text, fixed", [("3 Nm", "3 N*m"), ("2.5 kNm", "2.5 kN*m")])
+def test_a_moment_written_as_one_word_is_refused_with_the_unit_meant(text, fixed):
+    """pint reads ``Nm`` as a number-metre ([length] / [mass]); the error names the key
+    and the product of units meant, which is taken: 3 N*m = 3.0 N.m."""
+    with pytest.raises(ValueError, match=rf"^T = '{text}' must be a moment \(N.m\), but it "
+                                         rf"is .*; did you mean '{re.escape(fixed)}'\?$"):
+        evaluate(text, "N.m", "T")
+    assert evaluate(fixed, "N.m", "T") == float(text.split()[0]) * (1e3 if "k" in text else 1.0)

@@ -19,6 +19,7 @@ import os
 import shutil
 import subprocess
 import sys
+import warnings
 from pathlib import Path
 from typing import Sequence
 
@@ -28,6 +29,10 @@ CANDIDATES = ("cc", "gcc", "clang")
 
 class CompilerError(RuntimeError):
     """No C compiler, or a compilation failed (the message holds its output)."""
+
+
+class CompilerWarning(UserWarning):
+    """A compilation that succeeded with warnings (the message holds them)."""
 
 
 def find_compiler() -> str | None:
@@ -109,7 +114,14 @@ def compile_shared(sources: Sequence[Path], output: Path, include: Sequence[Path
     Raises
     ------
     CompilerError
-        No compiler, or the compiler failed or warned (its output is in the message).
+        No compiler, or the compiler failed: a non-zero exit status, or no ``output``
+        (its output is in the message).
+
+    Warns
+    -----
+    CompilerWarning
+        The compiler succeeded and wrote to its error stream (warnings: the library is
+        built; they are passed on, not taken for a failure).
     """
     if target is None:
         compiler = [require_compiler(f"building {output.name}"), "-fPIC"]
@@ -120,7 +132,13 @@ def compile_shared(sources: Sequence[Path], output: Path, include: Sequence[Path
                *(f"-I{p}" for p in include), *(f"-D{d}" for d in defines),
                "-o", str(output), *map(str, sources), *(f"-l{lib}" for lib in libraries)]
     run = subprocess.run(command, capture_output=True, text=True)
-    if run.returncode != 0 or run.stderr.strip() or not output.is_file():
+    if run.returncode != 0:
         raise CompilerError(f"{' '.join(command)}\nfailed with exit status {run.returncode}:\n"
                             f"{run.stderr}")
+    if not output.is_file():
+        raise CompilerError(f"{' '.join(command)}\nexited with status 0 but wrote no "
+                            f"{output.name}:\n{run.stderr}")
+    if run.stderr.strip():
+        warnings.warn(f"{output.name} was built, with warnings from the compiler:\n"
+                      f"{run.stderr.strip()}", CompilerWarning, stacklevel=2)
     return output

@@ -26,6 +26,8 @@ import argparse
 import math
 import re
 import sys
+import warnings
+from pathlib import Path
 
 import numpy as np
 
@@ -90,9 +92,10 @@ def _linkage(parser: argparse.ArgumentParser, help: str, parameters: bool = True
 
 def _motion(parser: argparse.ArgumentParser) -> None:
     """``--omega`` and ``--alpha``; unset: the linkage's start values (:func:`speeds`)."""
-    for name, unit in (("omega", "rad/s"), ("alpha", "rad/s2")):
+    for name, unit, example in (("omega", "rad/s", "1800 rpm"),
+                                ("alpha", "rad/s2", "100 rad/s^2")):
         parser.add_argument(f"--{name}", default=None, metavar="VALUE",
-                            help=f"{name} [{unit}], or with a unit (\"1800 rpm\"); default "
+                            help=f"{name} [{unit}], or with a unit (\"{example}\"); default "
                                  "the linkage's start value")
 
 
@@ -156,7 +159,7 @@ def _named_linkage(argv: list[str]) -> tuple[str | None, Description | None]:
                     continue
                 try:
                     return word, description(candidate)
-                except (DescriptionError, ValueError, OSError):
+                except (DescriptionError, UsageError, ValueError, OSError):
                     continue
             return word, None
         if not word.startswith("-"):
@@ -168,13 +171,16 @@ def description(source: str) -> Description:
     """The description of a preset name or a description file."""
     if source in presets.NAMES:
         return presets.preset(source)
+    if not source.endswith(".toml") and not Path(source).exists():
+        raise UsageError(f"{source}: no such file, and not a preset; the presets are "
+                         + ", ".join(presets.NAMES))
     return Description.read(source)
 
 
-def typed(spec: str) -> tuple[np.ndarray, str]:
+def typed(spec: str, where: str = "--theta") -> tuple[np.ndarray, str]:
     """The numbers of an angle option as typed: a value, a comma list, or
     START:STOP:STEP (STOP included when a step lands on it), and the unit written after
-    them ('' if none).
+    them ('' if none); errors name the option ``where``.
 
     Examples
     --------
@@ -191,13 +197,13 @@ def typed(spec: str) -> tuple[np.ndarray, str]:
         if ":" in text:
             start, stop, step = (float(v) for v in text.split(":"))
             if not step > 0 or not stop >= start:
-                raise UsageError(f"{spec}: need START <= STOP and STEP > 0")
+                raise UsageError(f"{where} {spec!r}: need START <= STOP and STEP > 0")
             count = math.floor((stop - start) / step * (1 + 1e-12)) + 1
             return start + step * np.arange(count), unit
         return np.array([float(v) for v in text.split(",")]), unit
     except ValueError:
-        raise UsageError(f"{spec!r}: expected a number, a list a,b,c or START:STOP:STEP, "
-                         "optionally with a unit") from None
+        raise UsageError(f"{where} {spec!r}: expected a number, a list a,b,c or "
+                         "START:STOP:STEP, optionally with a unit") from None
 
 
 def angles(spec: str | None, n: int, degrees: bool) -> np.ndarray:
@@ -245,7 +251,18 @@ def _index(spec: str | None, theta: np.ndarray, degrees: bool) -> tuple[np.ndarr
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run the command line; returns the exit status."""
+    """Run the command line; returns the exit status. Warnings are printed as lines of
+    the command (``linkage-fmu: warning: ...``), not with the library's source line."""
+    with warnings.catch_warnings():
+        warnings.showwarning = _warning
+        return _main(argv)
+
+
+def _warning(message, category, filename, lineno, file=None, line=None) -> None:
+    print(f"linkage-fmu: warning: {message}", file=file or sys.stderr)
+
+
+def _main(argv: list[str] | None) -> int:
     parser = argparse.ArgumentParser(
         prog="linkage-fmu", description="Kinetostatics of crank-driven planar linkages: "
         "joint reactions and driving torque, as tables and FMUs.", epilog=EPILOG,
@@ -407,9 +424,12 @@ def main(argv: list[str] | None = None) -> int:
                             "x86_64-darwin, aarch64-darwin (default: this machine's); built "
                             "with zig: pip install \"linkage-fmu[cross]\"")
 
-    check = sub.add_parser("check", help="run an FMU with fmpy against the direct solver")
-    check.add_argument("fmu")
-    check.add_argument("--steps", type=int, default=360)
+    check = sub.add_parser("check", help="run an FMU with fmpy against the direct solver "
+                                         "(a drive FMU: its motion against simulate, its "
+                                         "outputs against the direct solver at its states)")
+    check.add_argument("fmu", help="an FMU built by linkage-fmu build")
+    check.add_argument("--steps", type=int, default=360,
+                       help="steps per revolution of the run (default 360)")
 
     reference = sub.add_parser("reference", help="the reference of the description file "
                                                  "format, made from the code (Markdown)")
@@ -422,6 +442,7 @@ def main(argv: list[str] | None = None) -> int:
             _load_options({"table": table, "sweep": sweep, "optimize": opt, "plot": plot,
                            "simulate": simulate, "flywheel": fly}[command], named)
         args = parser.parse_args(argv)
+        _writable(args)
         if args.command == "check":
             return _check(args)
         if args.command == "reference":
@@ -471,6 +492,26 @@ def main(argv: list[str] | None = None) -> int:
     except BrokenPipeError:  # the reader went away (| head): end quietly
         sys.stderr.close()
         return 0
+    except OSError as err:  # a file that cannot be read or written
+        where = f"{err.filename}: " if err.filename else ""
+        print(f"linkage-fmu: {where}{err.strerror or err}", file=sys.stderr)
+        return 2
+    except ImportError as err:  # an optional dependency (dask, pyarrow): its message says how
+        print(f"linkage-fmu: {err}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("linkage-fmu: interrupted", file=sys.stderr)
+        return 130
+
+
+def _writable(args) -> None:
+    """A UsageError, before any work, if a file the command writes is in no folder (a
+    long sweep's table would be lost at the end)."""
+    for attr, option in (("output", "-o"), ("csv", "--csv"), ("plot", "--plot")):
+        path = getattr(args, attr, None)
+        if isinstance(path, str) and not Path(path).resolve().parent.is_dir():
+            raise UsageError(f"{option} {path}: there is no folder "
+                             f"{Path(path).parent}")
 
 
 def _check(args) -> int:
@@ -480,13 +521,32 @@ def _check(args) -> int:
 
     from .fmi import check_fmu
 
-    result = check_fmu(args.fmu, args.steps)
+    if args.steps < 1:
+        raise UsageError(f"--steps must be >= 1, got {args.steps}")
+    if not Path(args.fmu).is_file():
+        raise UsageError(f"{args.fmu}: no such file" if not Path(args.fmu).exists() else
+                         f"{args.fmu}: a folder, not an FMU file")
+    from fmpy.fmi1 import FMICallException
+
+    try:
+        result = check_fmu(args.fmu, args.steps)
+    except (FMICallException, RuntimeError) as err:  # the FMU failed a call, or the run
+        print(f"linkage-fmu: {args.fmu}: the check failed: {err}", file=sys.stderr)
+        return 1
     problems = validate_fmu(args.fmu)
-    if result.unsolved_deg:
+    if result.motion_error is not None:  # a drive FMU
+        if result.unsolved_deg:
+            print(f"linkage-fmu: the motion of {result.model} reached theta = "
+                  f"{result.unsolved_deg[0][0]:.6g} deg, next to where the linkage cannot be "
+                  "assembled: the FMU discarded the step there, "
+                  + ("as simulate stops in it" if not result.mismatched else
+                     "but simulate goes on") + "; the steps before it were checked",
+                  file=sys.stderr)
+    elif result.unsolved_deg:
         print(f"linkage-fmu: {result.model} assembles over part of the revolution: the FMU "
               f"discarded the steps at theta = {ranges.text(result.unsolved_deg, digits=4)}, "
               "where the linkage cannot be solved; the others were checked", file=sys.stderr)
-    if result.mismatched:
+    if result.mismatched and result.motion_error is None:
         print(f"linkage-fmu: at {result.mismatched} steps the FMU and the direct solver "
               "disagree on whether there is a solution", file=sys.stderr)
     print(json.dumps({**result.__dict__, "validate": problems}))
@@ -607,7 +667,7 @@ def _values(spec: str) -> tuple[str, list]:
     if not sep or not name:
         raise UsageError(f"--grid {spec!r}: expected NAME=a,b,c or NAME=START:STOP:STEP")
     if ":" in text:
-        values, unit = typed(text)
+        values, unit = typed(text, f"--grid {name}")
         if unit:
             raise UsageError(f"--grid {spec!r}: START:STOP:STEP in SI, without a unit")
         return name, values.tolist()
@@ -636,7 +696,7 @@ def _plot(d: Description, args) -> int:
                          "--omega: no --theta-deg or --alpha")
     theta_deg = None
     if args.theta_deg is not None:
-        theta_deg, unit = typed(args.theta_deg)
+        theta_deg, unit = typed(args.theta_deg, "--theta-deg")
         if unit:
             raise UsageError(f"--theta-deg {args.theta_deg!r}: degrees, without a unit")
     omega, alpha = speeds(args)
@@ -724,20 +784,45 @@ def _sweep(d: Description, args) -> int:
     if bool(args.grid) == bool(args.samples):
         raise UsageError("give the designs as --grid NAME=VALUES (repeatable) or --samples FILE")
     if args.samples:
-        designs = (pd.read_parquet(args.samples) if args.samples.endswith(".parquet")
-                   else pd.read_csv(args.samples))
+        designs = samples(args.samples)
     else:
         designs = grid(**dict(map(_values, args.grid)))
     theta = (np.linspace(0.0, 2.0 * np.pi, args.n, endpoint=False) if args.theta is None
              else angles(args.theta, 0, args.deg))
     omega, alpha = speeds(args)
-    table = sweep(mech, designs, theta, omega, alpha, scheduler=args.scheduler,
-                  progress=args.scheduler is None and sys.stderr.isatty(), **loads(args))
+    try:
+        table = sweep(mech, designs, theta, omega, alpha, scheduler=args.scheduler,
+                      progress=args.scheduler is None and sys.stderr.isatty(), **loads(args))
+    except TypeError as err:  # a column that is no parameter: say which file has it
+        raise UsageError(f"--samples {args.samples}: {err}" if args.samples else str(err)) \
+            from None
     if args.output:
         write_table(table, args.output, index=False)  # a design's row is its parameters
     else:
         print(table.to_csv(index=False))
     return 0
+
+
+def samples(path: str):
+    """The designs of ``--samples``: a CSV file (a header line of parameter names, then
+    one design per line) or a Parquet file (one column per parameter)."""
+    import pandas as pd
+
+    if not Path(path).is_file():
+        raise UsageError(f"--samples {path}: no such file")
+    try:
+        if path.endswith(".parquet"):
+            return pd.read_parquet(path)
+        return pd.read_csv(path)
+    except ImportError:
+        raise UsageError(f"--samples {path}: reading Parquet needs pyarrow (pip install "
+                         "pyarrow); or write .csv") from None
+    except (ValueError, pd.errors.ParserError, pd.errors.EmptyDataError) as err:
+        what = "CSV" if not path.endswith(".parquet") else "Parquet"
+        reason = " ".join(str(err).split())
+        raise UsageError(f"--samples {path}: not a {what} table of designs ({reason}); "
+                         "write a header line of parameter names, then one design per "
+                         "line") from None
 
 
 def _bounds(spec: str) -> tuple[str, tuple]:

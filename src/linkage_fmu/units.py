@@ -35,9 +35,10 @@ NAMES = {"m": "a length", "rad": "an angle", "rad/s": "an angular speed",
          "kg/m": "a mass per length", "m/s2": "an acceleration", "N": "a force",
          "N.m": "a moment", "1": "a number", "s": "a time", "Pa": "a pressure",
          "m2": "an area", "J": "an energy", "W": "a power"}
-#: a number, then a unit: a word that starts with a letter (letters, digits, _ * / ^ .)
+#: a number, then a unit: a word that starts with a letter (letters, digits, _ * / ^ .);
+#: never the exponent of the number (``1e3`` is a number, not 1 of the unit ``e3``)
 _QUANTITY = re.compile(r"(?<![\w.])((?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)[ \t]*"
-                       r"([A-Za-z_°µΩ][\w°µΩ*/^.]*)")
+                       r"(?![eE][+-]?\d)([A-Za-z_°µΩ][\w°µΩ*/^.]*)")
 
 
 @functools.lru_cache(maxsize=1)
@@ -127,8 +128,39 @@ def check(value, unit: str, where: str, source) -> float:
         value = ureg.Quantity(value, "dimensionless")
     if value.dimensionality != target.dimensionality:
         raise ValueError(f"{where} = {source!r} must be {NAMES.get(unit, unit)} ({unit}), but "
-                         f"it is {measures(value.dimensionality)}")
+                         f"it is {measures(value.dimensionality)}{suggestion(source, unit)}")
     return si(value) / si(ureg.Quantity(1.0, target))
+
+
+def suggestion(source, unit: str) -> str:
+    """``"; did you mean ..."`` where a unit in ``source`` written as one word is two
+    units whose product measures what ``unit`` does (pint reads ``Nm`` as a
+    number-metre, not a newton metre), else ``""``.
+
+    Examples
+    --------
+    >>> suggestion("3 Nm", "N.m")
+    "; did you mean '3 N*m'?"
+    >>> suggestion("3 m", "N.m")
+    ''
+    """
+    if not isinstance(source, str):
+        return ""
+    import pint
+
+    ureg, target = registry(), dimension(unit)
+    for match in _QUANTITY.finditer(source):
+        word = match.group(2)
+        for cut in range(1, len(word) if word.isalpha() else 0):
+            try:
+                product = ureg.parse_units(word[:cut]) * ureg.parse_units(word[cut:])
+            except (pint.errors.PintError, ValueError, TypeError, AttributeError):
+                continue
+            if product.dimensionality == target:
+                fixed = (source[:match.start(2)] + f"{word[:cut]}*{word[cut:]}"
+                         + source[match.end(2):])
+                return f"; did you mean {fixed!r}?"
+    return ""
 
 
 def measures(dimensionality) -> str:

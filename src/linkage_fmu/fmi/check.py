@@ -5,10 +5,16 @@ time-varying speed and loads (:func:`~linkage_fmu.fmi.run.revolution`); the run 
 step by step (:func:`~linkage_fmu.fmi.run.step_fmu`), so each row holds the outputs of
 its own inputs. A linkage that assembles over part of a revolution is checked where it
 does; the FMU must discard the other steps.
+
+A drive FMU (``<Model>Drive``, :func:`check_drive`) runs the same time under a constant
+moment on its crank: its motion is compared with
+:meth:`Mechanism.simulate <linkage_fmu.mechanism.Mechanism.simulate>`, and its outputs
+with the direct solver at its own states.
 """
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -16,8 +22,9 @@ from pathlib import Path
 import numpy as np
 
 from .. import ranges
+from ..errors import AssemblyError, SelfLockingError, SingularPositionError
 from ..mechanism import Mechanism
-from .run import fmu_linkage, revolution, step_fmu
+from .run import fmu_kind, revolution, step_fmu
 
 
 @dataclass(frozen=True)
@@ -34,9 +41,20 @@ class CheckResult:
     seconds: float
     unsolved_deg: tuple = ()
     mismatched: int = 0
+    #: a drive FMU's: the largest error of theta and omega against ``simulate``, relative
+    #: to 1 + |value| (None for the others)
+    motion_error: float | None = None
 
     def passed(self, tol: float = 1e-9) -> bool:
-        return self.max_rel_error <= tol and self.mismatched == 0
+        return (self.max_rel_error <= tol and self.mismatched == 0
+                and (self.motion_error is None or self.motion_error <= MOTION_BOUND))
+
+
+#: the drive FMU's integrator tolerance in a check, and the bound on the error of its
+#: motion against ``simulate`` (at rtol = atol = 1e-13), relative to 1 + |value|: the
+#: global error of a local-error controller (measured over the presets and examples:
+#: at most 4.5e-8, the crank shaper, whose J_red swings 200-fold, the others 5e-10)
+DRIVE_TOLERANCE, MOTION_BOUND = 1e-12, 1e-6
 
 
 def reference(mech: Mechanism, inputs: np.ndarray):
@@ -85,7 +103,9 @@ def check_fmu(fmu: str | Path, steps: int = 360) -> CheckResult:
     ValueError
         The linkage assembles at none of the angles of the run.
     """
-    mech = fmu_linkage(fmu)
+    mech, drive = fmu_kind(fmu)
+    if drive:
+        return check_drive(fmu, mech, steps)
     u = revolution(mech, steps)
     names = list(mech.output_names + mech.diagnostic_names)
     t0 = time.perf_counter()
@@ -103,6 +123,77 @@ def check_fmu(fmu: str | Path, steps: int = 360) -> CheckResult:
     unsolved = ranges.runs(np.degrees(u["theta"][:-1]), ~solved)
     return CheckResult(mech.description.model, float(err), where, len(rows), seconds,
                        tuple(unsolved), int(np.sum(solved != valid)))
+
+
+def check_drive(fmu: str | Path, mech: Mechanism, steps: int = 360) -> CheckResult:
+    """Run the drive FMU ``fmu`` of ``mech`` with fmpy, step by step over the time of
+    :func:`~linkage_fmu.fmi.run.revolution` from the linkage's start angle and speed (2 pi
+    rad/s where it is 0), under the constant moment whose work over a revolution is
+    twice the start's kinetic energy (``J_red`` averaged over it), the loads at their
+    start values, at the tolerance
+    :data:`DRIVE_TOLERANCE`. Its ``theta`` and ``omega`` are compared with
+    :meth:`~linkage_fmu.mechanism.Mechanism.simulate` at ``rtol = atol = 1e-13``
+    (``motion_error``), and every output at its own states with the direct solver
+    (``max_rel_error``). Where the motion reaches an angle at which the linkage cannot
+    be assembled the FMU must discard the step and ``simulate`` must stop in it
+    (``mismatched`` counts the one that does not); the steps before it are checked and
+    ``unsolved_deg`` holds the angle it stopped at.
+
+    Raises
+    ------
+    ValueError
+        The linkage assembles at none of the angles of a revolution.
+    """
+    u = revolution(mech, steps)
+    t = u["time"]
+    theta0 = mech.start["theta"]
+    omega0 = mech.start["omega"] or 2.0 * np.pi
+    loads = {ld.name: ld.start for ld in mech.input_loads}
+    turn = mech.solve(theta0 + np.linspace(0.0, 2.0 * np.pi, 360, endpoint=False), omega0,
+                      0.0, **loads, outputs=["J_red"])
+    if not np.asarray(turn.valid).any():
+        raise ValueError(f"{Path(fmu).name}: {mech.name} assembles at none of 360 crank "
+                         "angles of a revolution")
+    # over a revolution, tau's work is twice the start's kinetic energy: the speed rises
+    # to about sqrt(3) omega0, where the linkage's own torques do not hold it
+    tau = float(np.nanmean(turn["J_red"])) * omega0 * abs(omega0) / (2.0 * math.pi)
+    inputs = np.zeros(t.size, dtype=[(n, np.float64) for n in ("time", "tau", *loads)])
+    inputs["time"], inputs["tau"] = t, tau
+    for name, value in loads.items():
+        inputs[name] = value
+    names = ["theta", "omega", "alpha", *mech.output_names, *mech.diagnostic_names]
+    start = {"theta0": theta0, "omega0": omega0, "tolerance": DRIVE_TOLERANCE}
+    t0 = time.perf_counter()
+    rows, _ = step_fmu(fmu, inputs, start, names, stop=True)
+    seconds = time.perf_counter() - t0
+    solved = rows["solved"].to_numpy()
+    reached = int(np.argmin(solved)) if not solved.all() else len(solved)
+    mismatched, unsolved = 0, ()
+    if reached < len(solved):  # the FMU stopped in step `reached`: simulate must too
+        try:  # at simulate's default tolerances: at 1e-13 it creeps to the limit (73 s)
+            mech.simulate(tau, t[:reached + 2], theta0, omega0, **loads)
+            mismatched = 1
+        except (AssemblyError, SingularPositionError, SelfLockingError, RuntimeError):
+            pass  # it cannot go on either: the linkage does not assemble, or locks
+        where = float(np.degrees(rows["theta"].iloc[reached - 1] if reached else theta0))
+        unsolved = ((where, where),)
+    motion_error = 0.0
+    if reached > 0:
+        ref = mech.simulate(tau, t[:reached + 1], theta0, omega0, rtol=1e-13, atol=1e-13,
+                            **loads).iloc[1:]
+        for name in ("theta", "omega"):
+            got, expected = rows[name].to_numpy()[:reached], ref[name].to_numpy()
+            err = float(np.max(np.abs(got - expected) / (1.0 + np.abs(expected))))
+            motion_error = err if not err <= motion_error else motion_error
+    err, worst = 0.0, ""
+    if reached > 0:
+        done = rows.iloc[:reached]
+        own = mech.solve(done["theta"].to_numpy(), done["omega"].to_numpy(),
+                         done["alpha"].to_numpy(), **loads, method="direct")
+        outputs = list(mech.output_names + mech.diagnostic_names)
+        err, worst = compare({n: done[n].to_numpy() for n in outputs}, own, outputs)
+    return CheckResult(f"{mech.description.model}Drive", float(err), worst, reached,
+                       seconds, unsolved, mismatched, motion_error)
 
 
 def write_crosscheck(out: str | Path, mech: Mechanism, steps: int = 360) -> list[Path]:

@@ -39,14 +39,41 @@ _NOMINAL_LOAD = {"N": 100.0, "N.m": 10.0}
 
 
 def fmu_linkage(fmu: str | Path) -> Mechanism:
-    """The linkage an FMU built by :func:`~linkage_fmu.fmi.build.build_fmu` computes: its
-    bundled description file, with the FMU's parameter start values."""
-    with zipfile.ZipFile(fmu) as archive:
-        root = ET.fromstring(archive.read("modelDescription.xml"))
-        model = root.find("CoSimulation").get("modelIdentifier")
-        name = f"resources/{model}.toml"
-        text = archive.read(name).decode("utf-8")
-    return Description.from_toml(text, f"{fmu}:{name}").build()
+    """The linkage an FMU built by :func:`~linkage_fmu.fmi.build.build_fmu` or
+    :func:`~linkage_fmu.fmi.build.build_native_fmu` computes (the drive FMU's too): its
+    bundled description file, with the FMU's parameter start values.
+
+    Raises
+    ------
+    ValueError
+        ``fmu`` is not an FMU (a zip archive with a modelDescription.xml), or not one of
+        a linkage built by this package (no description file of its model).
+    """
+    return fmu_kind(fmu)[0]
+
+
+def fmu_kind(fmu: str | Path) -> tuple[Mechanism, bool]:
+    """The linkage of ``fmu`` (:func:`fmu_linkage`), and whether the FMU is its drive FMU
+    (model ``<Model>Drive``: the linkage driven by a moment ``tau`` on its crank)."""
+    try:
+        with zipfile.ZipFile(fmu) as archive:
+            root = ET.fromstring(archive.read("modelDescription.xml"))
+            cs = root.find("CoSimulation")
+            model = "" if cs is None else cs.get("modelIdentifier", "")
+            names = set(archive.namelist())
+            drive = f"resources/{model}.toml" not in names and model.endswith("Drive")
+            name = f"resources/{model[:-len('Drive')] if drive else model}.toml"
+            if name not in names:
+                raise ValueError(f"{fmu}: not an FMU of a linkage built by linkage_fmu (it has "
+                                 f"no {name})")
+            text = archive.read(name).decode("utf-8")
+    except zipfile.BadZipFile:
+        raise ValueError(f"{fmu}: not an FMU (an FMU is a zip archive)") from None
+    except KeyError:
+        raise ValueError(f"{fmu}: not an FMU (it has no modelDescription.xml)") from None
+    except ET.ParseError as err:
+        raise ValueError(f"{fmu}: its modelDescription.xml is not XML ({err})") from None
+    return Description.from_toml(text, f"{fmu}:{name}").build(), drive
 
 
 def revolution(mech: Mechanism, steps: int = 360) -> np.ndarray:
@@ -92,9 +119,11 @@ class FMURunError(RuntimeError):
 
 
 def step_fmu(fmu: str | Path, inputs: np.ndarray, start_values: dict | None = None,
-             outputs=None) -> tuple[pd.DataFrame, list[str]]:
+             outputs=None, stop: bool = False) -> tuple[pd.DataFrame, list[str]]:
     """Run ``fmu`` through the rows of ``inputs`` (fields ``time``, equally spaced, and
-    the FMU's inputs), one doStep per row but the last.
+    the FMU's inputs), one doStep per row but the last; with ``stop``, none after the
+    first discarded step (an FMU with states, the drive FMU, stays at its time: the
+    rows after it are unsolved).
 
     Returns
     -------
@@ -149,6 +178,9 @@ def step_fmu(fmu: str | Path, inputs: np.ndarray, start_values: dict | None = No
                 if err.status != DISCARD:
                     raise
                 solved[k] = False
+                if stop:
+                    solved[k:] = False
+                    break
             result[k] = get_outputs(out_refs, len(out_refs)) if fmi3 else get_outputs(out_refs)
         slave.terminate()
     finally:
@@ -220,8 +252,14 @@ def run_fmu(fmu: str | Path, inputs: np.ndarray | None = None, steps: int = 360,
     FMURunError
         With ``strict``, the first discarded step: which, at what time, and what the
         FMU logged.
+    ValueError
+        ``fmu`` is not an FMU of a linkage, or is a drive FMU and no ``inputs`` are
+        given.
     """
-    mech = fmu_linkage(fmu)
+    mech, drive = fmu_kind(fmu)
+    if drive and inputs is None:  # revolution() gives the inverse FMU's inputs
+        raise ValueError(f"{fmu}: a drive FMU, whose inputs are tau and the loads: give "
+                         "them as inputs (or check it: linkage-fmu check)")
     u = revolution(mech, steps) if inputs is None else inputs
     rows, messages = step_fmu(fmu, u, start_values,
                               outputs or list(mech.output_names + mech.diagnostic_names))

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import functools
 import math
+import re
+from pathlib import Path
 
 from .. import numerics
 from ..bodies import Body, Effort
@@ -41,6 +43,7 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
         linkage cannot take (a length that is not positive, ...), naming it.
     """
     params = resolve(d.parameter_specs(), given, d.name)
+    origin = _origin(d)
     numbers = {k: v for k, v in params.items() if isinstance(v, (int, float))}
     floats = dict(numbers)
     if symbols:
@@ -51,7 +54,7 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
         try:
             x = Expression(source)(numbers)
         except (ValueError, ZeroDivisionError, OverflowError) as err:
-            raise ValueError(f"{d.name}: {where} = {source!r}: {err}") from None
+            raise ValueError(f"{origin}: {where} = {source!r}: {err}") from None
         if hasattr(x, "traced"):  # recorded as checks of the parameter step
             abs(x) < math.inf  # noqa: B015 -- false for inf and NaN
             numerics.label(x, Reason("parameter", f"{where} = {source!r} is not finite"))
@@ -65,14 +68,16 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
                 abs(abs(x) - 1.0) <= 0.0  # noqa: B015 -- an order comparison: recorded
                 numerics.label(x, Reason("parameter", f"{where} = {source!r} must be +1 or -1"))
             return x
+        # an expression's value is said after it; a number's once
+        said = f"{where} = {source!r}" + (f" = {x!r}" if isinstance(source, str) else "")
         if not math.isfinite(x):
-            raise ValueError(f"{d.name}: {where} = {source!r} = {x!r} is not finite")
+            raise ValueError(f"{origin}: {said} is not finite")
         if rule == "length" and not x > 0.0:
-            raise ValueError(f"{d.name}: {where} = {source!r} = {x!r} must be > 0")
+            raise ValueError(f"{origin}: {said} must be > 0")
         if rule in ("branch", "sign") and x not in (1.0, -1.0):
-            raise ValueError(f"{d.name}: {where} = {source!r} = {x!r} must be +1 or -1")
+            raise ValueError(f"{origin}: {said} must be +1 or -1")
         if rule in ("friction", "distance") and not x >= 0.0:
-            raise ValueError(f"{d.name}: {where} = {source!r} = {x!r} must be >= 0")
+            raise ValueError(f"{origin}: {said} must be >= 0")
         return x
 
     def start(where: str, source) -> float:
@@ -80,7 +85,7 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
         try:
             return Expression(source)(floats)
         except (ValueError, ZeroDivisionError, OverflowError) as err:
-            raise ValueError(f"{d.name}: {where} = {source!r}: {err}") from None
+            raise ValueError(f"{origin}: {where} = {source!r}: {err}") from None
 
     def vector(where: str, xy) -> tuple:
         return number(where + " x", xy[0]), number(where + " y", xy[1])
@@ -104,13 +109,14 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
     for link, spec in d.bodies.items():
         where = f"[bodies.{link}]"
         cg = spec["cg"]
+        place = {key: number(f"{where} cg {key}", cg[key])
+                 for key in ("along", "across", "distance", "angle") if key in cg}
+        mass, inertia = number(f"{where} mass", spec["mass"]), number(f"{where} inertia",
+                                                                      spec["inertia"])
         try:
-            place = {key: number(f"{where} cg {key}", cg[key])
-                     for key in ("along", "across", "distance", "angle") if key in cg}
-            bodies.append(Body(link, number(f"{where} mass", spec["mass"]),
-                               number(f"{where} inertia", spec["inertia"]), cg["from"], **place))
+            bodies.append(Body(link, mass, inertia, cg["from"], **place))
         except ValueError as err:
-            raise ValueError(f"{d.name}: {err}") from None
+            raise ValueError(f"{origin}: {where}: {err}") from None
 
     loads = []
     for spec in d.loads:
@@ -127,10 +133,14 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
                 scale = f"1 {spec['table_unit']} * ({scale})"
             over_cycle = dict(table=_table(rows, float(spec["period_deg"]), where),
                               scale=number(f"{where} scale", scale))
-        loads.append(Load(spec["name"], spec["body"], spec["kind"], spec.get("at", ""),
-                          direction, spec.get("fixed_in", "frame"), spec.get("unit", ""),
-                          spec.get("description", ""),
-                          start(f"{where} start", spec.get("start", 0.0)), **over_cycle))
+        value = start(f"{where} start", spec.get("start", 0.0))
+        try:
+            loads.append(Load(spec["name"], spec["body"], spec["kind"], spec.get("at", ""),
+                              direction, spec.get("fixed_in", "frame"), spec.get("unit", ""),
+                              spec.get("description", ""), value, **over_cycle))
+        except ValueError as err:  # "load F_P: direction ... has no length"
+            text = str(err).removeprefix(f"load {spec['name']}: ")
+            raise ValueError(f"{origin}: {where}: {text}") from None
 
     chosen = None
     for when, spec in d.efforts.items():
@@ -138,16 +148,17 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
             chosen = spec
     if chosen is None:
         options = [w[1] for w in d.efforts]
-        raise ValueError(f"{d.name}: no [effort] option for {next(iter(d.efforts))[0]} = "
+        raise ValueError(f"{origin}: no [effort] option for {next(iter(d.efforts))[0]} = "
                          f"{params[next(iter(d.efforts))[0]]!r}; the options are "
                          + ", ".join(map(repr, options)))
     effort = Effort(chosen["name"], chosen["body"], chosen.get("at", ""),
                     _unit(vector("[effort] direction", chosen["direction"]))
                     if "direction" in chosen else None)
 
-    outputs = []
-    for spec in d.outputs:
+    outputs, keys = [], {}  # keys: output name -> where the description declares it
+    for k, spec in enumerate(d.outputs):
         kind, name = spec["kind"], spec["name"]
+        first = len(outputs)
         text = spec.get("description", "")
         if kind == "force":
             for axis in spec.get("components", ["x", "y"]):
@@ -168,14 +179,34 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
                 if unit == "N.m" else "balancing force")))
         else:
             outputs.append(Derived(name, spec["expression"], spec.get("unit", "N"), text))
+        keys.update((o.name, f"[[outputs]] #{k + 1} ({name})") for o in outputs[first:])
     declared = _friction(d, number, friction)
 
     def rebuild(traced: dict) -> Mechanism:
         return build(d, given, traced, declared.active)
 
-    return Mechanism(d.name, d.frame, frame_points, groups, bodies, effort, outputs, loads,
-                     number("[linkage] gravity", d.gravity), params, d, rebuild,
-                     {k: start(f"[inputs] {k}", v) for k, v in d.inputs.items()}, declared)
+    gravity = number("[linkage] gravity", d.gravity)
+    inputs = {k: start(f"[inputs] {k}", v) for k, v in d.inputs.items()}
+    try:
+        return Mechanism(d.name, d.frame, frame_points, groups, bodies, effort, outputs, loads,
+                         gravity, params, d, rebuild, inputs, declared)
+    except ValueError as err:
+        if type(err) is not ValueError:
+            raise
+        # the description's file and key: "output F03x: ..." is "[[outputs]] #3 (F03): ..."
+        text = str(err).removeprefix(f"{d.name}: ")
+        named = re.match(r"output (\w+): (.*)", text, flags=re.S)
+        if named and named[1] in keys:
+            text = f"{keys[named[1]]}: {named[2]}"
+        raise ValueError(f"{origin}: {text}") from None
+
+
+def _origin(d) -> str:
+    """How messages name the description ``d``: its file, or its name where it has none
+    the user wrote (a preset's file is in the package; one made in Python has none)."""
+    if d.source.startswith("<") or Path(d.source).parent == Path(__file__).parents[1] / "linkages":
+        return d.name
+    return d.source
 
 
 def _friction(d, number, forced: bool) -> Declared:

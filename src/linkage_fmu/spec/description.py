@@ -236,8 +236,11 @@ class DescriptionError(ValueError):
     def __init__(self, source: str, problems: list[str]):
         self.source, self.problems = source, list(problems)
         n = len(self.problems)
-        super().__init__(f"{source}: {n} problem{'s' if n > 1 else ''}:\n"
-                         + "\n".join(f"  {p}" for p in self.problems))
+        if n == 1:  # one line: the file, the key, what is wrong
+            super().__init__(f"{source}: {self.problems[0]}")
+        else:
+            super().__init__(f"{source}: {n} problems:\n"
+                             + "\n".join(f"  {p}" for p in self.problems))
 
 
 @dataclass
@@ -411,6 +414,9 @@ class Description:
             text = path.read_text(encoding="utf-8")
         except OSError as err:
             raise DescriptionError(str(path), [f"cannot read it: {err.strerror}"]) from None
+        except UnicodeDecodeError as err:
+            raise DescriptionError(str(path), [f"not UTF-8 text: byte {err.object[err.start]:#x} "
+                                               f"at {err.start}"]) from None
         return cls.from_toml(text, str(path))
 
     # -- checking --------------------------------------------------------------------
