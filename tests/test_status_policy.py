@@ -26,8 +26,10 @@ FMI2_NAMES = {"fmi3GetFloat64": "fmi2GetReal", "fmi3SetFloat64": "fmi2SetReal",
               "fmi3": "fmi2"}
 
 
-def answers(fmu: Path, tmp_path: Path) -> dict:
-    run = subprocess.run([sys.executable, str(HOST), str(fmu)], cwd=tmp_path,
+def answers(fmu: Path, tmp_path: Path, *scenario: str) -> dict:
+    """The answers of ``policy_host.py`` on ``fmu`` (to its own calls, or to those of
+    the ``scenario`` file), FMI 3.0's names read as FMI 2.0's."""
+    run = subprocess.run([sys.executable, str(HOST), str(fmu), *scenario], cwd=tmp_path,
                          capture_output=True, text=True, timeout=300)
     assert run.returncode == 0, run.stderr[-3000:]
     out = json.loads(run.stdout.splitlines()[-1])
@@ -130,14 +132,7 @@ def answers_to(fmu: Path, calls: list, tmp_path: Path) -> dict:
     """The answers of ``policy_host.py`` to ``calls`` (a scenario) on ``fmu``."""
     job = tmp_path / "scenario.json"
     job.write_text(json.dumps(calls))
-    run = subprocess.run([sys.executable, str(HOST), str(fmu), str(job)], cwd=tmp_path,
-                         capture_output=True, text=True, timeout=300)
-    assert run.returncode == 0, run.stderr[-3000:]
-    out = json.loads(run.stdout.splitlines()[-1])
-    for entry in out["log"]:
-        for name, fmi2 in FMI2_NAMES.items():
-            entry[1] = entry[1].replace(name, fmi2)
-    return out
+    return answers(fmu, tmp_path, str(job))
 
 
 #: model, parameters: every state the scenario steps to overflows (the four-bar's and

@@ -591,25 +591,23 @@ class Solver:
             where = np.flatnonzero(status == code)
             if where.size:
                 i = int(where[0])
-                state = [float(a[i]) for a in flat]
-                try:
-                    self._interpreted_one(state, "interpreted", wanted, given)
-                    error = None
-                except STATE_ERRORS as err:
-                    error = err
+                error = self._error_at([float(a[i]) for a in flat], wanted, given)
                 reason = error.reason if error is not None else Reason("branch")
                 problems[code] = Problem(reason, str(error or reason.text), i, int(where.size))
         return status.reshape(np.shape(sol.valid)), problems
 
+    def _error_at(self, state: list, wanted, given=()) -> Exception | None:
+        """The error a failed array state raises when solved alone, None if it solves."""
+        try:
+            self._interpreted_one(state, "interpreted", wanted, given)
+        except STATE_ERRORS as err:
+            return err
+        return None
+
     def _overflowed(self, sol: ArraySolution, flat, wanted, given=()) -> tuple:
         """Every state of ``sol`` overflows: what its parameters compute overflows
         float64 (a Python float raises OverflowError where arrays would give inf)."""
-        state = [float(a[0]) for a in flat]
-        try:
-            self._interpreted_one(state, "interpreted", wanted, given)
-            error = None
-        except STATE_ERRORS as err:
-            error = err
+        error = self._error_at([float(a[0]) for a in flat], wanted, given)
         reason = error.reason if error is not None else Reason("overflow")
         n = int(np.size(sol.valid))
         status = np.full(np.shape(sol.valid), OVERFLOW, dtype=np.int8)
