@@ -20,7 +20,9 @@ linkage_fmu, so a pythonfmu FMU runs the package it bundles. Jobs (``job["job"]`
 - ``huge`` (FMI 3.0): every typed get and set called in step mode with
   nValueReferences = nValues = 2**31 on a small array whose first entry is unknown (the
   count past the array must not be read: a read past it is this process's crash), then
-  one valid read.
+  one valid read; then those of the types with variables with four of their references,
+  the same count and a NULL value array (named before any reference past the four is
+  read).
 """
 
 import json
@@ -420,9 +422,22 @@ def huge_job(job, path, unzip, md, log):
             k = len(log)
             status = f(*args)
             results[call] = [status, " | ".join(m for _, m in log[k:])]
+    null = {}  # references of the type's variables and a NULL value array: named first
+    for name, ctype in TYPES3:
+        known = [v.valueReference for v in md.modelVariables if v.type == name]
+        if not known:
+            continue
+        for verb in ("Get", "Set"):
+            call = f"fmi3{verb}{name}"
+            f = getattr(raw, call)
+            f.restype = c_int
+            k = len(log)
+            status = f(c_void_p(s.s.component), (c_uint * 4)(*[known[0]] * 4), c_size_t(n),
+                       c_void_p(None), c_size_t(n))
+            null[call] = [status, " | ".join(m for _, m in log[k:])]
     outs = [v.valueReference for v in md.modelVariables if v.causality == "output"]
     after = s.status(s.s.getFloat64, outs[:1])
-    return {"results": results, "after": [after[0], after[1] and after[1][0]]}
+    return {"results": results, "null": null, "after": [after[0], after[1] and after[1][0]]}
 
 
 def main(job):

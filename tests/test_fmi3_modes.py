@@ -100,6 +100,11 @@ def test_a_count_past_the_array_stops_at_its_first_unknown_reference(four_bars, 
     for call in calls:
         assert out["results"][call] == [3, f"{call}: value reference {unknown} (entry 0) is "
                                         "not a variable of FourBar"], call
+    typed = {f"fmi3{verb}{v.type}" for v in md.modelVariables for verb in ("Get", "Set")}
+    assert sorted(out["null"]) == sorted(typed & set(calls)) and "fmi3GetFloat64" in typed
+    for call, answer in out["null"].items():
+        assert answer == [3, f"{call}: the value array is NULL with {2 ** 31} value "
+                          "references"], call
     first = next(v.name for v in md.modelVariables if v.causality == "output")
     start = {v.name: float(v.start) for v in md.modelVariables if v.causality == "input"}
     expected = direct({}, [start[n] for n in ("theta", "omega", "alpha", "load")])[first]

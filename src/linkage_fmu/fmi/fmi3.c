@@ -65,10 +65,11 @@ static Instance host3(fmi3InstanceEnvironment environment, fmi3LogMessageCallbac
  * each reference is checked before the next is read (the count is the caller's word, and a
  * count past its array ends at the first entry that is wrong): a variable of `type`, or
  * `time`, which a Float64 get reads (`time_readable`) and nothing sets. 1 if the call may
- * go on to the framework (a NULL array is the framework's to name). */
+ * go on to the framework: a NULL array (of references or of `values`) is the framework's
+ * to name before any reference is read, as FMI 2.0's are. */
 static int scalars(Instance *in, const char *call, unsigned allowed,
-                   const fmi3ValueReference vr[], size_t nvr, size_t nvalues, int type,
-                   const char *type_name, int time_readable) {
+                   const fmi3ValueReference vr[], size_t nvr, const void *values,
+                   size_t nvalues, int type, const char *type_name, int time_readable) {
     if (nvalues != nvr) {
         say(in, LK_ERROR, "%s: nValues = %zu with %zu value references: every variable of "
             MODEL_IDENTIFIER " is a scalar, nValues must equal nValueReferences", call, nvalues,
@@ -76,7 +77,8 @@ static int scalars(Instance *in, const char *call, unsigned allowed,
         return 0;
     }
     if (require(in, call, allowed)) return 0;
-    for (size_t i = 0; vr && i < nvr; i++) {
+    if (!vr || !values) return 1;
+    for (size_t i = 0; i < nvr; i++) {
         if (vr[i] != TIME_VR) {
             if (check_ref(in, call, vr[i], i, type, type_name)) return 0;
         } else if (type != T_REAL) {
@@ -185,7 +187,8 @@ fmi3Status fmi3GetFloat64(fmi3Instance instance, const fmi3ValueReference valueR
     Instance *in = lk_instance(instance, call);
     if (!in) return fmi3Error;
     const fmi3ValueReference *vr = valueReferences;
-    if (!scalars(in, call, READABLE, vr, nValueReferences, nValues, T_REAL, "Float64", 1))
+    if (!scalars(in, call, READABLE, vr, nValueReferences, values, nValues, T_REAL, "Float64",
+                 1))
         return fmi3Error;
     if (!vr || !values) return (fmi3Status)lk_get_real(in, call, VR(vr), nValueReferences, values);
     Status status = LK_OK;
@@ -208,8 +211,8 @@ fmi3Status fmi3GetInt32(fmi3Instance instance, const fmi3ValueReference valueRef
                         size_t nValueReferences, fmi3Int32 values[], size_t nValues) {
     Instance *in = lk_instance(instance, "fmi3GetInt32");
     if (!in) return fmi3Error;
-    if (!scalars(in, "fmi3GetInt32", READABLE, valueReferences, nValueReferences, nValues,
-                 T_INTEGER, "Int32", 0))
+    if (!scalars(in, "fmi3GetInt32", READABLE, valueReferences, nValueReferences, values,
+                 nValues, T_INTEGER, "Int32", 0))
         return fmi3Error;
     return (fmi3Status)lk_get_integer(in, "fmi3GetInt32", VR(valueReferences), nValueReferences,
                                       (int *)values);
@@ -219,8 +222,8 @@ fmi3Status fmi3GetString(fmi3Instance instance, const fmi3ValueReference valueRe
                          size_t nValueReferences, fmi3String values[], size_t nValues) {
     Instance *in = lk_instance(instance, "fmi3GetString");
     if (!in) return fmi3Error;
-    if (!scalars(in, "fmi3GetString", READABLE, valueReferences, nValueReferences, nValues,
-                 T_STRING, "String", 0))
+    if (!scalars(in, "fmi3GetString", READABLE, valueReferences, nValueReferences, values,
+                 nValues, T_STRING, "String", 0))
         return fmi3Error;
     return (fmi3Status)lk_get_string(in, "fmi3GetString", VR(valueReferences), nValueReferences,
                                      values);
@@ -230,8 +233,8 @@ fmi3Status fmi3SetFloat64(fmi3Instance instance, const fmi3ValueReference valueR
                           size_t nValueReferences, const fmi3Float64 values[], size_t nValues) {
     Instance *in = lk_instance(instance, "fmi3SetFloat64");
     if (!in) return fmi3Error;
-    if (!scalars(in, "fmi3SetFloat64", WRITABLE, valueReferences, nValueReferences, nValues,
-                 T_REAL, "Float64", 0))
+    if (!scalars(in, "fmi3SetFloat64", WRITABLE, valueReferences, nValueReferences, values,
+                 nValues, T_REAL, "Float64", 0))
         return fmi3Error;
     return (fmi3Status)lk_set_real(in, "fmi3SetFloat64", EXIT, VR(valueReferences),
                                    nValueReferences, values);
@@ -241,8 +244,8 @@ fmi3Status fmi3SetInt32(fmi3Instance instance, const fmi3ValueReference valueRef
                         size_t nValueReferences, const fmi3Int32 values[], size_t nValues) {
     Instance *in = lk_instance(instance, "fmi3SetInt32");
     if (!in) return fmi3Error;
-    if (!scalars(in, "fmi3SetInt32", WRITABLE, valueReferences, nValueReferences, nValues,
-                 T_INTEGER, "Int32", 0))
+    if (!scalars(in, "fmi3SetInt32", WRITABLE, valueReferences, nValueReferences, values,
+                 nValues, T_INTEGER, "Int32", 0))
         return fmi3Error;
     return (fmi3Status)lk_set_integer(in, "fmi3SetInt32", EXIT, VR(valueReferences),
                                       nValueReferences, (const int *)values);
@@ -252,8 +255,8 @@ fmi3Status fmi3SetString(fmi3Instance instance, const fmi3ValueReference valueRe
                          size_t nValueReferences, const fmi3String values[], size_t nValues) {
     Instance *in = lk_instance(instance, "fmi3SetString");
     if (!in) return fmi3Error;
-    if (!scalars(in, "fmi3SetString", WRITABLE, valueReferences, nValueReferences, nValues,
-                 T_STRING, "String", 0))
+    if (!scalars(in, "fmi3SetString", WRITABLE, valueReferences, nValueReferences, values,
+                 nValues, T_STRING, "String", 0))
         return fmi3Error;
     return (fmi3Status)lk_set_string(in, "fmi3SetString", EXIT, VR(valueReferences),
                                      nValueReferences, values);
@@ -266,8 +269,8 @@ fmi3Status fmi3SetString(fmi3Instance instance, const fmi3ValueReference valueRe
                           size_t nValueReferences, ctype values[], size_t nValues) {       \
         Instance *in = lk_instance(instance, "fmi3" #Name);                                \
         if (!in) return fmi3Error;                                                         \
-        if (!scalars(in, "fmi3" #Name, allowed, valueReferences, nValueReferences, nValues,  \
-                     -1, #Name + 3, 0))                                                    \
+        if (!scalars(in, "fmi3" #Name, allowed, valueReferences, nValueReferences, values,     \
+                     nValues, -1, #Name + 3, 0))                                           \
             return fmi3Error;                                                              \
         return (fmi3Status)lk_no_variables(in, "fmi3" #Name, allowed, VR(valueReferences), \
                                            nValueReferences, values, #Name + 3);           \
@@ -298,8 +301,8 @@ fmi3Status fmi3GetBinary(fmi3Instance instance, const fmi3ValueReference valueRe
     if (!in) return fmi3Error;
     if (nValueReferences && !valueSizes)
         return (fmi3Status)say(in, LK_ERROR, "fmi3GetBinary: valueSizes is NULL");
-    if (!scalars(in, "fmi3GetBinary", READABLE, valueReferences, nValueReferences, nValues, -1,
-                 "Binary", 0))
+    if (!scalars(in, "fmi3GetBinary", READABLE, valueReferences, nValueReferences, values,
+                 nValues, -1, "Binary", 0))
         return fmi3Error;
     return (fmi3Status)lk_no_variables(in, "fmi3GetBinary", READABLE, VR(valueReferences),
                                        nValueReferences, values, "Binary");
@@ -312,8 +315,8 @@ fmi3Status fmi3SetBinary(fmi3Instance instance, const fmi3ValueReference valueRe
     if (!in) return fmi3Error;
     if (nValueReferences && !valueSizes)
         return (fmi3Status)say(in, LK_ERROR, "fmi3SetBinary: valueSizes is NULL");
-    if (!scalars(in, "fmi3SetBinary", WRITABLE, valueReferences, nValueReferences, nValues, -1,
-                 "Binary", 0))
+    if (!scalars(in, "fmi3SetBinary", WRITABLE, valueReferences, nValueReferences, values,
+                 nValues, -1, "Binary", 0))
         return fmi3Error;
     return (fmi3Status)lk_no_variables(in, "fmi3SetBinary", WRITABLE, VR(valueReferences),
                                        nValueReferences, values, "Binary");
