@@ -436,7 +436,11 @@ def bad_inputs(tmp_path) -> list:
     files = {"mu.toml": example + "\n[friction.C]\nmu = -0.1\nradius = 0.01\n",
              "unjoined.toml": example.replace('name = "F03"\nby = "0"\non = "3"',
                                               'name = "F03"\nby = "0"\non = "2"'),
-             "empty.csv": "", "columns.csv": "l_AB,nope\n0.1,1\n", "text.fmu": "not a zip"}
+             "empty.csv": "", "columns.csv": "l_AB,nope\n0.1,1\n", "text.fmu": "not a zip",
+             "header.csv": "l_AB\n",
+             "mu_max.toml": example.replace(
+                 "[parameters]\n", '[parameters]\nmu_x = { default = 0.1, kind = "friction", '
+                 'description = "a pin", max = 5000 }\n', 1)}
     for name, text in files.items():
         (tmp_path / name).write_text(text)
     (tmp_path / "latin1.toml").write_bytes(b"# \xe9\n[linkage]\n")
@@ -456,8 +460,13 @@ def bad_inputs(tmp_path) -> list:
                                                                 "such file"),
         (["sweep", "four_bar", "--samples", f"{t}/empty.csv"], f"--samples {t}/empty.csv: "
                                                                  "not a CSV table of designs"),
+        (["sweep", "four_bar", "--samples", f"{t}/header.csv"],
+         f"--samples {t}/header.csv: no designs (columns l_AB and no row)"),
+        (["sweep", "four_bar", "--grid", "l_AB=0.1", "--n", "0"], "--n must be >= 1, got 0"),
         (["sweep", "four_bar", "--samples", f"{t}/columns.csv"],
          f"--samples {t}/columns.csv: four_bar has no parameter 'nope'"),
+        (["info", f"{t}/mu_max.toml"], f"{t}/mu_max.toml: [parameters] mu_x: max = 5000 is "
+                                        "above the largest coefficient of friction taken (1000)"),
         (["table", f"{t}/mu.toml"], f"{t}/mu.toml: [friction.C] mu = -0.1 must be >= 0"),
         (["info", f"{t}/unjoined.toml"], f"{t}/unjoined.toml: [[outputs]] #3 (F03): no joint "
                                          "between bodies '0' and '2'"),
@@ -600,3 +609,11 @@ def test_the_examples_of_the_help_run(tmp_path, monkeypatch):
         assert status == 0, (line, err)
         ran.append(argv[1])
     assert {"info", "table", "sweep", "optimize", "plot", "simulate", "flywheel"} <= set(ran)
+
+
+def test_an_angle_in_exponent_notation_is_a_number():
+    """``--theta 1E2`` is 100 rad (it was split into 1 and a unit 'E2' and refused);
+    reference: the same table asked with --theta 100."""
+    status, out, err = run(["table", "four_bar", "--theta", "1E2", "--outputs", "Mb"])
+    assert status == 0, err
+    assert out == run(["table", "four_bar", "--theta", "100", "--outputs", "Mb"])[1]

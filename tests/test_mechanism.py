@@ -457,3 +457,31 @@ def test_a_non_finite_diagnostic_is_no_solution(name, parameter):
                 mech.solve(0.5, omega=omega, method=method)
         sol = mech.solve(np.array([0.5, 2.0]), omega=10.0, method=method)
         assert sol.status.tolist() == [OVERFLOW, OVERFLOW]
+
+
+def test_an_integer_past_float64_is_named():
+    """An int too large for a float64 (10**400) as an input, in an array or as a
+    parameter raised Python's bare OverflowError; it is a ValueError naming it."""
+    mech = presets.get("four_bar")
+    for call, name in ((lambda: mech.solve(10 ** 400, omega=10.0), "theta"),
+                       (lambda: mech.solve(0.3, omega=10 ** 400), "omega"),
+                       (lambda: mech.solve([0.1, 10 ** 400], omega=10.0), "theta"),
+                       (lambda: presets.get("four_bar", l_CD=10 ** 400), "l_CD")):
+        with pytest.raises(ValueError, match=rf"{name} must be (a )?finite.*past float64's range"):
+            call()
+
+
+def test_start_values_cannot_go_stale():
+    """The lean path keeps the input loads' start values: ``start`` is read-only, neither
+    assigned nor changed in place, and a linkage still deep-copies (a read-only mapping
+    held in it made deepcopy fail). Reference: the copy's Mb equals the original's."""
+    import copy
+
+    mech = presets.get("scotch_yoke")
+    with pytest.raises(AttributeError):
+        mech.start = {**mech.start, "load": 0.0}
+    with pytest.raises(TypeError):
+        mech.start["load"] = 0.0
+    twin = copy.deepcopy(mech)
+    assert twin.solve(0.3, omega=10.0)["Mb"] == mech.solve(0.3, omega=10.0)["Mb"]
+    assert twin.start == mech.start

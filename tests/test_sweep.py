@@ -276,3 +276,13 @@ def test_a_design_whose_outputs_overflow_is_invalid_with_a_reason():
     fused = sweep("slotted_lever", {"J2": [1e308]}, THETA, 10.0)
     assert fused.loc[0, "problem"] == ("the outputs overflow float64: a parameter is too "
                                        "large in magnitude")
+
+
+def test_no_designs_and_no_angles():
+    """No design: an empty table of the designs' columns (it raised KeyError 'valid');
+    no angle: a ValueError naming theta (the summaries were taken over nothing)."""
+    table = sweep(presets.get("four_bar"), pd.DataFrame({"l_AB": []}),
+                  np.linspace(0.0, 6.0, 4), 10.0)
+    assert table.empty and list(table.columns)[:1] == ["l_AB"]
+    with pytest.raises(ValueError, match="theta must hold at least one crank angle"):
+        sweep(presets.get("four_bar"), {"l_AB": [0.1]}, [], 10.0)

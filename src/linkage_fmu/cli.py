@@ -190,7 +190,7 @@ def typed(spec: str, where: str = "--theta") -> tuple[np.ndarray, str]:
     (array([0.1, 0.2]), '')
     """
     text, unit = spec.strip(), ""
-    found = re.fullmatch(r"(.*?[\d.])\s*([A-Za-z°][\w°]*)", text)
+    found = re.fullmatch(r"(.*?[\d.])\s*(?![eE][+-]?\d)([A-Za-z°][\w°]*)", text)  # 1e2: a number
     if found:
         text, unit = found.groups()
     try:
@@ -204,6 +204,19 @@ def typed(spec: str, where: str = "--theta") -> tuple[np.ndarray, str]:
     except ValueError:
         raise UsageError(f"{where} {spec!r}: expected a number, a list a,b,c or "
                          "START:STOP:STEP, optionally with a unit") from None
+
+
+def revolution(n: int) -> np.ndarray:
+    """``--n`` angles over a revolution [rad], 2 pi left out (it is 0).
+
+    Examples
+    --------
+    >>> revolution(4).round(6).tolist()
+    [0.0, 1.570796, 3.141593, 4.712389]
+    """
+    if n < 1:
+        raise UsageError(f"--n must be >= 1, got {n}")
+    return np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
 
 
 def angles(spec: str | None, n: int, degrees: bool) -> np.ndarray:
@@ -787,8 +800,7 @@ def _sweep(d: Description, args) -> int:
         designs = samples(args.samples)
     else:
         designs = grid(**dict(map(_values, args.grid)))
-    theta = (np.linspace(0.0, 2.0 * np.pi, args.n, endpoint=False) if args.theta is None
-             else angles(args.theta, 0, args.deg))
+    theta = (revolution(args.n) if args.theta is None else angles(args.theta, 0, args.deg))
     omega, alpha = speeds(args)
     try:
         table = sweep(mech, designs, theta, omega, alpha, scheduler=args.scheduler,
@@ -811,9 +823,7 @@ def samples(path: str):
     if not Path(path).is_file():
         raise UsageError(f"--samples {path}: no such file")
     try:
-        if path.endswith(".parquet"):
-            return pd.read_parquet(path)
-        return pd.read_csv(path)
+        table = pd.read_parquet(path) if path.endswith(".parquet") else pd.read_csv(path)
     except ImportError:
         raise UsageError(f"--samples {path}: reading Parquet needs pyarrow (pip install "
                          "pyarrow); or write .csv") from None
@@ -823,6 +833,10 @@ def samples(path: str):
         raise UsageError(f"--samples {path}: not a {what} table of designs ({reason}); "
                          "write a header line of parameter names, then one design per "
                          "line") from None
+    if table.empty:
+        raise UsageError(f"--samples {path}: no designs (columns {', '.join(table.columns)} "
+                         "and no row)")
+    return table
 
 
 def _bounds(spec: str) -> tuple[str, tuple]:
@@ -848,8 +862,7 @@ def _optimize(d: Description, args) -> int:
     if args.csv and not args.csv.endswith(".csv"):
         raise UsageError(f"--csv {args.csv}: the file must end in .csv")
     mech = d.build(**dict(args.params))
-    theta = (np.linspace(0.0, 2.0 * np.pi, args.n, endpoint=False) if args.theta is None
-             else angles(args.theta, 0, args.deg))
+    theta = (revolution(args.n) if args.theta is None else angles(args.theta, 0, args.deg))
     omega, alpha = speeds(args)
     status = 0
     try:

@@ -159,12 +159,9 @@ class Mechanism:
         self.input_names = MOTION + tuple(load.name for load in self.input_loads)
         # the input loads by name -> position, and their start values (the lean path)
         self._load_position = {load.name: k for k, load in enumerate(self.input_loads)}
-        #: input name -> the value it takes where none is given (read-only: the lean
-        #: path of :meth:`solve` keeps the input loads' start values)
-        self.start = MappingProxyType({**dict.fromkeys(MOTION, 0.0),
-                                       **{ld.name: ld.start for ld in self.loads},
-                                       **(start or {})})
-        self._start_loads = tuple(self.start[ld.name] for ld in self.input_loads)
+        self._start = {**dict.fromkeys(MOTION, 0.0), **{ld.name: ld.start for ld in self.loads},
+                       **(start or {})}
+        self._start_loads = tuple(self._start[ld.name] for ld in self.input_loads)
         self._n_loads = len(self.input_loads)
         self._load_name = self.input_loads[0].name if self.input_loads else None
         #: input name -> its unit (the loads over the cycle included)
@@ -193,6 +190,13 @@ class Mechanism:
         #: solves it: plans, kernels, methods (:class:`~linkage_fmu.solver.Solver`)
         self.solver = Solver(self)
         self._hot = self.solver.hot  # the lean path of solve: [static, moving]
+
+    @property
+    def start(self) -> MappingProxyType:
+        """Input name -> the value it takes where none is given; read-only (the lean path
+        of :meth:`solve` keeps the input loads' start values): other start values are
+        its description's ``[inputs]`` and the loads' ``start``."""
+        return MappingProxyType(self._start)
 
     def _resolve(self, j: Joint) -> Joint:
         a = self.frame if j.a == FRAME else j.a
@@ -369,8 +373,8 @@ class Mechanism:
             # path returns for the same inputs; anything else (text, arrays, a state
             # without outputs, a kernel not yet hot, no compiler) goes on to the solver,
             # which decides and raises
-            w = self.start["omega"] if omega is None else omega
-            a = self.start["alpha"] if alpha is None else alpha
+            w = self._start["omega"] if omega is None else omega
+            a = self._start["alpha"] if alpha is None else alpha
             hot = None
             if type(w) in _LEAN and type(a) in _LEAN:  # the kernel checks every input
                 hot = self._hot[1] if w != 0.0 or a != 0.0 else self._hot[0]

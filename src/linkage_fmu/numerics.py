@@ -135,7 +135,11 @@ def finite_float(name: str, value: object) -> float:
         return value
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.number)):
         raise TypeError(f"{name} must be a real number, got {type(value).__name__} {value!r}")
-    x = float(value)
+    try:
+        x = float(value)
+    except OverflowError:  # an int past float64's range
+        raise ValueError(f"{name} must be a finite number, got an integer of "
+                         f"{int(value).bit_length()} bits, past float64's range") from None
     if not math.isfinite(x):
         raise ValueError(f"{name} must be a finite number, got {x!r}")
     return x
@@ -155,6 +159,9 @@ def finite_array(name: str, value: np.ndarray) -> np.ndarray:
         arr = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as err:
         raise TypeError(f"{name} must be an array of real numbers: {err}") from None
+    except OverflowError:  # an int past float64's range
+        raise ValueError(f"{name} must be finite: an entry is an integer past float64's "
+                         "range") from None
     if not np.isfinite(arr).all():
         where = tuple(int(i) for i in np.argwhere(~np.isfinite(arr))[0])
         raise ValueError(f"{name} must be finite: entry {where} is {float(arr[where])!r}")

@@ -104,7 +104,10 @@ class Parameter:
     maximum: float | None = None
 
     def __post_init__(self):
-        if self.kind == "friction" and (self.maximum is None or self.maximum > MU_MAX):
+        if self.kind == "friction" and self.maximum is not None and self.maximum > MU_MAX:
+            raise ValueError(f"{self.name}: max = {self.maximum:g} is above the largest "
+                             f"coefficient of friction taken ({MU_MAX:g})")
+        if self.kind == "friction" and self.maximum is None:
             object.__setattr__(self, "maximum", MU_MAX)
 
     @property

@@ -127,8 +127,8 @@ def sweep(source, designs: pd.DataFrame | Mapping[str, Sequence], theta=None,
     Raises
     ------
     TypeError, ValueError
-        A column that is not a parameter of the linkage, an angle or load that is not
-        finite, a number of threads that is not a positive integer: naming it. An
+        A column that is not a parameter of the linkage, no angle, an angle or load that
+        is not finite, a number of threads that is not a positive integer: naming it. An
         invalid parameter value is not an error: its design's row says why
         (``problem``).
     """
@@ -145,6 +145,9 @@ def sweep(source, designs: pd.DataFrame | Mapping[str, Sequence], theta=None,
                             + ", ".join(specs))
     theta = np.linspace(0.0, 2.0 * math.pi, 360, endpoint=False) if theta is None else theta
     theta = np.asarray(theta, dtype=np.float64).reshape(-1)
+    if not theta.size:
+        raise ValueError("theta must hold at least one crank angle: a design's summaries "
+                         "are over its angles")
     values, given = mech.inputs(omega, alpha, loads, named_loads)
     inputs = [theta] + [np.full(1, float(v)) for v in values]
     for name, a in zip(mech.input_names + given, inputs):
@@ -181,6 +184,8 @@ def _overflowing(table: pd.DataFrame, summaries: tuple) -> None:
     """Mark invalid, saying why, the designs called valid whose balancing effort's
     ``summaries`` (peak and rms) are not finite: their arithmetic overflows
     (``J2 = 1e308``), where a valid row used to hold NaN or inf and no reason."""
+    if "valid" not in table:  # no designs
+        return
     bad = table["valid"].to_numpy(bool, copy=True)
     finite = np.ones(bad.size, bool)
     for name in summaries:

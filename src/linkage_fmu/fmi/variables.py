@@ -101,7 +101,7 @@ def bounds(v: Variable) -> tuple[float | None, float | None]:
     >>> from linkage_fmu import presets
     >>> table = {v.name: v for v in drive_variables(presets.get("four_bar"))}
     >>> [bounds(table[n]) for n in ("l_AB", "m1", "mu_A", "beta1", "branch", "tolerance")]
-    [(5e-324, None), (0.0, None), (0.0, None), (None, None), (-1, 1), (1e-14, 0.1)]
+    [(5e-324, None), (0.0, None), (0.0, 1000.0), (None, None), (-1, 1), (1e-14, 0.1)]
     """
     if v.type == "Integer" and v.allowed:
         return min(v.allowed), max(v.allowed)

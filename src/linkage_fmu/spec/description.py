@@ -744,8 +744,12 @@ class _Checker:
                 self.found.append(f"{where}: kind {p['kind']!r} is unknown; the kinds are "
                                   f"{', '.join(KINDS)}")
                 continue
-            spec = Parameter(name, p["default"], p["kind"], p["description"], p["choices"],
-                             p["min"], p["max"])
+            try:
+                spec = Parameter(name, p["default"], p["kind"], p["description"],
+                                 p["choices"], p["min"], p["max"])
+            except ValueError as err:  # a bound the kind cannot have
+                self.found.append(f"{where}: {str(err).removeprefix(f'{name}: ')}")
+                continue
             try:
                 value = spec.validate(p["default"])
             except (TypeError, ValueError) as err:
