@@ -802,12 +802,14 @@ def _sweep(d: Description, args) -> int:
         designs = grid(**dict(map(_values, args.grid)))
     theta = (revolution(args.n) if args.theta is None else angles(args.theta, 0, args.deg))
     omega, alpha = speeds(args)
-    try:
-        table = sweep(mech, designs, theta, omega, alpha, scheduler=args.scheduler,
-                      progress=args.scheduler is None and sys.stderr.isatty(), **loads(args))
-    except TypeError as err:  # a column that is no parameter: say which file has it
-        raise UsageError(f"--samples {args.samples}: {err}" if args.samples else str(err)) \
-            from None
+    names = [p.name for p in mech.description.parameter_specs()]
+    for name in designs.columns:
+        if name not in names:  # said here, naming the file that has it
+            raise UsageError(f"{f'--samples {args.samples}: ' if args.samples else ''}"
+                             f"{mech.name} has no parameter {name!r}; its parameters are: "
+                             + ", ".join(names))
+    table = sweep(mech, designs, theta, omega, alpha, scheduler=args.scheduler,
+                  progress=args.scheduler is None and sys.stderr.isatty(), **loads(args))
     if args.output:
         write_table(table, args.output, index=False)  # a design's row is its parameters
     else:
