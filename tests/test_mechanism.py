@@ -410,7 +410,7 @@ def test_a_parameter_whose_arithmetic_overflows_is_the_librarys_error():
         assert sol.status.tolist() == [OVERFLOW, OVERFLOW]
         assert sol.problems[OVERFLOW].reason.kind == "overflow"
         assert mech.solver.attempt([0.5, 10.0, 0.0, 0.0], None, method).text == \
-            "the outputs overflow float64: an input is too large in magnitude"
+            "the outputs overflow float64: an input or a parameter is too large in magnitude"
 
 
 def test_a_singular_matrix_in_the_direct_method_is_the_librarys_error():

@@ -104,5 +104,5 @@ class OverflowInputError(ValueError):
     def __init__(self, mechanism: str, detail: str):
         self.mechanism = mechanism
         #: why, as the FMUs say it
-        self.reason = Reason("overflow", "an input is too large in magnitude")
+        self.reason = Reason("overflow", "an input or a parameter is too large in magnitude")
         super().__init__(f"{mechanism}: {detail}")

@@ -632,12 +632,12 @@ def _largest(mech, values, given: tuple = ()) -> str:
     --------
     >>> from linkage_fmu import presets
     >>> _largest(presets.get("four_bar", l_CD=1e308), [0.5, 10.0, 0.0, 0.0])
-    'an input is too large in magnitude (the largest: parameter l_CD = 1e+308)'
+    'an input or a parameter is too large in magnitude (the largest: parameter l_CD = 1e+308)'
     """
     named = [(f"input {n}", v) for n, v in zip(mech.input_names + given, values)]
     named += [(f"parameter {n}", v) for n, v in mech.parameters.items() if type(v) is float]
     name, value = max(named, key=lambda nv: abs(nv[1]))
-    return f"an input is too large in magnitude (the largest: {name} = {value!r})"
+    return f"an input or a parameter is too large in magnitude (the largest: {name} = {value!r})"
 
 
 def _solved(st) -> np.ndarray | bool:

@@ -48,7 +48,8 @@ static Status finite_outputs(const double *y, char *why, size_t size) {
     for (int k = 0; k < N_KERNEL_OUTPUTS; k++)
         if (CHECKED[k] && !isfinite(y[k])) {
             set_text(why, size, COND_OUTPUT >= 0 && isfinite(y[COND_OUTPUT])
-                     ? "the outputs overflow float64: an input is too large in magnitude"
+                     ? "the outputs overflow float64: an input or a parameter is too large "
+                       "in magnitude"
                      : "the linkage is at a singular position: the equations have no unique "
                        "solution");
             return LK_DISCARD;
