@@ -85,7 +85,8 @@ def test_the_statuses_and_messages_are_the_policy(runs):
                   "outputs are NaN until an input changes"],
         [DISCARD, "fmi2DoStep: the inputs theta = 0.5, omega = 1e+160, alpha = 0.0, load = 1.0 "
                   "cannot be solved at t = 0.2: the outputs overflow float64: an input or a "
-                  "parameter is too large in magnitude; the outputs are NaN until an input changes"],
+                  "parameter is too large in magnitude; the outputs are NaN until an input "
+                  "changes"],
         [DISCARD, f"fmi2DoStep: the inputs {inputs} cannot be solved at t = 0.3: the linkage "
                   "cannot be assembled: the dyad B-C-D cannot close; the outputs are NaN until "
                   "an input changes"],
