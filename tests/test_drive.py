@@ -28,8 +28,8 @@ from fmpy.validation import validate_fmu
 from conftest import run_host
 from linkage_fmu import presets, ranges
 from linkage_fmu.cli import main
-from linkage_fmu.fmi import build_native_fmu
 import fmu_fuzz
+from fmu_cache import build_native_fmu
 from fmu_fuzz import run_drive
 from test_c_host import compile_host, model_outputs
 

@@ -17,6 +17,7 @@ from pathlib import Path
 
 import pytest
 
+import fmu_cache
 from linkage_fmu.ccompiler import CompilerError, find_cross_compiler
 from linkage_fmu.cli import main
 from linkage_fmu.fmi import binaries, build_native_fmu
@@ -113,7 +114,8 @@ def every_platform(tmp_path_factory) -> dict[int, Path]:
     out = tmp_path_factory.mktemp("every_platform")
     folders_ = {}
     for version in (2, 3):
-        fmu = build_native_fmu("four_bar", out / f"fmi{version}", version, platforms="all")
+        fmu = fmu_cache.build_native_fmu("four_bar", out / f"fmi{version}", version,
+                                         platforms="all")
         folders_[version] = out / f"FourBar{version}"
         with zipfile.ZipFile(fmu) as archive:
             archive.extractall(folders_[version])

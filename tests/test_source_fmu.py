@@ -20,7 +20,8 @@ from fmpy.build import build_platform_binary
 from fmpy.util import create_zip_archive
 
 from conftest import MODELS
-from linkage_fmu.fmi import build_native_fmu, check_fmu
+from fmu_cache import build_native_fmu
+from linkage_fmu.fmi import check_fmu
 from linkage_fmu.fmi.platforms import host
 
 ROOT = Path(__file__).resolve().parents[1]
