@@ -201,6 +201,7 @@ def windows_arguments(folder: Path, version: int) -> tuple[list[str], dict[str, 
     return arguments, outputs
 
 
+@pytest.mark.slow
 @needs_zig
 @pytest.mark.parametrize("version", (2, 3))
 def test_the_windows_binary_under_wine(every_platform, wine_run, windows_host, version):
@@ -213,6 +214,7 @@ def test_the_windows_binary_under_wine(every_platform, wine_run, windows_host, v
     assert max(errors.values()) <= TOLERANCE, errors
 
 
+@pytest.mark.slow
 @needs_zig
 def test_the_windows_binary_logs_an_error_in_full_under_wine(every_platform, wine_run,
                                                               windows_host):
@@ -232,6 +234,7 @@ def test_the_windows_binary_logs_an_error_in_full_under_wine(every_platform, win
             in run.stderr), run.stderr
 
 
+@pytest.mark.slow
 @needs_zig
 def test_the_aarch64_linux_binary_under_qemu(every_platform, tmp_path):
     """The aarch64-linux binary (FMI 3.0 only), loaded with dlopen by the C host built for

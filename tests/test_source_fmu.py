@@ -55,7 +55,9 @@ def rebuilt(fmu: Path, fmi_version: int, tmp_path: Path) -> Path:
     return out
 
 
-@pytest.mark.parametrize("model", NATIVE_MODELS)
+@pytest.mark.parametrize("model", [
+    pytest.param(m, marks=pytest.mark.slow) if m == "SixBar" else m  # 3.6 MB of C
+    for m in NATIVE_MODELS])
 @pytest.mark.parametrize("fmi_version", [2, 3])
 def test_built_from_its_sources_by_fmpy_equals_the_direct_solver(
         request, dist, tmp_path, fmi_version, model):
