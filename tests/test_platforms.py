@@ -9,6 +9,7 @@ it is missing."""
 
 from __future__ import annotations
 
+import inspect
 import os
 import shutil
 import subprocess
@@ -23,7 +24,7 @@ from linkage_fmu.cli import main
 from linkage_fmu.fmi import binaries, build_native_fmu
 from linkage_fmu.fmi.build import REQUIRED
 from linkage_fmu.fmi.platforms import PLATFORMS, folders, host, select
-from test_c_host import compile_host, error_against_direct, model_outputs
+from test_c_host import HOST_SOURCE, compile_host, error_against_direct, model_outputs
 
 STEPS, OMEGA, LOAD = 72, 10.0, 5.0
 TOLERANCE = 1e-12
@@ -187,10 +188,15 @@ def wine_run(tmp_path_factory):
 
 
 @pytest.fixture(scope="module")
-def windows_host(tmp_path_factory) -> Path:
-    """The C host built for Windows (zig, MinGW, UCRT)."""
-    return compile_host(tmp_path_factory.mktemp("windows_host"),
-                        PLATFORMS["x86_64-windows"].zig)
+def windows_host() -> Path:
+    """The C host built for Windows (zig, MinGW, UCRT), once for its source and build
+    (``fmu_cache``)."""
+    target = PLATFORMS["x86_64-windows"].zig
+    made = fmu_cache.entry(
+        "host-" + fmu_cache.key("host", target, HOST_SOURCE.read_text(),
+                                inspect.getsource(compile_host)),
+        lambda folder: compile_host(folder, target))
+    return made / "host.exe"
 
 
 def windows_arguments(folder: Path, version: int) -> tuple[list[str], dict[str, int]]:
