@@ -4,8 +4,8 @@ into them, so that no test waits for an FMU another test (or another run) has bu
 :func:`build_fmu` and :func:`build_native_fmu` take the arguments of
 ``linkage_fmu.fmi.build_fmu`` and ``build_native_fmu`` (``out`` required) and return
 ``out/<model>.fmu``: a copy of the FMU built for those arguments, built on the first
-call. :func:`cached_folder` does the same for a folder a function writes (the ``dist``
-fixture's run of ``build_fmu.py``).
+call. :func:`entry` keeps any folder a function writes, under a :func:`key` of what it
+depends on (the Windows C host of ``test_platforms``, the drive tests' reference).
 
 The key is the SHA-256 of the build's arguments, the linkage's description as the FMU
 holds it (``to_toml`` of the description with the parameters as defaults), and of:
@@ -17,7 +17,7 @@ holds it (``to_toml`` of the description with the parameters as defaults), and o
   version, the machine and operating system.
 
 A change to any of them builds anew; nothing built from other sources is ever used. The
-FMUs are kept in ``<cache folder>/test-fmus/<key>/`` (the library's cache folder:
+FMUs are kept in ``<cache folder>/test-fmus/<kind>-<key>/`` (the library's cache folder:
 ``$LINKAGE_FMU_CACHE``, else ``~/.cache/linkage_fmu``; ``$LINKAGE_FMU_TEST_FMUS`` to put
 them elsewhere), the most recently used :data:`KEEP` of them. Each entry is built under a
 file lock, into a temporary folder renamed into place when complete, so that pytest-xdist
@@ -154,14 +154,6 @@ def _trim(base: Path) -> None:
     for _, folder in sorted(entries, reverse=True)[KEEP:]:
         shutil.rmtree(folder, ignore_errors=True)
         Path(f"{folder}.lock").unlink(missing_ok=True)
-
-
-def cached_folder(name: str, parts: list, make: Callable[[Path], None], out: Path) -> Path:
-    """``out``, a copy of the folder ``make(folder)`` writes, made once for ``parts``
-    (JSON-able: everything ``make`` depends on beyond :func:`environment`)."""
-    made = entry(f"{name}-{key(name, *parts)}", make)
-    shutil.copytree(made, out, dirs_exist_ok=True)
-    return out
 
 
 def _description(source, parameters: dict) -> str:
