@@ -394,9 +394,10 @@ def test_instantiate_free_cycles_keep_no_memory(fmu2):
     cycle grows every window by 73 KiB (pythonfmu's wrapper kept about 1 KB per instance
     it created, 4.5 KB with the slave script of before: 730 KiB a window); the
     allocator's arenas, once filled, grow a window now and then and stay (measured over
-    30,000 cycles in windows of 5,000: +470, +0, +16, +16, +0 KiB; over 500 cycles and
-    six windows of 1,000, native: +48, +16, +40, +28, +0, +4 KiB; pythonfmu, windows of
-    500: +48, +44, +0, +0, +20, -28 KiB). Long runs: ``tests/fmu_fuzz.py --memory``
+    30,000 cycles in windows of 5,000: +470, +0, +16, +16, +0 KiB; pythonfmu, 500 then
+    three windows of 5,000: +1052, +1892, +16 KiB; native, 500 then six windows of 1,000:
+    +48, +16, +40, +28, +0, +4 KiB; pythonfmu, 100 then six of 500: +48, +44, +0, +0,
+    +20, -28 KiB). Long runs: ``tests/fmu_fuzz.py --memory``
     (``benchmarks/results/fuzz.md``)."""
     from fmu_fuzz import memory
 
