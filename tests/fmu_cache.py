@@ -19,7 +19,7 @@ holds it (``to_toml`` of the description with the parameters as defaults), and o
 A change to any of them builds anew; nothing built from other sources is ever used. The
 FMUs are kept in ``<cache folder>/test-fmus/<kind>-<key>/`` (the library's cache folder:
 ``$LINKAGE_FMU_CACHE``, else ``~/.cache/linkage_fmu``; ``$LINKAGE_FMU_TEST_FMUS`` to put
-them elsewhere), the most recently used :data:`KEEP` of them. Each entry is built under a
+them elsewhere), the most recently used :data:`KEEP` of them and any used in the last day. Each entry is built under a
 file lock, into a temporary folder renamed into place when complete, so that pytest-xdist
 workers and concurrent runs build each FMU once and never see half of one. Tests get a
 copy: what they write next to it stays theirs.
@@ -36,6 +36,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import time
 from contextlib import contextmanager
 from importlib import metadata
 from pathlib import Path
@@ -143,7 +144,8 @@ def entry(name: str, make: Callable[[Path], None]) -> Path:
 
 
 def _trim(base: Path) -> None:
-    """Remove the least recently used entries beyond :data:`KEEP`."""
+    """Remove the least recently used entries beyond :data:`KEEP`, but none used in the
+    last day (another run, of other sources, may be using it)."""
     entries = []
     for folder in base.iterdir():
         if folder.is_dir() and not folder.name.startswith("."):
@@ -151,7 +153,8 @@ def _trim(base: Path) -> None:
                 entries.append((folder.stat().st_mtime, folder))
             except OSError:
                 pass
-    for _, folder in sorted(entries, reverse=True)[KEEP:]:
+    recent = time.time() - 86400.0
+    for _, folder in [e for e in sorted(entries, reverse=True)[KEEP:] if e[0] < recent]:
         shutil.rmtree(folder, ignore_errors=True)
         Path(f"{folder}.lock").unlink(missing_ok=True)
 
