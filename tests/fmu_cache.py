@@ -19,10 +19,10 @@ holds it (``to_toml`` of the description with the parameters as defaults), and o
 A change to any of them builds anew; nothing built from other sources is ever used. The
 FMUs are kept in ``<cache folder>/test-fmus/<kind>-<key>/`` (the library's cache folder:
 ``$LINKAGE_FMU_CACHE``, else ``~/.cache/linkage_fmu``; ``$LINKAGE_FMU_TEST_FMUS`` to put
-them elsewhere), the most recently used :data:`KEEP` of them and any used in the last day. Each entry is built under a
-file lock, into a temporary folder renamed into place when complete, so that pytest-xdist
-workers and concurrent runs build each FMU once and never see half of one. Tests get a
-copy: what they write next to it stays theirs.
+them elsewhere), the most recently used :data:`KEEP` of them and any used in the last
+day. Each entry is built under a file lock, into a temporary folder renamed into place
+when complete, so that pytest-xdist workers and concurrent runs build each FMU once and
+never see half of one. Tests get a copy: what they write next to it stays theirs.
 """
 
 from __future__ import annotations
