@@ -1,4 +1,17 @@
-"""Shared fixtures: the presets in every variant, and reference helpers."""
+"""Shared fixtures: the presets in every variant, the FMUs, and reference helpers.
+
+FMUs: a test that needs an FMU takes a fixture (``dist``, ``native_dist``, ``native3``,
+``dist3``, ``fmu2``) or builds one with ``fmu_cache.build_native_fmu`` or
+``fmu_cache.build_fmu`` (the arguments of ``linkage_fmu.fmi``'s, ``out`` required)::
+
+    import fmu_cache
+    fmu = fmu_cache.build_native_fmu("four_bar", tmp_path, fmi_version=3, l_AB=0.3)
+
+Each FMU is built once, whatever the test, file or pytest-xdist worker asks for it, and
+kept between runs under a hash of all that goes into it (the package's files, the
+compilers, fmpy, pythonfmu, Python; see ``tests/fmu_cache.py``); the test gets its own
+copy. Call ``linkage_fmu.fmi.build_*`` directly only to test the building itself.
+"""
 
 from __future__ import annotations
 
@@ -10,6 +23,7 @@ from pathlib import Path
 import mpmath
 import pytest
 
+import fmu_cache
 from linkage_fmu import groups, presets
 from linkage_fmu.precise import MP  # noqa: F401  (re-exported for the tests)
 
@@ -94,16 +108,33 @@ def power_residual(mech, sol, theta, omega, alpha, load):
     return sum(terms), max(sizes)
 
 
+ROOT = Path(__file__).resolve().parents[1]
+#: the description file of the README's FMU, built besides the presets
+EXAMPLE = ROOT / "examples" / "coupler_four_bar.toml"
+
+
+def _build_script():
+    """``build_fmu.py`` as a module: its list of linkages and flavours."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("build_fmu_script", ROOT / "build_fmu.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
 @pytest.fixture(scope="session")
 def dist(tmp_path_factory) -> Path:
-    """The preset FMUs, built once per test session by ``build_fmu.py`` (no check)."""
+    """What ``build_fmu.py --no-check --platforms host`` writes (every preset and example
+    description, pythonfmu FMUs in the folder, native ones in ``native/``), with the
+    presets' cross-check files; each FMU built once (``fmu_cache``)."""
     from linkage_fmu.fmi import write_crosscheck
 
     out = tmp_path_factory.mktemp("dist")
-    root = Path(__file__).resolve().parents[1]
-    build = subprocess.run([sys.executable, str(root / "build_fmu.py"), "--no-check", "--out",
-                            str(out)], cwd=root, capture_output=True, text=True)
-    assert build.returncode == 0, build.stdout + build.stderr
+    script = _build_script()
+    for source in (*presets.names(), *map(str, script.EXAMPLES)):
+        fmu_cache.build_fmu(source, out)
+        fmu_cache.build_native_fmu(source, out / script.FLAVOURS["native"][0])
     for preset in presets.names():
         write_crosscheck(out, presets.get(preset), steps=90)
     return out
@@ -111,14 +142,13 @@ def dist(tmp_path_factory) -> Path:
 
 @pytest.fixture(scope="session")
 def native_dist(tmp_path_factory) -> Path:
-    """The native FMUs of the presets and of the README's description file, built once
-    per test session (no check), with their cross-check files."""
-    from linkage_fmu.fmi import build_native_fmu, fmu_linkage, write_crosscheck
+    """The native FMUs of the presets and of the README's description file (no check),
+    with their cross-check files; built once (``fmu_cache``)."""
+    from linkage_fmu.fmi import fmu_linkage, write_crosscheck
 
     out = tmp_path_factory.mktemp("native")
-    root = Path(__file__).resolve().parents[1]
-    for source in (*presets.names(), root / "examples" / "coupler_four_bar.toml"):
-        fmu = build_native_fmu(source, out)
+    for source in (*presets.names(), EXAMPLE):
+        fmu = fmu_cache.build_native_fmu(source, out)
         write_crosscheck(out, fmu_linkage(fmu), steps=90)
     return out
 
@@ -126,22 +156,17 @@ def native_dist(tmp_path_factory) -> Path:
 @pytest.fixture(scope="session")
 def native3(tmp_path_factory) -> Path:
     """The native FMI 3.0 FMUs of the presets and of the README's description file."""
-    from linkage_fmu.fmi import build_native_fmu
-
     out = tmp_path_factory.mktemp("native3")
-    for source in (*presets.names(), Path(__file__).resolve().parents[1] / "examples" /
-                   "coupler_four_bar.toml"):
-        build_native_fmu(source, out, fmi_version=3)
+    for source in (*presets.names(), EXAMPLE):
+        fmu_cache.build_native_fmu(source, out, fmi_version=3)
     return out
 
 
 @pytest.fixture(scope="session")
 def dist3(tmp_path_factory) -> Path:
     """The pythonfmu FMI 3.0 FMU of the four-bar."""
-    from linkage_fmu.fmi import build_fmu
-
     out = tmp_path_factory.mktemp("dist3")
-    build_fmu("four_bar", out, fmi_version=3)
+    fmu_cache.build_fmu("four_bar", out, fmi_version=3)
     return out
 
 

@@ -3,12 +3,15 @@
 ``generate`` writes a random sequence of FMI calls for one preset's FMU, good and bad,
 and the answer each must get; ``fmu_raw_host.py`` runs them in a fresh process; ``check``
 compares, with the direct solver (computed here, never in the host) as the reference for
-every output read. Used by ``tests/test_fmu_fuzz.py`` (10^4 steps per FMU) and as a
-script for longer runs::
+every output read; ``check_counts`` that each kind of call came up, in proportion to the
+steps. Used by ``tests/test_fmu_fuzz.py`` (2,000 steps per FMU) and as a script for
+longer runs, with the same checks (``benchmarks/results/fuzz.md``: 10^4 steps per FMU,
+both flavours)::
 
     python tests/fmu_fuzz.py DIST_DIR --steps 100000 [--seed 1]
     python tests/fmu_fuzz.py DIR_OF_DRIVE_FMUS --drive --steps 100000
     python tests/fmu_fuzz.py DIR_OF_DRIVE_FMUS --drive --energy --steps 10000
+    python tests/fmu_fuzz.py DIST_DIR --memory 6 5000   # windows, cycles of FourBar.fmu
 
 ``generate_drive`` does the same for the drive FMUs (with ``preset``, random friction in
 half the episodes); ``generate_energy`` and ``check_energy`` hold the slider-crank's drive
@@ -25,6 +28,7 @@ import math
 import subprocess
 import sys
 import tempfile
+import time
 from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -346,6 +350,26 @@ def check(plan: Plan, results: list) -> Counter:
     return tally
 
 
+def check_counts(tally: Counter, steps: int, derivatives: bool) -> None:
+    """Assert that a :func:`run` of ``steps`` steps made each kind of call, in proportion
+    to ``steps`` (the share of each kind is :func:`generate`'s): reads compared with the
+    direct solver, with friction, values read back, bad calls refused, discarded steps and
+    NaN reads, forged states refused and taken, and (``derivatives``: the native FMUs)
+    directional derivatives, finite and NaN."""
+    assert tally["read equal to the direct solver"] > steps // 2
+    assert tally["read with friction"] > steps // 5  # half the episodes have friction
+    assert tally["value read as set"] > steps // 20
+    assert tally[("status", ERROR)] > steps // 10  # the bad calls were made and refused
+    assert tally[("status", DISCARD)] > steps // 100
+    assert tally[("status", WARNING)] > steps // 100
+    assert tally[("status", OK)] > steps
+    assert tally[("forged state", ERROR)] > steps // 1000
+    assert tally[("forged state", OK)] > steps // 1000
+    if derivatives:
+        assert tally["derivative"] > steps // 100
+        assert tally["derivative nan"] >= steps // 2000
+
+
 def generate_drive(fmu: Path, steps: int, seed: int, preset: str | None = None) -> Plan:
     """Random calls to a drive FMU (``linkage-fmu build --native --drive``) totalling
     ``steps`` doStep calls, in episodes of up to 300 steps, each a fresh instance with
@@ -608,15 +632,34 @@ def run_energy(fmu: Path, steps: int, seed: int) -> dict:
     return check_energy(plan, _host(fmu, plan)["results"])
 
 
-def _host(fmu: Path, plan: Plan) -> dict:
+def _host(fmu: Path, plan: Plan, keep_log: int = 20) -> dict:
     """The host's output of ``plan``'s calls to ``fmu``, from a fresh process."""
     with tempfile.TemporaryDirectory(prefix="linkage_fmu_fuzz_") as cwd:
         job = Path(cwd) / "job.json"
-        job.write_text(json.dumps({"fmus": {"M": str(fmu)}, "ops": plan.ops, "keep_log": 20}))
+        job.write_text(json.dumps({"fmus": {"M": str(fmu)}, "ops": plan.ops,
+                                   "keep_log": keep_log}))
         proc = subprocess.run([sys.executable, str(HOST), str(job)], cwd=cwd,
                               capture_output=True, text=True)
     assert proc.returncode == 0, f"host died ({proc.returncode}): {proc.stderr[-3000:]}"
     return json.loads(proc.stdout.splitlines()[-1])
+
+
+def memory(fmu: Path, windows: int, cycles: int, warm: int = 500) -> list[int]:
+    """Resident memory (KiB) of a fresh host process after ``warm`` cycles of the FourBar
+    FMU ``fmu`` and after each of ``windows`` windows of ``cycles`` more; a cycle:
+    instantiate, initialise with another ``l_AB``, step, read, free. Every answer must be
+    OK (asserted). ``tests/test_fmu_protocol.py`` runs it small; ``--memory`` long."""
+    l_ab = _variables(fmu)["l_AB"][0]
+    plan = Plan()
+    plan.add(["M", "cycles", "M", warm, l_ab])
+    plan.add(["M", "rss"])
+    for _ in range(windows):
+        plan.add(["M", "cycles", "M", cycles, l_ab])
+        plan.add(["M", "rss"])
+    results = _host(fmu, plan, keep_log=5)["results"]
+    for counts, n in zip(results[0::2], [warm] + [cycles] * windows):
+        assert counts[1]["counts"][OK] == 7 * n == sum(counts[1]["counts"]), counts
+    return [value for _, value in results[1::2]]
 
 
 def run(dist: Path, preset: str, steps: int, seed: int) -> tuple[Counter, dict]:
@@ -639,7 +682,19 @@ def main(argv=None) -> int:
                         help="with --drive: the energy balance of SliderCrankDrive.fmu with "
                              "friction over STEPS random-moment steps, and the fuzz with "
                              "friction")
+    parser.add_argument("--memory", type=int, nargs=2, metavar=("WINDOWS", "CYCLES"),
+                        help="the resident memory of a host over WINDOWS windows of CYCLES "
+                             "instantiate/free cycles of FourBar.fmu in DIST, after 500")
     args = parser.parse_args(argv)
+    if args.memory:
+        windows, cycles = args.memory
+        start = time.perf_counter()
+        rss = memory(Path(args.dist) / "FourBar.fmu", windows, cycles)
+        print(f"FourBar.fmu: resident memory {' -> '.join(map(str, rss))} KiB after 500 and "
+              f"{windows} x {cycles} instantiate/free cycles (window growth "
+              f"{', '.join(f'{b - a:+d}' for a, b in zip(rss, rss[1:]))} KiB); "
+              f"{time.perf_counter() - start:.0f} s")
+        return 0
     if args.drive and args.energy:
         fmu = Path(args.dist) / "SliderCrankDrive.fmu"
         tally, out = run_drive(fmu, args.steps, args.seed, ENERGY_PRESET)
@@ -662,13 +717,21 @@ def main(argv=None) -> int:
                   flush=True)
         return 0
     for preset in presets.names():
+        start = time.perf_counter()
         tally, out = run(args.dist, preset, args.steps, args.seed)
+        fmu = Path(args.dist) / f"{presets.preset(preset).model}.fmu"
+        check_counts(tally, args.steps, read_model_description(
+            str(fmu)).coSimulation.providesDirectionalDerivative)
         statuses = {s: tally[("status", s)] for s in range(5)}
         print(f"{presets.preset(preset).model}: {sum(statuses.values())} calls, statuses "
               f"OK/Warning/Discard/Error/Fatal = {'/'.join(map(str, statuses.values()))}; "
               f"{tally['read equal to the direct solver']} reads equal to the direct solver, "
               f"{tally['nan read']} NaN reads, {tally['ill-conditioned, not compared']} "
-              f"ill-conditioned; peak memory {out['peak_kib'] / 1024:.0f} MiB", flush=True)
+              f"ill-conditioned, {tally['read with friction']} reads with friction, "
+              f"{tally['forged state', ERROR]}/{tally['forged state', OK]} forged states "
+              f"refused/taken, {tally['derivative']} derivatives ({tally['derivative nan']} "
+              f"NaN); peak memory {out['peak_kib'] / 1024:.0f} MiB; "
+              f"{time.perf_counter() - start:.0f} s", flush=True)
     return 0
 
 

@@ -21,8 +21,9 @@ from fmpy.fmi2 import FMU2Slave
 from fmpy.fmi3 import FMU3Slave
 
 from conftest import IDS, VARIANTS
+from fmu_cache import build_native_fmu
 from linkage_fmu import presets
-from linkage_fmu.fmi import build_native_fmu, writers
+from linkage_fmu.fmi import writers
 from test_loads import ROWS, engine
 
 #: states (theta, omega, alpha) the kernels are differentiated at, moving and at rest

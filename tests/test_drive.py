@@ -13,6 +13,7 @@ Raw calls (FMU states, bad calls, the discard) run in a fresh process
 
 from __future__ import annotations
 
+import inspect
 import math
 import os
 import re
@@ -29,8 +30,9 @@ from fmpy.validation import validate_fmu
 from conftest import run_host
 from linkage_fmu import presets, ranges
 from linkage_fmu.cli import main
-from linkage_fmu.fmi import build_native_fmu
+import fmu_cache
 import fmu_fuzz
+from fmu_cache import build_native_fmu
 from fmu_fuzz import run_drive
 from test_c_host import compile_host, model_outputs
 
@@ -534,12 +536,20 @@ def friction_fmus(tmp_path_factory) -> dict:
 
 @pytest.fixture(scope="module")
 def friction_references() -> dict:
-    """:func:`friction_reference` of each of :data:`MOTIONS` every 10 ms."""
-    out = {}
-    for name, (tau, omega0, stop) in MOTIONS.items():
-        t = np.linspace(0.0, stop, round(stop / H) + 1)
-        out[name] = friction_reference(tau, omega0, t)
-    return out
+    """:func:`friction_reference` of each of :data:`MOTIONS` every 10 ms (theta, omega),
+    computed once for the package's sources, this module's reference, numpy's and scipy's
+    versions (``fmu_cache``; it takes a minute)."""
+    import scipy
+
+    def compute(folder: Path) -> None:
+        for name, (tau, omega0, stop) in MOTIONS.items():
+            t = np.linspace(0.0, stop, round(stop / H) + 1)
+            np.save(folder / f"{name}.npy", np.array(friction_reference(tau, omega0, t)))
+
+    made = fmu_cache.entry("reference-" + fmu_cache.key(
+        "friction_reference", inspect.getsource(friction_reference), MOTIONS, FRICTION, LOAD,
+        H, np.__version__, scipy.__version__), compute)
+    return {name: tuple(np.load(made / f"{name}.npy")) for name in MOTIONS}
 
 
 def friction_run(fmu, name, fmi_type="CoSimulation", **kw):

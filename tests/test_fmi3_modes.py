@@ -22,7 +22,7 @@ from __future__ import annotations
 import pytest
 from fmpy import read_model_description
 
-from linkage_fmu.fmi import build_fmu, build_native_fmu
+from fmu_cache import build_fmu, build_native_fmu
 
 from test_fmu_states import assert_outputs, direct, host, inputs, parameters
 

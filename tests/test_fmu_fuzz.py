@@ -1,4 +1,4 @@
-"""10^4 fuzzed steps per FMU, both FMI 2.0 flavours, through fmpy's raw FMI 2 functions
+"""2,000 fuzzed steps per FMU, both FMI 2.0 flavours, through fmpy's raw FMI 2 functions
 (``fmu_fuzz.py``): NaN, infinite and overflowing inputs, unassemblable angles, invalid
 parameter sets, outputs and unknown references set, fixed parameters set after
 initialisation, wrong types, strings that are not UTF-8, bad step sizes, state round
@@ -12,7 +12,14 @@ call fmi2Error, each read after a bad call equal to the direct solver at the inp
 force (1e-9 relative) or NaN with fmi2Warning where they cannot be solved (the step
 then fmi2Discard), each value read equal to the value set; the native FMUs' derivatives
 finite (dMb/dalpha equal to J_red to 1e-12), or NaN with fmi2Warning where the inputs
-cannot be solved, the pythonfmu FMUs' refused with fmi2Error."""
+cannot be solved, the pythonfmu FMUs' refused with fmi2Error.
+
+Each kind of call is counted, and the counts asserted in proportion to the steps (the
+share of each kind is the generator's): at 2,000 steps per FMU every kind the fuzz has
+found a fault with still comes up, dozens to thousands of times per FMU (forged states
+5 to 14 times of each answer, unsolvable derivatives at least once). The long runs,
+10^5 steps per FMU, are ``python tests/fmu_fuzz.py DIST --steps 100000``; their figures
+are in ``benchmarks/results/fuzz.md``."""
 
 from __future__ import annotations
 
@@ -20,20 +27,13 @@ import pytest
 
 from linkage_fmu import presets
 
-from fmu_fuzz import DISCARD, ERROR, OK, WARNING, run
+from fmu_fuzz import check_counts, run
 
-STEPS = 10_000
+STEPS = 2_000
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("preset", presets.names())
 def test_fuzz(fmu2, preset):
     tally, _ = run(fmu2, preset, STEPS, seed=sum(map(ord, preset)))
-    assert tally["read equal to the direct solver"] > STEPS // 2
-    assert tally["read with friction"] > STEPS // 5  # half the episodes have friction
-    assert tally["value read as set"] > STEPS // 20
-    assert tally[("status", ERROR)] > STEPS // 10  # the bad calls were made and refused
-    assert tally[("status", DISCARD)] > 100 and tally[("status", WARNING)] > 100
-    assert tally[("status", OK)] > STEPS
-    assert tally[("forged state", ERROR)] > 10 and tally[("forged state", OK)] > 10
-    if fmu2.name.startswith("native"):  # the flavour with directional derivatives
-        assert tally["derivative"] > STEPS // 100 and tally["derivative nan"] > 5
+    check_counts(tally, STEPS, derivatives=fmu2.name.startswith("native"))

@@ -26,8 +26,8 @@ import numpy as np
 import pytest
 
 from conftest import run_host
+from fmu_cache import build_fmu, build_native_fmu
 from linkage_fmu import presets
-from linkage_fmu.fmi import build_fmu, build_native_fmu
 from linkage_fmu.fmi.variables import variables
 
 HOST = Path(__file__).with_name("state_host.py")

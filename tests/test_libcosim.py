@@ -31,7 +31,8 @@ import pytest
 
 from conftest import MODELS
 from linkage_fmu import presets
-from linkage_fmu.fmi import build_fmu, build_native_fmu, fmu_linkage
+from fmu_cache import build_fmu, build_native_fmu
+from linkage_fmu.fmi import fmu_linkage
 from linkage_fmu.fmi.check import compare, reference
 from linkage_fmu.fmi.run import revolution
 

@@ -158,7 +158,7 @@ def test_friction_set_after_the_build_solves_where_the_direct_solver_does(tmp_pa
     mu 0), then run with mu 0.6 on every pair and 0.1 m pins set as parameters, over 150
     random states: it solves every state the direct solver solves (its kernels' friction
     iterations are loops, their decisions taken at run time)."""
-    from linkage_fmu.fmi import build_native_fmu
+    from fmu_cache import build_native_fmu
 
     fmu = build_native_fmu("slider_crank", tmp_path)
     big = {"mu_O": 0.6, "r_O": 0.1, "mu_A": 0.6, "r_A": 0.1, "muf_B": 0.6, "r_B": 0.1,

@@ -9,6 +9,7 @@ it is missing."""
 
 from __future__ import annotations
 
+import inspect
 import os
 import shutil
 import subprocess
@@ -17,12 +18,13 @@ from pathlib import Path
 
 import pytest
 
+import fmu_cache
 from linkage_fmu.ccompiler import CompilerError, find_cross_compiler
 from linkage_fmu.cli import main
 from linkage_fmu.fmi import binaries, build_native_fmu
 from linkage_fmu.fmi.build import REQUIRED
 from linkage_fmu.fmi.platforms import PLATFORMS, folders, host, select
-from test_c_host import compile_host, error_against_direct, model_outputs
+from test_c_host import HOST_SOURCE, compile_host, error_against_direct, model_outputs
 
 STEPS, OMEGA, LOAD = 72, 10.0, 5.0
 TOLERANCE = 1e-12
@@ -113,7 +115,8 @@ def every_platform(tmp_path_factory) -> dict[int, Path]:
     out = tmp_path_factory.mktemp("every_platform")
     folders_ = {}
     for version in (2, 3):
-        fmu = build_native_fmu("four_bar", out / f"fmi{version}", version, platforms="all")
+        fmu = fmu_cache.build_native_fmu("four_bar", out / f"fmi{version}", version,
+                                         platforms="all")
         folders_[version] = out / f"FourBar{version}"
         with zipfile.ZipFile(fmu) as archive:
             archive.extractall(folders_[version])
@@ -185,10 +188,15 @@ def wine_run(tmp_path_factory):
 
 
 @pytest.fixture(scope="module")
-def windows_host(tmp_path_factory) -> Path:
-    """The C host built for Windows (zig, MinGW, UCRT)."""
-    return compile_host(tmp_path_factory.mktemp("windows_host"),
-                        PLATFORMS["x86_64-windows"].zig)
+def windows_host() -> Path:
+    """The C host built for Windows (zig, MinGW, UCRT), once for its source and build
+    (``fmu_cache``)."""
+    target = PLATFORMS["x86_64-windows"].zig
+    made = fmu_cache.entry(
+        "host-" + fmu_cache.key("host", target, HOST_SOURCE.read_text(),
+                                inspect.getsource(compile_host)),
+        lambda folder: compile_host(folder, target))
+    return made / "host.exe"
 
 
 def windows_arguments(folder: Path, version: int) -> tuple[list[str], dict[str, int]]:
@@ -199,6 +207,7 @@ def windows_arguments(folder: Path, version: int) -> tuple[list[str], dict[str, 
     return arguments, outputs
 
 
+@pytest.mark.slow
 @needs_zig
 @pytest.mark.parametrize("version", (2, 3))
 def test_the_windows_binary_under_wine(every_platform, wine_run, windows_host, version):
@@ -211,6 +220,7 @@ def test_the_windows_binary_under_wine(every_platform, wine_run, windows_host, v
     assert max(errors.values()) <= TOLERANCE, errors
 
 
+@pytest.mark.slow
 @needs_zig
 def test_the_windows_binary_logs_an_error_in_full_under_wine(every_platform, wine_run,
                                                               windows_host):
@@ -230,6 +240,7 @@ def test_the_windows_binary_logs_an_error_in_full_under_wine(every_platform, win
             in run.stderr), run.stderr
 
 
+@pytest.mark.slow
 @needs_zig
 def test_the_aarch64_linux_binary_under_qemu(every_platform, tmp_path):
     """The aarch64-linux binary (FMI 3.0 only), loaded with dlopen by the C host built for

@@ -24,7 +24,7 @@ from urllib.parse import quote
 import pytest
 
 from linkage_fmu import presets
-from linkage_fmu.fmi import build_fmu
+from fmu_cache import build_fmu
 
 from test_fmu_protocol import ERROR, OK, raw, start, variables
 

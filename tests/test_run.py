@@ -49,7 +49,8 @@ def test_a_linkage_that_turns_part_of_a_revolution_is_checked_where_it_assembles
     compares every other step with the direct solver (to 1e-12) and reports the angles
     of the discarded steps, exactly the run's angles beyond that limit; run_fmu with
     strict=False gives NaN rows there and the solver's numbers elsewhere."""
-    from linkage_fmu.fmi import build_fmu, build_native_fmu, check_fmu
+    from fmu_cache import build_fmu, build_native_fmu
+    from linkage_fmu.fmi import check_fmu
 
     if flavour == "pythonfmu":
         fmu = build_fmu("four_bar", tmp_path, l_AB=0.3)

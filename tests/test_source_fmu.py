@@ -20,7 +20,8 @@ from fmpy.build import build_platform_binary
 from fmpy.util import create_zip_archive
 
 from conftest import MODELS
-from linkage_fmu.fmi import build_native_fmu, check_fmu
+from fmu_cache import build_native_fmu
+from linkage_fmu.fmi import check_fmu
 from linkage_fmu.fmi.platforms import host
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -54,7 +55,9 @@ def rebuilt(fmu: Path, fmi_version: int, tmp_path: Path) -> Path:
     return out
 
 
-@pytest.mark.parametrize("model", NATIVE_MODELS)
+@pytest.mark.parametrize("model", [
+    pytest.param(m, marks=pytest.mark.slow) if m == "SixBar" else m  # 3.6 MB of C
+    for m in NATIVE_MODELS])
 @pytest.mark.parametrize("fmi_version", [2, 3])
 def test_built_from_its_sources_by_fmpy_equals_the_direct_solver(
         request, dist, tmp_path, fmi_version, model):
