@@ -196,8 +196,8 @@ def test_the_state_machine_is_enforced(fmu2, tmp_path):
 
 @pytest.fixture(scope="module", params=FLAVOURS)
 def four_bar2(request, tmp_path_factory) -> Path:
-    """The folder of the four-bar's FMI 2.0 FMU of one flavour, built for this module."""
-    from linkage_fmu.fmi import build_fmu, build_native_fmu
+    """The folder of the four-bar's FMI 2.0 FMU of one flavour (built once: fmu_cache)."""
+    from fmu_cache import build_fmu, build_native_fmu
 
     out = tmp_path_factory.mktemp(f"four_bar-{request.param}")
     (build_fmu if request.param == "pythonfmu" else build_native_fmu)("four_bar", out)
@@ -235,8 +235,8 @@ def test_every_status_kind_that_cannot_be_retrieved_is_discard_with_a_log(four_b
 
 @pytest.fixture(scope="module")
 def four_bar_drive(tmp_path_factory) -> Path:
-    """The folder of the four-bar's drive FMU (FMI 2.0), built for this module."""
-    from linkage_fmu.fmi import build_native_fmu
+    """The folder of the four-bar's drive FMU (FMI 2.0) (built once: fmu_cache)."""
+    from fmu_cache import build_native_fmu
 
     out = tmp_path_factory.mktemp("four_bar-drive")
     build_native_fmu("four_bar", out, drive=True)
