@@ -13,6 +13,7 @@ Raw calls (FMU states, bad calls, the discard) run in a fresh process
 
 from __future__ import annotations
 
+import functools
 import inspect
 import math
 import os
@@ -492,6 +493,7 @@ def friction_reference(tau, omega0, t, theta0=0.3):
             f1 = mb(d, th, w, a1, "closed_form") - tau
         width = 1e-9 * (1.0 + abs(a1))
 
+        @functools.lru_cache(maxsize=None)  # brentq asks again for the bracket's ends
         def f(a):
             return mb(d, th, w, a) - tau
 

@@ -715,10 +715,8 @@ def direct(mech, st: KinematicState, W: dict, omega, static: bool, xp, n_states:
             continue
         G = np.einsum("sij,js->si", A, x) - B
         J = A.copy()
-        for (jf, col, u), f in zip(pattern, laws):
-            f0, fa, fb = (np.broadcast_to(v, (n_states,)) for v in f)
-            for r, v in u:
-                v = np.broadcast_to(v, (n_states,))
+        for (jf, col, u), (f0, fa, fb) in zip(pattern, laws):
+            for r, v in u:  # scalars or one value per state: numpy broadcasts them
                 G[:, r] += f0 * v
                 J[:, r, col] += fa * v
                 J[:, r, col + 1] += fb * v * scale(jf)
