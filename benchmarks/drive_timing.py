@@ -40,7 +40,6 @@ measures only the friction's cost.
 from __future__ import annotations
 
 import argparse
-import csv
 import math
 import os
 import subprocess
@@ -309,13 +308,6 @@ def work_precision_figure(rows: list[dict], path: Path) -> None:
     fig.savefig(path, dpi=110)
 
 
-def write(path: Path, rows: list[dict]) -> None:
-    with open(path, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
-
-
 def friction(out: Path = folders.DEFAULT) -> list[dict]:
     """Build the slider-crank's drive FMU, measure :func:`friction_costs` on it and write
     them to ``out/drive_friction.csv`` (``run.py`` calls this too)."""
@@ -324,7 +316,7 @@ def friction(out: Path = folders.DEFAULT) -> list[dict]:
     with tempfile.TemporaryDirectory(prefix="drive_friction_") as tmp:
         rows = friction_costs(build_native_fmu("slider_crank", Path(tmp), 2, drive=True))
     out.mkdir(parents=True, exist_ok=True)
-    write(out / "drive_friction.csv", rows)
+    folders.write_csv(out / "drive_friction.csv", rows)
     return rows
 
 
@@ -355,8 +347,8 @@ def main(argv=None) -> int:
         host = compile_host(Path(tmp))
         steps = step_costs(fmu, host)
         precision = work_precision(mech, fmu)
-        write(out / "drive_step.csv", steps)
-        write(out / "drive_work_precision.csv", precision)
+        folders.write_csv(out / "drive_step.csv", steps)
+        folders.write_csv(out / "drive_work_precision.csv", precision)
         work_precision_figure(precision, out / "drive_work_precision.png")
         agreement_figure(mech, fmu, folders.docs(args) / "drive_four_bar.png")
     print("| step | fmpy (ctypes), us per step | C host, us per step |\n|---|---|---|")

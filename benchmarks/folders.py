@@ -9,6 +9,7 @@ and asks :func:`folder` where to write.
 from __future__ import annotations
 
 import argparse
+import csv
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
@@ -52,3 +53,11 @@ def docs(args: argparse.Namespace) -> Path:
     """Where the documentation's figures go: ``docs/`` with ``--results``, else beside
     the results (:func:`folder`)."""
     return DOCS if args.results else folder(args)
+
+
+def write_csv(path: Path, rows: list[dict]) -> None:
+    """``rows`` (dicts with the same keys) as a CSV file with a header line."""
+    with open(path, "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)

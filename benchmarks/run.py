@@ -39,7 +39,6 @@ FMU's model C <= 4 MB and library <= 3 MB.
 from __future__ import annotations
 
 import argparse
-import csv
 import json
 import math
 import os
@@ -243,7 +242,7 @@ def scalar_only(out: Path, n: int, rounds: int) -> list[dict]:
         ref = references(mech, angles(n), OMEGA, ALPHA, load)
         rows += scalar_rows(preset, load, ref, n, rounds)
     out.mkdir(parents=True, exist_ok=True)
-    write_csv(out / "scalar.csv", rows)
+    folders.write_csv(out / "scalar.csv", rows)
     return rows
 
 
@@ -498,13 +497,6 @@ def first_calls() -> list[dict]:
                          "next_array_ms": second_array * 1e3,
                          "compile_scalar_ms": compile_one * 1e3})
     return rows
-
-
-def write_csv(path: Path, rows: list[dict]) -> None:
-    with open(path, "w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
 
 
 def plot(rows: list[dict], path: Path) -> None:
@@ -798,18 +790,18 @@ def main(argv=None) -> int:
         print("six-bar with friction: the unrolled -O0 build against today's ...", flush=True)
         six_bar = six_bar_build.measure(500 if args.quick else 2000, 1 if args.quick else 3)
     args.out.mkdir(parents=True, exist_ok=True)
-    write_csv(args.out / "work_precision.csv", work)
-    write_csv(args.out / "scalar.csv", [r for r in work if r["method"] in SCALAR_KINDS])
-    write_csv(args.out / "fmu.csv", fmu)
-    write_csv(args.out / "c_host.csv", host)
-    write_csv(args.out / "communication.csv", comm)
-    write_csv(args.out / "scale.csv", scl)
-    write_csv(args.out / "first_calls.csv", first)
-    write_csv(args.out / "sweep.csv", sweeps)
-    write_csv(args.out / "sweep_fused.csv", fused[0])
-    write_csv(args.out / "optimize.csv", optima)
+    folders.write_csv(args.out / "work_precision.csv", work)
+    folders.write_csv(args.out / "scalar.csv", [r for r in work if r["method"] in SCALAR_KINDS])
+    folders.write_csv(args.out / "fmu.csv", fmu)
+    folders.write_csv(args.out / "c_host.csv", host)
+    folders.write_csv(args.out / "communication.csv", comm)
+    folders.write_csv(args.out / "scale.csv", scl)
+    folders.write_csv(args.out / "first_calls.csv", first)
+    folders.write_csv(args.out / "sweep.csv", sweeps)
+    folders.write_csv(args.out / "sweep_fused.csv", fused[0])
+    folders.write_csv(args.out / "optimize.csv", optima)
     if not isinstance(six_bar, str):
-        write_csv(args.out / "six_bar_build.csv", six_bar)
+        folders.write_csv(args.out / "six_bar_build.csv", six_bar)
     plot(work, args.out / "work_precision.png")
     print("press coupling ...", flush=True)
     press = press_coupling.markdown(press_coupling.write(

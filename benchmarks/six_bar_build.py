@@ -33,7 +33,6 @@ table.
 from __future__ import annotations
 
 import argparse
-import csv
 import json
 import math
 import os
@@ -282,13 +281,6 @@ def markdown(rows: list[dict]) -> list[str]:
     return lines
 
 
-def write(path: Path, rows: list[dict]) -> None:
-    with open(path, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
-
-
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=int, default=2000)
@@ -302,7 +294,7 @@ def main(argv=None) -> int:
     rows = measure(args.steps, args.rounds)
     out = folders.folder(args)
     out.mkdir(parents=True, exist_ok=True)
-    write(out / "six_bar_build.csv", rows)
+    folders.write_csv(out / "six_bar_build.csv", rows)
     print("\n".join(markdown(rows)))
     print({d: round(x, 3) for d, x in ratios(rows).items()})
     return 0
