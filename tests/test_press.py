@@ -51,10 +51,9 @@ def test_the_motor_fmu_is_a_valid_fmu(fmus):
     assert validation.validate_fmu(str(fmus / press.PRESS_FMU)) == []
 
 
-def test_the_motor_fmu_computes_its_line(fmus, tmp_path):
-    """The motor FMU stepped through fmpy: at crank speeds from reverse to past no-load,
-    ``tau`` is the line ``T_stall * (1 - omega / omega_noload)`` and ``P = tau * omega``,
-    to 1e-15 relative of the formula evaluated here."""
+def motor(fmus, tmp_path, T_stall: float, omega_noload: float):
+    """The motor FMU instantiated through fmpy with this line and initialised: the slave
+    and its value references by name."""
     fmpy = pytest.importorskip("fmpy")
     from fmpy.fmi2 import FMU2Slave
 
@@ -63,12 +62,20 @@ def test_the_motor_fmu_computes_its_line(fmus, tmp_path):
     vr = {v.name: v.valueReference for v in md.modelVariables}
     slave = FMU2Slave(guid=md.guid, unzipDirectory=fmpy.extract(path, str(tmp_path)),
                       modelIdentifier=md.coSimulation.modelIdentifier, instanceName="motor")
-    T0, w0 = 150.0, 8.0
     slave.instantiate()
-    slave.setReal([vr["T_stall"], vr["omega_noload"]], [T0, w0])
+    slave.setReal([vr["T_stall"], vr["omega_noload"]], [T_stall, omega_noload])
     slave.setupExperiment(startTime=0.0)
     slave.enterInitializationMode()
     slave.exitInitializationMode()
+    return slave, vr
+
+
+def test_the_motor_fmu_computes_its_line(fmus, tmp_path):
+    """The motor FMU stepped through fmpy: at crank speeds from reverse to past no-load,
+    ``tau`` is the line ``T_stall * (1 - omega / omega_noload)`` and ``P = tau * omega``,
+    to 1e-15 relative of the formula evaluated here."""
+    T0, w0 = 150.0, 8.0
+    slave, vr = motor(fmus, tmp_path, T0, w0)
     got = []
     for k, omega in enumerate([-2.0, 0.0, 3.5, 8.0, 11.0]):
         slave.setReal([vr["omega"]], [omega])
@@ -88,20 +95,9 @@ def test_the_motor_fmu_discards_what_it_cannot_compute(fmus, tmp_path):
     """A crank speed that is not finite, or whose power overflows float64, discards the
     step (status 2, Discard: the step not taken; never Fatal); the next finite speed
     steps on with the line's values."""
-    fmpy = pytest.importorskip("fmpy")
+    slave, vr = motor(fmus, tmp_path, 1e10, 1.0)
     from fmpy.fmi1 import FMICallException
-    from fmpy.fmi2 import FMU2Slave
 
-    path = str(fmus / press.MOTOR_FMU)
-    md = fmpy.read_model_description(path)
-    vr = {v.name: v.valueReference for v in md.modelVariables}
-    slave = FMU2Slave(guid=md.guid, unzipDirectory=fmpy.extract(path, str(tmp_path)),
-                      modelIdentifier=md.coSimulation.modelIdentifier, instanceName="motor")
-    slave.instantiate()
-    slave.setReal([vr["T_stall"], vr["omega_noload"]], [1e10, 1.0])
-    slave.setupExperiment(startTime=0.0)
-    slave.enterInitializationMode()
-    slave.exitInitializationMode()
     for omega in (math.nan, 1e300):  # 1e300: tau = -1e310 overflows
         slave.setReal([vr["omega"]], [omega])
         with pytest.raises(FMICallException) as err:
