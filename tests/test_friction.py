@@ -517,6 +517,16 @@ def _powers_in(mech, sol, th, om, al, ld):
     return out
 
 
+def _reversed_run(variant, seed: int, n: int):
+    """The ``variant`` with random friction (seeded by ``seed`` and the variant), ``n``
+    :func:`_reversed_states` and their solution."""
+    name, base = variant
+    rng = np.random.default_rng(seed + zlib.crc32(str(variant).encode()))
+    mech = presets.get(name, **base, **_friction_params(name, rng, base))
+    states = _reversed_states(rng, n)
+    return mech, states, mech.solve(*states)
+
+
 def _reversed_states(rng, n):
     """Random states where power flows every way: the load driving or resisting (either
     sign, up to large), the crank turning either way, accelerating or decelerating."""
@@ -538,11 +548,7 @@ def test_eta_is_one_minus_the_loss_over_the_power_that_enters(variant):
     finite eta in [0, 1] exactly; |eta - eta_ref| <= 1e-10, and P_loss / (1 - eta) =
     P_in to 1e-10 relative where the loss is > 1e-3 of P_in; the power balance sum P_i
     = P_loss to 1e-9 of the largest |P_i|; P_in > 0 and eta finite at these states."""
-    name, base = variant
-    rng = np.random.default_rng(7 + zlib.crc32(str(variant).encode()))
-    mech = presets.get(name, **base, **_friction_params(name, rng, base))
-    th, om, al, ld = _reversed_states(rng, 300)
-    sol = mech.solve(th, om, al, ld)
+    mech, (th, om, al, ld), sol = _reversed_run(variant, 7, 300)
     ok = sol.valid
     assert ok.sum() >= 200
     eta, loss = sol["eta"][ok], sol["P_loss"][ok]
@@ -612,11 +618,7 @@ def test_each_friction_value_is_the_action_its_description_names(variant):
     b on a along t = (n_y, -n_x)) times omega has the opposite sign of the value, at
     every state where both are not 0. 40 random states, random mu and radii; exact
     signs."""
-    name, base = variant
-    rng = np.random.default_rng(5 + zlib.crc32(str(variant).encode()))
-    mech = presets.get(name, **base, **_friction_params(name, rng, base))
-    th, om, al, ld = _reversed_states(rng, 40)
-    sol = mech.solve(th, om, al, ld)
+    mech, (th, om, al, ld), sol = _reversed_run(variant, 5, 40)
     ok = sol.valid
     st = mech.kinematics(th, 1)
     for jf in mech.friction.joints:
