@@ -14,7 +14,7 @@ import pytest
 import linkage_fmu
 from conftest import power_residual
 from linkage_fmu import Description, DescriptionError, groups, presets
-from linkage_fmu.spec import Expression
+from linkage_fmu.descriptions import Expression
 
 EXAMPLE = Path(__file__).parents[1] / "examples" / "coupler_four_bar.toml"
 

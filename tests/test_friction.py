@@ -18,7 +18,7 @@ from conftest import IDS, VARIANTS
 from linkage_fmu import SelfLockingError, presets, solver
 from linkage_fmu.kinetostatics import effort_coefficient
 from linkage_fmu.precise import MP, reference
-from linkage_fmu.spec.description import Description, DescriptionError
+from linkage_fmu.descriptions.description import Description, DescriptionError
 
 NAMES = presets.names()
 STATES = [(0.3, 7.0, -20.0, 30.0), (1.7, -4.0, 3.0, 0.0), (4.4, 0.0, 0.0, 50.0),

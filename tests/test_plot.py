@@ -24,7 +24,7 @@ from matplotlib.text import Text  # noqa: E402
 
 import linkage_fmu  # noqa: E402
 from linkage_fmu import plot, presets  # noqa: E402
-from linkage_fmu.spec import Description  # noqa: E402
+from linkage_fmu.descriptions import Description  # noqa: E402
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "coupler_four_bar.toml"
 PNG = b"\x89PNG\r\n\x1a\n"

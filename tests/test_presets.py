@@ -103,7 +103,7 @@ def test_every_preset_is_listed():
 def test_description_file_round_trip(name):
     """``to_toml`` writes the file :meth:`Description.from_toml` reads back unchanged, and
     the linkage built from it gives the preset's numbers bit for bit."""
-    from linkage_fmu.spec import Description
+    from linkage_fmu.descriptions import Description
 
     d = presets.preset(name)
     again = Description.from_toml(d.to_toml(), "round trip")

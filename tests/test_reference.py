@@ -19,12 +19,12 @@ import pytest
 
 from linkage_fmu import expressions, groups, parameters, presets, units
 from linkage_fmu.outputs import SHAKING
-from linkage_fmu.spec import Description, description, reference
+from linkage_fmu.descriptions import Description, description, reference
 
 ROOT = Path(__file__).resolve().parents[1]
 DOC = ROOT / "docs" / "description.md"
 REGENERATE = ("regenerate it: linkage-fmu reference -o docs/description.md (or python -m "
-              "linkage_fmu.spec.reference > docs/description.md)")
+              "linkage_fmu.descriptions.reference > docs/description.md)")
 
 
 @pytest.fixture(scope="module")
@@ -66,7 +66,7 @@ def test_the_committed_reference_is_what_the_code_writes(text):
 def test_the_script_prints_the_reference(text):
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(
         [str(ROOT / "src")] + [p for p in [os.environ.get("PYTHONPATH")] if p])}
-    run = subprocess.run([sys.executable, "-m", "linkage_fmu.spec.reference"], env=env,
+    run = subprocess.run([sys.executable, "-m", "linkage_fmu.descriptions.reference"], env=env,
                          capture_output=True, text=True, encoding="utf-8")
     assert run.returncode == 0, run.stderr
     assert run.stdout == text

@@ -17,7 +17,7 @@ from pathlib import Path
 from . import presets
 from .errors import AssemblyError, OverflowInputError, SelfLockingError, SingularPositionError
 from .mechanism import Mechanism, Solution
-from .spec import Description, DescriptionError
+from .descriptions import Description, DescriptionError
 
 __version__ = "0.1.0"
 __all__ = ["presets", "load", "Description", "DescriptionError", "Mechanism", "Solution",

@@ -35,7 +35,7 @@ from . import __version__, presets, ranges
 from .expressions import evaluate
 from .printing import number
 from .solver import frame
-from .spec import Description, DescriptionError
+from .descriptions import Description, DescriptionError
 
 EPILOG = """examples:
   linkage-fmu info four_bar
@@ -567,7 +567,7 @@ def _check(args) -> int:
 
 
 def _reference(args) -> int:
-    from .spec.reference import markdown
+    from .descriptions.reference import markdown
 
     text = markdown()
     if args.output:

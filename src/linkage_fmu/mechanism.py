@@ -5,7 +5,7 @@ the joints), names and units of its inputs and outputs, its length scales, its
 kinematics, and one sequence of formulas, :meth:`Mechanism.evaluate`, that computes a
 plan's outputs on any kind of number (floats, arrays, mpmath, traced). Solving, which
 path serves which call, lives in :mod:`~linkage_fmu.solver`. A mechanism is usually
-built from a :class:`~linkage_fmu.spec.Description` (a description file, or a preset's).
+built from a :class:`~linkage_fmu.descriptions.Description` (a description file, or a preset's).
 """
 
 from __future__ import annotations

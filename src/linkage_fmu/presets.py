@@ -1,7 +1,7 @@
 """The shipped linkages: description files in ``linkage_fmu/linkages``, with the
 specification's parameter and output names.
 
-Each preset is a description file like any user's (see :mod:`linkage_fmu.spec`); none
+Each preset is a description file like any user's (see :mod:`linkage_fmu.descriptions`); none
 has a solver of its own.
 
 Examples
@@ -24,7 +24,7 @@ import functools
 from pathlib import Path
 
 from .mechanism import Mechanism
-from .spec import Description
+from .descriptions import Description
 
 FOLDER = Path(__file__).with_name("linkages")
 #: the presets, in the specification's order
@@ -70,7 +70,7 @@ def get(name: str, **parameters) -> Mechanism:
 
 def linkage(source, **parameters) -> Mechanism:
     """The Mechanism of ``source``: a preset's name, a description file's path, a
-    :class:`~linkage_fmu.spec.Description`, or a Mechanism built from a description
+    :class:`~linkage_fmu.descriptions.Description`, or a Mechanism built from a description
     (then ``parameters`` must be empty), with ``parameters`` overriding the defaults.
 
     Examples

@@ -60,7 +60,7 @@ import pandas as pd
 from .kernels.c_source import SUMMARY_HEAD
 from .presets import linkage
 from .parameters import resolve
-from .spec import Description
+from .descriptions import Description
 
 #: states a task solves at least (Dask's per-task overhead is 0.2 to 1 ms)
 STATES_PER_TASK = 50_000

@@ -30,7 +30,7 @@ import numpy as np
 import pandas as pd
 
 from ..mechanism import Mechanism
-from ..spec import Description
+from ..descriptions import Description
 
 #: fmpy's status of a discarded step (fmi2Discard, fmi3Discard)
 DISCARD = 2

@@ -40,7 +40,7 @@ from pythonfmu import Fmi2Slave
 from pythonfmu.enums import Fmi2Status
 
 from .. import __version__
-from ..spec import Description
+from ..descriptions import Description
 from .variables import variables
 
 #: the linkage_fmu package this module belongs to

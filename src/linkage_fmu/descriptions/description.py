@@ -27,7 +27,7 @@ one TOML table per builder call::
 Numbers may be given as expressions of the parameters (:mod:`~.expressions`) and with
 units (``"240 mm"``, ``"1800 rpm"``, :mod:`~linkage_fmu.units`); a plain number is SI,
 an angle in radians. ``docs/description.md`` is the full reference
-(:mod:`~linkage_fmu.spec.reference` writes it).
+(:mod:`~linkage_fmu.descriptions.reference` writes it).
 :meth:`Description.build` checks everything, reporting every problem at once with the
 file, table and key, and returns a :class:`~linkage_fmu.mechanism.Mechanism`.
 
@@ -68,7 +68,7 @@ _IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 
 # What a description file may hold, table by table: each mapping below gives the keys
 # the reader and the checker accept and what each means, and is what the reference of
-# the format (docs/description.md, written by linkage_fmu.spec.reference) lists.
+# the format (docs/description.md, written by linkage_fmu.descriptions.reference) lists.
 
 #: table -> (its header in a description file, what it holds), in the order of a file
 TABLES: dict[str, tuple[str, str]] = {
