@@ -4,7 +4,7 @@
 
 Minimises the peak driving torque ``Mb_peak`` of the four-bar over four parameters,
 l_AB in [0.05, 0.15], l_BC in [0.25, 0.45], l_CD in [0.20, 0.40], l_AD in [0.30, 0.50]
-(m), subject to ``mu_C_min_deg >= 40`` and ``valid``, at 360 crank angles, omega = 10
+(m), subject to ``gamma_C_min_deg >= 40`` and ``valid``, at 360 crank angles, omega = 10
 rad/s, load 3 N.m on the rocker (as ``benchmarks/run.py``):
 
 - differential evolution (``linkage_fmu.optimize``: popsize 15, at most 100
@@ -39,18 +39,18 @@ from linkage_fmu.sweep import grid, sweep
 
 VARY = {"l_AB": (0.05, 0.15), "l_BC": (0.25, 0.45), "l_CD": (0.20, 0.40),
         "l_AD": (0.30, 0.50)}
-SUBJECT_TO = ["mu_C_min_deg >= 40", "valid"]
+SUBJECT_TO = ["gamma_C_min_deg >= 40", "valid"]
 THETA = np.linspace(0.0, 2.0 * math.pi, 360, endpoint=False)
 OMEGA, LOAD = 10.0, 3.0
 COLUMNS = ["run", "scheduler", "evaluations", "seconds", "designs_per_s", "Mb_peak",
-           "mu_C_min_deg", *VARY]
+           "gamma_C_min_deg", *VARY]
 
 
 def optimum_row(run: str, scheduler: str, res) -> dict:
     """A row of the table for the optimisation result ``res``."""
     return {"run": run, "scheduler": scheduler, "evaluations": res.evaluations,
             "seconds": res.seconds, "designs_per_s": res.evaluations / res.seconds,
-            "Mb_peak": res.value, "mu_C_min_deg": float(res.summary["mu_C_min_deg"]),
+            "Mb_peak": res.value, "gamma_C_min_deg": float(res.summary["gamma_C_min_deg"]),
             **res.design}
 
 
@@ -119,7 +119,7 @@ def throughput_rows() -> list[dict]:
 
 def markdown(rows: list[dict]) -> list[str]:
     """The rows as Markdown lines."""
-    lines = ["| run | where | evaluations | s | designs/s | Mb_peak [N.m] | mu_C_min [deg] | "
+    lines = ["| run | where | evaluations | s | designs/s | Mb_peak [N.m] | gamma_C_min [deg] | "
              + " | ".join(f"{k} [m]" for k in VARY) + " |", "|" + "---|" * len(COLUMNS)]
     for r in rows:
         cells = [r["run"], r["scheduler"]]
@@ -127,7 +127,7 @@ def markdown(rows: list[dict]) -> list[str]:
         cells += [f"{r['seconds']:.3f}", "" if math.isnan(r["designs_per_s"])
                   else f"{r['designs_per_s']:.0f}"]
         cells += ["" if math.isnan(r[k]) else f"{r[k]:.6g}"
-                  for k in ("Mb_peak", "mu_C_min_deg", *VARY)]
+                  for k in ("Mb_peak", "gamma_C_min_deg", *VARY)]
         lines.append("| " + " | ".join(cells) + " |")
     return lines
 

@@ -690,7 +690,7 @@ def summary(work, fmu, host, comm, scl, first, sweeps, fused, optima, machine: s
               "reductions; *floor*: a loop that only writes that many doubles per state.",
               ""] + sweep_timing.markdown(fused_rows, ratios)
     lines += ["", "## Design optimisation (four-bar; benchmarks/optimize_timing.py)", "",
-              "Minimise `Mb_peak` over l_AB, l_BC, l_CD, l_AD subject to `mu_C_min_deg >= "
+              "Minimise `Mb_peak` over l_AB, l_BC, l_CD, l_AD subject to `gamma_C_min_deg >= "
               "40` and `valid`; differential evolution against grids of the same number of "
               "evaluations.", ""] + optimize_timing.markdown(optima)
     lines += friction_sections(drive, six_bar)

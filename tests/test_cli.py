@@ -46,7 +46,7 @@ def test_table_to_csv_and_parquet_files_in_degrees(tmp_path):
     theta = np.radians(0.003 * np.arange(120_001))  # as --theta 0:360:0.003 --deg makes them
     np.testing.assert_allclose(csv.index.to_numpy(), np.degrees(theta), rtol=1e-15)
     ref = presets.get("four_bar").solve(theta, 10.0)
-    for name in ("Mb", "F21x", "mu_C"):
+    for name in ("Mb", "F21x", "gamma_C"):
         np.testing.assert_array_equal(csv[name].to_numpy(), ref[name])  # CSV keeps 17 digits
         np.testing.assert_array_equal(parquet[name].to_numpy(), ref[name])
 
@@ -65,7 +65,7 @@ def test_sweep_command_grid_and_samples(tmp_path):
     expected = sweep("four_bar", grid(l_AB=[0.08, 0.1], m2=[1.0, 2.0, 3.0]), theta, 10.0,
                      0.0, 3.0)
     assert len(table) == 6
-    for name in ("Mb_peak", "Mb_rms", "F21_peak", "mu_C_min_deg"):
+    for name in ("Mb_peak", "Mb_rms", "F21_peak", "gamma_C_min_deg"):
         np.testing.assert_allclose(table[name], expected[name], rtol=1e-15)
     expected.iloc[:, :2].to_csv(tmp_path / "designs.csv", index=False)
     with redirect_stderr(io.StringIO()):
@@ -84,7 +84,7 @@ def test_plot_command_writes_each_picture(tmp_path):
     err = io.StringIO()
     with redirect_stderr(err):
         for what, name in ((["torque"], "t.png"), (["polar", "F21"], "p.svg"),
-                           (["mu"], "m.png"), (["shaking"], "s.png"), (["speed"], "v.png"),
+                           (["gamma"], "m.png"), (["shaking"], "s.png"), (["speed"], "v.png"),
                            (["loss"], "f.png")):
             assert main(["plot", "four_bar", "--what", *what, "--omega", "10",
                          "-o", str(tmp_path / name)]) == 0
@@ -93,7 +93,7 @@ def test_plot_command_writes_each_picture(tmp_path):
         assert main(["plot", "four_bar", "--what", "linkage", "-o", str(tmp_path / "x.png")]) == 2
         assert main(["plot", "four_bar", "--what", "pie", "-o", str(tmp_path / "x.png")]) == 2
     assert "needs one angle" in err.getvalue() and "expected torque [OUTPUT]" in err.getvalue()
-    assert "linkage, mu, shaking, speed or loss" in err.getvalue()
+    assert "linkage, gamma, shaking, speed or loss" in err.getvalue()
     for name in ("t.png", "m.png", "l.png", "s.png", "v.png"):
         assert (tmp_path / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert b"<svg" in (tmp_path / "p.svg").read_bytes()[:400]
@@ -348,11 +348,11 @@ def test_optimize_command_prints_the_librarys_optimum_and_writes_its_history(tmp
 
     theta = np.linspace(0.0, 2.0 * np.pi, 36, endpoint=False)
     ref = optimize("four_bar", {"l_BC": (0.3, 0.45), "l_CD": (0.25, 0.4)}, "Mb_peak",
-                   ["mu_C_min_deg >= 45", "valid"], theta=theta, omega=10.0, loads=(2.0,),
+                   ["gamma_C_min_deg >= 45", "valid"], theta=theta, omega=10.0, loads=(2.0,),
                    method="grid", budget=25)
     status, out, err = run(["optimize", "four_bar", "--vary", "l_BC=0.3:0.45", "--vary",
                             "l_CD=250mm:400mm", "--minimize", "Mb_peak", "--subject-to",
-                            "mu_C_min_deg >= 45", "--subject-to", "valid", "--n", "36",
+                            "gamma_C_min_deg >= 45", "--subject-to", "valid", "--n", "36",
                             "--omega", "10", "--load", "2", "--method", "grid",
                             "--budget", "25", "--csv", str(tmp_path / "h.csv"),
                             "--plot", str(tmp_path / "c.png")])
@@ -372,16 +372,16 @@ def test_optimize_command_names_bad_input_and_no_feasible_design():
     base = ["optimize", "four_bar", "--n", "12", "--minimize", "Mb_peak"]
     status, _, err = run(base + ["--vary", "l_AB=0.1"])
     assert status == 2 and "--vary 'l_AB=0.1': expected NAME=LO:HI" in err
-    status, _, err = run(base + ["--vary", "l_AB=0.05:0.15", "--subject-to", "mu_C_min_deg"])
-    assert status == 2 and "constraint 'mu_C_min_deg': expected NAME OP VALUE" in err
+    status, _, err = run(base + ["--vary", "l_AB=0.05:0.15", "--subject-to", "gamma_C_min_deg"])
+    assert status == 2 and "constraint 'gamma_C_min_deg': expected NAME OP VALUE" in err
     status, _, err = run(["optimize", "four_bar", "--vary", "l_AB=0.05:0.15", "--minimize",
                           "Mb_max"])
     assert status == 2 and "'Mb_max' is not a numeric summary" in err
     status, _, err = run(base + ["--vary", "l_AB=0.15:0.05"])
     assert status == 2 and "l_AB needs lo < hi" in err
     status, out, err = run(base + ["--vary", "l_AB=0.05:0.15", "--subject-to",
-                                   "mu_C_min_deg <= 5", "--method", "grid", "--budget", "5"])
-    assert status == 1 and "breaks mu_C_min_deg <= 5" in err
+                                   "gamma_C_min_deg <= 5", "--method", "grid", "--budget", "5"])
+    assert status == 1 and "breaks gamma_C_min_deg <= 5" in err
     assert "no design meets every constraint; the one that breaks them least:" in out
 
 
@@ -480,7 +480,7 @@ def bad_inputs(tmp_path) -> list:
         (["table", "four_bar", "-o", f"{t}/none/x.csv"], f"-o {t}/none/x.csv: there is no "
                                                          f"folder {t}/none"),
         (["reference", "-o", f"{t}/none/d.md"], f"-o {t}/none/d.md: there is no folder"),
-        (["plot", "four_bar", "--what", "mu", "-o", f"{t}/none/m.png"],
+        (["plot", "four_bar", "--what", "gamma", "-o", f"{t}/none/m.png"],
          f"-o {t}/none/m.png: there is no folder {t}/none"),
         (["optimize", "four_bar", "--vary", "l_AB=0.1:0.2", "--minimize", "Mb_peak", "--csv",
           f"{t}/none/h.csv"], f"--csv {t}/none/h.csv: there is no folder {t}/none"),

@@ -80,15 +80,15 @@ def test_massless_and_weightless_bodies_add_no_terms():
 
 def test_four_bar_transmission_angle_is_law_of_cosines():
     mech = presets.get("four_bar")
-    s = mech.solve(TH, outputs=("mu_C",))
+    s = mech.solve(TH, outputs=("gamma_C",))
     bd2 = (0.1 * np.cos(TH) - 0.4) ** 2 + (0.1 * np.sin(TH)) ** 2
-    mu = np.arccos((0.35 ** 2 + 0.30 ** 2 - bd2) / (2 * 0.35 * 0.30))
-    np.testing.assert_allclose(s["mu_C"], mu, rtol=1e-12)
+    gamma = np.arccos((0.35 ** 2 + 0.30 ** 2 - bd2) / (2 * 0.35 * 0.30))
+    np.testing.assert_allclose(s["gamma_C"], gamma, rtol=1e-12)
 
 
 def test_condition_estimate_grows_towards_a_toggle():
     """With l_AB + l_AD = l_BC + l_CD - margin, B, C and D are nearly collinear at
-    theta = pi; the estimate grows like 1/margin, as 1/sin(mu)**2 does."""
+    theta = pi; the estimate grows like 1/margin, as 1/sin(gamma)**2 does."""
     conds = []
     for margin in (1e-2, 1e-4, 1e-6):
         mech = presets.get("four_bar", l_AB=0.1, l_BC=0.35, l_CD=0.3, l_AD=0.55 - margin)
@@ -110,7 +110,7 @@ def test_exactly_singular_scalar_state_raises_with_angle():
     (offset e = l_OA - l_AB): the dyad's equations have a zero determinant."""
     mech = presets.get("slider_crank", l_OA=0.25, l_AB=0.5, e=-0.25)
     for method in ("closed_form", "direct"):
-        with pytest.raises(SingularPositionError, match=r"theta = 1\.5708 rad .*mu_B = 0 rad"):
+        with pytest.raises(SingularPositionError, match=r"theta = 1\.5708 rad .*gamma_B = 0 rad"):
             mech.solve(math.pi / 2, 0.0, load=10.0, method=method)
     assert np.isinf(mech.solve(np.array([math.pi / 2]), outputs=("cond",))["cond"][0])
 

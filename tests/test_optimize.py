@@ -17,29 +17,29 @@ from linkage_fmu.sweep import grid, sweep
 
 THETA = np.radians(np.arange(0.0, 360.0, 5.0))  # 72 angles: the same for every search
 VARY = {"l_BC": (0.30, 0.45), "l_CD": (0.25, 0.40)}
-LIMIT = "mu_C_min_deg >= 45"
+LIMIT = "gamma_C_min_deg >= 45"
 FINE = 121  # values of each parameter in the brute-force grid: steps of 0.00125 m
 
 
 @pytest.fixture(scope="module")
 def brute_force() -> tuple[float, float, pd.DataFrame]:
     """The four-bar at 10 rad/s, l_BC and l_CD varied, Mb_peak minimised subject to
-    mu_C_min_deg >= 45 and valid, over a 121 x 121 grid through ``sweep``: the best
+    gamma_C_min_deg >= 45 and valid, over a 121 x 121 grid through ``sweep``: the best
     feasible value, the grid's resolution effect (the largest change of Mb_peak between
     the best feasible design and its eight neighbours, a step of 0.00125 m away), and
     the best design's row. Without the constraint the best is at l_BC = 0.45 with
-    mu_C_min_deg = 41.2: the constraint is active (asserted here)."""
+    gamma_C_min_deg = 41.2: the constraint is active (asserted here)."""
     a, b = (np.linspace(lo, hi, FINE) for lo, hi in VARY.values())
     table = sweep("four_bar", grid(l_BC=a, l_CD=b), THETA, 10.0)
-    feasible = table["valid"] & (table["mu_C_min_deg"] >= 45.0)
+    feasible = table["valid"] & (table["gamma_C_min_deg"] >= 45.0)
     best = table["Mb_peak"].where(feasible).idxmin()
     f = table["Mb_peak"].to_numpy().reshape(FINE, FINE)
     i, j = divmod(best, FINE)
     around = f[max(i - 1, 0):i + 2, max(j - 1, 0):j + 2]
     resolution = float(np.nanmax(np.abs(around - f[i, j])))
     free = table.loc[table["Mb_peak"].where(table["valid"]).idxmin()]
-    assert free["l_BC"] == 0.45 and 41.0 < free["mu_C_min_deg"] < 41.5
-    assert abs(table.loc[best, "mu_C_min_deg"] - 45.0) < 0.1
+    assert free["l_BC"] == 0.45 and 41.0 < free["gamma_C_min_deg"] < 41.5
+    assert abs(table.loc[best, "gamma_C_min_deg"] - 45.0) < 0.1
     return float(f[i, j]), resolution, table
 
 
@@ -58,12 +58,12 @@ def test_optimum_against_a_fine_brute_force_grid(brute_force, method, options):
                    method=method, **options)
     assert isinstance(res, OptimizationResult) and res.feasible
     assert ref - resolution <= res.value <= ref + resolution
-    assert bool(res.summary["valid"]) and res.summary["mu_C_min_deg"] >= 45.0
+    assert bool(res.summary["valid"]) and res.summary["gamma_C_min_deg"] >= 45.0
     for name, (lo, hi) in VARY.items():
         assert lo <= res.design[name] <= hi
     again = sweep("four_bar", pd.DataFrame([res.design]), THETA, 10.0).iloc[0]
-    assert again["Mb_peak"] == res.value and again["mu_C_min_deg"] == res.summary[
-        "mu_C_min_deg"]
+    assert again["Mb_peak"] == res.value and again["gamma_C_min_deg"] == res.summary[
+        "gamma_C_min_deg"]
     assert res.evaluations == res.history["evaluations"].iloc[-1] < FINE ** 2 / 10
     best = res.history["best"].to_numpy()
     assert np.all(np.diff(best[~np.isnan(best)]) <= 0.0)  # the best so far never worsens
@@ -71,18 +71,18 @@ def test_optimum_against_a_fine_brute_force_grid(brute_force, method, options):
 
 
 def test_maximising_on_a_grid_is_the_sweeps_best_of_the_same_grid():
-    """"-mu_C_min_deg" maximises the transmission angle's distance from a toggle over
+    """"-gamma_C_min_deg" maximises the transmission angle's distance from a toggle over
     l_AB in [0.05, 0.15], l_AD in [0.35, 0.45] without a polish: reference, the largest
-    mu_C_min_deg of ``sweep`` over the same 7 x 7 grid (equal exactly: the same
+    gamma_C_min_deg of ``sweep`` over the same 7 x 7 grid (equal exactly: the same
     designs)."""
     vary = {"l_AB": (0.05, 0.15), "l_AD": (0.35, 0.45)}
-    res = optimize("four_bar", vary, "-mu_C_min_deg", ["valid"], theta=THETA, omega=10.0,
+    res = optimize("four_bar", vary, "-gamma_C_min_deg", ["valid"], theta=THETA, omega=10.0,
                    method="grid", budget=50, polish=False)
     table = sweep("four_bar", grid(l_AB=np.linspace(0.05, 0.15, 7),
                                    l_AD=np.linspace(0.35, 0.45, 7)), THETA, 10.0)
-    best = table.loc[table["mu_C_min_deg"].idxmax()]
+    best = table.loc[table["gamma_C_min_deg"].idxmax()]
     assert res.evaluations == 49 and len(res.history) == 1
-    assert res.value == best["mu_C_min_deg"] == res.history["best"].iloc[0]
+    assert res.value == best["gamma_C_min_deg"] == res.history["best"].iloc[0]
     assert res.design == {"l_AB": best["l_AB"], "l_AD": best["l_AD"]}
 
 
@@ -99,19 +99,19 @@ def test_the_same_seed_gives_the_same_search():
 
 
 def test_no_feasible_design_is_an_error_holding_the_closest():
-    """mu_C_min_deg <= 5 (a toggle within 5 deg) is met by no design of the four-bar that
+    """gamma_C_min_deg <= 5 (a toggle within 5 deg) is met by no design of the four-bar that
     assembles over these bounds (its smallest is 17 deg on a 4 x 4 grid, see
     ``sweep``): an error naming the constraint, with the design that broke it least."""
     vary = {"l_AB": (0.05, 0.1), "l_BC": (0.3, 0.4)}
     table = sweep("four_bar", grid(l_AB=np.linspace(0.05, 0.1, 4),
                                    l_BC=np.linspace(0.3, 0.4, 4)), THETA, 10.0)
-    assert table["mu_C_min_deg"].min() > 5.0 and table["valid"].all()
-    with pytest.raises(NoFeasibleDesignError, match=r"breaks mu_C_min_deg <= 5") as err:
-        optimize("four_bar", vary, "Mb_peak", ["mu_C_min_deg <= 5", "valid"], theta=THETA,
+    assert table["gamma_C_min_deg"].min() > 5.0 and table["valid"].all()
+    with pytest.raises(NoFeasibleDesignError, match=r"breaks gamma_C_min_deg <= 5") as err:
+        optimize("four_bar", vary, "Mb_peak", ["gamma_C_min_deg <= 5", "valid"], theta=THETA,
                  omega=10.0, method="grid", budget=16, polish=False)
     res = err.value.result
     assert not res.feasible and res.evaluations == 16
-    assert res.summary["mu_C_min_deg"] == table["mu_C_min_deg"].min()
+    assert res.summary["gamma_C_min_deg"] == table["gamma_C_min_deg"].min()
     assert res.history["best"].isna().all()
 
 
@@ -129,8 +129,8 @@ def test_no_feasible_design_is_an_error_holding_the_closest():
      "'Mb_peek' is not a numeric summary of the sweep of four_bar; they are: "
      "unassembled, first_unassembled_deg, locked, first_locked_deg, Mb_peak"),
     ({"l_AB": (0.05, 0.15)}, "valid", [], {}, ValueError, "'valid' is not a numeric summary"),
-    ({"l_AB": (0.05, 0.15)}, "Mb_peak", ["mu_X_min_deg >= 40"], {}, ValueError,
-     "constraint 'mu_X_min_deg >= 40': 'mu_X_min_deg' is not a summary"),
+    ({"l_AB": (0.05, 0.15)}, "Mb_peak", ["gamma_X_min_deg >= 40"], {}, ValueError,
+     "constraint 'gamma_X_min_deg >= 40': 'gamma_X_min_deg' is not a summary"),
     ({"l_AB": (0.05, 0.15)}, "Mb_peak", ["F21_peak == 4"], {}, ValueError,
      "constraint 'F21_peak == 4': expected NAME OP VALUE"),
     ({"l_AB": (0.05, 0.15)}, "Mb_peak", [], {"method": "nelder"}, ValueError,
@@ -155,7 +155,7 @@ def test_bad_input_is_an_error_naming_it(vary, minimize, subject_to, options, er
 
 
 @pytest.mark.parametrize("text, expected", [
-    ("mu_C_min_deg >= 40", ("mu_C_min_deg", ">=", 40.0)),
+    ("gamma_C_min_deg >= 40", ("gamma_C_min_deg", ">=", 40.0)),
     ("F21_peak<=500", ("F21_peak", "<=", 500.0)),
     ("  eta_min > 0.9 ", ("eta_min", ">", 0.9)),
     ("P_loss_mean < 1.5e-3", ("P_loss_mean", "<", 0.0015)),

@@ -643,9 +643,9 @@ def test_transmission_lines_are_the_solved_angles(tmp_path, name, params):
     saved_png(fig, tmp_path / f"transmission_{name}.png")
     lines = by_gid(fig.axes[0])
     ref = solve_deg(mech, DEG)
-    mus = [n for n in mech.diagnostic_names if n.startswith("mu_")]
-    assert mus and all(n in lines for n in mus)
-    for n in mus:
+    gammas = [n for n in mech.diagnostic_names if n.startswith("gamma_")]
+    assert gammas and all(n in lines for n in gammas)
+    for n in gammas:
         x, y = lines[n][0].get_data()
         np.testing.assert_array_equal(x, DEG)
         np.testing.assert_allclose(y, np.degrees(ref[n]), rtol=RTOL, atol=0)
@@ -680,18 +680,18 @@ def _rrr_toggles(l_ab, l_bc, l_cd, l_ad):
 @pytest.mark.parametrize("n", [721, 700])  # on the grid and between its angles
 def test_transmission_marks_toggles(tmp_path, make, expected, n):
     mech = make()
-    (mu,) = [d for d in mech.diagnostic_names if d.startswith("mu_")]
+    (gamma,) = [d for d in mech.diagnostic_names if d.startswith("gamma_")]
     deg = np.linspace(0.0, 360.0, n)
     fig = plot.transmission(mech, theta_deg=deg)
     saved_png(fig, tmp_path / "toggles.png")
     lines = by_gid(fig.axes[0])
-    found = sorted(line.get_xdata()[0] for line in lines[f"toggle:{mu}"])
+    found = sorted(line.get_xdata()[0] for line in lines[f"toggle:{gamma}"])
     np.testing.assert_allclose(found, expected, atol=1e-4)  # degrees
     for t in found:  # the solver agrees that the dyad is at a toggle there
-        m = float(mech.solve(math.radians(t), outputs=(mu,))[mu])
+        m = float(mech.solve(math.radians(t), outputs=(gamma,))[gamma])
         assert min(m, math.pi - m) < 2e-3, (t, m)
     ref = solve_deg(mech, deg)
-    y = lines[mu][0].get_ydata()
+    y = lines[gamma][0].get_ydata()
     np.testing.assert_array_equal(np.isnan(y), ~ref.valid)
 
 
@@ -880,7 +880,7 @@ def test_bad_input_is_refused_with_the_choices():
         plot.polar(four, "F12")
     with pytest.raises(ValueError, match=r"no force pair 'N43'.*F21 \(F21x, F21y\)"):
         plot.polar(presets.get("slider_crank"), "N43")  # one component: not a pair
-    with pytest.raises(ValueError, match=r"no output 'Mx'.*F21x, .*Mb, Mf_A, .*P_loss, eta, shake_x, shake_y, shake_M, mu_C, cond"):
+    with pytest.raises(ValueError, match=r"no output 'Mx'.*F21x, .*Mb, Mf_A, .*P_loss, eta, shake_x, shake_y, shake_M, gamma_C, cond"):
         plot.torque(four, output="Mx")
     with pytest.raises(TypeError, match="not both"):
         plot.torque(four, theta=[0.0, 1.0], theta_deg=[0.0, 1.0])
@@ -921,7 +921,7 @@ def test_convergence_is_the_optimisations_history(tmp_path):
     from linkage_fmu.optimize import optimize
 
     res = optimize("four_bar", {"l_AB": (0.05, 0.15), "l_BC": (0.3, 0.4)}, "Mb_peak",
-                   ["mu_C_min_deg >= 40", "valid"], theta=np.radians(np.arange(0, 360, 10)),
+                   ["gamma_C_min_deg >= 40", "valid"], theta=np.radians(np.arange(0, 360, 10)),
                    omega=10.0, maxiter=4, seed=2)
     fig = plot.convergence(res)
     ax = fig.axes[0]
@@ -934,7 +934,7 @@ def test_convergence_is_the_optimisations_history(tmp_path):
     x, y = lines["polish"].get_data()
     assert list(x) == [len(search) - 1, len(search)] and y[1] == res.history["best"].iloc[-1]
     assert list(lines["optimum"].get_data()[1]) == [res.value]
-    assert "minimise Mb_peak subject to mu_C_min_deg >= 40, valid" in ax.get_title()
+    assert "minimise Mb_peak subject to gamma_C_min_deg >= 40, valid" in ax.get_title()
     fig.savefig(tmp_path / "c.png")
     assert (tmp_path / "c.png").read_bytes()[:8] == PNG
     plt.close(fig)

@@ -204,14 +204,14 @@ def test_every_output_kind_and_key(text):
 
 def test_the_outputs_every_linkage_has_with_the_codes_descriptions(text):
     part = section(text, "### The outputs every linkage has")
-    assert keys_listed(part) == [*SHAKING, "mu_<joint>", "cond", "J_red", "dJ_red"]
+    assert keys_listed(part) == [*SHAKING, "gamma_<joint>", "cond", "J_red", "dJ_red"]
     info = presets.get("four_bar").output_info
     for name in (*SHAKING, "cond", "J_red", "dJ_red"):
         unit, meaning = info[name]
         assert f"| `{name}` | `{unit}` | {meaning} |" in part
-    assert ("| `mu_<joint>` | `rad` | transmission angle of the dyad at \\<joint> (0 or pi: "
+    assert ("| `gamma_<joint>` | `rad` | transmission angle of the dyad at \\<joint> (0 or pi: "
             "toggle) |") in part
-    assert info["mu_C"] == ("rad", "transmission angle of the dyad at C (0 or pi: toggle)")
+    assert info["gamma_C"] == ("rad", "transmission angle of the dyad at C (0 or pi: toggle)")
     assert "moment about the crank pivot" in info["shake_M"][1]
 
 

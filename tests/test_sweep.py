@@ -48,9 +48,9 @@ def expected(preset: str, params: dict, omega: float, load: float) -> dict:
                 if name.startswith(("Mf_", "Ff_")):
                     out[name + "_peak"] = np.max(np.abs(sol[name][ok]))
         for name in mech.diagnostic_names:
-            if name.startswith("mu_"):
-                mu = np.degrees(sol[name][ok])
-                out[name + "_min_deg"] = np.min(np.minimum(mu, 180.0 - mu))
+            if name.startswith("gamma_"):
+                gamma = np.degrees(sol[name][ok])
+                out[name + "_min_deg"] = np.min(np.minimum(gamma, 180.0 - gamma))
     return out
 
 

@@ -45,11 +45,11 @@ EPILOG = """examples:
   linkage-fmu sweep four_bar --grid l_AB=0.05:0.15:0.01 --grid l_BC=0.3,0.35 --omega 10 -o designs.csv
   linkage-fmu sweep four_bar --samples designs.csv --scheduler local
   linkage-fmu optimize four_bar --vary l_BC=0.3:0.45 --vary l_CD=0.25:0.4 --minimize Mb_peak \
-      --subject-to "mu_C_min_deg >= 45" --subject-to valid --seed 1 --plot convergence.png
+      --subject-to "gamma_C_min_deg >= 45" --subject-to valid --seed 1 --plot convergence.png
   linkage-fmu plot four_bar --what torque --omega 10 -o torque.png
   linkage-fmu plot four_bar --what polar F21 -o F21.svg
   linkage-fmu plot six_bar --what linkage --theta-deg 60 -o six_bar.png
-  linkage-fmu plot four_bar --what mu --set l_AB=0.3 -o mu.png
+  linkage-fmu plot four_bar --what gamma --set l_AB=0.3 -o gamma.png
   linkage-fmu plot examples/engine.toml --what speed --Cs 0.02 -o speed.png
   linkage-fmu plot slider_crank --what loss --set mu_guide=0.1 --omega 10 --load 100 -o loss.png
   linkage-fmu simulate four_bar --tau 2 --t-end 1 --theta0 "30 deg" --omega0 5 --n 11
@@ -328,7 +328,7 @@ def _main(argv: list[str] | None) -> int:
                      help="the summary minimised (Mb_peak, F21_peak, ...; -NAME maximises it)")
     opt.add_argument("--subject-to", dest="subject_to", metavar="CONSTRAINT", action="append",
                      default=[], help="a constraint (repeatable): 'NAME OP VALUE' with OP "
-                                      "one of <=, >=, <, > ('mu_C_min_deg >= 40'), or 'valid' "
+                                      "one of <=, >=, <, > ('gamma_C_min_deg >= 40'), or 'valid' "
                                       "(the design assembles at every angle, "
                                       "friction locking it at none)")
     _revolution(opt)
@@ -366,7 +366,7 @@ def _main(argv: list[str] | None) -> int:
     _linkage(plot, linkage_help)
     plot.add_argument("--what", nargs="+", required=True, metavar=("KIND", "NAME"),
                       help="what to draw, one of: torque [OUTPUT] | polar [FORCE] | linkage | "
-                           "mu | shaking | speed | loss")
+                           "gamma | shaking | speed | loss")
     plot.add_argument("--theta-deg", dest="theta_deg",
                       help="angle(s) in degrees: a value (linkage), a list or START:STOP:STEP "
                            "(default a revolution in 0.5 degree steps)")
@@ -698,10 +698,10 @@ def _plot(d: Description, args) -> int:
     mech = d.build(**dict(args.params))
     given = loads(args)
     kind, names = args.what[0], args.what[1:]
-    kinds = ("torque", "polar", "linkage", "mu", "shaking", "speed", "loss")
+    kinds = ("torque", "polar", "linkage", "gamma", "shaking", "speed", "loss")
     if kind not in kinds or len(names) > 1 or (names and kind not in ("torque", "polar")):
         raise UsageError(f"--what {' '.join(args.what)}: expected torque [OUTPUT], polar "
-                         "[FORCE], linkage, mu, shaking, speed or loss")
+                         "[FORCE], linkage, gamma, shaking, speed or loss")
     if kind != "speed" and (args.Cs is not None or args.flywheel is not None):
         raise UsageError("--Cs and --flywheel are for --what speed")
     if kind == "speed" and (args.theta_deg is not None or args.alpha is not None):

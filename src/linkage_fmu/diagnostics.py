@@ -6,8 +6,8 @@ Examples
 --------
 >>> from linkage_fmu import presets
 >>> mech = presets.get("four_bar")
->>> sorted(values(mech, mech.kinematics(0.3, order=0), ("mu_C", "cond")))
-['cond', 'mu_C']
+>>> sorted(values(mech, mech.kinematics(0.3, order=0), ("gamma_C", "cond")))
+['cond', 'gamma_C']
 """
 
 from __future__ import annotations
@@ -28,8 +28,8 @@ NAMES = ("cond", "J_red", "dJ_red")
 
 def info(mech) -> dict:
     """Diagnostic name -> (unit, description) for the linkage ``mech``."""
-    out = {f"mu_{d.key}": ("rad", f"transmission angle of the dyad at {d.key} (0 or pi: "
-                                  "toggle)") for d in mech.dyads}
+    out = {f"gamma_{d.key}": ("rad", f"transmission angle of the dyad at {d.key} (0 or "
+                                     "pi: toggle)") for d in mech.dyads}
     out["cond"] = ("1", "estimated condition number of the outputs, including the scale of "
                         "the centre-of-mass offsets: relative rounding error about cond x "
                         "1e-16 (inf: singular)")
@@ -48,7 +48,7 @@ def order(mech, wanted: Iterable[str]) -> int:
 
 
 def values(mech, st: KinematicState, wanted: Iterable[str] = ("cond",)) -> dict:
-    """The transmission angles ``mu_<joint>``, the condition estimate ``cond``, the
+    """The transmission angles ``gamma_<joint>``, the condition estimate ``cond``, the
     reduced inertia ``J_red`` and its derivative ``dJ_red`` named in ``wanted``, at the
     kinematic state ``st`` (of the :func:`order` they need)."""
     out = {}
@@ -56,8 +56,8 @@ def values(mech, st: KinematicState, wanted: Iterable[str] = ("cond",)) -> dict:
         out["J_red"], out["dJ_red"] = inertia.at_state(mech, st, "dJ_red" in wanted)
     cond = mech.offset_scale  # 1.0 unless a centre of mass lies beyond length_scale
     for d in mech.dyads:
-        mu, kappa = d.transmission(st, mech.length_scale)
-        out[f"mu_{d.key}"] = mu
+        gamma, kappa = d.transmission(st, mech.length_scale)
+        out[f"gamma_{d.key}"] = gamma
         # kappa twice: the dyad's position amplifies rounding by kappa, and its
         # equilibrium (whose forces grow like kappa) amplifies that angle error again
         cond = cond * kappa * kappa
@@ -92,7 +92,7 @@ def singular_what(mech, st: KinematicState) -> str:
 
 def singular_detail(mech, st: KinematicState) -> str:
     """The transmission angles at a singular position ``st``, for a message."""
-    parts = [f"mu_{d.key} = {d.transmission(st, mech.length_scale)[0]:.3g} rad"
+    parts = [f"gamma_{d.key} = {d.transmission(st, mech.length_scale)[0]:.3g} rad"
              for d in mech.dyads]
     return ("the equations have no unique solution (transmission angles: "
             + ", ".join(parts) + "); the balancing effort or reactions are unbounded")

@@ -179,7 +179,7 @@ class Mechanism:
         #: the outputs that may be NaN at a state that has outputs (eta: no power enters)
         self.partial_outputs = frozenset(o.name for o in outputs
                                          if not getattr(o, "finite", True))
-        self.diagnostic_names = tuple(f"mu_{d.key}" for d in self.dyads) + diagnostics.NAMES
+        self.diagnostic_names = tuple(f"gamma_{d.key}" for d in self.dyads) + diagnostics.NAMES
         #: the real-valued parameters, the arguments of its kernels (a branch or a choice
         #: is structure, as is a friction with every mu 0); none for a linkage built
         #: without a description

@@ -1,6 +1,6 @@
 """Design optimisation over the sweep engine: the values of some parameters, each within
 bounds, that minimise a summary of :func:`~linkage_fmu.sweep.sweep` (``Mb_peak``,
-``F21_peak``, ...) subject to constraints on the summaries (``"mu_C_min_deg >= 40"``,
+``F21_peak``, ...) subject to constraints on the summaries (``"gamma_C_min_deg >= 40"``,
 ``"valid"``).
 
 Every evaluation is a design of a sweep: a generation of differential evolution is one
@@ -13,13 +13,13 @@ Examples
 --------
 >>> from linkage_fmu.optimize import optimize
 >>> vary = {"l_BC": (0.30, 0.45), "l_CD": (0.25, 0.40)}
->>> coarse = optimize("four_bar", vary, "Mb_peak", ["mu_C_min_deg >= 45", "valid"],
+>>> coarse = optimize("four_bar", vary, "Mb_peak", ["gamma_C_min_deg >= 45", "valid"],
 ...                   omega=10.0, method="grid", budget=16, polish=False)
 >>> coarse.design, coarse.evaluations                 # the best of a 4 x 4 grid
 ({'l_BC': 0.4, 'l_CD': 0.3}, 16)
->>> best = optimize("four_bar", vary, "Mb_peak", ["mu_C_min_deg >= 45", "valid"],
+>>> best = optimize("four_bar", vary, "Mb_peak", ["gamma_C_min_deg >= 45", "valid"],
 ...                 omega=10.0, method="grid", budget=16)   # and a polish from there
->>> round(best.value, 3), round(float(best.summary["mu_C_min_deg"]), 3)  # on the bound
+>>> round(best.value, 3), round(float(best.summary["gamma_C_min_deg"]), 3)  # on the bound
 (2.376, 45.0)
 """
 
@@ -79,9 +79,9 @@ class Constraint:
 
     Examples
     --------
-    >>> c = Constraint("mu_C_min_deg", ">=", 40.0)
-    >>> str(c), c.satisfied(pd.DataFrame({"mu_C_min_deg": [39.0, 40.0, np.nan]})).tolist()
-    ('mu_C_min_deg >= 40', [False, True, False])
+    >>> c = Constraint("gamma_C_min_deg", ">=", 40.0)
+    >>> str(c), c.satisfied(pd.DataFrame({"gamma_C_min_deg": [39.0, 40.0, np.nan]})).tolist()
+    ('gamma_C_min_deg >= 40', [False, True, False])
     """
 
     name: str
@@ -132,8 +132,8 @@ def parse_constraint(spec: str | Constraint | tuple) -> Constraint:
 
     Examples
     --------
-    >>> parse_constraint("mu_C_min_deg >= 40")
-    Constraint(name='mu_C_min_deg', op='>=', value=40.0)
+    >>> parse_constraint("gamma_C_min_deg >= 40")
+    Constraint(name='gamma_C_min_deg', op='>=', value=40.0)
     >>> parse_constraint(" valid ")
     Constraint(name='valid', op=None, value=None)
     >>> str(parse_constraint("eta_min >= 0.85")), str(parse_constraint("Mb_mean <= -0.0"))
@@ -141,7 +141,7 @@ def parse_constraint(spec: str | Constraint | tuple) -> Constraint:
     >>> parse_constraint("F21_peak == 500")
     Traceback (most recent call last):
     ...
-    ValueError: constraint 'F21_peak == 500': expected NAME OP VALUE with OP one of <=, >=, <, > (as in 'mu_C_min_deg >= 40'), or 'valid'
+    ValueError: constraint 'F21_peak == 500': expected NAME OP VALUE with OP one of <=, >=, <, > (as in 'gamma_C_min_deg >= 40'), or 'valid'
     """
     if isinstance(spec, Constraint):
         return spec
@@ -156,11 +156,11 @@ def parse_constraint(spec: str | Constraint | tuple) -> Constraint:
         found = _CONSTRAINT.fullmatch(spec)
         if found is None:
             raise ValueError(f"constraint {spec!r}: expected NAME OP VALUE with OP one of "
-                             f"{', '.join(OPERATORS)} (as in 'mu_C_min_deg >= 40'), or "
+                             f"{', '.join(OPERATORS)} (as in 'gamma_C_min_deg >= 40'), or "
                              "'valid'")
         name, op, text = found.groups()
     else:
-        raise TypeError(f"constraint {spec!r}: expected text such as 'mu_C_min_deg >= 40', "
+        raise TypeError(f"constraint {spec!r}: expected text such as 'gamma_C_min_deg >= 40', "
                         "'valid', or a tuple (name, op, value)")
     try:
         value = float(text)
@@ -268,7 +268,7 @@ def optimize(source, vary: Mapping[str, tuple], minimize: str,
         A summary column of the sweep (``"Mb_peak"``, ``"F21_peak"``, ...); ``"-name"``
         maximises it (``"-eta_min"``).
     subject_to : sequence of str, tuple or Constraint
-        Constraints (:func:`parse_constraint`): ``"mu_C_min_deg >= 40"``, ``"valid"``.
+        Constraints (:func:`parse_constraint`): ``"gamma_C_min_deg >= 40"``, ``"valid"``.
         Without ``valid``, a design that assembles over part of the revolution is
         judged on the summaries of the angles where it does.
     theta, omega, alpha, loads, **named_loads
@@ -322,7 +322,7 @@ def optimize(source, vary: Mapping[str, tuple], minimize: str,
 
     Examples
     --------
-    >>> res = optimize("four_bar", {"l_AB": (0.05, 0.15)}, "Mb_peak", ["mu_C_min_deg >= 40"],
+    >>> res = optimize("four_bar", {"l_AB": (0.05, 0.15)}, "Mb_peak", ["gamma_C_min_deg >= 40"],
     ...                omega=10.0, maxiter=5, seed=1)
     >>> res.history.columns.tolist()
     ['generation', 'stage', 'evaluations', 'feasible', 'best']

@@ -32,8 +32,8 @@ Each design's row holds its parameter values and:
   over the angles that assemble, and ``eta_min``, the instantaneous efficiency's
   smallest value (over the angles where power enters the linkage: ``eta`` is NaN
   where none does);
-- ``mu_<joint>_min_deg``: each transmission angle's minimum distance from a toggle,
-  ``min(mu, 180 - mu)`` in degrees.
+- ``gamma_<joint>_min_deg``: each transmission angle's minimum distance from a toggle,
+  ``min(gamma, 180 - gamma)`` in degrees.
 
 Examples
 --------
@@ -429,7 +429,7 @@ def _reductions(mech, outputs: tuple) -> tuple[list, list]:
         columns["P_loss_mean"] = ("mean", ("P_loss",))
         columns["eta_min"] = ("min", ("eta",))
     for name in mech.diagnostic_names:
-        if name.startswith("mu_"):
+        if name.startswith("gamma_"):
             columns[f"{name}_min_deg"] = ("toggle_deg", (name,))
     return list(columns), list(columns.values())
 
@@ -509,7 +509,7 @@ def _summaries(mech, outputs: tuple, block: np.ndarray, valid: np.ndarray,
             table["P_loss_mean"] = np.nanmean(loss, axis=1)
             table["eta_min"] = np.nanmin(np.where(ok, block[index["eta"]], np.nan), axis=1)
         for name in mech.diagnostic_names:
-            if name.startswith("mu_"):
-                mu = np.degrees(np.where(ok, block[index[name]], np.nan))
-                table[f"{name}_min_deg"] = np.nanmin(np.minimum(mu, 180.0 - mu), axis=1)
+            if name.startswith("gamma_"):
+                gamma = np.degrees(np.where(ok, block[index[name]], np.nan))
+                table[f"{name}_min_deg"] = np.nanmin(np.minimum(gamma, 180.0 - gamma), axis=1)
     return pd.DataFrame(table)

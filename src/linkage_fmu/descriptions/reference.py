@@ -362,7 +362,7 @@ One table per output, `kind = "..."` and its keys. The kinds:
             for name in every]
     out.append(f"""### The outputs every linkage has
 
-Besides those of its `[[outputs]]`, every linkage reports these (`mu_<joint>` once for
+Besides those of its `[[outputs]]`, every linkage reports these (`gamma_<joint>` once for
 each group with a transmission angle, named by its joint); no other output or load may
 take their names:
 

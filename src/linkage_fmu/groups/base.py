@@ -167,20 +167,20 @@ def fmt(x: Number) -> str:
     return f"{float(x):.6g}" if x.ndim == 0 else f"{float(x.flat[0]):.6g}"
 
 
-def angle_and_kappa(xp, sin_mu, cos_mu, what: str = ""):
-    """``(mu, kappa)`` from the sine and cosine of a transmission angle: ``mu`` in
-    [0, pi] and ``kappa = (1 + |cos mu|) / |sin mu|``, the 2-norm condition number of a
+def angle_and_kappa(xp, sin_gamma, cos_gamma, what: str = ""):
+    """``(gamma, kappa)`` from the sine and cosine of a transmission angle: ``gamma`` in
+    [0, pi] and ``kappa = (1 + |cos gamma|) / |sin gamma|``, the 2-norm condition number of a
     dyad's normalised 2x2 core system (infinite at a toggle, which ``what`` names)."""
-    a = xp.abs(sin_mu)
-    mu = xp.atan2(a, cos_mu)
+    a = xp.abs(sin_gamma)
+    gamma = xp.atan2(a, cos_gamma)
     if xp.scalar:
         apart = a > 0.0
         numerics.label(a, Reason("singular", what))
-        kappa = (1.0 + abs(cos_mu)) / a if apart else math.inf
+        kappa = (1.0 + abs(cos_gamma)) / a if apart else math.inf
     else:
         with np.errstate(divide="ignore", invalid="ignore"):
-            kappa = (1.0 + np.abs(cos_mu)) / a
-    return mu, kappa
+            kappa = (1.0 + np.abs(cos_gamma)) / a
+    return gamma, kappa
 
 
 #: The roles of a group's fields in description files, and the unit each implies:
@@ -320,7 +320,7 @@ class Group(ABC):
     owners : dict
         Point -> link for the points placed that belong to one link only.
     key : str or None
-        Name of the group in diagnostics (``mu_<key>``), None for a group without a
+        Name of the group in diagnostics (``gamma_<key>``), None for a group without a
         transmission angle (the crank, a point on a link).
     """
 
@@ -393,7 +393,7 @@ class Group(ABC):
 
     @abstractmethod
     def transmission(self, st: KinematicState, scale: float):
-        """``(mu, kappa)``: the transmission angle in [0, pi] and the condition number of
+        """``(gamma, kappa)``: the transmission angle in [0, pi] and the condition number of
         the group's position and equilibrium, for a linkage of length scale ``scale``;
         None for a group with neither."""
 

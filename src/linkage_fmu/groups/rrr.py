@@ -132,5 +132,5 @@ class RRR(Group):
     def transmission(self, st, scale):
         """Angle between the two links at ``C``, in [0, pi]; 0 and pi are toggles."""
         (c1, s1), (c2, s2) = st.u[self.link1], st.u[self.link2]
-        sin_mu, cos_mu = c1 * s2 - s1 * c2, c1 * c2 + s1 * s2
-        return angle_and_kappa(st.xp, sin_mu, cos_mu, self._toggle)
+        sin_gamma, cos_gamma = c1 * s2 - s1 * c2, c1 * c2 + s1 * s2
+        return angle_and_kappa(st.xp, sin_gamma, cos_gamma, self._toggle)

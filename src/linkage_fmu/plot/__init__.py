@@ -20,7 +20,7 @@ by name.
 
 What is drawn carries a ``gid`` (``artist.get_gid()``), so that scripts and tests can
 find it: the curves by output name, ``"mean"``, ``"peak"``, ``"origin"``,
-``"forces"`` (a quiver), ``"load:<name>"``, ``"toggle:<mu>"`` and so on (see each
+``"forces"`` (a quiver), ``"load:<name>"``, ``"toggle:<gamma>"`` and so on (see each
 function).
 
 Examples

@@ -45,5 +45,5 @@ def degree_axis(ax: "Axes", deg: np.ndarray) -> None:
 
 
 def greek(name: str) -> str:
-    """``name`` as drawn: a transmission angle ``mu_<joint>`` with the letter μ."""
-    return "μ" + name[2:] if name.startswith("mu_") else name
+    """``name`` as drawn: a transmission angle ``gamma_<joint>`` with the letter γ."""
+    return "γ" + name[5:] if name.startswith("gamma_") else name

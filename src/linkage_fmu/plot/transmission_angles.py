@@ -27,26 +27,27 @@ def _valid_at(mech: "Mechanism", name: str, t: float) -> bool:
 
 
 def _distance_to_toggle(mech: "Mechanism", name: str, t: float) -> float:
-    mu = float(mech.solve(np.array([t]), outputs=(name,))[name][0])
-    return min(mu, math.pi - mu) if math.isfinite(mu) else math.inf
+    gamma = float(mech.solve(np.array([t]), outputs=(name,))[name][0])
+    return min(gamma, math.pi - gamma) if math.isfinite(gamma) else math.inf
 
 
-def toggles(mech: "Mechanism", name: str, theta: np.ndarray, mu: np.ndarray,
+def toggles(mech: "Mechanism", name: str, theta: np.ndarray, gamma: np.ndarray,
             valid: np.ndarray) -> list[float]:
     """Crank angles [rad] within ``theta`` at which the dyad of the transmission angle
-    ``name`` is at a toggle (``mu`` = 0 or pi): the limits of the ranges where the
+    ``name`` is at a toggle (``gamma`` = 0 or pi): the limits of the ranges where the
     linkage cannot be assembled (found by bisection to 1e-12 rad, on the side where it
-    can), and, where it can, angles where ``mu`` touches 0 or pi (local minima of
-    ``min(mu, pi - mu)`` refined on the solver, kept if below :data:`TOGGLE_TOL`).
-    ``mu`` and ``valid`` are the solver's at ``theta``.
+    can), and, where it can, angles where ``gamma`` touches 0 or pi (local minima of
+    ``min(gamma, pi - gamma)`` refined on the solver, kept if below :data:`TOGGLE_TOL`).
+    ``gamma`` and ``valid`` are the solver's at ``theta``.
 
     Examples
     --------
     >>> from linkage_fmu import presets
     >>> mech = presets.get("slider_crank", l_OA=0.2, l_AB=0.15)   # the rod cannot reach
     >>> t = np.radians(np.linspace(0, 360, 73))
-    >>> sol = mech.solve(t, outputs=("mu_B",))
-    >>> [round(float(np.degrees(a)), 4) for a in toggles(mech, "mu_B", t, sol["mu_B"], sol.valid)]
+    >>> sol = mech.solve(t, outputs=("gamma_B",))
+    >>> [round(float(np.degrees(a)), 4)
+    ...  for a in toggles(mech, "gamma_B", t, sol["gamma_B"], sol.valid)]
     [48.5904, 131.4096, 228.5904, 311.4096]
     """
     found = []
@@ -58,7 +59,7 @@ def toggles(mech: "Mechanism", name: str, theta: np.ndarray, mu: np.ndarray,
                 break
             good, bad = (mid, bad) if _valid_at(mech, name, mid) else (good, mid)
         found.append(float(good))
-    d = np.minimum(mu, np.pi - mu)
+    d = np.minimum(gamma, np.pi - gamma)
     inner = np.flatnonzero(valid[1:-1] & valid[:-2] & valid[2:]) + 1
     for i in inner:
         if d[i] < d[i - 1] and d[i] <= d[i + 1] and d[i] < math.radians(10.0):
@@ -88,7 +89,7 @@ def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
 
 def transmission(mech: "Mechanism", theta=None, *, theta_deg=None,
                  ax: "Axes | None" = None) -> "Figure":
-    """Every transmission angle ``mu_<joint>`` in degrees against the crank angle in
+    """Every transmission angle ``gamma_<joint>`` in degrees against the crank angle in
     degrees, with each one's minimum and the toggle positions marked.
 
     Parameters
@@ -104,9 +105,9 @@ def transmission(mech: "Mechanism", theta=None, *, theta_deg=None,
     Returns
     -------
     Figure
-        Lines (gid): ``mu_<joint>`` (``degrees(mu)``; gaps where the linkage cannot be
-        assembled, shaded ``gid="invalid"``), ``min:mu_<joint>`` (one point at the
-        smallest angle, annotated) and ``toggle:mu_<joint>`` (a vertical line at each
+        Lines (gid): ``gamma_<joint>`` (``degrees(gamma)``; gaps where the linkage cannot
+        be assembled, shaded ``gid="invalid"``), ``min:gamma_<joint>`` (one point at the
+        smallest angle, annotated) and ``toggle:gamma_<joint>`` (a vertical line at each
         :func:`toggles` angle, in degrees).
 
     Raises
@@ -122,12 +123,12 @@ def transmission(mech: "Mechanism", theta=None, *, theta_deg=None,
     >>> fig = plot.transmission(presets.get("four_bar", l_AB=0.3))  # |BD| reaches BC + CD
     >>> lines = {line.get_gid(): line for line in fig.axes[0].lines}  # the last of each gid
     >>> sorted(lines)
-    ['min:mu_C', 'mu_C', 'toggle:mu_C']
+    ['gamma_C', 'min:gamma_C', 'toggle:gamma_C']
     >>> [round(float(line.get_xdata()[0]), 3) for line in fig.axes[0].lines
-    ...  if line.get_gid() == "toggle:mu_C"]
+    ...  if line.get_gid() == "toggle:gamma_C"]
     [135.951, 224.049]
     """
-    names = [n for n in mech.diagnostic_names if n.startswith("mu_")]
+    names = [n for n in mech.diagnostic_names if n.startswith("gamma_")]
     if not names:
         raise ValueError(f"{mech.name} has no dyad, so no transmission angle")
     rad, deg = crank_angles(theta, theta_deg)
@@ -139,27 +140,27 @@ def transmission(mech: "Mechanism", theta=None, *, theta_deg=None,
         a, b = deg[max(lo - 1, 0)], deg[min(hi + 1, deg.size - 1)]
         ax.axvspan(min(a, b), max(a, b), color="0.9", lw=0, zorder=0, gid="invalid")
     for k, name in enumerate(names):
-        mu = np.asarray(sol[name], dtype=float)
-        finite_or_fail(mech, mu, deg)
+        gamma = np.asarray(sol[name], dtype=float)
+        finite_or_fail(mech, gamma, deg)
         color = f"C{k % 10}"
         label = greek(name)
-        ax.plot(deg, np.degrees(mu), color=color, lw=1.6, label=label, gid=name)
-        i = int(np.nanargmin(mu))
-        ax.plot([deg[i]], [np.degrees(mu[i])], "v", color=color, ms=8,
-                label=f"min {label} = {number(np.degrees(mu[i]), 1, fixed=True)}°",
+        ax.plot(deg, np.degrees(gamma), color=color, lw=1.6, label=label, gid=name)
+        i = int(np.nanargmin(gamma))
+        ax.plot([deg[i]], [np.degrees(gamma[i])], "v", color=color, ms=8,
+                label=f"min {label} = {number(np.degrees(gamma[i]), 1, fixed=True)}°",
                 gid=f"min:{name}")
-        ax.annotate(f"min {label} = {number(np.degrees(mu[i]), 1, fixed=True)}°\n"
+        ax.annotate(f"min {label} = {number(np.degrees(gamma[i]), 1, fixed=True)}°\n"
                     f"at θ = {number(deg[i], 1, fixed=True)}°",
-                    (deg[i], np.degrees(mu[i])), xytext=(8, -18), textcoords="offset points",
+                    (deg[i], np.degrees(gamma[i])), xytext=(8, -18), textcoords="offset points",
                     fontsize=9, color=color, gid=f"min label:{name}")
-        for j, t in enumerate(toggles(mech, name, rad, mu, valid)):
+        for j, t in enumerate(toggles(mech, name, rad, gamma, valid)):
             ax.axvline(np.degrees(t), color=color, ls="--", lw=1.0,
                        label=f"toggle of {label}" if not j else None, gid=f"toggle:{name}")
     ax.axhspan(40.0, 140.0, color="C2", alpha=0.06, zorder=0, gid="good range")
     degree_axis(ax, deg)
     ax.set_ylim(0.0, 180.0)
     ax.set_yticks(np.arange(0.0, 181.0, 30.0))
-    ax.set_ylabel("transmission angle μ [°]")
+    ax.set_ylabel("transmission angle γ [°]")
     ax.set_title(f"{mech.name}: transmission angles (0° or 180°: toggle; "
                  "shaded 40°-140°)", fontsize=10)
     ax.legend(loc="best", fontsize=9)
