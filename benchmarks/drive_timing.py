@@ -103,7 +103,7 @@ class Drive:
 
 
 #: the friction's benchmark: the slider-crank's pairs (mu 0.15 to 0.2 on 15 to 20 mm pins)
-FRICTION = dict(mu_O=0.15, r_O=0.02, mu_A=0.15, r_A=0.02, muf_B=0.2, r_B=0.015,
+FRICTION = dict(mu_O=0.15, r_O=0.02, mu_A=0.15, r_A=0.02, mu_B=0.2, r_B=0.015,
                 mu_guide=0.15)
 
 

@@ -152,7 +152,7 @@ def ours(preset: str, load: float, ref: dict, static_ref: dict, big: int) -> lis
 
 
 #: the slider-crank with friction in every pair: mu on each, a pin radius on each pin
-FRICTION = dict(mu_O=0.1, mu_A=0.1, muf_B=0.1, mu_guide=0.1, r_O=0.01, r_A=0.01, r_B=0.01)
+FRICTION = dict(mu_O=0.1, mu_A=0.1, mu_B=0.1, mu_guide=0.1, r_O=0.01, r_A=0.01, r_B=0.01)
 FRICTION_STATES = 50  # states of its mpmath reference (each one a Newton in mpmath)
 
 

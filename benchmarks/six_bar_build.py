@@ -65,16 +65,16 @@ BUILD = ("import json, sys, time\n"
 
 
 def friction_values(parameters) -> dict[str, float]:
-    """The start values of the benchmark: :data:`MU` on every ``mu_``/``muf_`` parameter
+    """The start values of the benchmark: :data:`MU` on every ``mu_`` parameter
     and :data:`PIN` on every ``r_`` parameter among ``parameters`` (names).
 
     Examples
     --------
-    >>> friction_values(["l_OA", "mu_O", "r_O", "muf_B", "driver"])
-    {'mu_O': 0.1, 'r_O': 0.02, 'muf_B': 0.1}
+    >>> friction_values(["l_OA", "mu_O", "r_O", "mu_B", "driver"])
+    {'mu_O': 0.1, 'r_O': 0.02, 'mu_B': 0.1}
     """
     return {n: (PIN if n.startswith("r_") else MU) for n in parameters
-            if n.startswith(("mu_", "muf_", "r_"))}
+            if n.startswith(("mu_", "r_"))}
 
 
 def states(steps: int):

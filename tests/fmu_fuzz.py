@@ -544,7 +544,7 @@ def run_drive(fmu: Path, steps: int, seed: int,
 #: the energy run's linkage, parameters and load: the slider-crank with friction in every
 #: pair, a flywheel on the crank, and 20 N on the piston
 ENERGY_PRESET = "slider_crank"
-ENERGY_PARAMETERS = dict(mu_O=0.15, r_O=0.02, mu_A=0.15, r_A=0.02, muf_B=0.2, r_B=0.015,
+ENERGY_PARAMETERS = dict(mu_O=0.15, r_O=0.02, mu_A=0.15, r_A=0.02, mu_B=0.2, r_B=0.015,
                          mu_guide=0.15, J1=0.02)
 ENERGY_LOAD = 20.0
 #: the outputs each read of the energy run takes

@@ -275,9 +275,9 @@ def test_the_report_names_every_figure():
 # -- (c') with friction in the joints -------------------------------------------------------
 #: the four-bar with friction in every pin, and the slider-crank press in every pair
 FRICTION = [
-    ("four_bar", {"mu_A": 0.15, "mu_B": 0.1, "muf_C": 0.1, "mu_D": 0.2, "r_A": 0.005,
+    ("four_bar", {"mu_A": 0.15, "mu_B": 0.1, "mu_C": 0.1, "mu_D": 0.2, "r_A": 0.005,
                   "r_B": 0.004, "r_C": 0.004, "r_D": 0.005}, 10.0, {"load": 3.0}),
-    ("slider_crank", {"mu_O": 0.1, "mu_A": 0.1, "muf_B": 0.1, "mu_guide": 0.1, "r_O": 0.01,
+    ("slider_crank", {"mu_O": 0.1, "mu_A": 0.1, "mu_B": 0.1, "mu_guide": 0.1, "r_O": 0.01,
                       "r_A": 0.01, "r_B": 0.008}, 100.0, {"load": 200.0}),
 ]
 FRICTION_IDS = [name for name, *_ in FRICTION]

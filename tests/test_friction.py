@@ -43,8 +43,7 @@ REACTIONS = {
 
 
 def mu_of(name, joint):
-    """The preset's parameter of the pair's coefficient: mu_J, or muf_J where mu_J is the
-    name of a transmission angle."""
+    """The preset's parameter of the pair's coefficient (mu_J)."""
     return presets.preset(name).friction[joint]["mu"]
 
 
@@ -304,7 +303,7 @@ def test_massless_slider_crank_self_locks_where_the_denominator_vanishes():
 # -- e. an independent formulation: fsolve on the slider-crank's equations --------------------
 SC = dict(l_OA=0.05, l_AB=0.2, e=0.015, m1=0.5, J1=1e-3, l_OS1=0.02, m2=0.8, J2=0.004,
           l_AS2=0.06, m3=0.6, g=9.81)
-MU = dict(mu_O=0.12, r_O=0.01, mu_A=0.2, r_A=0.008, muf_B=0.15, r_B=0.006, mu_guide=0.1)
+MU = dict(mu_O=0.12, r_O=0.01, mu_A=0.2, r_A=0.008, mu_B=0.15, r_B=0.006, mu_guide=0.1)
 
 
 def _cross(a, b):
@@ -342,7 +341,7 @@ def _fsolve_slider_crank(theta, omega, alpha, P, mu=MU):
         N, M, Mb = x[6], x[7], x[8]
         fO = -mu["mu_O"] * mu["r_O"] * np.hypot(*RO) * sg(omega)           # on crank
         fA = -mu["mu_A"] * mu["r_A"] * np.hypot(*RA) * sg(phid - omega)    # on rod
-        fB = -mu["muf_B"] * mu["r_B"] * np.hypot(*RB) * sg(0.0 - phid)      # on piston
+        fB = -mu["mu_B"] * mu["r_B"] * np.hypot(*RB) * sg(0.0 - phid)      # on piston
         fg = -mu["mu_guide"] * abs(N) * sg(vB)                             # on piston, x
         r1 = RO - RA + p["m1"] * (grav - aS1)
         m1 = (_cross(-S1, RO) + _cross(A - S1, -RA) + Mb + fO - fA - p["J1"] * alpha)
@@ -357,7 +356,7 @@ def _fsolve_slider_crank(theta, omega, alpha, P, mu=MU):
     assert np.max(np.abs(eqs(x))) < 1e-9 * (1 + np.max(np.abs(x)))
     return x, dict(Mf_O=-mu["mu_O"] * mu["r_O"] * np.hypot(*x[0:2]) * sg(omega),
                    Mf_A=-mu["mu_A"] * mu["r_A"] * np.hypot(*x[2:4]) * sg(phid - omega),
-                   Mf_B=-mu["muf_B"] * mu["r_B"] * np.hypot(*x[4:6]) * sg(-phid),
+                   Mf_B=-mu["mu_B"] * mu["r_B"] * np.hypot(*x[4:6]) * sg(-phid),
                    Ff_guide=-mu["mu_guide"] * abs(x[6]) * sg(vB))
 
 
@@ -694,7 +693,7 @@ def test_a_kernel_traced_without_friction_solves_with_large_friction():
     rng = np.random.default_rng(78)
     mech = presets.preset("slider_crank").fmu_build()
     kernel = mech.solver.kernel(None, False)
-    big = {"mu_O": 0.6, "r_O": 0.1, "mu_A": 0.6, "r_A": 0.1, "muf_B": 0.6, "r_B": 0.1,
+    big = {"mu_O": 0.6, "r_O": 0.1, "mu_A": 0.6, "r_A": 0.1, "mu_B": 0.6, "r_B": 0.1,
            "mu_guide": 0.6}
     rubbing = presets.get("slider_crank", **big)
     frozen = kernel.prepare(*(rubbing.parameters[n] for n in kernel.parameters))

@@ -143,7 +143,7 @@ def test_the_compiled_array_kernel_is_the_python_kernel_to_a_few_ulp(monkeypatch
     if not vectorise:  # the module (the package's c_source is its function)
         source = importlib.import_module("linkage_fmu.kernels.c_source")
         monkeypatch.setattr(source, "VECTOR_OPERATIONS", 0)
-    mu = {"mu_A": 0.1, "r_A": 0.02, "mu_guide": 0.15, "muf_E": 0.1, "r_E": 0.02}
+    mu = {"mu_A": 0.1, "r_A": 0.02, "mu_guide": 0.15, "mu_E": 0.1, "r_E": 0.02}
     mech = presets.get("crank_shaper", branch=-1, **(mu if friction else {}))
     kernel = mech.kernel()
     assert ("#pragma omp simd\n    for" in kernel.c_source(array=True)) == vectorise
@@ -241,7 +241,7 @@ def test_parameters_are_arguments_of_one_kernel_source():
     assert ka.frozen != kb.frozen
     # the friction's parameters are constants while every mu is 0 (friction not solved)
     assert ka.parameters == tuple(k for k, v in a.parameters.items()
-                                  if k != "branch" and not k.startswith(("mu_", "muf_", "r_", "drive")))
+                                  if k != "branch" and not k.startswith(("mu_", "r_", "drive")))
     for mech, k in ((a, ka), (b, kb)):
         ref = mech.solve(0.7, 5.0, 1.0, 2.0, method="interpreted")
         assert k(0.7, 5.0, 1.0, 2.0) == tuple(ref[n] for n in k.outputs)
@@ -617,7 +617,7 @@ def test_an_array_kernel_with_loops_is_the_one_state_kernel():
     library's). The six-bar driven at KD with friction (a secant loop holding the
     groups' Newton loops) over 500 random states, run on blocks by the compiled array
     kernel, each state's loops until it converged."""
-    mu = {n: 0.2 for n in presets.get("six_bar").parameters if n.startswith(("mu_", "muf_"))}
+    mu = {n: 0.2 for n in presets.get("six_bar").parameters if n.startswith("mu_")}
     mu.update({n: 0.01 for n in presets.get("six_bar").parameters if n.startswith("r_")})
     kernel = presets.get("six_bar", driver="KD", **mu).kernel()
     array = kernel.array()
@@ -649,7 +649,7 @@ def test_a_kernel_split_at_an_input_is_the_one_state_kernel(tmp_path):
     from linkage_fmu.ccompiler import CompilerError, compile_shared
 
     mech = presets.linkage("slider_crank", mu_O=0.15, r_O=0.02, mu_A=0.15, r_A=0.02,
-                           muf_B=0.2, r_B=0.015, mu_guide=0.15)
+                           mu_B=0.2, r_B=0.015, mu_guide=0.15)
     k = mech.kernel(("Mb", "J_red"))
     source = tmp_path / "split.c"
     source.write_text(k.c_source(array=False, prefix="k", vary=2))

@@ -213,9 +213,9 @@ def test_an_effort_off_the_crank_is_refused():
 # -- friction ----------------------------------------------------------------------------------
 #: Coulomb friction in every pair, nonzero pin radii: the slider-crank and the four-bar
 FRICTION = [
-    ("slider_crank", {"mu_O": 0.15, "mu_A": 0.15, "muf_B": 0.15, "mu_guide": 0.15,
+    ("slider_crank", {"mu_O": 0.15, "mu_A": 0.15, "mu_B": 0.15, "mu_guide": 0.15,
                       "r_O": 0.01, "r_A": 0.01, "r_B": 0.008}, {"load": 20.0}),
-    ("four_bar", {"mu_A": 0.15, "mu_B": 0.1, "muf_C": 0.1, "mu_D": 0.2, "r_A": 0.005,
+    ("four_bar", {"mu_A": 0.15, "mu_B": 0.1, "mu_C": 0.1, "mu_D": 0.2, "r_A": 0.005,
                   "r_B": 0.004, "r_C": 0.004, "r_D": 0.005}, {"load": 0.5}),
 ]
 IDS = [name for name, _, _ in FRICTION]

@@ -56,7 +56,7 @@ def test_the_kernel_without_friction_while_every_mu_is_0(native_dist, preset):
     with zipfile.ZipFile(fmu) as archive:
         model_c = archive.read("sources/model.c").decode()
     assert "#define FRICTIONLESS_KERNELS 1" in model_c and "f0_one(" in model_c
-    mu = sorted(n for n in mech.parameters if n.startswith(("mu_", "muf_")))
+    mu = sorted(n for n in mech.parameters if n.startswith("mu_"))
     radii = {n: 0.02 * mech.length_scale for n in mech.parameters if n.startswith("r_")}
     friction = [n for n in mech.output_names if n.startswith(("Mf_", "Ff_"))]
     for params, rubs in (({}, False), (radii, False), ({**radii, mu[0]: 0.1}, True),
@@ -161,7 +161,7 @@ def test_friction_set_after_the_build_solves_where_the_direct_solver_does(tmp_pa
     from fmu_cache import build_native_fmu
 
     fmu = build_native_fmu("slider_crank", tmp_path)
-    big = {"mu_O": 0.6, "r_O": 0.1, "mu_A": 0.6, "r_A": 0.1, "muf_B": 0.6, "r_B": 0.1,
+    big = {"mu_O": 0.6, "r_O": 0.1, "mu_A": 0.6, "r_A": 0.1, "mu_B": 0.6, "r_B": 0.1,
            "mu_guide": 0.6}
     mech = presets.get("slider_crank", **big)
     u = _random_rows(mech, np.random.default_rng(150))
@@ -176,7 +176,7 @@ def test_the_six_bar_driven_off_the_crank_with_friction_set_after_the_build(nati
     the same outputs (the effort's secant iteration a loop of its kernel)."""
     fmu = native_dist / f"{MODELS['six_bar']}.fmu"
     base = presets.get("six_bar")
-    params = {n: 0.3 for n in base.parameters if n.startswith(("mu_", "muf_"))}
+    params = {n: 0.3 for n in base.parameters if n.startswith("mu_")}
     params.update({n: 0.05 * base.length_scale for n in base.parameters
                    if n.startswith("r_")})
     for driver in ("KD", "D"):

@@ -69,9 +69,8 @@ def _with_friction(name):
     the outputs Mf_J / Ff_J, P_loss and eta after the specification's."""
     params, outputs, inputs = SPEC[name]
     params = dict(params)
-    angles = set(presets.get(name).diagnostic_names)  # gamma_<key>: transmission angles
     for j, kind in FRICTION[name]:
-        params[f"muf_{j}" if f"gamma_{j}" in angles else f"mu_{j}"] = 0.0
+        params[f"mu_{j}"] = 0.0
         if kind == "pin":
             params[f"r_{j}"] = 0.0
     params["drive"] = 1.0

@@ -122,7 +122,7 @@ def test_friction_summaries_equal_the_direct_solver_of_each_design():
     assert (table.loc[none, "eta_min"] == 1.0).all()
     assert (table.loc[~none, "P_loss_mean"] > 0.0).all()
     # a four-bar driven clockwise, friction in every pin
-    designs = grid(mu_A=[0.1], r_A=[0.01], mu_B=[0.0, 0.15], r_B=[0.01], muf_C=[0.1],
+    designs = grid(mu_A=[0.1], r_A=[0.01], mu_B=[0.0, 0.15], r_B=[0.01], mu_C=[0.1],
                    r_C=[0.005], drive=[-1.0])
     table = sweep("four_bar", designs, THETA, -10.0, 0.0, 3.0)
     assert table["valid"].all()

@@ -49,7 +49,7 @@ J_ROTOR = 20.0
 #: the radii of the press's pins [m]
 PINS = {"r_O": 0.02, "r_A": 0.015, "r_B": 0.01}
 #: the coefficients of friction of the press's pins and guide
-FRICTION = {"mu_O": 0.1, "mu_A": 0.1, "muf_B": 0.1, "mu_guide": 0.1}
+FRICTION = {"mu_O": 0.1, "mu_A": 0.1, "mu_B": 0.1, "mu_guide": 0.1}
 #: the press starts at rest, the ram at its top dead centre
 START = {"theta0": math.pi / 2, "omega0": 0.0}
 #: the drive FMU's integrator tolerance (relative and absolute) within each step

@@ -461,7 +461,7 @@ class Description:
         --------
         >>> from linkage_fmu import presets
         >>> sorted(presets.preset("slider_crank").friction_parameters(("mu",)))
-        ['mu_A', 'mu_O', 'mu_guide', 'muf_B']
+        ['mu_A', 'mu_B', 'mu_O', 'mu_guide']
         """
         names = {n for spec in self.friction.values() for k, v in spec.items() if k in keys
                  for n in Expression(v).names}
