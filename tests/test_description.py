@@ -439,3 +439,13 @@ def test_a_value_the_builder_refuses_is_one_line_naming_the_file_and_the_key(tmp
     with pytest.raises(DescriptionError) as info:
         linkage_fmu.load(str(tmp_path / "none.toml"))
     assert str(info.value) == f"{tmp_path / 'none.toml'}: cannot read it: No such file or directory"
+
+
+def test_a_parameter_named_as_an_output_is_refused():
+    # an FMU has one variable per name: a parameter named as the four-bar's transmission
+    # angle would be two variables
+    text = (presets.FOLDER / "four_bar.toml").read_text()
+    clash = text.replace("mu_C = {", "gamma_C = {").replace('mu = "mu_C"', 'mu = "gamma_C"')
+    with pytest.raises(ValueError, match=r"^four\.toml: the name 'gamma_C' is both a "
+                                         r"parameter and a diagnostic output$"):
+        Description.from_toml(clash, "four.toml").build()

@@ -180,6 +180,8 @@ class Mechanism:
         self.partial_outputs = frozenset(o.name for o in outputs
                                          if not getattr(o, "finite", True))
         self.diagnostic_names = tuple(f"gamma_{d.key}" for d in self.dyads) + diagnostics.NAMES
+        _check_names(name, {"input": self.input_names, "parameter": tuple(self.parameters),
+                            "output": self.output_names, "diagnostic output": self.diagnostic_names})
         #: the real-valued parameters, the arguments of its kernels (a branch or a choice
         #: is structure, as is a friction with every mu 0); none for a linkage built
         #: without a description
@@ -468,3 +470,21 @@ def _check_load_points(name: str, loads: Sequence[Load], bodies: Sequence[Body],
             raise ValueError(f"{name}: load {load.name} acts on body {load.body} at point "
                              f"{load.at}, which is not a point of body {load.body} (its "
                              f"points: {on})")
+
+
+def _check_names(name: str, kinds: dict) -> None:
+    """Refuse a name given to two things (a parameter named as a transmission angle, an
+    output named as an input): an FMU has one variable per name, and a solution one
+    value per name."""
+    seen: dict = {}
+    for kind, names in kinds.items():
+        for n in names:
+            if n in seen:
+                raise ValueError(f"{name}: the name {n!r} is both {_article(seen[n])} and "
+                                 f"{_article(kind)}")
+            seen[n] = kind
+
+
+def _article(kind: str) -> str:
+    return ("an " if kind[0] in "aeiou" else "a ") + kind
+
