@@ -1,0 +1,193 @@
+"""Newton iterations and small linear solves written once for every kind of number.
+
+The same steps run on floats (one state), numpy arrays (many states, each its own
+iteration), mpmath numbers and traced numbers (:mod:`~linkage_fmu.kernels.trace`), where
+an iteration is a loop of the kernel (:meth:`~linkage_fmu.kernels.trace.Tape.loop`):
+its body holds no branch, its decisions are operations. The friction of the joints
+(:mod:`~linkage_fmu.friction`) and the closure of a class III group
+(:mod:`~linkage_fmu.groups.closure`) iterate with them.
+
+Examples
+--------
+>>> from linkage_fmu.numerics import SCALAR
+>>> def step(x, memory):  # Newton on x**2 = 2
+...     return [(x[0] * x[0] - 2.0) / (2.0 * x[0])], None, memory
+>>> round(iterate(SCALAR, [1.0], step, fail=None)[0], 15)
+1.414213562373095
+>>> solve(SCALAR, [[0.0, 2.0], [4.0, 1.0]], [2.0, 9.0])[0]
+[2.0, 1.0]
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .kernels.trace import Reason
+
+#: Newton steps every path takes, the traced kernels' exactly (then they check them)
+ITERATIONS = 5
+#: steps at most, for a state the first ones do not settle
+MAX_ITERATIONS = 60
+#: converged: the last step is at most this fraction of the iterated values' size
+TOLERANCE = 1e-13
+#: the smallest positive double: ``x / max(|x|, TINY)`` is the sign of ``x``, 0 at 0
+TINY = 5e-324
+
+
+def tolerance(xp) -> float:
+    """The relative size of a last step that ends an iteration: :data:`TOLERANCE`, or
+    the namespace's own (``xp.eps()``, mpmath's at its precision)."""
+    eps = getattr(xp, "eps", None)
+    return TOLERANCE if eps is None else eps()
+
+
+def not_(xp, outcome):
+    """``not outcome``, of a float comparison or elementwise of an array's."""
+    return (not outcome) if xp.scalar else ~outcome
+
+
+def iterate(xp, x: list, step, fail, first=None, memory: tuple = (),
+            minimum: int = ITERATIONS, maximum: int = MAX_ITERATIONS) -> list:
+    """``x <- x - d`` with ``(d, det, memory) = step(x, memory)`` (``first`` instead for
+    the first step, if given; ``memory``: what a step hands the next): ``minimum``
+    steps (:data:`ITERATIONS`), then more (to ``maximum``, :data:`MAX_ITERATIONS`)
+    while the last step exceeds :data:`TOLERANCE` of ``x``; ``det`` (or None) must stay
+    > 0. On floats ``fail()`` raises where it does not converge or ``det <= 0``; on
+    arrays, those states get NaN and ``fail(bad)`` is told which. (On traced numbers,
+    the iterations are loops of the kernel: :func:`loop`.) A NaN passes both tests: a
+    caller for whom it is a failure checks its result.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from linkage_fmu.numerics import ARRAY
+    >>> def step(x, memory):
+    ...     return [(x[0] * x[0] - np.array([4.0, 9.0])) / (2.0 * x[0])], None, memory
+    >>> iterate(ARRAY, [np.array([1.0, 1.0])], step, fail=None, minimum=1)[0].tolist()
+    [2.0, 3.0]
+    """
+    tol = tolerance(xp)
+    done = det = None
+    memory = tuple(memory)
+    for k in range(maximum):
+        d, det, memory = (first if k == 0 and first is not None else step)(x, memory)
+        if done is None:
+            x = [a - b for a, b in zip(x, d)]
+        else:  # arrays: the states converged stay as they are
+            x = [np.where(done, a, a - b) for a, b in zip(x, d)]
+        if k + 1 < minimum:
+            continue
+        moved, size = sum(xp.abs(b) for b in d), sum(xp.abs(a) for a in x)
+        # written so that NaN passes: a non-finite value is an overflow or a singular
+        # position, which the solver's check of the outputs names; locking is finite
+        converged = not_(xp, moved > tol * size)
+        if xp.scalar:
+            if converged:
+                break
+        else:
+            done = converged if done is None else done | converged
+            if done.all():
+                break
+    else:
+        if xp.scalar:
+            fail()
+        else:
+            fail(~done)
+            x = [np.where(done, a, np.nan) for a in x]
+    if det is not None:
+        held = not_(xp, det <= 0.0)
+        if xp.scalar:
+            if not held:
+                fail()
+        elif not held.all():
+            fail(~held)
+            x = [np.where(held, a, np.nan) for a in x]
+    return x
+
+
+def tape_of(*values):
+    """The tape of the first traced number among ``values``, or None."""
+    for v in values:
+        tape = getattr(v, "tape", None)
+        if tape is not None:
+            return tape
+    return None
+
+
+def loop(tape, xp, x: list, det, memory: tuple, step, fail, reason: Reason,
+         minimum: int, maximum: int) -> list:
+    """:func:`iterate`'s steps on traced numbers as a loop of the kernel
+    (:meth:`~linkage_fmu.kernels.trace.Tape.loop`) carrying ``x``, ``det`` (None: the
+    steps have none) and ``memory``, with its test after ``minimum`` steps, at most
+    ``maximum``; then its checks, labelled ``reason``: that it converged, and that the
+    last ``det`` > 0 (both written so that NaN passes, as on floats)."""
+    tol = tolerance(xp)
+    n, m = len(x), 0 if det is None else 1
+
+    def body(carried):
+        x, memory = carried[:n], tuple(carried[n + m:])
+        d, det, memory = step(x, memory)
+        x = [a - b for a, b in zip(x, d)]
+        moved, size = sum(xp.abs(b) for b in d), sum(xp.abs(a) for a in x)
+        return [*x, *([det] if m else []), *memory], tape.compare("gt", moved, tol * size)
+
+    carried, converged = tape.loop([*x, *([det] if m else []), *memory], body,
+                                   minimum, maximum)
+    if not tape.check(converged, True, reason):
+        fail()
+    if m and not tape.check(tape.compare("le", carried[n], 0.0), False, reason):
+        fail()
+    return carried[:n]
+
+
+def inverse(xp, x):
+    """``1 / x``, and 0 for ``x = 0`` (no comparison: :func:`~.kernels.trace.sign`)."""
+    return xp.sign(x) / xp.maximum(xp.abs(x), TINY)
+
+
+def solve(xp, A: list, b: list) -> tuple[list, object]:
+    """``A^-1 b`` by Gaussian elimination with partial pivoting, and the smallest
+    pivot's magnitude (0 for a singular ``A``).
+
+    The pivoting takes no branch, so that it runs inside a kernel's loop: at column
+    ``k`` each lower row in turn is swapped with row ``k`` where its entry is larger in
+    magnitude, by blending the two rows with weights 0 and 1 (``w = max(sign(|a| -
+    |p|), 0)``): the largest entry of the column ends on the diagonal, as in LAPACK's
+    partial pivoting, with rows of equal magnitude left in place. A zero pivot divides
+    as 0 (:func:`inverse`) and is reported by the smallest pivot. ``A`` is a list of
+    rows of numbers of ``xp`` (floats, arrays over states, mpmath, traced).
+
+    Examples
+    --------
+    >>> from linkage_fmu.numerics import SCALAR
+    >>> x, smallest = solve(SCALAR, [[1e-20, 1.0], [1.0, 1.0]], [1.0, 2.0])
+    >>> [round(v, 15) for v in x], smallest
+    ([1.0, 1.0], 1.0)
+    """
+    n = len(b)
+    A = [list(row) for row in A]
+    b = list(b)
+    smallest = None
+    for k in range(n):
+        for i in range(k + 1, n):
+            w = xp.maximum(xp.sign(xp.abs(A[i][k]) - xp.abs(A[k][k])), 0.0)
+            v = 1.0 - w
+            for c in range(k, n):
+                A[k][c], A[i][c] = w * A[i][c] + v * A[k][c], w * A[k][c] + v * A[i][c]
+            b[k], b[i] = w * b[i] + v * b[k], w * b[k] + v * b[i]
+        p = A[k][k]
+        inv = inverse(xp, p)
+        size = xp.abs(p)
+        smallest = size if smallest is None else -xp.maximum(-smallest, -size)
+        for i in range(k + 1, n):
+            r = A[i][k] * inv
+            for c in range(k + 1, n):
+                A[i][c] = A[i][c] - r * A[k][c]
+            b[i] = b[i] - r * b[k]
+    x = [0.0] * n
+    for i in reversed(range(n)):
+        v = b[i]
+        for c in range(i + 1, n):
+            v = v - A[i][c] * x[c]
+        x[i] = v * inverse(xp, A[i][i])
+    return x, smallest
