@@ -145,29 +145,30 @@ def inverse(xp, x):
     return xp.sign(x) / xp.maximum(xp.abs(x), TINY)
 
 
-def solve(xp, A: list, b: list) -> tuple[list, object]:
-    """``A^-1 b`` by Gaussian elimination with partial pivoting, and the smallest
-    pivot's magnitude (0 for a singular ``A``).
+def solve(xp, A: list, b: list) -> tuple[list, list]:
+    """``A^-1 b`` by Gaussian elimination with partial pivoting, and the magnitudes of
+    the pivots (the diagonal of ``U`` in ``PA = LU``).
 
     The pivoting takes no branch, so that it runs inside a kernel's loop: at column
     ``k`` each lower row in turn is swapped with row ``k`` where its entry is larger in
     magnitude, by blending the two rows with weights 0 and 1 (``w = max(sign(|a| -
-    |p|), 0)``): the largest entry of the column ends on the diagonal, as in LAPACK's
-    partial pivoting, with rows of equal magnitude left in place. A zero pivot divides
-    as 0 (:func:`inverse`) and is reported by the smallest pivot. ``A`` is a list of
-    rows of numbers of ``xp`` (floats, arrays over states, mpmath, traced).
+    |p|), 0)``, exact): the largest entry of the column ends on the diagonal, as in
+    LAPACK's partial pivoting, rows of equal magnitude left in place. ``A`` is a list of
+    rows of numbers of ``xp`` (floats, arrays over states, mpmath, traced). A zero pivot
+    divides by zero: ZeroDivisionError on floats and mpmath, inf or NaN on arrays and in
+    kernels.
 
     Examples
     --------
     >>> from linkage_fmu.numerics import SCALAR
-    >>> x, smallest = solve(SCALAR, [[1e-20, 1.0], [1.0, 1.0]], [1.0, 2.0])
-    >>> [round(v, 15) for v in x], smallest
-    ([1.0, 1.0], 1.0)
+    >>> x, pivots = solve(SCALAR, [[1e-20, 1.0], [1.0, 1.0]], [1.0, 2.0])
+    >>> [round(v, 15) for v in x], pivots
+    ([1.0, 1.0], [1.0, 1.0])
     """
     n = len(b)
     A = [list(row) for row in A]
     b = list(b)
-    smallest = None
+    pivots = []
     for k in range(n):
         for i in range(k + 1, n):
             w = xp.maximum(xp.sign(xp.abs(A[i][k]) - xp.abs(A[k][k])), 0.0)
@@ -176,11 +177,9 @@ def solve(xp, A: list, b: list) -> tuple[list, object]:
                 A[k][c], A[i][c] = w * A[i][c] + v * A[k][c], w * A[k][c] + v * A[i][c]
             b[k], b[i] = w * b[i] + v * b[k], w * b[k] + v * b[i]
         p = A[k][k]
-        inv = inverse(xp, p)
-        size = xp.abs(p)
-        smallest = size if smallest is None else -xp.maximum(-smallest, -size)
+        pivots.append(xp.abs(p))
         for i in range(k + 1, n):
-            r = A[i][k] * inv
+            r = A[i][k] / p
             for c in range(k + 1, n):
                 A[i][c] = A[i][c] - r * A[k][c]
             b[i] = b[i] - r * b[k]
@@ -189,5 +188,5 @@ def solve(xp, A: list, b: list) -> tuple[list, object]:
         v = b[i]
         for c in range(i + 1, n):
             v = v - A[i][c] * x[c]
-        x[i] = v * inverse(xp, A[i][i])
-    return x, smallest
+        x[i] = v / A[i][i]
+    return x, pivots
