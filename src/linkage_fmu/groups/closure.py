@@ -84,13 +84,15 @@ def _largest(xp, values: list):
 
 
 class Closure(Group):
-    """An Assur group of revolute pairs solved as one: ``links`` (new link -> its
-    joints, at least two each; the first two give the link's direction, first ->
-    second) drawn in the ``pose`` (point -> ``(x, y)``) at the crank angle ``theta``.
-
-    The listed points placed before the group (``placed``) are its ``needs``, the
-    others it places. The pairs are revolute (see :func:`_pairs`): with the owner of
-    each placed point, and between the links that list the same point.
+    """An Assur group of revolute pairs solved as one (a class III group, or higher):
+    ``links`` (new link -> its joints, at least two each; the first two give the link's
+    direction, first -> second) drawn in the ``pose`` (point -> ``(x, y)``) at the
+    crank angle ``theta``. The listed points placed before the group are its needs,
+    the others it places. Its pairs are revolute: one with the owner of each placed
+    point (named by the point), one between the first two links at each point it
+    places (named by the point), and each further link at a point pinned to the link
+    listed before it (``<point>_<link>``). Its transmission angle is at its first point
+    joining two links.
 
     Positions: Newton's method on the distances the pose gives (unknowns: the
     coordinates of the points it places), from the drawn pose, continued from the
