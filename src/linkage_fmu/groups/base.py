@@ -100,7 +100,7 @@ class KinematicState:
             return self.xp.sqrt(value)
         bad = value < 0.0
         if bad.any():
-            self._mark(bad)
+            self.mark(bad)
             value = np.where(bad, np.nan, value)
         return np.sqrt(value)
 
@@ -114,11 +114,12 @@ class KinematicState:
             return value
         bad = ~(value > 0.0)
         if bad.any():
-            self._mark(bad)
+            self.mark(bad)
             value = np.where(bad, np.nan, value)
         return value
 
-    def _mark(self, bad: np.ndarray) -> None:
+    def mark(self, bad: np.ndarray) -> None:
+        """Add the states ``bad`` (arrays) to those that cannot be assembled."""
         self.invalid = bad if self.invalid is None else (self.invalid | bad)
 
 

@@ -296,7 +296,7 @@ class Closure(Group):
         for grp in self.before:
             grp.position(sub)
         if sub.invalid is not None:
-            st._mark(sub.invalid)
+            st.mark(sub.invalid)
         return {p: sub.p[p] for p in self.needs}
 
     def _equations(self, xp, x: list, known: dict) -> tuple[list, list]:
@@ -337,7 +337,7 @@ class Closure(Group):
             if bad is None:
                 st.on_invalid(condition(), self._cannot_close)
             else:
-                st._mark(bad)
+                st.mark(bad)
 
         tape = newton.tape_of(st.theta, *x, *(v for xy in known.values() for v in xy))
         if tape is not None:
