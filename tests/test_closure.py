@@ -18,7 +18,7 @@ import mpmath
 import numpy as np
 import pytest
 
-from linkage_fmu import AssemblyError, Description, presets
+from linkage_fmu import AssemblyError, Description, newton, presets
 from linkage_fmu.groups import Closure
 from linkage_fmu.precise import reference
 from linkage_fmu.spec.description import DescriptionError
@@ -113,8 +113,7 @@ def track(thetas) -> np.ndarray:
 
 def mp_position(theta, start) -> list:
     """E, F, G at ``theta`` by mpmath.findroot (at the working precision) from ``start``."""
-    L = {k: mpmath.sqrt(mpmath.mpf(v) ** 2) for k, v in lengths().items()}
-    # the lengths again from the drawn pose, in mpmath: the floats are its exact values
+    # the lengths from the drawn pose in mpmath (the floats are its exact values)
     p0 = {**{k: (mpmath.mpf(x), mpmath.mpf(y)) for k, (x, y) in POSE.items()},
           "B": (R * mpmath.cos(mpmath.mpf(TH0)), R * mpmath.sin(mpmath.mpf(TH0))),
           "C": tuple(map(mpmath.mpf, C)), "D": tuple(map(mpmath.mpf, D))}
@@ -128,7 +127,8 @@ def mp_position(theta, start) -> list:
         return [(p[i][0] - p[j][0]) ** 2 + (p[i][1] - p[j][1]) ** 2 - L[i, j] ** 2
                 for i, j in PAIRS]
 
-    return list(mpmath.findroot(f, [mpmath.mpf(float(v)) for v in start], tol=mpmath.mpf(10) ** -45))
+    return list(mpmath.findroot(f, [mpmath.mpf(float(v)) for v in start],
+                                tol=mpmath.mpf(10) ** -45))
 
 
 @pytest.fixture(scope="module")
@@ -191,7 +191,8 @@ def test_first_and_second_orders_are_finite_differences_of_an_mpmath_solve(mech)
                     p["B"] = (R * mpmath.cos(s), R * mpmath.sin(s))
                     return mpmath.atan2(p[b][1] - p[a][1], p[b][0] - p[a][0])
                 w1 = (phi(at[h1], s=t + h1) - phi(at[-h1], s=t - h1)) / (2 * h1)
-                w2 = (phi(at[h2], s=t + h2) - 2 * phi(at[0], s=t) + phi(at[-h2], s=t - h2)) / h2 ** 2
+                w2 = (phi(at[h2], s=t + h2) - 2 * phi(at[0], s=t)
+                      + phi(at[-h2], s=t - h2)) / h2 ** 2
                 assert abs(st.w1[link] - float(w1)) <= 1e-8 * max(1.0, abs(float(w1)))
                 assert abs(st.w2[link] - float(w2)) <= 1e-8 * max(1.0, abs(float(w2)))
 
@@ -227,6 +228,8 @@ def test_scalars_arrays_and_the_compiled_kernel_agree(mech):
     if compiled.valid.all():  # without a C compiler: numpy again
         assert _relative(compiled, arrays, names) <= 1e-13
     kernel = mech.kernel()
+    # each continuation step's Newton solve is one loop of the C kernel, not unrolled
+    assert kernel.c_source().count(f"< {newton.MAX_ITERATIONS}; k") == Closure.STEPS
     for k in range(0, 72, 7):
         one = mech.solve(float(THETAS[k]), method="interpreted", **STATE)
         row = {n: arrays[n][k] for n in names}
@@ -250,7 +253,7 @@ def test_a_state_the_group_cannot_reach_is_refused_not_solved():
     NaN and valid False there, and the kernel refuses the same states. Where it
     closes, the distances hold to 1e-12 m."""
     mech = six_bar(r=0.1).build()
-    L = {k: v for k, v in lengths().items()}
+    L = lengths()
     L["B", "E"] = math.dist((0.1 * math.cos(TH0), 0.1 * math.sin(TH0)), POSE["E"])
     sol = mech.solve(THETAS, method="interpreted", **STATE)
     assert 0 < sol.valid.sum() < 72
