@@ -305,6 +305,36 @@ def test_friction_in_a_pin_of_the_group():
     assert _relative(arrays, direct, [n for n in names if n != "eta"]) <= 1e-10
 
 
+def test_the_transmission_angle_and_the_condition_number_of_the_group(mech):
+    """Reference: the angle at E between E -> B (rod 3) and E -> F (the ternary link),
+    and numpy's 1-norm condition number of the group's equilibrium matrix assembled
+    here (per link: forces x, y and the moment about its first joint over the length
+    scale; per pair, the reaction of its first body on its second). Tolerance: 1e-12
+    rad and 1e-9 relative."""
+    group = mech.groups[1]
+    pairs = [("B", "1", "3"), ("E", "3", "5"), ("C", "0", "4"), ("F", "4", "5"),
+             ("D", "0", "6"), ("G", "6", "5")]
+    first = {"3": "B", "4": "C", "6": "D", "5": "E"}
+    L = mech.length_scale
+    for theta in ANGLES:
+        st = mech.kinematics(theta, order=0)
+        p = {k: np.array(v) for k, v in st.p.items()}
+        u, w = p["B"] - p["E"], p["F"] - p["E"]
+        angle = math.atan2(abs(u[0] * w[1] - u[1] * w[0]), u @ w)
+        A = np.zeros((12, 12))
+        for row, link in enumerate(first):
+            for k, (point, a, b) in enumerate(pairs):
+                if link in (a, b):
+                    s = 1.0 if link == b else -1.0
+                    arm = (p[point] - p[first[link]]) / L
+                    A[3 * row:3 * row + 3, 2 * k] += s * np.array([1.0, 0.0, -arm[1]])
+                    A[3 * row:3 * row + 3, 2 * k + 1] += s * np.array([0.0, 1.0, arm[0]])
+        gamma, kappa = group.transmission(st, L)
+        assert abs(gamma - angle) <= 1e-12
+        assert abs(kappa / np.linalg.cond(A, 1) - 1.0) <= 1e-9
+        assert mech.solve(theta, outputs=("mu_E",))["mu_E"] == gamma
+
+
 def test_the_pairs_are_named_by_their_points():
     """Compound joints chain the links at a point: E joins 3 and 4, E_5 joins 4 and 5."""
     links = {"3": ["B", "E"], "4": ["E", "C", "F"], "5": ["E", "F", "D"]}

@@ -147,7 +147,23 @@ def inverse(xp, x):
 
 def solve(xp, A: list, b: list) -> tuple[list, list]:
     """``A^-1 b`` by Gaussian elimination with partial pivoting, and the magnitudes of
-    the pivots (the diagonal of ``U`` in ``PA = LU``).
+    the pivots (the diagonal of ``U`` in ``PA = LU``): :func:`solve_many` of one
+    right-hand side.
+
+    Examples
+    --------
+    >>> from linkage_fmu.numerics import SCALAR
+    >>> x, pivots = solve(SCALAR, [[1e-20, 1.0], [1.0, 1.0]], [1.0, 2.0])
+    >>> [round(v, 15) for v in x], pivots
+    ([1.0, 1.0], [1.0, 1.0])
+    """
+    (x,), pivots = solve_many(xp, A, [b])
+    return x, pivots
+
+
+def solve_many(xp, A: list, B: list) -> tuple[list, list]:
+    """``A^-1 b`` for each right-hand side ``b`` of ``B``, by Gaussian elimination with
+    partial pivoting, and the magnitudes of the pivots.
 
     The pivoting takes no branch, so that it runs inside a kernel's loop: at column
     ``k`` each lower row in turn is swapped with row ``k`` where its entry is larger in
@@ -161,13 +177,12 @@ def solve(xp, A: list, b: list) -> tuple[list, list]:
     Examples
     --------
     >>> from linkage_fmu.numerics import SCALAR
-    >>> x, pivots = solve(SCALAR, [[1e-20, 1.0], [1.0, 1.0]], [1.0, 2.0])
-    >>> [round(v, 15) for v in x], pivots
-    ([1.0, 1.0], [1.0, 1.0])
+    >>> solve_many(SCALAR, [[0.0, 2.0], [4.0, 1.0]], [[1.0, 0.0], [0.0, 1.0]])[0]
+    [[-0.125, 0.5], [0.25, 0.0]]
     """
-    n = len(b)
+    n = len(A)
     A = [list(row) for row in A]
-    b = list(b)
+    B = [list(b) for b in B]
     pivots = []
     for k in range(n):
         for i in range(k + 1, n):
@@ -175,18 +190,23 @@ def solve(xp, A: list, b: list) -> tuple[list, list]:
             v = 1.0 - w
             for c in range(k, n):
                 A[k][c], A[i][c] = w * A[i][c] + v * A[k][c], w * A[k][c] + v * A[i][c]
-            b[k], b[i] = w * b[i] + v * b[k], w * b[k] + v * b[i]
+            for b in B:
+                b[k], b[i] = w * b[i] + v * b[k], w * b[k] + v * b[i]
         p = A[k][k]
         pivots.append(xp.abs(p))
         for i in range(k + 1, n):
             r = A[i][k] / p
             for c in range(k + 1, n):
                 A[i][c] = A[i][c] - r * A[k][c]
-            b[i] = b[i] - r * b[k]
-    x = [0.0] * n
-    for i in reversed(range(n)):
-        v = b[i]
-        for c in range(i + 1, n):
-            v = v - A[i][c] * x[c]
-        x[i] = v / A[i][i]
-    return x, pivots
+            for b in B:
+                b[i] = b[i] - r * b[k]
+    X = []
+    for b in B:
+        x = [0.0] * n
+        for i in reversed(range(n)):
+            v = b[i]
+            for c in range(i + 1, n):
+                v = v - A[i][c] * x[c]
+            x[i] = v / A[i][i]
+        X.append(x)
+    return X, pivots

@@ -458,10 +458,11 @@ class Closure(Group):
     def transmission(self, st, scale):
         """``(gamma, kappa)``: ``gamma`` the angle in [0, pi] at the key joint (the first
         point it places that joins two links) between its first two links, each seen
-        from the joint towards its first other joint; ``kappa`` the ratio of the largest
-        to the smallest pivot of the group's equilibrium matrix (moment rows divided by
-        ``scale``) in the elimination with partial pivoting: a lower bound of its
-        condition number, infinite where it is singular."""
+        from the joint towards its first other joint (for a dyad, the angle between its
+        links at the middle joint, as :class:`~linkage_fmu.groups.RRR` has it);
+        ``kappa`` the 1-norm condition number ``|A|_1 |A^-1|_1`` of the group's
+        equilibrium matrix ``A`` (forces, moments divided by ``scale``), infinite where
+        it is singular."""
         xp = st.xp
         kx, ky = st.p[self.key]
         arms = []
@@ -472,13 +473,18 @@ class Closure(Group):
         (ax, ay), (bx, by) = arms
         gamma = xp.atan2(xp.abs(ax * by - ay * bx), ax * bx + ay * by)
         A = self._matrix(st, scale)
-        _, pivots = newton.solve(xp, A, [0.0] * len(A))
-        big, small = _largest(xp, pivots), _smallest(xp, pivots)
+        n = len(A)
+        norm = _largest(xp, [sum(xp.abs(A[r][c]) for r in range(n)) for c in range(n)])
+        unit = [[1.0 if r == c else 0.0 for r in range(n)] for c in range(n)]
+        try:
+            columns, pivots = newton.solve_many(xp, A, unit)  # of A^-1
+        except ZeroDivisionError:  # floats or mpmath, exactly singular
+            return gamma, math.inf
+        small = _smallest(xp, pivots)
+        with np.errstate(all="ignore"):
+            kappa = norm * _largest(xp, [sum(xp.abs(v) for v in x) for x in columns])
         if xp.scalar:
             apart = small > 0.0
             numerics.label(small, Reason("singular", self._toggle))
-            kappa = big / small if apart else math.inf
-        else:
-            with np.errstate(divide="ignore", invalid="ignore"):
-                kappa = big / small
-        return gamma, kappa
+            return gamma, (kappa if apart else math.inf)
+        return gamma, np.where(small > 0.0, kappa, np.inf)
