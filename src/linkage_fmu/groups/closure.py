@@ -166,7 +166,8 @@ class Closure(Group):
         self.column = {p: 2 * k for k, p in enumerate(self.places)}
         self.name = f"the group of joints {', '.join(order)}"
         self._cannot_close = f"{self.name} cannot close"
-        self._toggle = f"{self.name} is at a singular position"
+        #: why its equations are singular, in the words of the kernels' guards
+        self.singular = f"{self.name} is at a singular position"
         self.before: tuple = ()
         self.frame_points: dict = {}
 
@@ -485,6 +486,6 @@ class Closure(Group):
             kappa = norm * _largest(xp, [sum(xp.abs(v) for v in x) for x in columns])
         if xp.scalar:
             apart = small > 0.0
-            numerics.label(small, Reason("singular", self._toggle))
+            numerics.label(small, Reason("singular", self.singular))
             return gamma, (kappa if apart else math.inf)
         return gamma, np.where(small > 0.0, kappa, np.inf)
