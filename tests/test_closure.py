@@ -393,3 +393,23 @@ def test_a_drawn_pose_off_the_groups_before_is_refused():
             "the groups before it place B at the drawn angle theta = 0.5 rad, [0.0438791, "
             "0.0239713]")):
         six_bar(pose=pose).build()
+
+
+def test_a_drawn_angle_the_groups_before_cannot_reach_is_refused():
+    """A dyad before the group that cannot close at the drawn angle (pi: |BQ| = 0.6 m
+    > 0.25 + 0.25 m): building says so, naming the group."""
+    d = (Description("upstream", model="Upstream", frame="0")
+         .point("A", 0, 0).point("Q", 0.5, 0).point("C", 0.5, 0.4)
+         .group("crank", link="1", pivot="A", tip="B", length=0.1)
+         .group("RRR", link1="2", link2="7", end1="B", middle="M", end2="Q", length1=0.25,
+                length2=0.25, branch=1)
+         .group("point", link="2", **{"from": "B"}, name="N", along=0.1)
+         .group("closure", links={"3": ["N", "E"], "4": ["C", "E"]},
+                pose={"N": [0.2, 0.1], "E": [0.3, 0.3], "C": [0.5, 0.4]}, theta="pi")
+         .effort("Mb", body="1").output("effort", name="Mb"))
+    for link, at in zip("12734", "BBQNC"):
+        d.body(link, mass=1.0, cg={"from": at})
+    with pytest.raises(ValueError, match=re.escape(
+            "the group of joints N, E, C: the linkage cannot be assembled at the drawn angle "
+            "theta = 3.14159 rad: the dyad B-M-Q cannot close")):
+        d.build()

@@ -36,13 +36,28 @@ TINY = 5e-324
 
 def tolerance(xp) -> float:
     """The relative size of a last step that ends an iteration: :data:`TOLERANCE`, or
-    the namespace's own (``xp.eps()``, mpmath's at its precision)."""
+    the namespace's own (``xp.eps()``, mpmath's at its precision).
+
+    Examples
+    --------
+    >>> from linkage_fmu.numerics import SCALAR
+    >>> tolerance(SCALAR)
+    1e-13
+    """
     eps = getattr(xp, "eps", None)
     return TOLERANCE if eps is None else eps()
 
 
 def not_(xp, outcome):
-    """``not outcome``, of a float comparison or elementwise of an array's."""
+    """``not outcome``, of a float comparison or elementwise of an array's.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from linkage_fmu.numerics import ARRAY, SCALAR
+    >>> not_(SCALAR, 1.0 > 2.0), not_(ARRAY, np.array([1.0, 3.0]) > 2.0).tolist()
+    (True, [True, False])
+    """
     return (not outcome) if xp.scalar else ~outcome
 
 
@@ -106,7 +121,15 @@ def iterate(xp, x: list, step, fail, first=None, memory: tuple = (),
 
 
 def tape_of(*values):
-    """The tape of the first traced number among ``values``, or None."""
+    """The tape of the first traced number among ``values``, or None.
+
+    Examples
+    --------
+    >>> from linkage_fmu.kernels.trace import Tape
+    >>> tape = Tape()
+    >>> tape_of(1.0, tape.input("x", 2.0)) is tape, tape_of(1.0, 2.0)
+    (True, None)
+    """
     for v in values:
         tape = getattr(v, "tape", None)
         if tape is not None:
@@ -141,7 +164,14 @@ def loop(tape, xp, x: list, det, memory: tuple, step, fail, reason: Reason,
 
 
 def inverse(xp, x):
-    """``1 / x``, and 0 for ``x = 0`` (no comparison: :func:`~.kernels.trace.sign`)."""
+    """``1 / x``, and 0 for ``x = 0`` (no comparison: :func:`~.kernels.trace.sign`).
+
+    Examples
+    --------
+    >>> from linkage_fmu.numerics import SCALAR
+    >>> inverse(SCALAR, 4.0), inverse(SCALAR, 0.0)
+    (0.25, 0.0)
+    """
     return xp.sign(x) / xp.maximum(xp.abs(x), TINY)
 
 

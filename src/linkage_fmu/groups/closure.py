@@ -266,14 +266,16 @@ class Closure(Group):
         if any(hasattr(v, "traced") for v in numbers):
             return  # checked when built on the parameters' values
         st = KinematicState(float(self.theta0), SCALAR)
+        st.p.update(self.frame_points)
         try:
-            known = self._upstream(st, st.theta)
+            for grp in self.before:
+                grp.position(st)
         except ValueError as err:
             raise ValueError(f"{self.name}: the linkage cannot be assembled at the drawn angle "
                              f"theta = {fmt(self.theta0)} rad: {err}") from None
         size = max([1e-300, *self.lengths])
         for p in self.needs:
-            (x, y), (px, py) = known[p], self.pose[p]
+            (x, y), (px, py) = st.p[p], self.pose[p]
             if hasattr(x, "traced") or hasattr(y, "traced"):
                 continue
             off = math.hypot(x - px, y - py)
