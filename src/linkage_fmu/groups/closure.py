@@ -232,9 +232,8 @@ class Closure(Group):
         found = []
         listing = _listing(links)
         for link, joints in links.items():
-            two = [p for p in joints[:2] if p in placed]
             fixed = [p for p in joints if p in placed]
-            if len(fixed) >= 2 and (len(two) == 2 or len(joints) > 2):
+            if len(fixed) >= 2:
                 found.append(f"links: link {link!r} is pinned to the placed points "
                              f"{fixed[0]} and {fixed[1]}: their distance is not the "
                              "group's to keep")
