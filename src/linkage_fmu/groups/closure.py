@@ -321,9 +321,9 @@ class Closure(Group):
             J.append(row)
         return J, f
 
-    def _close(self, st: KinematicState, x: list, known: dict) -> list:
-        """One continuation step: Newton from ``x`` on the distances, the needed points
-        at ``known``; then the check that the distances hold."""
+    def _close(self, st: KinematicState, x: list, known: dict, angle) -> list:
+        """One continuation step, to the crank angle ``angle``: Newton from ``x`` on the
+        distances, the needed points at ``known``; then the check that they hold."""
         xp = st.xp
 
         def step(x, memory):
@@ -331,9 +331,9 @@ class Closure(Group):
             return newton.solve(xp, J, f)[0], None, memory
 
         def condition() -> str:
-            return (f"{self._cannot_close} at theta = {fmt(st.theta)} rad: Newton's method "
-                    f"from the drawn pose (drawn at theta = {fmt(self.theta0)} rad) reaches "
-                    "no position that keeps its links' lengths")
+            return (f"{self._cannot_close}: continued from its drawn pose (at theta = "
+                    f"{fmt(self.theta0)} rad), Newton's method reaches no position that "
+                    f"keeps its links' lengths at {fmt(angle)} rad")
 
         def fail(bad=None):
             if bad is None:
@@ -371,10 +371,11 @@ class Closure(Group):
         guess = x
         for k in range(1, self.STEPS + 1):
             if k < self.STEPS:
-                known = self._upstream(st, t0 + delta * (k / self.STEPS))
+                angle = t0 + delta * (k / self.STEPS)
+                known = self._upstream(st, angle)
             else:
-                known = {p: st.p[p] for p in self.needs}
-            last, x = x, self._close(st, guess, known)
+                angle, known = st.theta, {p: st.p[p] for p in self.needs}
+            last, x = x, self._close(st, guess, known, angle)
             # the next step starts from the line through the last two solutions (its
             # angle is as far on): twice the last, less the one before
             guess = [2.0 * a - b for a, b in zip(x, last)]
