@@ -282,8 +282,8 @@ def define_knee() -> type:
                        spec["mark"])
 
         @classmethod
-        def pairs(cls, spec):
-            return tuple(p for p in super().pairs(spec) if p != spec.get("mark"))
+        def pairs(cls, spec, placed=None):
+            return tuple(p for p in super().pairs(spec, placed) if p != spec.get("mark"))
 
         def _middle(self, d):
             (x1, y1), (x2, y2) = d[self.E1], d[self.C]

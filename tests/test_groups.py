@@ -13,7 +13,8 @@ from linkage_fmu.groups import ROLES, Field
 
 EXAMPLE = Path(__file__).parents[1] / "examples" / "coupler_four_bar.toml"
 UNITS = {"length": "m", "coordinate": "m", "vector": "m", "angle": "rad", "new link": "",
-         "link": "", "point": "", "new point": "", "new joint": "", "branch": ""}
+         "link": "", "point": "", "new point": "", "new joint": "", "branch": "",
+         "link joints": "", "pose": "m"}
 
 
 def descriptions():

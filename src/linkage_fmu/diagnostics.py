@@ -84,7 +84,8 @@ def singular_what(mech, st: KinematicState) -> str:
     that cannot move, or no unique solution."""
     for d in mech.dyads:
         if math.isinf(d.transmission(st, mech.length_scale)[1]):
-            return f"the dyad at {d.key} is at a toggle"
+            # a group with its own words for it (a closure) says them as its kernels do
+            return getattr(d, "singular", f"the dyad at {d.key} is at a toggle")
     if not mech.effort_on_crank and not kinetostatics.effort_coefficient(mech, st):
         return "the link of the balancing effort does not move"
     return "the equations have no unique solution"

@@ -42,19 +42,20 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import kinetostatics
+from . import kinetostatics, newton
 from .groups.base import Joint, KinematicState, push
 from .kernels.trace import Reason
 from .numerics import ARRAY
+# the iterations, shared with the closure of class III groups, under this module's names;
+# its constants are read here at each call (a test may change them on this module)
+from .newton import ITERATIONS, MAX_ITERATIONS, TINY, TOLERANCE, inverse, not_  # noqa: F401
+from .newton import loop as _loop, tape_of as _tape, tolerance as _tolerance
 
-#: Newton steps every path takes, the traced kernels' exactly (then they check them)
-ITERATIONS = 5
-#: steps at most, for a state the first ones do not settle
-MAX_ITERATIONS = 60
-#: converged: the last step is at most this fraction of the friction values' size
-TOLERANCE = 1e-13
-#: the smallest positive double: ``x / max(|x|, TINY)`` is the sign of ``x``, 0 at 0
-TINY = 5e-324
+
+def iterate(xp, x: list, step, fail, first=None, memory: tuple = ()) -> list:
+    """:func:`linkage_fmu.newton.iterate` with this module's :data:`ITERATIONS` and
+    :data:`MAX_ITERATIONS` (read at each call)."""
+    return newton.iterate(xp, x, step, fail, first, memory, ITERATIONS, MAX_ITERATIONS)
 
 
 @dataclass(frozen=True)
@@ -269,99 +270,6 @@ def _determinant(J: list):
         return J[0][0] * J[1][1] - J[0][1] * J[1][0]
     return sum(J[0][c] * _determinant([row[:c] + row[c + 1:] for row in J[1:]]) * (-1.0) ** c
                for c in range(n))
-
-
-def _tolerance(xp) -> float:
-    eps = getattr(xp, "eps", None)
-    return TOLERANCE if eps is None else eps()
-
-
-# -- the iterations: the same steps on floats, arrays, mpmath and traced numbers ----------
-def not_(xp, outcome):
-    """``not outcome``, of a float comparison or elementwise of an array's."""
-    return (not outcome) if xp.scalar else ~outcome
-
-
-def iterate(xp, x: list, step, fail, first=None, memory: tuple = ()) -> list:
-    """``x <- x - d`` with ``(d, det, memory) = step(x, memory)`` (``first`` instead for
-    the first step, if given; ``memory``: what a step hands the next):
-    :data:`ITERATIONS` steps, then more (to :data:`MAX_ITERATIONS`) while the last step
-    exceeds :data:`TOLERANCE` of ``x``; ``det`` (or None) must stay > 0. On floats
-    ``fail()`` raises where it does not converge or ``det <= 0``; on arrays, those
-    states get NaN and ``fail(bad)`` is told which. (On traced numbers, the iterations
-    are loops of the kernel: :func:`_loop`.)"""
-    tol = _tolerance(xp)
-    done = det = None
-    memory = tuple(memory)
-    for k in range(MAX_ITERATIONS):
-        d, det, memory = (first if k == 0 and first is not None else step)(x, memory)
-        if done is None:
-            x = [a - b for a, b in zip(x, d)]
-        else:  # arrays: the states converged stay as they are
-            x = [np.where(done, a, a - b) for a, b in zip(x, d)]
-        if k + 1 < ITERATIONS:
-            continue
-        moved, size = sum(xp.abs(b) for b in d), sum(xp.abs(a) for a in x)
-        # written so that NaN passes: a non-finite value is an overflow or a singular
-        # position, which the solver's check of the outputs names; locking is finite
-        converged = not_(xp, moved > tol * size)
-        if xp.scalar:
-            if converged:
-                break
-        else:
-            done = converged if done is None else done | converged
-            if done.all():
-                break
-    else:
-        if xp.scalar:
-            fail()
-        else:
-            fail(~done)
-            x = [np.where(done, a, np.nan) for a in x]
-    if det is not None:
-        held = not_(xp, det <= 0.0)
-        if xp.scalar:
-            if not held:
-                fail()
-        elif not held.all():
-            fail(~held)
-            x = [np.where(held, a, np.nan) for a in x]
-    return x
-
-
-def _tape(*values):
-    """The tape of the first traced number among ``values``, or None."""
-    for v in values:
-        tape = getattr(v, "tape", None)
-        if tape is not None:
-            return tape
-    return None
-
-
-def _loop(tape, xp, x: list, det, memory: tuple, step, fail, reason: Reason,
-          minimum: int, maximum: int) -> list:
-    """:func:`iterate`'s steps on traced numbers as a loop of the kernel
-    (:meth:`~linkage_fmu.kernels.trace.Tape.loop`) carrying ``x``, ``det`` (None: the
-    steps have none) and ``memory``, with its test after ``minimum`` steps, at most
-    ``maximum``; then its checks, labelled ``reason``: that it converged, and that the
-    last ``det`` > 0 (both written so that NaN passes, as on floats)."""
-    tol = _tolerance(xp)
-    n, m = len(x), 0 if det is None else 1
-
-    def body(carried):
-        x, memory = carried[:n], tuple(carried[n + m:])
-        d, det, memory = step(x, memory)
-        x = [a - b for a, b in zip(x, d)]
-        moved, size = sum(xp.abs(b) for b in d), sum(xp.abs(a) for a in x)
-        return [*x, *([det] if m else []), *memory], tape.compare("gt", moved, tol * size)
-
-    carried, converged = tape.loop([*x, *([det] if m else []), *memory], body,
-                                   minimum, maximum)
-    if not tape.check(converged, True, reason):
-        fail()
-    if m and not tape.check(tape.compare("le", carried[n], 0.0), False, reason):
-        fail()
-    return carried[:n]
 
 
 def _scratch(W: dict | None, links) -> dict:
@@ -641,8 +549,8 @@ def virtual_power(friction: dict, c: dict):
 
 
 def _inverse(xp, x):
-    """``1 / x``, and 0 for ``x = 0`` (no comparison, see :func:`sign`)."""
-    return sign(xp, x) / xp.maximum(xp.abs(x), TINY)
+    """``1 / x``, and 0 for ``x = 0``: :func:`linkage_fmu.newton.inverse`."""
+    return inverse(xp, x)
 
 
 def direct(mech, st: KinematicState, W: dict, omega, static: bool, xp, n_states: int = 1):

@@ -116,6 +116,11 @@ class Mechanism:
                 raise ValueError(f"{name}: {type(grp).__name__} needs {missing} placed before it")
             placed.update(grp.places)
             owner.update(grp.owners)
+        for k, grp in enumerate(groups):  # a group that re-places what is before it
+            try:
+                grp.attach(tuple(groups[:k]), self.frame_points)
+            except ValueError as err:
+                raise ValueError(f"{name}: {err}") from None
         links = [link for grp in groups for link in grp.links]
         body_names = [b.name for b in self.bodies]
         if sorted(links) != sorted(body_names):

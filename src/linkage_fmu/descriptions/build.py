@@ -9,7 +9,7 @@ from pathlib import Path
 
 from .. import numerics
 from ..bodies import Body, Effort
-from ..groups import Group
+from ..groups import Group, LinkJoints
 from ..kernels.trace import Reason
 from ..loads import Load
 from ..mechanism import Mechanism
@@ -92,18 +92,25 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
 
     frame_points = {name: vector(f"[points] {name}", xy) for name, xy in d.points.items()}
     groups = []
+    placed = set(frame_points)
     for k, spec in enumerate(d.groups):
         cls = Group.registry[spec["type"]]
         where = f"[[groups]] #{k + 1} ({spec['type']})"
 
-        def value(key, spec=spec, cls=cls, where=where):
+        def value(key, spec=spec, cls=cls, where=where, placed=frozenset(placed)):
             role = cls.FIELDS[key].role
             if role == "vector":
                 return vector(f"{where} {key}", spec[key])
+            if role == "pose":
+                return {p: vector(f"{where} {key} {p}", xy) for p, xy in spec[key].items()}
+            if role == "link joints":
+                links = {link: tuple(joints) for link, joints in spec[key].items()}
+                return LinkJoints(links, placed & {p for js in links.values() for p in js})
             x = number(f"{where} {key}", spec[key], role)
             return int(x) if role == "branch" else x
 
         groups.append(cls.from_spec(spec, value))
+        placed.update(groups[-1].places)
 
     bodies = []
     for link, spec in d.bodies.items():

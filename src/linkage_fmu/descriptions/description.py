@@ -7,8 +7,8 @@ one TOML table per builder call::
                  body name in output names), gravity (along -y; default 0)
     [parameters] NAME = { default, kind, description, min, max, choices }
     [points]     NAME = [x, y]               frame points
-    [[groups]]   type = "crank" | "RRR" | "RRP" | "RPP" | "RPR" | "point", and the
-                 type's fields, in an order in which every point is placed before use
+    [[groups]]   type = "crank" | "RRR" | "RRP" | "RPP" | "RPR" | "point" | "closure", and
+                 the type's fields, in an order in which every point is placed before use
     [bodies.L]   mass, inertia (about the centre of mass), cg = { from, along, across }:
                  the centre of mass in link L's own frame, measured from its point
                  ``from``: ``along`` the link's direction, ``across`` to its left; or
@@ -58,7 +58,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..groups import OWNER, Field, Group
+from ..groups import OWNER, Field, Group, LinkJoints
 from ..expressions import Expression, check_units
 from ..outputs import SHAKING
 from ..parameters import KINDS, Parameter
@@ -814,6 +814,7 @@ class _Checker:
                               f"types are {', '.join(sorted(Group.registry))}")
             return
         where = f"[[groups]] #{k + 1} ({kind})"
+        before = frozenset(self.placed)
         if k == 0 and not cls.DRIVER:
             self.found.append(f"{where}: the first group must be the {self.drivers()}")
         if k > 0 and cls.DRIVER:
@@ -828,10 +829,11 @@ class _Checker:
                 self.field(f"{where} {key}", f, spec[key], added)
             elif key not in cls.OPTIONAL:
                 self.found.append(f"{where} {key}: missing")
+        self.found += [f"{where} {problem}" for problem in cls.problems(spec, before)]
         # placed and added once the whole group is read: no field uses another's
         self.placed.update(dict.fromkeys(added["new point"], where))
         self.links.update(dict.fromkeys(added["new link"], where))
-        for joint in cls.pairs(spec):
+        for joint in cls.pairs(spec, before):
             if joint in self.joints:
                 self.found.append(f"{where}: joint {joint!r} is already a pair of "
                                   f"{self.joints[joint]}: a point may join two links only; "
@@ -839,9 +841,9 @@ class _Checker:
             self.joints[joint] = where
         self.prismatic.update(spec[k] for k, f in cls.FIELDS.items()
                               if f.role == "new joint" and isinstance(spec.get(k), str))
-        self.points_on_links(cls, spec)
+        self.points_on_links(cls, spec, before)
 
-    def points_on_links(self, cls: type, spec: dict) -> None:
+    def points_on_links(self, cls: type, spec: dict, before: frozenset) -> None:
         """Which points the group puts on which link: built with stand-in numbers (its
         pairs and points are names, whatever the numbers); a group that cannot be built
         so (a problem listed above) ends this bookkeeping, and the linkage's own check
@@ -849,8 +851,18 @@ class _Checker:
         if self.on is None:
             return
         stand_in = {"vector": (1.0, 0.0), "branch": 1}
+
+        def value(key):
+            role = cls.FIELDS[key].role
+            if role == "pose":
+                return dict.fromkeys(spec[key], (1.0, 0.0))
+            if role == "link joints":
+                links = {link: tuple(joints) for link, joints in spec[key].items()}
+                return LinkJoints(links, before & {p for js in links.values() for p in js})
+            return stand_in.get(role, 1.0)
+
         try:
-            grp = cls.from_spec(spec, lambda key: stand_in.get(cls.FIELDS[key].role, 1.0))
+            grp = cls.from_spec(spec, value)
             joints, owners = grp.joints, dict(grp.owners)
         except Exception:  # noqa: BLE001 -- a group with problems: listed by the checks
             self.on = None
@@ -903,8 +915,38 @@ class _Checker:
                 added[role].append(value)
         elif role == "vector":
             self.vector(where, value, f.unit)
+        elif role == "link joints":
+            self.link_joints(where, value, added)
+        elif role == "pose":
+            if not isinstance(value, dict) or not value:
+                self.found.append(f"{where}: must be a table {{ POINT = [x, y], ... }}")
+                return
+            for point, xy in value.items():
+                self.vector(f"{where} {point}", xy, f.unit)
         else:
             self.expr(where, value, unit=f.unit)
+
+    def link_joints(self, where: str, value: Any, added: dict[str, list]) -> None:
+        """New links, each with its joints: the points not placed yet are new points."""
+        if not isinstance(value, dict) or not value:
+            self.found.append(f"{where}: must be a table {{ LINK = [POINT, POINT, ...], ... }}")
+            return
+        for link, joints in value.items():
+            at = f"{where} {link}"
+            self.new_name(at, "new link", link)
+            added["new link"].append(link)
+            if not isinstance(joints, (list, tuple)) or not all(
+                    isinstance(p, str) and p for p in joints):
+                self.found.append(f"{at}: must be a list of point names")
+                continue
+            if len(joints) < 2:
+                self.found.append(f"{at}: a link has two joints or more; it has {len(joints)}")
+            twice = [p for k, p in enumerate(joints) if p in joints[:k]]
+            if twice:
+                self.found.append(f"{at}: lists {twice[0]} twice")
+            for p in joints:
+                if p not in self.placed and p not in added["new point"]:
+                    added["new point"].append(p)
 
     def new_name(self, where: str, role: str, value: str) -> None:
         """A point or link a group adds must not be there yet."""

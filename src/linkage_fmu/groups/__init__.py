@@ -11,10 +11,12 @@ Examples
 --------
 >>> from linkage_fmu import groups
 >>> sorted(groups.Group.registry)
-['RPP', 'RPR', 'RRP', 'RRR', 'crank', 'point']
+['RPP', 'RPR', 'RRP', 'RRR', 'closure', 'crank', 'point']
 """
 
-from .base import FRAME, OWNER, ROLE_MEANINGS, ROLES, Field, Group, Joint, KinematicState
+from .base import (FRAME, OWNER, ROLE_MEANINGS, ROLES, Field, Group, Joint, KinematicState,
+                   LinkJoints)
+from .closure import Closure
 from .crank import Crank
 from .point import LinkPoint
 from .rpp import RPP
@@ -23,4 +25,4 @@ from .rrp import RRP
 from .rrr import RRR
 
 __all__ = ["Group", "Field", "ROLES", "ROLE_MEANINGS", "Joint", "KinematicState", "FRAME",
-           "OWNER", "Crank", "RRR", "RRP", "RPP", "RPR", "LinkPoint"]
+           "OWNER", "LinkJoints", "Crank", "RRR", "RRP", "RPP", "RPR", "LinkPoint", "Closure"]

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import math
 from abc import ABC, abstractmethod
-from collections.abc import Iterable
+from collections.abc import Collection, Iterable
 from dataclasses import dataclass
 from typing import Callable, ClassVar, NamedTuple
 
@@ -100,7 +100,7 @@ class KinematicState:
             return self.xp.sqrt(value)
         bad = value < 0.0
         if bad.any():
-            self._mark(bad)
+            self.mark(bad)
             value = np.where(bad, np.nan, value)
         return np.sqrt(value)
 
@@ -114,11 +114,12 @@ class KinematicState:
             return value
         bad = ~(value > 0.0)
         if bad.any():
-            self._mark(bad)
+            self.mark(bad)
             value = np.where(bad, np.nan, value)
         return value
 
-    def _mark(self, bad: np.ndarray) -> None:
+    def mark(self, bad: np.ndarray) -> None:
+        """Add the states ``bad`` (arrays) to those that cannot be assembled."""
         self.invalid = bad if self.invalid is None else (self.invalid | bad)
 
 
@@ -188,10 +189,13 @@ def angle_and_kappa(xp, sin_gamma, cos_gamma, what: str = ""):
 #: ``point`` a point placed before the group; ``new point`` a point the group places;
 #: ``new joint`` a pair the group makes that no point names (a prismatic pair);
 #: ``length`` a fixed length (> 0); ``angle`` counter-clockwise; ``coordinate`` a signed
-#: distance; ``vector`` ``[x, y]`` in the frame; ``branch`` +1 or -1.
+#: distance; ``vector`` ``[x, y]`` in the frame; ``branch`` +1 or -1; ``link joints`` the
+#: moving links a group adds, each with its joints (placed points and points the group
+#: places); ``pose`` where each of those joints is drawn, ``[x, y]`` in the frame.
 ROLES: dict[str, str] = {
     "new link": "", "link": "", "point": "", "new point": "", "new joint": "",
     "length": "m", "angle": "rad", "coordinate": "m", "vector": "m", "branch": "",
+    "link joints": "", "pose": "m",
 }
 NAME_ROLES = ("new link", "link", "point", "new point", "new joint")
 #: what the value of a field of each role is, in words (a reference of the format lists it)
@@ -206,7 +210,20 @@ ROLE_MEANINGS: dict[str, str] = {
     "coordinate": "a signed distance",
     "vector": "[x, y] in the frame",
     "branch": "+1 or -1, the assembly mode",
+    "link joints": "{ LINK = [POINT, POINT, ...] }: each moving link the group adds and its "
+                   "joints (two or more), points placed before the group or that it places; "
+                   "the first two give the link's direction",
+    "pose": "{ POINT = [x, y] }: where each joint the group's links list is drawn",
 }
+
+
+class LinkJoints(NamedTuple):
+    """The value of a ``link joints`` field as a group is built from it: each new link ->
+    its joints (a tuple of point names), and which of those points are ``placed``
+    before the group (the others are its new points)."""
+
+    links: dict
+    placed: frozenset
 
 
 @dataclass(frozen=True)
@@ -236,7 +253,7 @@ class Field:
     >>> Field("mass", "mass of the link")
     Traceback (most recent call last):
     ...
-    ValueError: unknown field role 'mass'; the roles are new link, link, point, new point, new joint, length, angle, coordinate, vector, branch
+    ValueError: unknown field role 'mass'; the roles are new link, link, point, new point, new joint, length, angle, coordinate, vector, branch, link joints, pose
     """
 
     role: str
@@ -353,8 +370,10 @@ class Group(ABC):
             Group.registry[cls.kind] = cls
 
     @classmethod
-    def pairs(cls, spec: dict) -> tuple[str, ...]:
-        """Names of the kinematic pairs (joints) the group of fields ``spec`` makes.
+    def pairs(cls, spec: dict, placed: Collection[str] | None = None) -> tuple[str, ...]:
+        """Names of the kinematic pairs (joints) the group of fields ``spec`` makes, with
+        ``placed`` the points placed before it (None: not known; a type whose pairs
+        depend on it, such as the closure, says how it takes that).
 
         By default, one revolute pair at each point the group uses or places (named by
         the point), then one pair per ``new joint`` field; a type whose pairs differ
@@ -370,6 +389,27 @@ class Group(ABC):
         points = [k for k, f in cls.FIELDS.items() if f.role in ("point", "new point")]
         named = [k for k, f in cls.FIELDS.items() if f.role == "new joint"]
         return names_in(spec, points + named)
+
+    @classmethod
+    def problems(cls, spec: dict, placed: Collection[str]) -> list[str]:
+        """What is wrong with the fields ``spec`` as a whole, with ``placed`` the points
+        placed before the group: one message per problem, each starting with the field's
+        key (the checker names the file and table). Each field alone is checked by its
+        role; by default nothing more.
+
+        Examples
+        --------
+        >>> from linkage_fmu.groups import RRR
+        >>> RRR.problems({"link1": "2"}, {"A"})
+        []
+        """
+        return []
+
+    def attach(self, before: tuple, frame_points: dict) -> None:
+        """Called by the mechanism with the groups ``before`` this one (in order) and
+        its frame points (name -> ``(x, y)``): a group that needs to place the points
+        it uses at other states than the one it is solved at keeps them. Nothing by
+        default. Raises ValueError for a group that does not fit what is before it."""
 
     @abstractmethod
     def position(self, st: KinematicState) -> None:

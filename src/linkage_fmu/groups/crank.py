@@ -45,7 +45,7 @@ class Crank(Group):
         return cls(spec["link"], spec["pivot"], spec["tip"], value("length"))
 
     @classmethod
-    def pairs(cls, spec: dict) -> tuple[str, ...]:
+    def pairs(cls, spec: dict, placed=None) -> tuple[str, ...]:
         """Only the pivot: the tip is a joint of the group that uses it.
 
         Examples

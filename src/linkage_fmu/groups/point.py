@@ -56,7 +56,7 @@ class LinkPoint(Group):
                    value("across") if "across" in spec else 0.0)
 
     @classmethod
-    def pairs(cls, spec: dict) -> tuple[str, ...]:
+    def pairs(cls, spec: dict, placed=None) -> tuple[str, ...]:
         """None: the point is fixed on its link, it joins nothing.
 
         Examples

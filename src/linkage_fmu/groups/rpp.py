@@ -69,7 +69,7 @@ class RPP(Group):
                    value("guide_point"), value("guide_angle"), spec["slot"], spec["guide"])
 
     @classmethod
-    def pairs(cls, spec: dict) -> tuple[str, ...]:
+    def pairs(cls, spec: dict, placed=None) -> tuple[str, ...]:
         """The pin, the slot and the guide: ``ref`` is a point of the yoke, no joint.
 
         Examples

@@ -1,0 +1,493 @@
+"""An Assur group of any class made of revolute pairs, solved as one: its closure.
+
+What no dyad resolves (a ternary link held by three binary rods, a class III group, or a
+higher one) is solved as a whole: its links' joints are where they are drawn in one pose
+of the linkage, which gives every distance the links keep, and the points it places are
+found by Newton's method on those distances, continued along the crank angle from the
+drawn one. Its statics is its own linear system, three equations per link.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Collection, Mapping, Sequence
+from typing import ClassVar
+
+import numpy as np
+
+from .. import newton, numerics
+from ..kernels.trace import Reason
+from ..numerics import SCALAR
+from .base import (OWNER, Field, Group, Joint, KinematicState, LinkJoints, fmt, moment_about,
+                   push)
+
+#: steps of the continuation from the drawn crank angle to a state's (at most half a turn
+#: away: 11.25 degrees a step). Measured on the class III six-bar of tests/test_closure.py
+#: over 720 angles of a full turn (every step from the line through the last two
+#: solutions): 7 steps are the fewest that keep every state on the drawn assembly mode
+#: (with 5 or 6, some states end on another one, silently); 16 keep a margin over 2, each
+#: step's Newton taking 4.2 iterations on average and 7 at most (the first step, from
+#: the drawn pose itself)
+STEPS = 16
+#: Newton iterations a continuation step always takes (then it tests its last step)
+ITERATIONS = 1
+#: a state is assembled when every distance equation holds to this fraction of its
+#: squared length (Newton leaves about 1e-16; a state it did not reach, about 1 or NaN)
+RESIDUAL = 1e-9
+
+
+def _listing(links: Mapping) -> dict:
+    """Point -> the links that list it, in order of first listing."""
+    listing: dict = {}
+    for link, joints in links.items():
+        for p in joints:
+            listing.setdefault(p, []).append(link)
+    return listing
+
+
+def _pairs(listing: dict, placed) -> list[Joint]:
+    """The revolute pairs: at a placed point, one with its owner (named by the point),
+    at a point the group places, one between its first two links (named by the point);
+    every further link at the point is pinned to the one listed before it
+    (``<point>_<link>``)."""
+    joints = []
+    for p, links in listing.items():
+        if p in placed:
+            joints.append(Joint(p, p, OWNER, links[0]))
+        for k in range(1, len(links)):
+            name = p if (k == 1 and p not in placed) else f"{p}_{links[k]}"
+            joints.append(Joint(name, p, links[k - 1], links[k]))
+    return joints
+
+
+def _rigid(joints: Sequence[str]) -> list[tuple[str, str]]:
+    """The ``2m - 3`` distances that keep a link of ``m`` joints rigid: its first two
+    joints', then each other joint's from both of them."""
+    out = [(joints[0], joints[1])]
+    for p in joints[2:]:
+        out += [(joints[0], p), (joints[1], p)]
+    return out
+
+
+def _smallest(xp, values: list):
+    best = values[0]
+    for v in values[1:]:
+        best = -xp.maximum(-best, -v)
+    return best
+
+
+def _largest(xp, values: list):
+    best = values[0]
+    for v in values[1:]:
+        best = xp.maximum(best, v)
+    return best
+
+
+class Closure(Group):
+    """An Assur group of revolute pairs solved as one (a class III group, or higher):
+    ``links`` (new link -> its joints, at least two each; the first two give the link's
+    direction, first -> second) drawn in the ``pose`` (point -> ``(x, y)``) at the
+    crank angle ``theta``. The listed points placed before the group are its needs,
+    the others it places. Its pairs are revolute: one with the owner of each placed
+    point (named by the point), one between the first two links at each point it
+    places (named by the point), and each further link at a point pinned to the link
+    listed before it (``<point>_<link>``). Its transmission angle is at its first point
+    joining two links.
+
+    Positions: Newton's method on the distances the pose gives (unknowns: the
+    coordinates of the points it places), from the drawn pose, continued from the
+    drawn angle to the state's by the shorter way in :data:`STEPS` steps; at each
+    intermediate angle the groups before it are placed again (:meth:`attach`), so a
+    state's result depends on nothing but the state. A state the continuation cannot
+    reach (Newton does not converge, or converges off the distances; a singular
+    Jacobian; an intermediate angle at which the linkage cannot be assembled) cannot
+    be assembled. The linear solves pivot without a branch
+    (:func:`linkage_fmu.newton.solve`), so a kernel runs each Newton solve as one loop.
+
+    Examples
+    --------
+    A four-bar's coupler and rocker (a dyad) solved as a closure, drawn at theta = 0:
+
+    >>> import math
+    >>> from linkage_fmu.groups import Crank
+    >>> crank = Crank("1", "A", "B", 0.1)
+    >>> g = Closure({"2": ("B", "C"), "3": ("D", "C")},
+    ...             {"B": (0.1, 0.0), "C": (0.3, 0.2), "D": (0.4, 0.0)}, 0.0, {"B", "D"})
+    >>> g.needs, g.places, [j.name for j in g.joints]
+    (('B', 'D'), ('C',), ['B', 'C', 'D'])
+    >>> g.attach((crank,), {"A": (0.0, 0.0), "D": (0.4, 0.0)})
+    >>> st = KinematicState(0.0, SCALAR)
+    >>> st.p.update(A=(0.0, 0.0), D=(0.4, 0.0))
+    >>> crank.position(st); g.position(st)
+    >>> [round(v, 12) for v in st.p["C"]]
+    [0.3, 0.2]
+    """
+
+    kind = "closure"
+    FIELDS = {
+        "links": Field("link joints", "each link the group adds -> its joints (two or "
+                                      "more): the placed points it is pinned to and the "
+                                      "points the group places; its direction is from "
+                                      "the first to the second"),
+        "pose": Field("pose", "where every joint its links list is drawn, [x, y]: one "
+                              "pose of the linkage, which gives the lengths and the "
+                              "assembly mode"),
+        "theta": Field("angle", "the crank angle at which the pose is drawn"),
+    }
+    STEPS: ClassVar[int] = STEPS
+
+    def __init__(self, links: Mapping[str, Sequence[str]], pose: Mapping[str, Sequence],
+                 theta: float, placed: Collection[str]):
+        self.link_joints = {link: tuple(joints) for link, joints in links.items()}
+        self.listing = _listing(self.link_joints)
+        order = tuple(self.listing)
+        self.needs = tuple(p for p in order if p in placed)
+        self.places = tuple(p for p in order if p not in placed)
+        self.links = tuple(self.link_joints)
+        self.joints = tuple(_pairs(self.listing, placed))
+        self.owners = {p: self.listing[p][0] for p in self.places if len(self.listing[p]) == 1}
+        shared = [p for p in self.places if len(self.listing[p]) > 1]
+        self.key = (shared or list(self.places) or [None])[0]
+        self.pose = {p: (pose[p][0], pose[p][1]) for p in order}
+        self.theta0 = theta
+        #: (point, point, squared distance) of every distance the group keeps
+        self.constraints = []
+        for joints in self.link_joints.values():
+            for i, j in _rigid(joints):
+                if i in placed and j in placed:
+                    continue  # the checker refuses it (Closure.problems)
+                (xi, yi), (xj, yj) = self.pose[i], self.pose[j]
+                self.constraints.append((i, j, (xi - xj) ** 2 + (yi - yj) ** 2))
+        self.lengths = tuple(numerics.sqrt(c) for _, _, c in self.constraints)
+        #: link -> the drawn distance of its first two joints
+        self.spans = {link: numerics.hypot(self.pose[js[1]][0] - self.pose[js[0]][0],
+                                           self.pose[js[1]][1] - self.pose[js[0]][1])
+                      for link, js in self.link_joints.items()}
+        self.column = {p: 2 * k for k, p in enumerate(self.places)}
+        self.name = f"the group of joints {', '.join(order)}"
+        self._cannot_close = f"{self.name} cannot close"
+        #: why its equations are singular, in the words of the kernels' guards
+        self.singular = f"{self.name} is at a singular position"
+        self.before: tuple = ()
+        self.frame_points: dict = {}
+
+    @classmethod
+    def from_spec(cls, spec, value):
+        links: LinkJoints = value("links")
+        return cls(links.links, value("pose"), value("theta"), links.placed)
+
+    # -- the contract with description files -------------------------------------------
+    @staticmethod
+    def _links(spec: dict) -> dict | None:
+        """The ``links`` field as link -> tuple of names, or None where it is malformed."""
+        links = spec.get("links")
+        if not isinstance(links, Mapping) or not all(
+                isinstance(js, (list, tuple)) and all(isinstance(p, str) and p for p in js)
+                for js in links.values()):
+            return None
+        return {link: tuple(js) for link, js in links.items()}
+
+    @classmethod
+    def pairs(cls, spec: dict, placed: Collection[str] | None = None) -> tuple[str, ...]:
+        """The pairs of :func:`_pairs`; where ``placed`` is not known, a point one link
+        lists is taken as placed (the others as placed by the group).
+
+        Examples
+        --------
+        >>> links = {"3": ["B", "E"], "4": ["C", "F"], "6": ["D", "G"],
+        ...          "5": ["E", "F", "G", "H"]}
+        >>> Closure.pairs({"links": links}, {"B", "C", "D"})
+        ('B', 'E', 'C', 'F', 'D', 'G')
+        >>> Closure.pairs({"links": {"3": ["B", "E"], "4": ["E", "C"], "5": ["E", "D"]}},
+        ...               {"B", "C", "D"})
+        ('B', 'E', 'E_5', 'C', 'D')
+        """
+        links = cls._links(spec)
+        if links is None:
+            return ()
+        listing = _listing(links)
+        if placed is None:
+            placed = {p for p, ls in listing.items() if len(ls) == 1}
+        return tuple(j.name for j in _pairs(listing, placed))
+
+    @classmethod
+    def problems(cls, spec: dict, placed: Collection[str]) -> list[str]:
+        """A link pinned to two placed points, a pose that does not give every joint (or
+        gives another point), no point joining two of its links, or as many distance
+        equations as unknown coordinates not (an Assur group has as many).
+
+        Examples
+        --------
+        >>> spec = {"links": {"3": ["B", "E"], "5": ["E", "F"]},
+        ...         "pose": {"B": [0, 0], "E": [1, 0], "F": [1, 1], "X": [0, 1]}}
+        >>> for problem in Closure.problems(spec, {"B"}):
+        ...     print(problem)
+        pose X: is listed by no link
+        links: 2 distance equations for 4 unknown coordinates (x and y of E, F): an Assur group has as many
+        """
+        links = cls._links(spec)
+        pose = spec.get("pose")
+        if links is None or not isinstance(pose, Mapping):
+            return []  # each field's own check says what is wrong
+        found = []
+        listing = _listing(links)
+        for link, joints in links.items():
+            fixed = [p for p in joints if p in placed]
+            if len(fixed) >= 2:
+                found.append(f"links: link {link!r} is pinned to the placed points "
+                             f"{fixed[0]} and {fixed[1]}: their distance is not the "
+                             "group's to keep")
+        for p, links_at in listing.items():
+            if p not in pose:
+                found.append(f"pose: no [x, y] for {p}, a joint of link {links_at[0]!r}")
+        for p in pose:
+            if p not in listing:
+                found.append(f"pose {p}: is listed by no link")
+        new = [p for p in listing if p not in placed]
+        if new and not any(len(listing[p]) > 1 for p in new):
+            found.append("links: no point the group places joins two of its links: they "
+                         "are not one group")
+        equations = sum(2 * len(js) - 3 for js in links.values() if len(js) >= 2)
+        if equations != 2 * len(new):
+            found.append(f"links: {equations} distance equations for {2 * len(new)} unknown "
+                         f"coordinates (x and y of {', '.join(new) or 'no new point'}): an "
+                         "Assur group has as many")
+        return found
+
+    # -- positions ----------------------------------------------------------------------
+    def attach(self, before: tuple, frame_points: dict) -> None:
+        """Keep the groups ``before`` and the frame points, to place the needed points
+        at the continuation's intermediate angles; on floats, check that the drawn pose
+        has them where those groups place them at the drawn angle (to 1e-9 of the
+        group's largest length)."""
+        self.before, self.frame_points = tuple(before), dict(frame_points)
+        numbers = [self.theta0, *self.lengths, *(v for p in self.needs for v in self.pose[p])]
+        if any(hasattr(v, "traced") for v in numbers):
+            return  # checked when built on the parameters' values
+        st = KinematicState(float(self.theta0), SCALAR)
+        st.p.update(self.frame_points)
+        try:
+            for grp in self.before:
+                grp.position(st)
+        except ValueError as err:
+            raise ValueError(f"{self.name}: the linkage cannot be assembled at the drawn angle "
+                             f"theta = {fmt(self.theta0)} rad: {err}") from None
+        size = max([1e-300, *self.lengths])
+        for p in self.needs:
+            (x, y), (px, py) = st.p[p], self.pose[p]
+            if hasattr(x, "traced") or hasattr(y, "traced"):
+                continue
+            off = math.hypot(x - px, y - py)
+            if not off <= 1e-9 * size:
+                raise ValueError(
+                    f"{self.name}: pose {p} = [{fmt(px)}, {fmt(py)}] is not where the groups "
+                    f"before it place {p} at the drawn angle theta = {fmt(self.theta0)} rad, "
+                    f"[{fmt(x)}, {fmt(y)}] ({off:.3g} m away)")
+
+    def _upstream(self, st: KinematicState, angle) -> dict:
+        """The needed points at the crank angle ``angle``: the groups before this one
+        run on a state of their own (its failures are ``st``'s)."""
+        def fail(condition: str, what: str = ""):
+            st.on_invalid(f"{self.name} is continued from the drawn angle "
+                          f"{fmt(self.theta0)} rad through {fmt(angle)} rad, where "
+                          f"{condition}", what)
+
+        sub = KinematicState(angle, st.xp, fail)
+        for p, xy in self.frame_points.items():
+            sub.p[p] = xy
+        for grp in self.before:
+            grp.position(sub)
+        if sub.invalid is not None:
+            st.mark(sub.invalid)
+        return {p: sub.p[p] for p in self.needs}
+
+    def _equations(self, xp, x: list, known: dict) -> tuple[list, list]:
+        """The Jacobian (rows of the distances, columns of the unknowns) and the values
+        ``(|Pi - Pj|^2 - L^2) / 2`` of the distance equations at the unknowns ``x``."""
+        P = dict(known)
+        for p, c in self.column.items():
+            P[p] = (x[c], x[c + 1])
+        n = len(x)
+        J, f = [], []
+        for i, j, L2 in self.constraints:
+            (xi, yi), (xj, yj) = P[i], P[j]
+            dx, dy = xi - xj, yi - yj
+            f.append(0.5 * ((dx * dx + dy * dy) - L2))
+            row = [0.0] * n
+            if i in self.column:
+                row[self.column[i]], row[self.column[i] + 1] = dx, dy
+            if j in self.column:
+                row[self.column[j]], row[self.column[j] + 1] = -dx, -dy
+            J.append(row)
+        return J, f
+
+    def _close(self, st: KinematicState, x: list, known: dict, angle) -> list:
+        """One continuation step, to the crank angle ``angle``: Newton from ``x`` on the
+        distances, the needed points at ``known``; then the check that they hold."""
+        xp = st.xp
+
+        def step(x, memory):
+            J, f = self._equations(xp, x, known)
+            return newton.solve(xp, J, f)[0], None, memory
+
+        def condition() -> str:
+            return (f"{self._cannot_close}: continued from its drawn pose (at theta = "
+                    f"{fmt(self.theta0)} rad), Newton's method reaches no position that "
+                    f"keeps its links' lengths at {fmt(angle)} rad")
+
+        def fail(bad=None):
+            if bad is None:
+                st.on_invalid(condition(), self._cannot_close)
+            else:
+                st.mark(bad)
+
+        tape = newton.tape_of(st.theta, *x, *(v for xy in known.values() for v in xy))
+        if tape is not None:
+            x = newton.loop(tape, xp, x, None, (), step, fail,
+                            Reason("assembly", self._cannot_close), ITERATIONS,
+                            newton.MAX_ITERATIONS)
+        elif xp.scalar:
+            try:
+                x = newton.iterate(xp, x, step, fail, minimum=ITERATIONS)
+            except ZeroDivisionError:  # an exactly singular Jacobian
+                fail()
+        else:
+            with np.errstate(all="ignore"):
+                x = newton.iterate(xp, x, step, fail, minimum=ITERATIONS)
+        # converged where the distances hold: NaN (a singular Jacobian, an overflow)
+        # and a stall off them fail here
+        _, f = self._equations(xp, x, known)
+        worst = _largest(xp, [xp.abs(v) / L2 for v, (_, _, L2) in zip(f, self.constraints)])
+        margin = st.positive(RESIDUAL - worst, condition, self._cannot_close)
+        if not xp.scalar:
+            x = [v + 0.0 * margin for v in x]  # NaN where it failed
+        return x
+
+    def position(self, st: KinematicState) -> None:
+        xp = st.xp
+        t0 = self.theta0
+        delta = xp.atan2(xp.sin(st.theta - t0), xp.cos(st.theta - t0))
+        x = [v for p in self.places for v in self.pose[p]]
+        guess = x
+        for k in range(1, self.STEPS + 1):
+            if k < self.STEPS:
+                angle = t0 + delta * (k / self.STEPS)
+                known = self._upstream(st, angle)
+            else:
+                angle, known = st.theta, {p: st.p[p] for p in self.needs}
+            last, x = x, self._close(st, guess, known, angle)
+            # the next step starts from the line through the last two solutions (its
+            # angle is as far on): twice the last, less the one before
+            guess = [2.0 * a - b for a, b in zip(x, last)]
+        for p, c in self.column.items():
+            st.p[p] = (x[c], x[c + 1])
+        for link, js in self.link_joints.items():
+            (ax, ay), (bx, by) = st.p[js[0]], st.p[js[1]]
+            L = self.spans[link]
+            st.u[link] = ((bx - ax) / L, (by - ay) / L)
+
+    # -- derivatives --------------------------------------------------------------------
+    def _rates(self, st: KinematicState, d: dict, quadratic: dict | None) -> None:
+        """Solve ``J X = r`` for the derivative coefficients of the points it places
+        into ``d`` (``st.d1`` or ``st.d2``): ``r`` from the needed points' own, and for
+        the second order the terms ``|Pi' - Pj'|^2`` (``quadratic``: ``st.d1``)."""
+        xp = st.xp
+        x = [v for p in self.places for v in st.p[p]]
+        J, _ = self._equations(xp, x, {p: st.p[p] for p in self.needs})
+        zero = (0.0, 0.0)
+        r = []
+        for i, j, _ in self.constraints:
+            (xi, yi), (xj, yj) = st.p[i], st.p[j]
+            (ai, bi) = zero if i in self.column else d[i]
+            (aj, bj) = zero if j in self.column else d[j]
+            v = -((xi - xj) * (ai - aj) + (yi - yj) * (bi - bj))
+            if quadratic is not None:
+                (vi, wi), (vj, wj) = quadratic[i], quadratic[j]
+                v = v - ((vi - vj) * (vi - vj) + (wi - wj) * (wi - wj))
+            r.append(v)
+        X, _ = newton.solve(xp, J, r)
+        for p, c in self.column.items():
+            d[p] = (X[c], X[c + 1])
+
+    def _turn(self, st: KinematicState, d: dict, w: dict) -> None:
+        """``phi'`` (or ``phi''``) of each link from its first two joints' ``d``."""
+        for link, js in self.link_joints.items():
+            (c, s) = st.u[link]
+            (ax, ay), (bx, by) = d[js[0]], d[js[1]]
+            w[link] = (c * (by - ay) - s * (bx - ax)) / self.spans[link]
+
+    def first(self, st: KinematicState) -> None:
+        self._rates(st, st.d1, None)
+        self._turn(st, st.d1, st.w1)
+
+    def second(self, st: KinematicState) -> None:
+        self._rates(st, st.d2, st.d1)
+        self._turn(st, st.d2, st.w2)
+
+    # -- statics ------------------------------------------------------------------------
+    def _matrix(self, st: KinematicState, scale) -> list:
+        """The group's equilibrium: per link (in order), forces x, y and the moment
+        about its first joint divided by ``scale``; per pair (in order), the two
+        components of its reaction (of its body a on its body b)."""
+        n = 2 * len(self.joints)
+        A = [[0.0] * n for _ in range(3 * len(self.links))]
+        for row, link in enumerate(self.links):
+            r = 3 * row
+            ox, oy = st.p[self.link_joints[link][0]]
+            for k, j in enumerate(self.joints):
+                if link not in (j.a, j.b):
+                    continue
+                sign = 1.0 if j.b == link else -1.0
+                px, py = st.p[j.point]
+                ax, ay = (px - ox) / scale, (py - oy) / scale
+                A[r][2 * k] = A[r][2 * k] + sign
+                A[r + 1][2 * k + 1] = A[r + 1][2 * k + 1] + sign
+                A[r + 2][2 * k] = A[r + 2][2 * k] - sign * ay
+                A[r + 2][2 * k + 1] = A[r + 2][2 * k + 1] + sign * ax
+        return A
+
+    def statics(self, mech, st, W, R):
+        L = mech.length_scale
+        b = []
+        for link in self.links:
+            fx, fy, m = moment_about(mech, st, W, link, self.link_joints[link][0])
+            b += [-fx, -fy, -m / L]
+        x, _ = newton.solve(st.xp, self._matrix(st, L), b)
+        for k, j in enumerate(self.joints):
+            R[j.name] = (x[2 * k], x[2 * k + 1])
+            if j.a == OWNER:  # the group's link acts on the owner with the opposite
+                push(mech, st, W, mech.owner[j.point], j.point, -x[2 * k], -x[2 * k + 1])
+
+    def transmission(self, st, scale):
+        """``(gamma, kappa)``: ``gamma`` the angle in [0, pi] at the key joint (the first
+        point it places that joins two links) between its first two links, each seen
+        from the joint towards its first other joint (for a dyad, the angle between its
+        links at the middle joint, as :class:`~linkage_fmu.groups.RRR` has it);
+        ``kappa`` the 1-norm condition number ``|A|_1 |A^-1|_1`` of the group's
+        equilibrium matrix ``A`` (forces, moments divided by ``scale``), infinite where
+        it is singular."""
+        xp = st.xp
+        kx, ky = st.p[self.key]
+        arms = []
+        for link in self.listing[self.key][:2]:
+            other = next(p for p in self.link_joints[link] if p != self.key)
+            ox, oy = st.p[other]
+            arms.append((ox - kx, oy - ky))
+        (ax, ay), (bx, by) = arms
+        gamma = xp.atan2(xp.abs(ax * by - ay * bx), ax * bx + ay * by)
+        A = self._matrix(st, scale)
+        n = len(A)
+        norm = _largest(xp, [sum(xp.abs(A[r][c]) for r in range(n)) for c in range(n)])
+        unit = [[1.0 if r == c else 0.0 for r in range(n)] for c in range(n)]
+        try:
+            columns, pivots = newton.solve_many(xp, A, unit)  # of A^-1
+        except ZeroDivisionError:  # floats or mpmath, exactly singular
+            return gamma, math.inf
+        small = _smallest(xp, pivots)
+        with np.errstate(all="ignore"):
+            kappa = norm * _largest(xp, [sum(xp.abs(v) for v in x) for x in columns])
+        if xp.scalar:
+            apart = small > 0.0
+            numerics.label(small, Reason("singular", self.singular))
+            return gamma, (kappa if apart else math.inf)
+        return gamma, np.where(small > 0.0, kappa, np.inf)

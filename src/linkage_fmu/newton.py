@@ -1,0 +1,242 @@
+"""Newton iterations and small linear solves written once for every kind of number.
+
+The same steps run on floats (one state), numpy arrays (many states, each its own
+iteration), mpmath numbers and traced numbers (:mod:`~linkage_fmu.kernels.trace`), where
+an iteration is a loop of the kernel (:meth:`~linkage_fmu.kernels.trace.Tape.loop`):
+its body holds no branch, its decisions are operations. The friction of the joints
+(:mod:`~linkage_fmu.friction`) and the closure of a class III group
+(:mod:`~linkage_fmu.groups.closure`) iterate with them.
+
+Examples
+--------
+>>> from linkage_fmu.numerics import SCALAR
+>>> def step(x, memory):  # Newton on x**2 = 2
+...     return [(x[0] * x[0] - 2.0) / (2.0 * x[0])], None, memory
+>>> round(iterate(SCALAR, [1.0], step, fail=None)[0], 15)
+1.414213562373095
+>>> solve(SCALAR, [[0.0, 2.0], [4.0, 1.0]], [2.0, 9.0])[0]
+[2.0, 1.0]
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .kernels.trace import Reason
+
+#: Newton steps every path takes, the traced kernels' exactly (then they check them)
+ITERATIONS = 5
+#: steps at most, for a state the first ones do not settle
+MAX_ITERATIONS = 60
+#: converged: the last step is at most this fraction of the iterated values' size
+TOLERANCE = 1e-13
+#: the smallest positive double: ``x / max(|x|, TINY)`` is the sign of ``x``, 0 at 0
+TINY = 5e-324
+
+
+def tolerance(xp) -> float:
+    """The relative size of a last step that ends an iteration: :data:`TOLERANCE`, or
+    the namespace's own (``xp.eps()``, mpmath's at its precision).
+
+    Examples
+    --------
+    >>> from linkage_fmu.numerics import SCALAR
+    >>> tolerance(SCALAR)
+    1e-13
+    """
+    eps = getattr(xp, "eps", None)
+    return TOLERANCE if eps is None else eps()
+
+
+def not_(xp, outcome):
+    """``not outcome``, of a float comparison or elementwise of an array's.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from linkage_fmu.numerics import ARRAY, SCALAR
+    >>> not_(SCALAR, 1.0 > 2.0), not_(ARRAY, np.array([1.0, 3.0]) > 2.0).tolist()
+    (True, [True, False])
+    """
+    return (not outcome) if xp.scalar else ~outcome
+
+
+def iterate(xp, x: list, step, fail, first=None, memory: tuple = (),
+            minimum: int = ITERATIONS, maximum: int = MAX_ITERATIONS) -> list:
+    """``x <- x - d`` with ``(d, det, memory) = step(x, memory)`` (``first`` instead for
+    the first step, if given; ``memory``: what a step hands the next): ``minimum``
+    steps (:data:`ITERATIONS`), then more (to ``maximum``, :data:`MAX_ITERATIONS`)
+    while the last step exceeds :data:`TOLERANCE` of ``x``; ``det`` (or None) must stay
+    > 0. On floats ``fail()`` raises where it does not converge or ``det <= 0``; on
+    arrays, those states get NaN and ``fail(bad)`` is told which. (On traced numbers,
+    the iterations are loops of the kernel: :func:`loop`.) A NaN passes both tests: a
+    caller for whom it is a failure checks its result.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from linkage_fmu.numerics import ARRAY
+    >>> def step(x, memory):
+    ...     return [(x[0] * x[0] - np.array([4.0, 9.0])) / (2.0 * x[0])], None, memory
+    >>> iterate(ARRAY, [np.array([1.0, 1.0])], step, fail=None, minimum=1)[0].tolist()
+    [2.0, 3.0]
+    """
+    tol = tolerance(xp)
+    done = det = None
+    memory = tuple(memory)
+    for k in range(maximum):
+        d, det, memory = (first if k == 0 and first is not None else step)(x, memory)
+        if done is None:
+            x = [a - b for a, b in zip(x, d)]
+        else:  # arrays: the states converged stay as they are
+            x = [np.where(done, a, a - b) for a, b in zip(x, d)]
+        if k + 1 < minimum:
+            continue
+        moved, size = sum(xp.abs(b) for b in d), sum(xp.abs(a) for a in x)
+        # written so that NaN passes: a non-finite value is an overflow or a singular
+        # position, which the solver's check of the outputs names; locking is finite
+        converged = not_(xp, moved > tol * size)
+        if xp.scalar:
+            if converged:
+                break
+        else:
+            done = converged if done is None else done | converged
+            if done.all():
+                break
+    else:
+        if xp.scalar:
+            fail()
+        else:
+            fail(~done)
+            x = [np.where(done, a, np.nan) for a in x]
+    if det is not None:
+        held = not_(xp, det <= 0.0)
+        if xp.scalar:
+            if not held:
+                fail()
+        elif not held.all():
+            fail(~held)
+            x = [np.where(held, a, np.nan) for a in x]
+    return x
+
+
+def tape_of(*values):
+    """The tape of the first traced number among ``values``, or None.
+
+    Examples
+    --------
+    >>> from linkage_fmu.kernels.trace import Tape
+    >>> tape = Tape()
+    >>> tape_of(1.0, tape.input("x", 2.0)) is tape, tape_of(1.0, 2.0)
+    (True, None)
+    """
+    for v in values:
+        tape = getattr(v, "tape", None)
+        if tape is not None:
+            return tape
+    return None
+
+
+def loop(tape, xp, x: list, det, memory: tuple, step, fail, reason: Reason,
+         minimum: int, maximum: int) -> list:
+    """:func:`iterate`'s steps on traced numbers as a loop of the kernel
+    (:meth:`~linkage_fmu.kernels.trace.Tape.loop`) carrying ``x``, ``det`` (None: the
+    steps have none) and ``memory``, with its test after ``minimum`` steps, at most
+    ``maximum``; then its checks, labelled ``reason``: that it converged, and that the
+    last ``det`` > 0 (both written so that NaN passes, as on floats)."""
+    tol = tolerance(xp)
+    n, m = len(x), 0 if det is None else 1
+
+    def body(carried):
+        x, memory = carried[:n], tuple(carried[n + m:])
+        d, det, memory = step(x, memory)
+        x = [a - b for a, b in zip(x, d)]
+        moved, size = sum(xp.abs(b) for b in d), sum(xp.abs(a) for a in x)
+        return [*x, *([det] if m else []), *memory], tape.compare("gt", moved, tol * size)
+
+    carried, converged = tape.loop([*x, *([det] if m else []), *memory], body,
+                                   minimum, maximum)
+    if not tape.check(converged, True, reason):
+        fail()
+    if m and not tape.check(tape.compare("le", carried[n], 0.0), False, reason):
+        fail()
+    return carried[:n]
+
+
+def inverse(xp, x):
+    """``1 / x``, and 0 for ``x = 0`` (no comparison: :func:`~.kernels.trace.sign`).
+
+    Examples
+    --------
+    >>> from linkage_fmu.numerics import SCALAR
+    >>> inverse(SCALAR, 4.0), inverse(SCALAR, 0.0)
+    (0.25, 0.0)
+    """
+    return xp.sign(x) / xp.maximum(xp.abs(x), TINY)
+
+
+def solve(xp, A: list, b: list) -> tuple[list, list]:
+    """``A^-1 b`` by Gaussian elimination with partial pivoting, and the magnitudes of
+    the pivots (the diagonal of ``U`` in ``PA = LU``): :func:`solve_many` of one
+    right-hand side.
+
+    Examples
+    --------
+    >>> from linkage_fmu.numerics import SCALAR
+    >>> x, pivots = solve(SCALAR, [[1e-20, 1.0], [1.0, 1.0]], [1.0, 2.0])
+    >>> [round(v, 15) for v in x], pivots
+    ([1.0, 1.0], [1.0, 1.0])
+    """
+    (x,), pivots = solve_many(xp, A, [b])
+    return x, pivots
+
+
+def solve_many(xp, A: list, B: list) -> tuple[list, list]:
+    """``A^-1 b`` for each right-hand side ``b`` of ``B``, by Gaussian elimination with
+    partial pivoting, and the magnitudes of the pivots.
+
+    The pivoting takes no branch, so that it runs inside a kernel's loop: at column
+    ``k`` each lower row in turn is swapped with row ``k`` where its entry is larger in
+    magnitude, by blending the two rows with weights 0 and 1 (``w = max(sign(|a| -
+    |p|), 0)``, exact): the largest entry of the column ends on the diagonal, as in
+    LAPACK's partial pivoting, rows of equal magnitude left in place. ``A`` is a list of
+    rows of numbers of ``xp`` (floats, arrays over states, mpmath, traced). A zero pivot
+    divides by zero: ZeroDivisionError on floats and mpmath, inf or NaN on arrays and in
+    kernels.
+
+    Examples
+    --------
+    >>> from linkage_fmu.numerics import SCALAR
+    >>> solve_many(SCALAR, [[0.0, 2.0], [4.0, 1.0]], [[1.0, 0.0], [0.0, 1.0]])[0]
+    [[-0.125, 0.5], [0.25, 0.0]]
+    """
+    n = len(A)
+    A = [list(row) for row in A]
+    B = [list(b) for b in B]
+    pivots = []
+    for k in range(n):
+        for i in range(k + 1, n):
+            w = xp.maximum(xp.sign(xp.abs(A[i][k]) - xp.abs(A[k][k])), 0.0)
+            v = 1.0 - w
+            for c in range(k, n):
+                A[k][c], A[i][c] = w * A[i][c] + v * A[k][c], w * A[k][c] + v * A[i][c]
+            for b in B:
+                b[k], b[i] = w * b[i] + v * b[k], w * b[k] + v * b[i]
+        p = A[k][k]
+        pivots.append(xp.abs(p))
+        for i in range(k + 1, n):
+            r = A[i][k] / p
+            for c in range(k + 1, n):
+                A[i][c] = A[i][c] - r * A[k][c]
+            for b in B:
+                b[i] = b[i] - r * b[k]
+    X = []
+    for b in B:
+        x = [0.0] * n
+        for i in reversed(range(n)):
+            v = b[i]
+            for c in range(i + 1, n):
+                v = v - A[i][c] * x[c]
+            x[i] = v / A[i][i]
+        X.append(x)
+    return X, pivots
