@@ -21,7 +21,7 @@ import pytest
 from linkage_fmu import AssemblyError, Description, newton, presets
 from linkage_fmu.groups import Closure
 from linkage_fmu.precise import reference
-from linkage_fmu.spec.description import DescriptionError
+from linkage_fmu.descriptions.description import DescriptionError
 
 TH0 = 0.5  # the drawn crank angle, rad
 R = 0.05  # the crank's length, m
@@ -285,7 +285,7 @@ def test_a_four_bar_written_as_a_closure_is_the_dyad():
         a = closed.solve(theta, 10.0, 5.0, 3.0)
         b = rrr.solve(theta, 10.0, 5.0, 3.0)
         assert _relative(a, b, names) <= 1e-11
-        assert abs(a["mu_C"] - b["mu_C"]) <= 1e-11
+        assert abs(a["gamma_C"] - b["gamma_C"]) <= 1e-11
 
 
 def test_friction_in_a_pin_of_the_group():
@@ -332,7 +332,7 @@ def test_the_transmission_angle_and_the_condition_number_of_the_group(mech):
         gamma, kappa = group.transmission(st, L)
         assert abs(gamma - angle) <= 1e-12
         assert abs(kappa / np.linalg.cond(A, 1) - 1.0) <= 1e-9
-        assert mech.solve(theta, outputs=("mu_E",))["mu_E"] == gamma
+        assert mech.solve(theta, outputs=("gamma_E",))["gamma_E"] == gamma
 
 
 def test_the_pairs_are_named_by_their_points():

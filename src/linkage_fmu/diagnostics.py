@@ -28,7 +28,7 @@ NAMES = ("cond", "J_red", "dJ_red")
 
 def info(mech) -> dict:
     """Diagnostic name -> (unit, description) for the linkage ``mech``."""
-    out = {f"gamma_{d.key}": ("rad", f"transmission angle of the dyad at {d.key} (0 or "
+    out = {f"gamma_{d.key}": ("rad", f"transmission angle of the group at {d.key} (0 or "
                                      "pi: toggle)") for d in mech.dyads}
     out["cond"] = ("1", "estimated condition number of the outputs, including the scale of "
                         "the centre-of-mass offsets: relative rounding error about cond x "
