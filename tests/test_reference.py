@@ -209,9 +209,9 @@ def test_the_outputs_every_linkage_has_with_the_codes_descriptions(text):
     for name in (*SHAKING, "cond", "J_red", "dJ_red"):
         unit, meaning = info[name]
         assert f"| `{name}` | `{unit}` | {meaning} |" in part
-    assert ("| `gamma_<joint>` | `rad` | transmission angle of the dyad at \\<joint> (0 or pi: "
+    assert ("| `gamma_<joint>` | `rad` | transmission angle of the group at \\<joint> (0 or pi: "
             "toggle) |") in part
-    assert info["gamma_C"] == ("rad", "transmission angle of the dyad at C (0 or pi: toggle)")
+    assert info["gamma_C"] == ("rad", "transmission angle of the group at C (0 or pi: toggle)")
     assert "moment about the crank pivot" in info["shake_M"][1]
 
 
