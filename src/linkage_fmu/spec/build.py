@@ -188,7 +188,7 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
     gravity = number("[linkage] gravity", d.gravity)
     inputs = {k: start(f"[inputs] {k}", v) for k, v in d.inputs.items()}
     try:
-        return Mechanism(d.name, d.frame, frame_points, groups, bodies, effort, outputs, loads,
+        mech = Mechanism(d.name, d.frame, frame_points, groups, bodies, effort, outputs, loads,
                          gravity, params, d, rebuild, inputs, declared)
     except ValueError as err:
         if type(err) is not ValueError:
@@ -199,6 +199,13 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
         if named and named[1] in keys:
             text = f"{keys[named[1]]}: {named[2]}"
         raise ValueError(f"{origin}: {text}") from None
+    if d.drawn is not None and not symbols:  # written as joints and links: where drawn
+        from .assur import check_pose
+
+        problem = check_pose(mech, d.drawn, floats)
+        if problem:
+            raise ValueError(f"{origin}: {problem}")
+    return mech
 
 
 def _origin(d) -> str:
