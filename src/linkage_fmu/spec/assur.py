@@ -418,11 +418,14 @@ class _Decomposer:
         t = self.t
         sliding = [j for n in subset for j in t.links[n].joints if t.joints[j].prismatic]
         if sliding:
+            what = (f"a dyad that no dyad of the library is (an RRP's slider and an RPP's "
+                    "yoke slide on a frame guide, an RPR's slot passes through its lever's "
+                    "pivot)" if len(subset) == 2 else
+                    f"a group of {len(subset)} links (only dyads may slide)")
             raise DecompositionError([
                 f"[[links]]: a group the decomposition cannot solve: links "
-                f"{', '.join(subset)} form a group of {len(subset)} links with the prismatic "
-                f"pair(s) {', '.join(dict.fromkeys(sliding))}; only the dyads RRP, RPR and "
-                "RPP may slide (a group of more links has revolute pairs only)"])
+                f"{', '.join(subset)}, with the prismatic pair(s) "
+                f"{', '.join(dict.fromkeys(sliding))}, form {what}"])
         links, pose, places = {}, {}, {}
         for n in subset:
             names = []
@@ -490,7 +493,8 @@ def outline(groups: list[dict]) -> list[tuple[str, str, tuple, tuple]]:
 
     The class is ``crank`` for the driver, ``II`` for a dyad, ``III`` for a closure of
     four links with one ternary link (Assur's class III triad), ``IV`` for one with two
-    ternary links, ``n links`` for another closure, and ``point`` for a point on a link.
+    ternary links, ``n links`` for another closure, and ``point`` for a point on a link
+    (its link is the one it is on, not a new one).
 
     Examples
     --------
@@ -499,7 +503,7 @@ def outline(groups: list[dict]) -> list[tuple[str, str, tuple, tuple]]:
     ...     print(row)
     ('crank', 'crank', ('1',), ('A', 'B'))
     ('II', 'RPR', ('2', '3'), ('B', 'C', 'slot'))
-    ('point', 'point', (), ('D',))
+    ('point', 'point', ('3',), ('D',))
     ('II', 'RRP', ('4', '5'), ('D', 'E', 'guide'))
     """
     from ..groups import Group
@@ -508,7 +512,7 @@ def outline(groups: list[dict]) -> list[tuple[str, str, tuple, tuple]]:
     for spec in groups:
         kind = spec.get("type")
         if kind == "point":
-            rows.append(("point", kind, (), (spec.get("name"),)))
+            rows.append(("point", kind, (spec.get("link"),), (spec.get("name"),)))
             continue
         if kind == "closure":
             links = spec.get("links", {})

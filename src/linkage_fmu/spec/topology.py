@@ -194,9 +194,10 @@ def read(data: dict, values: dict, frame: str = "0") -> tuple[Topology | None, l
     return (None if found else t), found
 
 
-def _vector(where: str, value: Any, found: list, values: dict, joints: dict | None = None
-            ) -> tuple | None:
-    """``[x, y]`` of numbers or expressions, each evaluable over ``values``."""
+def _vector(where: str, value: Any, found: list, values: dict, joints: dict | None = None,
+            of: tuple = ()) -> tuple | None:
+    """``[x, y]`` of numbers or expressions, each evaluable over ``values`` (and the
+    drawn coordinates of ``joints``; ``of`` the joint whose position it is)."""
     if not (isinstance(value, (list, tuple)) and len(value) == 2):
         found.append(f"{where}: must be [x, y], got {value!r}")
         return None
@@ -205,7 +206,7 @@ def _vector(where: str, value: Any, found: list, values: dict, joints: dict | No
         try:
             e = Expression(v)
             if joints is not None:
-                e = Expression(inline(v, joints, set(values)))
+                e = Expression(inline(v, joints, set(values), of))
             x = e(values)
         except (ValueError, ZeroDivisionError, OverflowError, TypeError) as err:
             found.append(f"{where} {axis}: {err}")
@@ -248,10 +249,11 @@ def _joints(table: Any, values: dict, found: list) -> dict | None:
     joints = {}
     for name, (at, slide, guide) in raw.items():
         where = f"[joints] {name}" + (" at" if slide is not None else "")
-        xy = _vector(where, at, found, values, stand_in)
+        xy = _vector(where, at, found, values, stand_in, (name,))
         direction = None
         if slide is not None:
-            direction = _vector(f"[joints] {name} slide", slide, found, values, stand_in)
+            direction = _vector(f"[joints] {name} slide", slide, found, values, stand_in,
+                                (name,))
             if direction is not None:
                 dx, dy = (Expression(inline(v, stand_in, set(values)))(values) for v in direction)
                 if math.hypot(dx, dy) == 0.0:

@@ -1,0 +1,266 @@
+"""The decomposition of a joints-and-links linkage into groups (spec/assur.py): which
+groups, in which order, with which fields; and each problem it reports, by its message."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from linkage_fmu.spec import Description, DescriptionError
+from linkage_fmu.spec.assur import decompose, outline
+from linkage_fmu.spec.topology import read
+
+HEAD = """
+[linkage]
+name = "drawn"
+
+[parameters]
+h = { default = 0.2, kind = "coordinate", description = "height of C where drawn" }
+"""
+
+
+def tables(text: str) -> dict:
+    import tomllib
+
+    return tomllib.loads(text)
+
+
+def problems(text: str) -> list[str]:
+    with pytest.raises(DescriptionError) as err:
+        Description.from_toml(text, "drawn.toml")
+    assert str(err.value).startswith("drawn.toml: ")
+    return err.value.problems
+
+
+# -- a class III group: the decomposition, without building (the closure group type is
+# not the library's yet) -----------------------------------------------------------------
+#: a six-bar whose ternary coupler 5 (E, F, G) is held by three binary rods: 2 pinned to
+#: the crank at A, 3 and 4 to the frame at P and Q
+CLASS_III = {
+    "joints": {"O": [0, 0], "A": [0.1, 0], "P": [0.5, -0.1], "Q": [0.3, -0.3],
+               "E": [0.25, 0.3], "F": [0.55, 0.25], "G": [0.4, 0.05]},
+    "links": [{"name": "1", "joints": ["O", "A"]}, {"name": "2", "joints": ["A", "E"]},
+              {"name": "3", "joints": ["P", "F"]}, {"name": "4", "joints": ["Q", "G"]},
+              {"name": "5", "joints": ["E", "F", "G"], "mass": 2.0, "cg": [0.4, 0.2]}],
+    "crank": {"link": "1", "pivot": "O"},
+}
+
+
+def test_a_class_iii_group_is_one_closure_after_the_crank():
+    t, found = read(CLASS_III, {})
+    assert found == [] and t.mobility() == 1
+    dec = decompose(t, {})
+    assert outline(dec.groups) == [
+        ("crank", "crank", ("1",), ("O", "A")),
+        ("III", "closure", ("2", "3", "4", "5"), ("A", "E", "P", "F", "Q", "G")),
+    ]
+    closure = dec.groups[1]
+    # each link's joints, its direction from the first to the second; every joint where
+    # drawn; the drawn crank angle (A on the +x axis)
+    assert closure["links"] == {"2": ["A", "E"], "3": ["P", "F"], "4": ["Q", "G"],
+                                "5": ["E", "F", "G"]}
+    assert closure["pose"] == {p: [float(v) for v in xy]
+                               for p, xy in CLASS_III["joints"].items() if p != "O"}
+    assert closure["theta"] == 0.0
+    # pairs: each rod to what holds it, the coupler's three pins; the frame first
+    assert dec.pairs == [("O", "0", "1"), ("A", "1", "2"), ("P", "0", "3"),
+                         ("Q", "0", "4"), ("E", "2", "5"), ("F", "3", "5"), ("G", "4", "5")]
+    # the coupler's centre of mass in its own frame: from E along E -> F
+    e, f = (np.array(CLASS_III["joints"][p]) for p in "EF")
+    s = np.array([0.4, 0.2])
+    u = (f - e) / np.linalg.norm(f - e)
+    cg = dec.bodies["5"]["cg"]
+    assert cg["from"] == "E"
+    assert cg["along"] == pytest.approx(np.dot(s - e, u), abs=1e-15)
+    assert cg["across"] == pytest.approx(u[0] * (s - e)[1] - u[1] * (s - e)[0], abs=1e-15)
+
+
+# -- a compound joint ---------------------------------------------------------------------
+COMPOUND = HEAD + """
+[joints]
+A = [0, 0]
+B = [0.1, 0]
+C = [0.3, "h"]
+D = [0.4, 0]
+E = [0.55, 0.3]
+F = [0.7, 0.1]
+
+[[links]]
+name = "1"
+joints = ["A", "B"]
+
+[[links]]
+name = "2"
+joints = ["B", "C"]
+mass = 1.0
+cg = [0.2, 0.1]
+
+[[links]]
+name = "3"
+joints = ["C", "D"]
+
+[[links]]
+name = "4"
+joints = ["C", "E"]
+mass = 0.5
+cg = [0.45, 0.25]
+
+[[links]]
+name = "5"
+joints = ["E", "F"]
+
+[crank]
+link = "1"
+pivot = "A"
+"""
+
+
+def test_a_compound_joint_is_two_pairs_the_third_link_pinned_to_the_first():
+    """C joins 2, 3 and 4: the pair C joins 2 and 3 (the RRR that places C), the pair
+    C_4 joins 4 to 2, on 2's point C_4 where C is."""
+    d = Description.from_toml(COMPOUND, "drawn.toml")
+    assert [row[:2] for row in outline(d.groups)] == [
+        ("crank", "crank"), ("II", "RRR"), ("point", "point"), ("II", "RRR")]
+    assert d.groups[2] == {"type": "point", "link": "2", "from": "C", "name": "C_4"}
+    assert (d.groups[3]["end1"], d.groups[3]["link1"]) == ("C_4", "4")
+    assert [o["name"] for o in d.outputs] == ["F01", "F12", "F23", "F03", "F24", "F45",
+                                              "F05", "Mb"]
+    mech = d.build()
+    # the drawn pose at the drawn angle; at another, the links keep their drawn lengths
+    # (the reference: distances between the drawn joints) and C_4 stays on C
+    drawn = {"B": (0.1, 0), "C": (0.3, 0.2), "D": (0.4, 0), "E": (0.55, 0.3), "F": (0.7, 0.1)}
+    st = mech.kinematics(0.0, order=0)
+    for p, xy in drawn.items():
+        assert math.dist(st.p[p], xy) <= 1e-15
+    st = mech.kinematics(0.4, order=0)
+    for a, b in ("BC", "CD", "CE", "EF"):
+        assert math.dist(st.p[a], st.p[b]) == pytest.approx(math.dist(drawn[a], drawn[b]),
+                                                            abs=1e-15)
+    assert math.dist(st.p["C_4"], st.p["C"]) <= 1e-15
+
+
+# -- the problems -------------------------------------------------------------------------
+def test_a_drawn_pose_from_which_a_group_cannot_be_assembled():
+    """C drawn below the line B -> D (h < 0) while the defaults draw it above: the RRR
+    keeps the drawn pose's mode at the defaults, so the pose is not reproduced."""
+    d = Description.from_toml(COMPOUND, "drawn.toml")
+    with pytest.raises(ValueError) as err:
+        d.build(h=-0.2)
+    assert str(err.value) == (
+        "drawn.toml: [[groups]] #2 (RRR): a drawn pose from which a group cannot be "
+        "assembled: at the drawn crank angle 0 deg it places C at (0.3, 0.2), 0.4 m from "
+        "where C is drawn (0.3, -0.2); the tolerance is 1e-12 m")
+
+
+def test_a_drawn_pose_at_a_toggle():
+    text = COMPOUND.replace('C = [0.3, "h"]', "C = [0.3, 0]")
+    assert problems(text) == [
+        "[joints] C: the dyad B-C-D (links 2, 3) is drawn at a toggle (B, C, D in line): "
+        "its assembly mode is undefined; draw it apart"]
+
+
+def test_a_group_the_decomposition_cannot_solve_slides():
+    """A block on the crank pin sliding in a slot of a lever that does not pass through
+    the lever's pivot: no dyad of the library, and only dyads slide."""
+    text = HEAD + """
+[joints]
+A = [0, 0]
+B = [0.1, 0]
+C = [0, -0.4]
+s = { at = [0.1, 0], slide = [1, 0], guide = "3" }
+
+[[links]]
+name = "1"
+joints = ["A", "B"]
+
+[[links]]
+name = "2"
+joints = ["B", "s"]
+
+[[links]]
+name = "3"
+joints = ["C", "s"]
+
+[crank]
+link = "1"
+pivot = "A"
+"""
+    assert problems(text) == [
+        "[[links]]: a group the decomposition cannot solve: links 2, 3, with the prismatic "
+        "pair(s) s, form a dyad that no dyad of the library is (an RRP's slider and an "
+        "RPP's yoke slide on a frame guide, an RPR's slot passes through its lever's pivot)"]
+
+
+def test_a_group_the_decomposition_cannot_solve_none_left_is_held():
+    """The crank with a rod to the frame is locked (mobility 0), a four-bar beside it
+    moves freely (mobility 1): one in all, but no group of the links left has mobility
+    0."""
+    text = HEAD + """
+[joints]
+A = [0, 0]
+B = [0.1, 0]
+C = [0.1, 0.3]
+P = [1, 0]
+Q = [1.1, 0.2]
+R = [1.4, 0.3]
+S = [1.5, 0]
+
+[[links]]
+name = "1"
+joints = ["A", "B"]
+
+[[links]]
+name = "2"
+joints = ["B", "C"]
+
+[[links]]
+name = "5"
+joints = ["P", "Q"]
+
+[[links]]
+name = "6"
+joints = ["Q", "R"]
+
+[[links]]
+name = "7"
+joints = ["R", "S"]
+
+[crank]
+link = "1"
+pivot = "A"
+"""
+    assert problems(text) == [
+        "[[links]]: a group the decomposition cannot solve: links 2, 5, 6, 7 are left, "
+        "and no connected set of them is held by the placed links with mobility 0"]
+
+
+def test_the_crank_turns_to_a_revolute_joint():
+    """A crank whose first joint after the pivot is a slot: theta would be undefined."""
+    text = HEAD + """
+[joints]
+A = [0, 0]
+g = { at = [0.1, 0], slide = [1, 0], guide = "1" }
+C = [0.3, 0.2]
+D = [0.4, 0]
+
+[[links]]
+name = "1"
+joints = ["A", "g"]
+
+[[links]]
+name = "2"
+joints = ["g", "C"]
+
+[[links]]
+name = "3"
+joints = ["C", "D"]
+
+[crank]
+link = "1"
+pivot = "A"
+"""
+    assert problems(text) == [
+        "[crank] link: the crank's first other joint g is a prismatic pair; list a "
+        "revolute joint after the pivot"]
