@@ -363,7 +363,9 @@ class _Decomposer:
         p = self.attach(pin, block)
         (ex, ey), (t1x, t1y), (t2x, t2y) = self.pose_of(p), self.slide(slot), self.slide(guide)
         qx, qy = self.xy(guide)
-        s = f"((({ex}) - {qx}) * {t1y} - (({ey}) - {qy}) * {t1x}) / ({t2x} * {t1y} - {t2y} * {t1x})"
+        # how far along the guide the slot's line through the pin crosses it
+        s = (f"((({ex}) - {qx}) * {t1y} - (({ey}) - {qy}) * {t1x}) "
+             f"/ ({t2x} * {t1y} - {t2y} * {t1x})")
         ref = f"{guide}_ref"
         rx, ry = f"({qx} + {s} * {t2x})", f"({qy} + {s} * {t2y})"
         self.group({"type": "RPP", "block": block, "yoke": yoke, "pin": p, "ref": ref,

@@ -563,7 +563,7 @@ def _read_joints_form(d: Description, data: dict, head: dict) -> list[str]:
         return checker.found
     values = resolve(d.parameter_specs(), {}, d.name)
     numbers = {k: v for k, v in values.items() if isinstance(v, (int, float))}
-    t, problems = topology.read(data, numbers, d.frame)
+    t, problems = topology.read(data, numbers, d.frame, checker.measures)
     if t is None:
         return problems
     at_points = {s.get("at") for s in d.loads} | {s.get("at") for s in d.efforts.values()

@@ -36,7 +36,7 @@ import re
 from dataclasses import dataclass
 from typing import Any
 
-from ..expressions import Expression
+from ..expressions import Expression, check_units
 
 #: table -> (its header in a description file, what it holds), for the joints-and-links form
 TABLES: dict[str, tuple[str, str]] = {
@@ -147,10 +147,13 @@ def inline(source: Any, joints: dict, parameters: set, seen: tuple = ()) -> Any:
     return _COORDINATE.sub(replace, source)
 
 
-def read(data: dict, values: dict, frame: str = "0") -> tuple[Topology | None, list[str]]:
+def read(data: dict, values: dict, frame: str = "0", measures: dict | None = None
+         ) -> tuple[Topology | None, list[str]]:
     """The topology of the joints-and-links tables of ``data`` (a description file's
     TOML), and the problems found, each naming its table and key. ``values`` are the
-    parameters' default values, to evaluate the drawn pose.
+    parameters' default values, to evaluate the drawn pose; ``measures`` (name ->
+    (value, unit)) what each measures, to check coordinates with units (which are
+    taken in SI: a coordinate is in m).
 
     Examples
     --------
@@ -161,8 +164,9 @@ def read(data: dict, values: dict, frame: str = "0") -> tuple[Topology | None, l
     [[links]]: the linkage's mobility is -1, not 1: 3 x 1 moving links - 2 x 2 pairs (Gruebler's count; a joint on one link is a pair with the frame, a joint on k links k - 1 pairs)
     """
     found: list[str] = []
-    joints = _joints(data.get("joints", {}), values, found)
-    links = _links(data.get("links", []), joints, values, frame, found)
+    units = {} if measures is None else measures
+    joints = _joints(data.get("joints", {}), values, found, units)
+    links = _links(data.get("links", []), joints, values, frame, found, units)
     if joints is None or links is None:
         return None, found
     on = {j: tuple(n for n, link in links.items() if j in link.joints) for j in joints}
@@ -195,9 +199,10 @@ def read(data: dict, values: dict, frame: str = "0") -> tuple[Topology | None, l
 
 
 def _vector(where: str, value: Any, found: list, values: dict, joints: dict | None = None,
-            of: tuple = ()) -> tuple | None:
+            of: tuple = (), measures: dict | None = None) -> tuple | None:
     """``[x, y]`` of numbers or expressions, each evaluable over ``values`` (and the
-    drawn coordinates of ``joints``; ``of`` the joint whose position it is)."""
+    drawn coordinates of ``joints``; ``of`` the joint whose position it is), with any
+    unit taken in SI (checked to be a length, with ``measures``)."""
     if not (isinstance(value, (list, tuple)) and len(value) == 2):
         found.append(f"{where}: must be [x, y], got {value!r}")
         return None
@@ -205,6 +210,9 @@ def _vector(where: str, value: Any, found: list, values: dict, joints: dict | No
     for axis, v in zip("xy", value):
         try:
             e = Expression(v)
+            if e.has_units and measures is not None:
+                check_units(e, "m", f"{where} {axis}", measures)
+            v = e.in_si()
             if joints is not None:
                 e = Expression(inline(v, joints, set(values), of))
             x = e(values)
@@ -218,7 +226,16 @@ def _vector(where: str, value: Any, found: list, values: dict, joints: dict | No
     return tuple(out)
 
 
-def _joints(table: Any, values: dict, found: list) -> dict | None:
+def _in_si(value: Any) -> Any:
+    """A coordinate with its units taken in SI; as it is if it is no expression (the
+    checks of the joint say why)."""
+    try:
+        return Expression(value).in_si()
+    except ValueError:
+        return value
+
+
+def _joints(table: Any, values: dict, found: list, measures: dict) -> dict | None:
     if not isinstance(table, dict) or not table:
         found.append("[joints]: must be a table of JOINT = [x, y] (or { at, slide }), "
                      "one per joint")
@@ -244,12 +261,12 @@ def _joints(table: Any, values: dict, found: list) -> dict | None:
         else:
             raw[name] = (spec, None, "")
     # the drawn positions may use the joints' coordinates: check them once all are known
-    stand_in = {n: Joint(n, tuple(at) if isinstance(at, list) and len(at) == 2 else (0, 0))
-                for n, (at, _, _) in raw.items()}
+    stand_in = {n: Joint(n, tuple(map(_in_si, at)) if isinstance(at, list) and len(at) == 2
+                         else (0, 0)) for n, (at, _, _) in raw.items()}
     joints = {}
     for name, (at, slide, guide) in raw.items():
         where = f"[joints] {name}" + (" at" if slide is not None else "")
-        xy = _vector(where, at, found, values, stand_in, (name,))
+        xy = _vector(where, at, found, values, stand_in, (name,), measures)
         direction = None
         if slide is not None:
             direction = _vector(f"[joints] {name} slide", slide, found, values, stand_in,
@@ -264,8 +281,8 @@ def _joints(table: Any, values: dict, found: list) -> dict | None:
     return joints if len(joints) == len(raw) else None
 
 
-def _links(table: Any, joints: dict | None, values: dict, frame: str, found: list
-           ) -> dict | None:
+def _links(table: Any, joints: dict | None, values: dict, frame: str, found: list,
+           measures: dict) -> dict | None:
     if not isinstance(table, list) or not table:
         found.append("[[links]]: must be a list of tables, one per moving link")
         return None
@@ -310,7 +327,8 @@ def _links(table: Any, joints: dict | None, values: dict, frame: str, found: lis
                 ok = False
         cg = listed[0] if listed else None
         if "cg" in spec:
-            cg = _vector(f"{where} cg", spec["cg"], found, values, joints or {})
+            cg = _vector(f"{where} cg", spec["cg"], found, values, joints or {}, (),
+                         measures)
             ok = ok and cg is not None
         elif joints is not None and cg in joints:
             cg = joints[cg].at
