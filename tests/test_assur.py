@@ -142,6 +142,15 @@ def test_a_compound_joint_is_two_pairs_the_third_link_pinned_to_the_first():
 
 
 # -- the problems -------------------------------------------------------------------------
+def test_a_joint_named_as_a_pair_the_decomposition_makes():
+    """E renamed C_4: the name of the pair that pins link 4 to the compound joint C."""
+    text = COMPOUND.replace("E = [", "C_4 = [").replace('["C", "E"]', '["C", "C_4"]').replace(
+        '["E", "F"]', '["C_4", "F"]')
+    assert problems(text) == [
+        "[joints] C_4: the decomposition names the pin of link 4 at the compound joint C "
+        "C_4; name the joint otherwise"]
+
+
 def test_a_drawn_pose_from_which_a_group_cannot_be_assembled():
     """C drawn below the line B -> D (h < 0) while the defaults draw it above: the RRR
     keeps the drawn pose's mode at the defaults, so the pose is not reproduced."""

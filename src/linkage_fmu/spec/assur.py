@@ -158,11 +158,18 @@ class _Decomposer:
         if self.owner[joint] is not None and joint not in self.pair_names:
             return joint
         copy = f"{joint}_{link}"
+        self.fresh(copy, f"the pin of link {link} at the compound joint {joint}")
         on = self.first[joint]
         x, y = self.pose_of(joint)
         self.group({"type": "point", "link": on, "from": joint, "name": copy}, {copy: (x, y)})
         self.owner[copy] = self.first[copy] = on
         return copy
+
+    def fresh(self, name: str, what: str) -> None:
+        """A name the group form makes must not be a joint's."""
+        if name in self.t.joints:
+            raise DecompositionError([f"[joints] {name}: the decomposition names {what} "
+                                      f"{name}; name the joint otherwise"])
 
     def finish(self, link: str) -> None:
         """Place the link's further joints as points on it, and its centre of mass."""
@@ -367,6 +374,8 @@ class _Decomposer:
         s = (f"((({ex}) - {qx}) * {t1y} - (({ey}) - {qy}) * {t1x}) "
              f"/ ({t2x} * {t1y} - {t2y} * {t1x})")
         ref = f"{guide}_ref"
+        self.fresh(ref, f"the point of yoke {yoke} where the slot's line crosses the guide "
+                        f"{guide}")
         rx, ry = f"({qx} + {s} * {t2x})", f"({qy} + {s} * {t2y})"
         self.group({"type": "RPP", "block": block, "yoke": yoke, "pin": p, "ref": ref,
                     "slot_angle": f"atan2({t1y}, {t1x})", "guide_point": [qx, qy],
