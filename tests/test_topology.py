@@ -4,6 +4,8 @@ reading of the form in spec/description.py)."""
 
 from __future__ import annotations
 
+import math
+
 import pytest
 
 from linkage_fmu.spec import Description, DescriptionError
@@ -96,6 +98,22 @@ def test_unknown_joint_names():
         "[[links]] #2 (2) joints: 'X' is no joint of [joints]; the joints are A, B, C, D")
 
 
+def test_a_mass_is_named_by_its_links_table():
+    assert problems(FOUR_BAR.replace("mass = 1.0", 'mass = "3 m"')) == [
+        "[[links]] #2 (2) mass = '3 m' must be a mass (kg), but it is a length (m)"]
+
+
+def test_coordinates_with_units_are_taken_in_si():
+    """C drawn at ("300 mm", "l + 100 mm"): the coupler's length is |BC| = hypot(0.2, 0.2)
+    and the rocker's hypot(0.1, 0.2), as plain numbers draw it."""
+    d = Description.from_toml(FOUR_BAR.replace("C = [0.3, 0.2]", 'C = ["300 mm", "l + 100 mm"]'),
+                              "drawn.toml")
+    assert d.groups[1]["length1"] == "hypot((0.3) - (l), (l + 0.1) - (0))"
+    mech = d.build()
+    assert mech.groups[1].L1 == pytest.approx(math.hypot(0.2, 0.2), abs=1e-16)
+    assert mech.groups[1].L2 == pytest.approx(math.hypot(0.1, 0.2), abs=1e-16)
+
+
 def test_a_crank_that_is_no_link():
     assert problems(FOUR_BAR.replace('link = "1"', 'link = "9"')) == [
         "[crank] link: '9' is not a link of [[links]]"]
@@ -103,7 +121,9 @@ def test_a_crank_that_is_no_link():
 
 @pytest.mark.parametrize("vector, message", [
     ("[0.3]", "[joints] C: must be [x, y], got [0.3]"),
-    ('[0.3, "h"]', "[joints] C y: unknown name 'h' in 'h'"),
+    ('[0.3, "h"]', "[joints] C y = 'h': unknown name 'h' in 'h'"),
+    ('[0.3, "sqrt(l - 1)"]', "[joints] C y = 'sqrt(l - 1)': math domain error"),
+    ('[0.3, "2 s"]', "[joints] C y = '2 s' must be a length (m), but it is a time (s)"),
     ('[0.3, "0.2 +"]', "[joints] C y: '0.2 +' is not an expression: invalid syntax"),
 ])
 def test_bad_vectors(vector, message):

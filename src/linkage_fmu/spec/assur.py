@@ -77,6 +77,8 @@ class Decomposition:
         group that places it (``[[groups]] #k (type)``).
     theta : str or float
         The drawn crank angle.
+    links : tuple of str
+        The moving links, in the order of [[links]].
     """
 
     points: dict = field(default_factory=dict)
@@ -85,6 +87,7 @@ class Decomposition:
     pairs: list = field(default_factory=list)
     pose: dict = field(default_factory=dict)
     theta: object = 0.0
+    links: tuple = ()
 
 
 def fold(text):
@@ -99,7 +102,7 @@ class _Decomposer:
     def __init__(self, t: Topology, values: dict, branches: dict, at_points: set):
         self.t, self.values, self.branches, self.at_points = t, values, branches, at_points
         self.params = set(values)
-        self.out = Decomposition()
+        self.out = Decomposition(links=tuple(t.links))
         self.placed_links: list = []
         self.owner: dict = {}  # placed point -> the body it is fixed in, None if shared
         self.first: dict = {}  # placed point -> the link to attach further links to

@@ -411,7 +411,7 @@ class Description:
             if problems:  # the group form it makes is incomplete: its checks would mislead
                 raise DescriptionError(source, problems)
         checker = _Checker(d)
-        problems += checker.problems()  # every problem at once, not the reading ones first
+        problems += _as_links(d, checker.problems())  # every problem at once
         checker.warn()
         if problems:
             raise DescriptionError(source, problems)
@@ -545,6 +545,20 @@ class Description:
 
 
 # -- reading the tables --------------------------------------------------------------
+def _as_links(d: Description, problems: list[str]) -> list[str]:
+    """The problems, those of a link's mass or inertia named as its [[links]] table
+    gives them where the description is written as joints and links."""
+    if d.drawn is None:
+        return problems
+    out = []
+    for p in problems:
+        for k, link in enumerate(d.drawn.links):
+            for key in ("mass", "inertia"):
+                p = p.replace(f"[bodies.{link}] {key}", f"[[links]] #{k + 1} ({link}) {key}")
+        out.append(p)
+    return out
+
+
 def _read_joints_form(d: Description, data: dict, head: dict) -> list[str]:
     """Read the joints-and-links tables of ``data`` into ``d``'s group form: its points,
     groups and bodies, and where none are given its outputs (a force per pair, the

@@ -210,14 +210,26 @@ def _vector(where: str, value: Any, found: list, values: dict, joints: dict | No
     for axis, v in zip("xy", value):
         try:
             e = Expression(v)
-            if e.has_units and measures is not None:
+        except ValueError as err:
+            found.append(f"{where} {axis}: {err}")
+            return None
+        if e.has_units and measures is not None:
+            try:
                 check_units(e, "m", f"{where} {axis}", measures)
-            v = e.in_si()
-            if joints is not None:
+            except ValueError as err:  # it names where
+                found.append(str(err))
+                return None
+        v = e.in_si()
+        if joints is not None:
+            try:
                 e = Expression(inline(v, joints, set(values), of))
+            except ValueError as err:  # a drawn position that uses itself
+                found.append(f"{where} {axis}: {err}")
+                return None
+        try:
             x = e(values)
         except (ValueError, ZeroDivisionError, OverflowError, TypeError) as err:
-            found.append(f"{where} {axis}: {err}")
+            found.append(f"{where} {axis} = {v!r}: {err}")
             return None
         if not math.isfinite(x):
             found.append(f"{where} {axis}: {v!r} is not finite")
