@@ -459,3 +459,68 @@ def test_mb_and_the_shaking_force_against_newton_euler(theta_deg):
     want = newton_euler(theta, 10.0, 5.0, 9.81, 35.0)
     for key, value in zip(("Mb", "shake_x", "shake_y", "shake_M"), want):
         assert abs(sol[key] - value) <= 1e-9 * max(1.0, abs(value)), key
+
+
+# -- a point of a link ----------------------------------------------------------------------
+def test_a_coupler_point_carries_a_load_as_in_the_group_form():
+    """examples/coupler_four_bar.toml (written as groups, by hand) drawn as joints and
+    links, its coupler point P one of link 2's points: the same outputs at every state
+    to 1e-14 of each unit's largest value, and it starts at the drawn angle."""
+    from pathlib import Path
+
+    example = Path(__file__).parents[1] / "examples" / "coupler_four_bar.toml"
+    text = example.read_text()
+    head = text[:text.index("[points]")]
+    tail = text[text.index("[[loads]]"):]
+    drawn = head + """
+[joints]
+A = [0, 0]
+B = ["l_AB", 0]
+C = ["l_AB + (l_BC**2 - l_CD**2 + (l_AD - l_AB)**2) / (2 * (l_AD - l_AB))",
+     "sqrt(((l_BC + l_CD)**2 - (l_AD - l_AB)**2) * ((l_AD - l_AB)**2 - (l_BC - l_CD)**2)) / (2 * (l_AD - l_AB))"]
+D = ["l_AD", 0]
+
+[[links]]
+name = "1"
+joints = ["A", "B"]
+
+[[links]]
+name = "2"
+joints = ["B", "C"]
+mass = "m2"
+inertia = "J2"
+cg = ["(x_B + x_C) / 2", "(y_B + y_C) / 2"]
+points = { P = ["x_B + (P_along * (x_C - x_B) - P_across * (y_C - y_B)) / l_BC",
+                "y_B + (P_along * (y_C - y_B) + P_across * (x_C - x_B)) / l_BC"] }
+
+[[links]]
+name = "3"
+joints = ["C", "D"]
+mass = "m3"
+inertia = "J3"
+cg = ["(x_C + x_D) / 2", "(y_C + y_D) / 2"]
+
+[crank]
+link = "1"
+pivot = "A"
+
+""" + tail
+    d = Description.from_toml(drawn, "drawn.toml")
+    assert [row[:3] for row in outline(d.groups)] == [
+        ("crank", "crank", ("1",)), ("II", "RRR", ("2", "3")), ("point", "point", ("2",))]
+    want_mech = Description.read(example).build()
+    got_mech = d.build()
+    assert got_mech.start["theta"] == 0.0
+    theta = np.linspace(0.0, 2.0 * np.pi, 73)
+    want = want_mech.solve(theta, 10.0, 5.0, F_P=80.0, T4=-40.0)
+    got = got_mech.solve(theta, 10.0, 5.0, F_P=80.0, T4=-40.0)
+    units = {k: want_mech.output_info[k][0] for k in want}
+    for key in want:
+        same_unit = [np.max(np.abs(want[k])) for k in want if units[k] == units[key]]
+        assert np.max(np.abs(got[key] - want[key])) <= 1e-14 * max(same_unit), key
+
+
+def test_a_point_of_a_link_is_no_joint():
+    text = COMPOUND.replace('joints = ["E", "F"]', 'joints = ["E", "F"]\npoints = { D = [0.6, 0.2] }')
+    assert problems(text) == [
+        "[[links]] #5 (5) points: 'D' is a joint; a point of a link joins nothing"]

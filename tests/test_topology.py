@@ -165,3 +165,12 @@ def test_gruebler_counts_a_compound_joint_as_k_minus_one_pairs():
     t = Topology("0", joints, links, "1", "A")
     # pairs: A, B, C (two), D, E = 6; 3 x 4 - 2 x 6 = 0
     assert (t.on("C"), t.pair_count(), t.mobility()) == (("2", "3", "4"), 6, 0)
+
+
+def test_it_starts_where_it_is_drawn():
+    """B drawn at 0.7 rad from A: theta starts there, unless [inputs] says otherwise."""
+    text = FOUR_BAR.replace('B = ["l", 0]', 'B = ["l * cos(0.7)", "l * sin(0.7)"]')
+    assert Description.from_toml(text, "drawn.toml").build().start["theta"] == \
+        pytest.approx(0.7, abs=1e-15)
+    text += "\n[inputs]\ntheta = 0.1\n"
+    assert Description.from_toml(text, "drawn.toml").build().start["theta"] == 0.1

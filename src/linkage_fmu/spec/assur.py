@@ -7,7 +7,7 @@ they take a hand-written file. The crank comes first; then, as long as a link is
 placed, the first dyad the library solves is peeled off (RRR, RRP: a rod and a slider on
 a frame guide, RPR: a block sliding on a lever through the lever's pivot, RPP: a block in
 the slot of a yoke on a frame guide), trying the links two by two in the order of
-[[links]]; a link's further joints become ``point`` groups on it. What no dyad resolves
+[[links]]; a link's further joints and its points become ``point`` groups on it. What no dyad resolves
 is the smallest connected set of links that the placed ones hold with mobility 0: a
 ``closure`` group (revolute pairs only).
 
@@ -170,12 +170,12 @@ class _Decomposer:
 
     def fresh(self, name: str, what: str) -> None:
         """A name the group form makes must not be a joint's."""
-        if name in self.t.joints:
+        if name in self.t.joints or any(name in n.points for n in self.t.links.values()):
             raise DecompositionError([f"[joints] {name}: the decomposition names {what} "
                                       f"{name}; name the joint otherwise"])
 
     def finish(self, link: str) -> None:
-        """Place the link's further joints as points on it, and its centre of mass."""
+        """Place the link's further joints and its points on it, and its centre of mass."""
         spec = self.t.links[link]
         for j in spec.joints:
             joint = self.t.joints[j]
@@ -186,6 +186,10 @@ class _Decomposer:
             self.group({"type": "point", "link": link, "name": j, **self.local(link, x, y)},
                        {j: (x, y)})
             self.owner[j] = self.first[j] = link
+        for point, at in spec.points.items():
+            x, y = (f"({inline(v, self.t.joints, self.params)})" for v in at)
+            self.group({"type": "point", "link": link, "name": point,
+                        **self.local(link, x, y)}, {point: (x, y)})
         cg = tuple(f"({inline(v, self.t.joints, self.params)})" for v in spec.cg)
         place = self.local(link, *cg)
         self.out.bodies[link] = {"mass": spec.mass, "inertia": spec.inertia,

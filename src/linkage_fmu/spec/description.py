@@ -593,6 +593,8 @@ def _read_joints_form(d: Description, data: dict, head: dict) -> list[str]:
         d.model = d.name
     if not d.efforts:
         d.efforts[None] = {"name": "Mb", "body": t.crank}
+    if "theta" not in data.get("inputs", {}):  # it starts where it is drawn
+        d.inputs["theta"] = dec.theta
     if "outputs" not in data:
         d.outputs.extend(assur.default_outputs(dec.pairs, d.efforts))
     return []

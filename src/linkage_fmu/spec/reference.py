@@ -388,8 +388,9 @@ solves is taken off, trying the links two by two in the order of `[[links]]`:
 | `RPR` | a block and a lever sliding in one another | each pinned to a placed joint; the guide's line through the block's pin passes through the lever's pin (the lever carries the guide) |
 | `RPP` | a block and a yoke sliding in one another | the block pinned to a placed joint, the yoke on a frame guide |
 
-A link's other joints become `point` groups on it, once it is placed; its centre of mass
-becomes its `cg = {{ from, along, across }}` in the group type's link direction. What no
+A link's other joints and its `points` become `point` groups on it, once it is placed
+(a load or an effort may act at them, and a load's `value` may use their `x_P`, `y_P`);
+its centre of mass becomes its `cg = {{ from, along, across }}` in the group type's link direction. What no
 dyad resolves is the smallest connected set of the links left that the placed links hold
 with mobility 0, solved as one `closure` group (its pairs revolute: a group of more than
 two links with a prismatic pair, or a dyad with one that the table above does not list,
@@ -424,6 +425,7 @@ that carries the guide): a load or an effort may act at it by the pair's name.
   (`F<by>_<on>` when a name is longer than one character), as listed by
   `linkage-fmu info`; then each effort;
 - `[effort]`: a moment named `Mb` on the crank;
+- `[inputs] theta`: the drawn crank angle (the linkage starts where it is drawn);
 - `[linkage] model`: the name.
 
 `Mb`, the shaking force and moment, `J_red` and the diagnostics follow as for any

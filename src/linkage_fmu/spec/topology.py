@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 from ..expressions import Expression, check_units
@@ -61,6 +61,8 @@ LINK_KEYS = {
     "mass": "mass of the link, kg (default 0)",
     "inertia": "moment of inertia about its centre of mass, kg.m2 (default 0)",
     "cg": "its centre of mass where drawn, [x, y] in m (default: its first joint)",
+    "points": "points fixed on it that join nothing (a coupler point, where a load acts), "
+              "{ P = [x, y] } where drawn",
 }
 #: key of [crank] -> what it is
 CRANK_KEYS = {
@@ -96,6 +98,7 @@ class Link:
     mass: Any = 0.0
     inertia: Any = 0.0
     cg: tuple = ()
+    points: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -298,7 +301,7 @@ def _links(table: Any, joints: dict | None, values: dict, frame: str, found: lis
     if not isinstance(table, list) or not table:
         found.append("[[links]]: must be a list of tables, one per moving link")
         return None
-    links, ok = {}, True
+    links, ok, taken = {}, True, {}
     for k, spec in enumerate(table):
         where = f"[[links]] #{k + 1}"
         if not isinstance(spec, dict):
@@ -344,8 +347,27 @@ def _links(table: Any, joints: dict | None, values: dict, frame: str, found: lis
             ok = ok and cg is not None
         elif joints is not None and cg in joints:
             cg = joints[cg].at
+        points = {}
+        table = spec.get("points", {})
+        if not isinstance(table, dict):
+            found.append(f"{where} points: must be a table {{ P = [x, y], ... }}")
+            table = {}
+        for point, xy in table.items():
+            if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", point):
+                found.append(f"{where} points: {point!r}: a point's name must be an identifier")
+            elif joints is not None and point in joints:
+                found.append(f"{where} points: {point!r} is a joint; a point of a link joins "
+                             "nothing")
+            elif point in taken:
+                found.append(f"{where} points: {point!r} is already a point of link "
+                             f"{taken[point]}")
+            else:
+                points[point] = _vector(f"{where} points {point}", xy, found, values,
+                                        joints or {}, (), measures)
+                taken[point] = name
+                ok = ok and points[point] is not None
         links[name] = Link(name, tuple(listed), spec.get("mass", 0.0), spec.get("inertia", 0.0),
-                           cg)
+                           cg, points)
     return links if ok and joints is not None else None
 
 
