@@ -91,7 +91,13 @@ class Decomposition:
 
 
 def fold(text):
-    """A number for an expression without names, else the expression."""
+    """A number for an expression without names, else the expression.
+
+    Examples
+    --------
+    >>> fold("hypot((0.3) - (0.1), (0.2) - (0))"), fold("hypot(l, 0)")
+    (0.282842712474619, 'hypot(l, 0)')
+    """
     if isinstance(text, (int, float)):
         return float(text)
     e = Expression(text)
@@ -252,8 +258,9 @@ class _Decomposer:
         self.finish(link)
 
     def anchors(self, link: str, partner: str) -> tuple[list, list] | None:
-        """(the link's pairs to placed bodies, its joints shared with ``partner``), or
-        None when it has a joint with a placed link that is not a pin or a frame guide."""
+        """(the link's pairs to placed bodies, each (kind, joint): kind ``pin``,
+        ``frame guide`` or ``guide`` (a prismatic pair with a placed link), and its
+        joints not yet placed that it shares with ``partner``)."""
         to_placed, shared = [], []
         for j in self.t.links[link].joints:
             joint, on = self.t.joints[j], self.t.on(j)
@@ -567,7 +574,18 @@ def output_name(by: str, on: str) -> str:
 def default_outputs(pairs: list, efforts: dict) -> list[dict]:
     """The [[outputs]] of a joints-and-links linkage that gives none: the force of each
     pair, as the action of the body placed first on the other (one output per two
-    bodies), then each effort."""
+    bodies), then each effort.
+
+    Examples
+    --------
+    >>> for o in default_outputs([("A", "0", "1"), ("B", "1", "slider"),
+    ...                           ("guide", "0", "slider")], {None: {"name": "Mb"}}):
+    ...     print(o)
+    {'kind': 'force', 'name': 'F01', 'by': '0', 'on': '1'}
+    {'kind': 'force', 'name': 'F1_slider', 'by': '1', 'on': 'slider'}
+    {'kind': 'force', 'name': 'F0_slider', 'by': '0', 'on': 'slider'}
+    {'kind': 'effort', 'name': 'Mb'}
+    """
     out, seen = [], set()
     for _, a, b in pairs:
         if frozenset((a, b)) not in seen:
@@ -584,7 +602,22 @@ POSE_TOLERANCE = 1e-12
 
 def check_pose(mech, drawn: Decomposition, values: dict) -> str:
     """What is wrong when ``mech``, solved at the drawn crank angle, does not reproduce
-    every drawn point to :data:`POSE_TOLERANCE` m (its parameters' ``values``), or ''."""
+    every drawn point to :data:`POSE_TOLERANCE` m (its parameters' ``values``), or ''.
+
+    Examples
+    --------
+    >>> from pathlib import Path
+    >>> from linkage_fmu.spec import Description
+    >>> import linkage_fmu
+    >>> path = Path(linkage_fmu.__file__).parents[2] / "examples/joints/four_bar.toml"
+    >>> d = Description.read(path)
+    >>> check_pose(d.build(), d.drawn, {"l_AB": 0.1, "l_BC": 0.35, "l_CD": 0.3,
+    ...                                 "l_AD": 0.4, "branch": 1})
+    ''
+    >>> print(check_pose(d.build(), d.drawn, {"l_AB": 0.1, "l_BC": 0.35, "l_CD": 0.3,
+    ...                                       "l_AD": 0.4, "branch": -1}))
+    [[groups]] #2 (RRR): a drawn pose from which a group cannot be assembled: at the drawn crank angle 0 deg it places C at (0.304166667, 0.284281502), 0.569 m from where C is drawn (0.304166667, -0.284281502); the tolerance is 1e-12 m
+    """
     theta = Expression(drawn.theta)(values)
     try:
         st = mech.kinematics(theta, order=0)

@@ -575,7 +575,10 @@ def _read_joints_form(d: Description, data: dict, head: dict) -> list[str]:
     checker.parameters()
     if checker.found:
         return checker.found
-    values = resolve(d.parameter_specs(), {}, d.name)
+    try:
+        values = resolve(d.parameter_specs(), {}, d.name)
+    except (TypeError, ValueError) as err:
+        return [f"[parameters]: {err}"]
     numbers = {k: v for k, v in values.items() if isinstance(v, (int, float))}
     t, problems = topology.read(data, numbers, d.frame, checker.measures)
     if t is None:
