@@ -52,7 +52,7 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
 
     def number(where: str, source, rule: str = "") -> float:
         try:
-            x = Expression(source)(numbers)
+            x = _parsed(source)(numbers)
         except (ValueError, ZeroDivisionError, OverflowError) as err:
             raise ValueError(f"{origin}: {where} = {source!r}: {err}") from None
         if hasattr(x, "traced"):  # recorded as checks of the parameter step
@@ -83,7 +83,7 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
     def start(where: str, source) -> float:
         """A start value: of the parameters' values, never traced."""
         try:
-            return Expression(source)(floats)
+            return _parsed(source)(floats)
         except (ValueError, ZeroDivisionError, OverflowError) as err:
             raise ValueError(f"{origin}: {where} = {source!r}: {err}") from None
 
@@ -230,6 +230,13 @@ def _friction(d, number, forced: bool) -> Declared:
     drive = number("[linkage] drive", d.drive, "sign")
     active = forced or any(hasattr(f.mu, "traced") or f.mu != 0.0 for f in frictions)
     return Declared(tuple(frictions), drive, active, d.friction_parameters())
+
+
+@functools.lru_cache(maxsize=4096)
+def _parsed(source) -> Expression:
+    """The parsed expression ``source``, parsed once (descriptions are built again for
+    every parameter set, and one written as joints and links has long expressions)."""
+    return Expression(source)
 
 
 @functools.lru_cache(maxsize=32)
