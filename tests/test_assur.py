@@ -524,3 +524,58 @@ def test_a_point_of_a_link_is_no_joint():
     text = COMPOUND.replace('joints = ["E", "F"]', 'joints = ["E", "F"]\npoints = { D = [0.6, 0.2] }')
     assert problems(text) == [
         "[[links]] #5 (5) points: 'D' is a joint; a point of a link joins nothing"]
+
+
+def test_no_group_of_a_link_that_turns_freely():
+    """x, pinned to the crank and the frame, is a structure with it; y hangs from x by
+    one pin and from the unplaced z: {x, y} counts mobility 0 (3 x 2 - 2 x 3), but y
+    would turn about D. With a free four-bar w, v, u beside them the linkage counts 1,
+    and no group solves what is left."""
+    text = HEAD + """
+[joints]
+A = [0, 0]
+B = [0.1, 0]
+C = [0.2, 0.3]
+D = [0.3, 0.1]
+E = [0.5, 0.2]
+F = [0.6, 0]
+G = [1, 0]
+H = [1.1, 0.2]
+I = [1.4, 0.3]
+J = [1.5, 0]
+
+[[links]]
+name = "1"
+joints = ["A", "B"]
+
+[[links]]
+name = "x"
+joints = ["B", "C", "D"]
+
+[[links]]
+name = "y"
+joints = ["D", "E"]
+
+[[links]]
+name = "z"
+joints = ["E", "F"]
+
+[[links]]
+name = "w"
+joints = ["G", "H"]
+
+[[links]]
+name = "v"
+joints = ["H", "I"]
+
+[[links]]
+name = "u"
+joints = ["I", "J"]
+
+[crank]
+link = "1"
+pivot = "A"
+"""
+    assert problems(text) == [
+        "[[links]]: a group the decomposition cannot solve: links x, y, z, w, v, u are left, "
+        "and no connected set of them is held by the placed links with mobility 0"]

@@ -413,7 +413,8 @@ class _Decomposer:
         free = [n for n in t.links if n not in self.placed_links]
         for size in range(2, len(free) + 1):
             for subset in itertools.combinations(free, size):
-                if self._connected(subset) and self._mobility(subset) == 0:
+                if self._connected(subset) and self._mobility(subset) == 0 and all(
+                        self._held_twice(n, subset) for n in subset):
                     return self._emit_closure(subset)
         raise DecompositionError([
             f"[[links]]: a group the decomposition cannot solve: links {', '.join(free)} are "
@@ -429,6 +430,18 @@ class _Decomposer:
                         seen.add(other)
                         todo.append(other)
         return len(seen) == len(subset)
+
+    def _held_twice(self, link: str, subset: tuple) -> bool:
+        """Whether ``link`` has two pairs or more within the group ``subset`` or to
+        placed bodies (a link of an Assur group does; one with a single pair would
+        turn freely while the count of the group says 0)."""
+        held = 0
+        for j in self.t.links[link].joints:
+            on = self.t.on(j)
+            if (self.placed(j) or len(on) == 1 or any(n in self.placed_links for n in on)
+                    or any(n in subset and n != link for n in on)):
+                held += 1
+        return held >= 2
 
     def _mobility(self, subset: tuple) -> int:
         pairs = 0
