@@ -407,9 +407,9 @@ class Description:
                 gravity=head.get("gravity", 0.0), drive=head.get("drive", 1.0), source=source)
         problems += _read_tables(d, data)
         if set(JOINT_TABLES) & set(data):
-            problems += _read_joints_form(d, data, head)
-            if problems:  # the group form it makes is incomplete: its checks would mislead
-                raise DescriptionError(source, problems)
+            drawn = _read_joints_form(d, data)
+            if drawn:  # the group form it makes is incomplete: its checks would mislead
+                raise DescriptionError(source, problems + drawn)
         checker = _Checker(d)
         problems += _as_links(d, checker.problems())  # every problem at once
         checker.warn()
@@ -559,7 +559,7 @@ def _as_links(d: Description, problems: list[str]) -> list[str]:
     return out
 
 
-def _read_joints_form(d: Description, data: dict, head: dict) -> list[str]:
+def _read_joints_form(d: Description, data: dict) -> list[str]:
     """Read the joints-and-links tables of ``data`` into ``d``'s group form: its points,
     groups and bodies, and where none are given its outputs (a force per pair, the
     effort), its effort (a moment ``Mb`` on the crank) and its model (its name)."""
