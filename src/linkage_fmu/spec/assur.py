@@ -41,6 +41,7 @@ Examples
 
 from __future__ import annotations
 
+import ast
 import itertools
 import math
 from dataclasses import dataclass, field
@@ -91,17 +92,74 @@ class Decomposition:
 
 
 def fold(text):
-    """A number for an expression without names, else the expression.
+    """A number for an expression without names, else the expression with its parts
+    without names computed, and ``x - 0``, ``x * 1``, ``1 * x``, ``x / 1`` written
+    ``x``: the same value to the last bit (the evaluator computes each part so, and
+    these identities are exact, the sign of a zero included).
 
     Examples
     --------
-    >>> fold("hypot((0.3) - (0.1), (0.2) - (0))"), fold("hypot(l, 0)")
-    (0.282842712474619, 'hypot(l, 0)')
+    >>> fold("hypot((0.3) - (0.1), (0.2) - (0))"), fold("atan2((0) - (0), (l) - (0))")
+    (0.282842712474619, 'atan2(0.0, l)')
+    >>> fold("(0 - 0.5) ** a - 0")
+    '(-0.5) ** a'
     """
     if isinstance(text, (int, float)):
         return float(text)
     e = Expression(text)
-    return e({}) if not e.names else text
+    if not e.names:
+        return e({})
+    return ast.unparse(_folded(ast.parse(text, mode="eval").body))
+
+
+def _constant(x: float) -> ast.expr:
+    """A number as a node: a negative one as a negation, so that it keeps its place
+    when written out (``(-0.5) ** 2``, not ``-0.5 ** 2``)."""
+    if math.copysign(1.0, x) < 0.0:
+        return ast.UnaryOp(ast.USub(), ast.Constant(-x))
+    return ast.Constant(x)
+
+
+def _number(node: ast.expr) -> float | None:
+    """The value of a node that is a number (or a negated one), else None."""
+    if isinstance(node, ast.Constant):
+        return float(node.value)
+    if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub) and \
+            isinstance(node.operand, ast.Constant):
+        return -float(node.operand.value)
+    return None
+
+
+def _folded(node: ast.expr) -> ast.expr:
+    """``node`` with each part without names computed by the expressions' evaluator."""
+    if isinstance(node, ast.Name) and node.id == "pi":
+        return _constant(math.pi)
+    if isinstance(node, ast.BinOp):
+        parts = [_folded(node.left), _folded(node.right)]
+    elif isinstance(node, ast.UnaryOp):
+        parts = [_folded(node.operand)]
+    elif isinstance(node, ast.Call):
+        parts = [_folded(a) for a in node.args]
+    else:
+        return node
+    numbers = [_number(p) for p in parts]
+    rebuilt = (ast.BinOp(parts[0], node.op, parts[1]) if isinstance(node, ast.BinOp) else
+               ast.UnaryOp(node.op, parts[0]) if isinstance(node, ast.UnaryOp) else
+               ast.Call(node.func, parts, []))
+    if all(n is not None for n in numbers):
+        try:
+            return _constant(Expression(ast.unparse(rebuilt))({}))
+        except (ValueError, ZeroDivisionError, OverflowError):
+            return rebuilt
+    if isinstance(node, ast.BinOp):
+        left, right = numbers
+        if isinstance(node.op, ast.Sub) and right == 0.0 and math.copysign(1.0, right) > 0.0:
+            return parts[0]
+        if isinstance(node.op, (ast.Mult, ast.Div)) and right == 1.0:
+            return parts[0]
+        if isinstance(node.op, ast.Mult) and left == 1.0:
+            return parts[1]
+    return rebuilt
 
 
 class _Decomposer:
