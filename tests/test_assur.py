@@ -579,3 +579,22 @@ pivot = "A"
     assert problems(text) == [
         "[[links]]: a group the decomposition cannot solve: links x, y, z, w, v, u are left, "
         "and no connected set of them is held by the placed links with mobility 0"]
+
+
+def test_two_links_of_a_closure_on_one_placed_joint_are_two_pairs():
+    """The class III six-bar with rod 3 pinned to the crank at A instead of the frame at
+    P: A is a compound joint of the crank, 2 and 3, so the closure pins 2 at A and 3 at
+    A_3, the crank's point where A is."""
+    data = {**CLASS_III, "links": [dict(link) for link in CLASS_III["links"]]}
+    data["links"][2]["joints"] = ["A", "F"]  # rod 3 from A instead of the frame joint P
+    data["joints"] = {k: v for k, v in CLASS_III["joints"].items() if k != "P"}
+    t, found = read(data, {})
+    assert found == []
+    dec = decompose(t, {})
+    assert [row[:2] for row in outline(dec.groups)] == [
+        ("crank", "crank"), ("point", "point"), ("III", "closure")]
+    assert dec.groups[1] == {"type": "point", "link": "1", "from": "A", "name": "A_3"}
+    assert dec.groups[2]["links"] == {"2": ["A", "E"], "3": ["A_3", "F"], "4": ["Q", "G"],
+                                      "5": ["E", "F", "G"]}
+    assert [p for p in dec.pairs if p[0].startswith("A")] == [("A", "1", "2"),
+                                                              ("A_3", "1", "3")]

@@ -223,6 +223,7 @@ class _Decomposer:
         """The point of ``joint`` that ``link`` is pinned to: the joint itself, or at a
         compound joint whose pair is made, the point ``J_link`` on its first link."""
         if self.owner[joint] is not None and joint not in self.pair_names:
+            self.pair_names.add(joint)  # its pair is made now: a further link takes a copy
             return joint
         copy = f"{joint}_{link}"
         self.fresh(copy, f"the pin of link {link} at the compound joint {joint}")
@@ -230,6 +231,7 @@ class _Decomposer:
         x, y = self.pose_of(joint)
         self.group({"type": "point", "link": on, "from": joint, "name": copy}, {copy: (x, y)})
         self.owner[copy] = self.first[copy] = on
+        self.pair_names.add(copy)
         return copy
 
     def fresh(self, name: str, what: str) -> None:
