@@ -598,3 +598,22 @@ def test_two_links_of_a_closure_on_one_placed_joint_are_two_pairs():
                                       "5": ["E", "F", "G"]}
     assert [p for p in dec.pairs if p[0].startswith("A")] == [("A", "1", "2"),
                                                               ("A_3", "1", "3")]
+
+
+def test_a_load_over_the_cycle_may_use_a_prismatic_pairs_point():
+    """The scotch yoke drawn as joints and links with its load 400 N + 3000 N/m * y_slot
+    (slot's point on the block, at B): the preset with that load given state by state,
+    400 + 3000 * l_AB sin(theta), to 1e-12 N."""
+    from pathlib import Path
+
+    from linkage_fmu import presets
+
+    path = Path(__file__).parents[1] / "examples" / "joints" / "scotch_yoke.toml"
+    text = path.read_text().replace("start = 400.0", 'value = "400 + 3000 * y_slot"')
+    mech = Description.from_toml(text, str(path)).build()
+    preset = presets.get("scotch_yoke")
+    for theta in (0.3, 1.0, 2.5, 4.0):
+        got = mech.solve(theta, 10.0, 5.0)
+        want = preset.solve(theta, 10.0, 5.0, 400.0 + 3000.0 * 0.1 * math.sin(theta))
+        for key in ("F23y", "Mb", "F4", "F41y"):
+            assert got[key] == pytest.approx(want[key], abs=1e-12), key

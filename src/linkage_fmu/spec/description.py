@@ -585,6 +585,12 @@ def _read_joints_form(d: Description, data: dict) -> list[str]:
         return problems
     at_points = {s.get("at") for s in d.loads} | {s.get("at") for s in d.efforts.values()
                                                    if isinstance(s, dict)}
+    for s in d.loads:  # a load's value may use the position x_P, y_P of a pair's point
+        try:
+            at_points.update(n[2:] for n in Expression(s.get("value", 0.0)).names
+                             if n[:2] in ("x_", "y_"))
+        except ValueError:  # the checker says why
+            pass
     branches = tuple(n for n, p in d.parameters.items() if p["kind"] == "branch")
     try:
         dec = assur.decompose(t, numbers, branches, at_points)

@@ -416,7 +416,8 @@ joint's name; its normal force acts through, and its couple is taken about, the 
 the dyad that makes it (an `RRP`'s and an `RPR`'s pin, the `RPP` slot's pin), or for an
 `RPP`'s frame guide the yoke's point `GUIDE_ref` where the slot's line crosses the
 guide's. The `at` of a prismatic pair is a point of the link that slides (not the one
-that carries the guide): a load or an effort may act at it by the pair's name.
+that carries the guide): a load or an effort may act at it by the pair's name, and a
+load's `value` may use its `x_J`, `y_J`.
 
 ### What is made when it is not given
 
