@@ -163,7 +163,10 @@ def _folded(node: ast.expr) -> ast.expr:
 
 
 class _Decomposer:
-    def __init__(self, t: Topology, values: dict, branches: dict, at_points: set):
+    """One decomposition (see :func:`decompose`): what is placed so far, and the tables
+    made from it."""
+
+    def __init__(self, t: Topology, values: dict, branches: tuple, at_points: set):
         self.t, self.values, self.branches, self.at_points = t, values, branches, at_points
         self.params = set(values)
         self.out = Decomposition(links=tuple(t.links))
