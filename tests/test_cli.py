@@ -617,3 +617,27 @@ def test_an_angle_in_exponent_notation_is_a_number():
     status, out, err = run(["table", "four_bar", "--theta", "1E2", "--outputs", "Mb"])
     assert status == 0, err
     assert out == run(["table", "four_bar", "--theta", "100", "--outputs", "Mb"])[1]
+
+
+def test_info_prints_the_decomposition_of_a_linkage_drawn_as_joints_and_links(tmp_path):
+    """The crank shaper written as joints and links: its groups in the order they are
+    solved, as the preset writes them by hand (src/linkage_fmu/linkages/crank_shaper.toml:
+    crank, RPR, the lever's point D, RRP); a bad file: one line naming it, status 2."""
+    from pathlib import Path
+
+    path = Path(__file__).parents[1] / "examples" / "joints" / "crank_shaper.toml"
+    status, out, err = run(["info", str(path)])
+    assert status == 0 and err == ""
+    assert out.splitlines()[1:6] == [
+        "groups, in the order they are solved (decomposed from its joints and links):",
+        "   1. crank       link 1; joints A, B",
+        "   2. II (RPR)    links 2, 3; joints B, C, slot",
+        "   3. point       D on link 3",
+        "   4. II (RRP)    links 4, 5; joints D, E, guide"]
+    bad = tmp_path / "pivot.toml"
+    bad.write_text(path.read_text().replace('pivot = "A"', 'pivot = "B"'))
+    status, out, err = run(["info", str(bad)])
+    assert (status, out) == (2, "")
+    assert err == (f"linkage-fmu: {bad}: [crank] pivot: the crank pivot B is not on the "
+                   "frame: it joins link 1 to 2; the pivot is a revolute joint that only the "
+                   "crank lists\n")

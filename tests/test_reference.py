@@ -19,7 +19,7 @@ import pytest
 
 from linkage_fmu import expressions, groups, parameters, presets, units
 from linkage_fmu.outputs import SHAKING
-from linkage_fmu.descriptions import Description, description, reference
+from linkage_fmu.descriptions import Description, description, reference, topology
 
 ROOT = Path(__file__).resolve().parents[1]
 DOC = ROOT / "docs" / "description.md"
@@ -93,10 +93,18 @@ def test_it_says_angles_are_radians_and_lists_the_units(text):
 
 def test_every_table_and_its_keys(text):
     tables = section(text, "## The tables")
-    assert [f"`{h}`" for h, _ in description.TABLES.values()] == re.findall(
+    assert [f"`{h}`" for h, _ in description.TABLES.values()] + [
+        f"`{h}`" for h, _ in topology.TABLES.values()] == re.findall(
         r"^\| (`[^`]+`) \|", tables, flags=re.M)
     for header, holds in description.TABLES.values():
         assert f"| `{header}` | {holds} |" in tables
+    for heading, keys in [("### `[joints]`", topology.JOINT_KEYS),
+                          ("### `[[links]]`", topology.LINK_KEYS),
+                          ("### `[crank]`", topology.CRANK_KEYS)]:
+        part = section(text, heading)
+        assert keys_listed(part) == list(keys), heading
+        for key, meaning in keys.items():
+            assert f"| `{key}` | {meaning} |" in part
     for heading, keys in [("## `[linkage]`", description.LINKAGE_KEYS),
                           ("## `[bodies.L]`", {**description.BODY_KEYS,
                                                **description.CG_KEYS}),
@@ -275,6 +283,11 @@ def test_every_toml_block_is_a_description_or_part_of_one(text):
                 load = next(ld for ld in d.build().loads if ld.name == name)
                 assert load.computed
             added.append(name)
+        elif "joints" in data:  # a linkage drawn as joints and links, whole
+            d = Description.from_toml(block, "drawn_four_bar.toml")
+            assert [g["type"] for g in d.groups] == ["crank", "RRR"]
+            assert d.build().output_names[:9] == (
+                "F01x", "F01y", "F12x", "F12y", "F23x", "F23y", "F03x", "F03y", "Mb")
         else:  # a quotation: the tables of one shipped linkage
             assert any(all(table in file and (table != "effort" or data[table] == file[table])
                            for table in data) for file in shipped.values()), block

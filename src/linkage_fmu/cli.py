@@ -36,6 +36,7 @@ from .expressions import evaluate
 from .printing import number
 from .solver import frame
 from .descriptions import Description, DescriptionError
+from .descriptions.assur import outline
 
 EPILOG = """examples:
   linkage-fmu info four_bar
@@ -284,7 +285,8 @@ def _main(argv: list[str] | None) -> int:
     sub = parser.add_subparsers(dest="command", required=True)
     linkage_help = "a description file (.toml) or a preset: " + ", ".join(presets.NAMES)
 
-    info = sub.add_parser("info", help="parameters, inputs (and where each load acts), outputs")
+    info = sub.add_parser("info", help="its groups (the decomposition), parameters, inputs (and "
+                          "where each load acts), outputs")
     _linkage(info, linkage_help, parameters=False)
 
     table = sub.add_parser("table", help="outputs over crank angles", epilog=EPILOG,
@@ -582,6 +584,15 @@ def _reference(args) -> int:
 def _info(d: Description) -> int:
     mech = d.build()
     print(f"{d.name}: {d.title}" + (f" (FMU model {d.model})" if d.model else ""))
+    print("groups, in the order they are solved (" + ("decomposed from its joints and "
+          "links" if d.drawn is not None else "as written") + "):")
+    for k, (cls, kind, links, joints) in enumerate(outline(d.groups), 1):
+        if kind == "point":
+            print(f"  {k:2d}. point       {joints[0]} on link {links[0]}")
+        else:
+            name = f"II ({kind})" if cls == "II" else cls
+            print(f"  {k:2d}. {name:11s} link{'s' if len(links) > 1 else ''} "
+                  f"{', '.join(links)}; joints {', '.join(joints)}")
     print("parameters:")
     for p in d.parameter_specs():
         print(f"  {p.name:8s} = {mech.parameters[p.name]!r:8} {p.unit:6s} {p.description}")

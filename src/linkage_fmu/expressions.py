@@ -23,6 +23,7 @@ from __future__ import annotations
 import ast
 import math
 import operator
+import re
 from typing import Callable, Mapping
 
 from . import numerics
@@ -72,6 +73,24 @@ class Expression:
         names: set = set()
         self._check(self._tree, names)
         self.names = tuple(sorted(names))
+
+    def in_si(self) -> str | float:
+        """The expression with each number that carries a unit replaced by its value in
+        SI (the source itself when none does): to combine it with plain numbers.
+
+        Examples
+        --------
+        >>> Expression("l_AB + 120 mm").in_si()
+        'l_AB + 0.12'
+        >>> Expression(0.5).in_si()
+        0.5
+        """
+        if not self.quantities:
+            return self.source
+        text = ast.unparse(self._tree)
+        for name, value in self._si.items():
+            text = re.sub(rf"\b{name}\b", repr(value), text)
+        return text
 
     @property
     def has_units(self) -> bool:

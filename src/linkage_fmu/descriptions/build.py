@@ -52,7 +52,7 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
 
     def number(where: str, source, rule: str = "") -> float:
         try:
-            x = Expression(source)(numbers)
+            x = _parsed(source)(numbers)
         except (ValueError, ZeroDivisionError, OverflowError) as err:
             raise ValueError(f"{origin}: {where} = {source!r}: {err}") from None
         if hasattr(x, "traced"):  # recorded as checks of the parameter step
@@ -83,7 +83,7 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
     def start(where: str, source) -> float:
         """A start value: of the parameters' values, never traced."""
         try:
-            return Expression(source)(floats)
+            return _parsed(source)(floats)
         except (ValueError, ZeroDivisionError, OverflowError) as err:
             raise ValueError(f"{origin}: {where} = {source!r}: {err}") from None
 
@@ -195,7 +195,7 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
     gravity = number("[linkage] gravity", d.gravity)
     inputs = {k: start(f"[inputs] {k}", v) for k, v in d.inputs.items()}
     try:
-        return Mechanism(d.name, d.frame, frame_points, groups, bodies, effort, outputs, loads,
+        mech = Mechanism(d.name, d.frame, frame_points, groups, bodies, effort, outputs, loads,
                          gravity, params, d, rebuild, inputs, declared)
     except ValueError as err:
         if type(err) is not ValueError:
@@ -206,6 +206,13 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
         if named and named[1] in keys:
             text = f"{keys[named[1]]}: {named[2]}"
         raise ValueError(f"{origin}: {text}") from None
+    if d.drawn is not None and not symbols:  # written as joints and links: where drawn
+        from .assur import check_pose
+
+        problem = check_pose(mech, d.drawn, floats)
+        if problem:
+            raise ValueError(f"{origin}: {problem}")
+    return mech
 
 
 def _origin(d) -> str:
@@ -230,6 +237,13 @@ def _friction(d, number, forced: bool) -> Declared:
     drive = number("[linkage] drive", d.drive, "sign")
     active = forced or any(hasattr(f.mu, "traced") or f.mu != 0.0 for f in frictions)
     return Declared(tuple(frictions), drive, active, d.friction_parameters())
+
+
+@functools.lru_cache(maxsize=4096)
+def _parsed(source) -> Expression:
+    """The parsed expression ``source``, parsed once (descriptions are built again for
+    every parameter set, and one written as joints and links has long expressions)."""
+    return Expression(source)
 
 
 @functools.lru_cache(maxsize=32)

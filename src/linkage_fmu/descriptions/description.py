@@ -64,6 +64,9 @@ from ..outputs import SHAKING
 from ..parameters import KINDS, Parameter
 
 INPUT_NAMES = ("theta", "omega", "alpha")
+#: the tables of a description written as joints and links (:mod:`.topology`), which
+#: take the place of [points], [[groups]] and [bodies]
+JOINT_TABLES = ("joints", "links", "crank")
 _IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 
 # What a description file may hold, table by table: each mapping below gives the keys
@@ -281,6 +284,9 @@ class Description:
     outputs: list = field(default_factory=list)
     inputs: dict = field(default_factory=lambda: dict.fromkeys(INPUT_NAMES, 0.0))
     friction: dict = field(default_factory=dict)
+    #: a description written as joints and links: its drawn pose, which the built
+    #: linkage must reproduce at the drawn crank angle (:func:`.assur.check_pose`)
+    drawn: Any = field(default=None, compare=False)
     _checked: bool = field(default=False, repr=False, compare=False)
 
     # -- the builder -----------------------------------------------------------------
@@ -385,8 +391,10 @@ class Description:
             raise DescriptionError(source, [f"not valid TOML: {err}"]) from None
         problems = []
         for key in data:
-            if key not in TABLES:
-                problems.append(f"[{key}]: unknown table; the tables are {', '.join(TABLES)}")
+            if key not in TABLES and key not in JOINT_TABLES:
+                problems.append(f"[{key}]: unknown table; the tables are {', '.join(TABLES)} "
+                                f"(or, written as joints and links, {', '.join(JOINT_TABLES)} "
+                                "instead of points, groups and bodies)")
         head = data.get("linkage", {})
         if not isinstance(head, dict):
             head = {}
@@ -398,8 +406,12 @@ class Description:
                 model=str(head.get("model", "")), frame=str(head.get("frame", "0")),
                 gravity=head.get("gravity", 0.0), drive=head.get("drive", 1.0), source=source)
         problems += _read_tables(d, data)
+        if set(JOINT_TABLES) & set(data):
+            drawn = _read_joints_form(d, data)
+            if drawn:  # the group form it makes is incomplete: its checks would mislead
+                raise DescriptionError(source, problems + drawn)
         checker = _Checker(d)
-        problems += checker.problems()  # every problem at once, not the reading ones first
+        problems += _as_links(d, checker.problems())  # every problem at once
         checker.warn()
         if problems:
             raise DescriptionError(source, problems)
@@ -533,6 +545,70 @@ class Description:
 
 
 # -- reading the tables --------------------------------------------------------------
+def _as_links(d: Description, problems: list[str]) -> list[str]:
+    """The problems, those of a link's mass or inertia named as its [[links]] table
+    gives them where the description is written as joints and links."""
+    if d.drawn is None:
+        return problems
+    out = []
+    for p in problems:
+        for k, link in enumerate(d.drawn.links):
+            for key in ("mass", "inertia"):
+                p = p.replace(f"[bodies.{link}] {key}", f"[[links]] #{k + 1} ({link}) {key}")
+        out.append(p)
+    return out
+
+
+def _read_joints_form(d: Description, data: dict) -> list[str]:
+    """Read the joints-and-links tables of ``data`` into ``d``'s group form: its points,
+    groups and bodies, and where none are given its outputs (a force per pair, the
+    effort), its effort (a moment ``Mb`` on the crank) and its model (its name)."""
+    from ..parameters import resolve
+    from . import assur, topology
+
+    mixed = [f"[{k}]" for k in ("points", "groups", "bodies") if k in data]
+    if mixed:
+        return [f"{', '.join(mixed)}: a description is written either as groups ([points], "
+                "[[groups]], [bodies]) or as joints and links ([joints], [[links]], [crank]), "
+                "not both"]
+    checker = _Checker(d)
+    checker.parameters()
+    if checker.found:
+        return checker.found
+    try:
+        values = resolve(d.parameter_specs(), {}, d.name)
+    except (TypeError, ValueError) as err:
+        return [f"[parameters]: {err}"]
+    numbers = {k: v for k, v in values.items() if isinstance(v, (int, float))}
+    t, problems = topology.read(data, numbers, d.frame, checker.measures)
+    if t is None:
+        return problems
+    at_points = {s.get("at") for s in d.loads} | {s.get("at") for s in d.efforts.values()
+                                                   if isinstance(s, dict)}
+    for s in d.loads:  # a load's value may use the position x_P, y_P of a pair's point
+        try:
+            at_points.update(n[2:] for n in Expression(s.get("value", 0.0)).names
+                             if n[:2] in ("x_", "y_"))
+        except ValueError:  # the checker says why
+            pass
+    branches = tuple(n for n, p in d.parameters.items() if p["kind"] == "branch")
+    try:
+        dec = assur.decompose(t, numbers, branches, at_points)
+    except assur.DecompositionError as err:
+        return err.problems
+    d.points, d.groups, d.bodies = dec.points, dec.groups, dec.bodies
+    d.drawn = dec
+    if not d.model and _is_identifier(d.name):
+        d.model = d.name
+    if not d.efforts:
+        d.efforts[None] = {"name": "Mb", "body": t.crank}
+    if "theta" not in data.get("inputs", {}):  # it starts where it is drawn
+        d.inputs["theta"] = dec.theta
+    if "outputs" not in data:
+        d.outputs.extend(assur.default_outputs(dec.pairs, d.efforts))
+    return []
+
+
 def _read_tables(d: Description, data: dict) -> list[str]:
     problems = []
 

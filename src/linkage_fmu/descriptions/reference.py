@@ -34,6 +34,7 @@ from ..friction import FrictionOutput, LossOutput
 from ..groups import ROLE_MEANINGS, ROLES, Group
 from ..mechanism import Mechanism
 from ..outputs import SHAKING
+from . import assur, topology
 from . import description as spec
 from .description import Description
 
@@ -118,6 +119,7 @@ def markdown() -> str:
         _points(),
         _groups(),
         _bodies(),
+        _joints_and_links(),
         _loads(),
         _effort(),
         _outputs(mech),
@@ -182,6 +184,9 @@ degrees: `{angle_note}`"""
 
 def _tables() -> str:
     rows = [(f"`{header}`", holds) for header, holds in spec.TABLES.values()]
+    rows += [(f"`{header}`", f"{holds} ([joints and links](#joints-and-links), instead of "
+              "`[points]`, `[[groups]]` and `[bodies.L]`)")
+             for header, holds in topology.TABLES.values()]
     return "## The tables\n\n" + _table(("table", "holds"), rows) + """
 
 A file has these tables and no others. The names of parameters, loads and outputs are
@@ -282,6 +287,150 @@ link's own frame, measured from its point `from`, either `along` and `across` it
 direction or at `distance` in the direction `angle`:
 
 {_keys(spec.CG_KEYS)}"""
+
+
+def _joints_and_links() -> str:
+    return f"""## Joints and links
+
+A linkage may be written as joints and links instead, as it is drawn (in PMKS+, SAM or on
+paper): `[joints]`, `[[links]]` and `[crank]` take the place of `[points]`, `[[groups]]`
+and `[bodies.L]` (a file with both is refused); the other tables are the same. The
+reader decomposes it into the groups above (`linkage-fmu info FILE` lists them, in the
+order they are solved), and everything else (kernels, FMUs, sweeps, friction, the drive)
+takes the linkage as it takes one written as groups. `examples/joints/` holds every
+preset written so.
+
+```toml
+[linkage]
+name = "drawn_four_bar"
+frame = "0"                 # the frame's name (default "0"); it is not a [[links]] table
+
+[parameters]
+l_AB = {{ default = 0.1, kind = "length", description = "crank length AB" }}
+
+[joints]                    # every joint where it is drawn: one pose of the linkage
+A = [0, 0]
+B = ["l_AB", 0]             # numbers in m, with units, or expressions of the parameters
+C = ["300 mm", "y_B + 0.2"] # ... and of the drawn coordinates x_J, y_J of the joints
+D = [0.4, 0]
+# a prismatic pair: P = {{ at = [x, y], slide = [dx, dy], guide = "L" }}
+
+[[links]]                   # each moving link: its joints, mass, inertia, cg where drawn
+name = "1"
+joints = ["A", "B"]
+mass = 0.5
+inertia = 0.001
+cg = [0.05, 0]
+
+[[links]]
+name = "2"
+joints = ["B", "C"]
+mass = 1.2
+inertia = 0.01
+cg = ["(x_B + x_C) / 2", "(y_B + y_C) / 2"]
+
+[[links]]
+name = "3"
+joints = ["C", "D"]
+mass = 0.8
+inertia = 0.006
+cg = [0.35, 0.1]
+
+[crank]                     # the driven link and its pivot on the frame
+link = "1"
+pivot = "A"
+```
+
+It has no `[effort]` and no `[[outputs]]`: the effort is `Mb` on the crank, and the
+outputs are the x and y components of `F01`, `F12`, `F23` and `F03`, and `Mb` (see
+below).
+
+### `[joints]`
+
+`J = [x, y]` is a revolute joint where it is drawn. A joint listed by one moving link
+joins that link to the frame; by two, joins them; by k of them, it is a compound joint
+of k - 1 revolute pairs. A prismatic pair is a table:
+
+{_keys(topology.JOINT_KEYS)}
+
+Two links pinned to the frame at one place are two joints drawn at the same place.
+
+### `[[links]]`
+
+{_keys(topology.LINK_KEYS)}
+
+### `[crank]`
+
+{_keys(topology.CRANK_KEYS)}
+
+The crank angle `theta` is absolute: the angle from +x of the line from the pivot to the
+crank's first other joint (which must be revolute), as in the group form. The drawn crank
+angle is that line's angle in the drawn pose.
+
+### What the reader checks
+
+The mobility, by Gruebler's count `3 n - 2 p` (n moving links, p pairs: one per joint
+on one link, k - 1 per joint on k links), must be 1, and the message gives the count.
+Every joint is on a link, every link carries two joints or more, the crank's pivot is a
+revolute joint on the frame (no other link lists it), every name a link lists is a
+joint, every slide has a length, a prismatic pair of two links says which carries the
+guide.
+
+### The decomposition
+
+The crank comes first. Then, as long as a link is not placed, the first dyad the library
+solves is taken off, trying the links two by two in the order of `[[links]]`:
+
+| dyad | its links | their pairs |
+| --- | --- | --- |
+| `RRR` | two links pinned together | each pinned to a placed joint |
+| `RRP` | a rod and a slider pinned together | the rod pinned to a placed joint, the slider on a frame guide (listed by the slider only) |
+| `RPR` | a block and a lever sliding in one another | each pinned to a placed joint; the guide's line through the block's pin passes through the lever's pin (the lever carries the guide) |
+| `RPP` | a block and a yoke sliding in one another | the block pinned to a placed joint, the yoke on a frame guide |
+
+A link's other joints and its `points` become `point` groups on it, once it is placed
+(a load or an effort may act at them, and a load's `value` may use their `x_P`, `y_P`);
+its centre of mass becomes its `cg = {{ from, along, across }}` in the group type's link direction. What no
+dyad resolves is the smallest connected set of the links left that the placed links hold
+with mobility 0, solved as one `closure` group (its pairs revolute: a group of more than
+two links with a prismatic pair, or a dyad with one that the table above does not list,
+is refused as a group the decomposition cannot solve).
+
+Every length, angle, guide point and position in a link's own frame is an expression of
+the drawn coordinates, so it follows the parameters. The assembly modes (`branch`) are
+those of the drawn pose at the parameters' defaults; where flipping a parameter of kind
+`branch` flips a dyad's mode in the drawn pose at the defaults, the dyad's branch is that
+parameter (times -1 where needed), so that a drawn pose written with a branch parameter
+keeps following it. Building the linkage solves it at the drawn crank angle and checks
+that every drawn joint is where it is drawn to {assur.POSE_TOLERANCE:g} m; else it is
+refused as a drawn pose from which a group cannot be assembled, naming the group, the
+joint and the distance. A dyad drawn at a toggle (its three joints in line, a rod square
+to its guide) has no mode: draw it apart.
+
+### Pairs and their names
+
+A revolute pair takes its joint's name; at a compound joint J the pair J joins the first
+two of its links to be placed, and each further link L is joined to the first by the
+pair `J_L` (at the point `J_L` of the first link, where J is). A prismatic pair takes its
+joint's name; its normal force acts through, and its couple is taken about, the pin of
+the dyad that makes it (an `RRP`'s and an `RPR`'s pin, the `RPP` slot's pin), or for an
+`RPP`'s frame guide the yoke's point `GUIDE_ref` where the slot's line crosses the
+guide's. The `at` of a prismatic pair is a point of the link that slides (not the one
+that carries the guide): a load or an effort may act at it by the pair's name, and a
+load's `value` may use its `x_J`, `y_J`.
+
+### What is made when it is not given
+
+- `[[outputs]]`: for each two bodies joined by a pair, the force of the body placed
+  first (the frame first of all) on the other, `kind = "force"`, named `F<by><on>`
+  (`F<by>_<on>` when a name is longer than one character), as listed by
+  `linkage-fmu info`; then each effort;
+- `[effort]`: a moment named `Mb` on the crank;
+- `[inputs] theta`: the drawn crank angle (the linkage starts where it is drawn);
+- `[linkage] model`: the name.
+
+`Mb`, the shaking force and moment, `J_red` and the diagnostics follow as for any
+linkage."""
 
 
 def _loads() -> str:

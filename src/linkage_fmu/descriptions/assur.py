@@ -1,0 +1,712 @@
+"""A joints-and-links linkage decomposed into the group form: the crank, then Assur groups.
+
+:func:`decompose` takes a checked :class:`~linkage_fmu.descriptions.topology.Topology` and
+returns the group-form tables that describe the same linkage (``[points]``,
+``[[groups]]``, ``[bodies.L]``), which the description's checker and builder take as
+they take a hand-written file. The crank comes first; then, as long as a link is not
+placed, the first dyad the library solves is peeled off (RRR, RRP: a rod and a slider on
+a frame guide, RPR: a block sliding on a lever through the lever's pivot, RPP: a block in
+the slot of a yoke on a frame guide), trying the links two by two in the order of
+[[links]]; a link's further joints and its points become ``point`` groups on it. What no dyad resolves
+is the smallest connected set of links that the placed ones hold with mobility 0: a
+``closure`` group (revolute pairs only).
+
+Every number of the group form is an expression of the drawn coordinates (lengths,
+guide points and angles, the points and centres of mass in each link's own frame), so
+that it follows the parameters. The assembly modes (``branch``) are those of the drawn
+pose at the parameters' defaults; where flipping one parameter of kind ``branch`` flips
+a group's mode in the drawn pose, the group's branch is that parameter (times -1 where
+needed). The builder checks that the linkage solved at the drawn crank angle
+reproduces every drawn joint (:func:`check_pose`).
+
+Pairs: a revolute pair takes its joint's name; at a compound joint J (on k links) the
+pair J joins the first two of its links to be placed, and each further link L is
+joined to the first by the pair ``J_L`` (its pin, the point ``J_L``, is a point of the
+first link where J is). A prismatic pair takes its joint's name.
+
+Examples
+--------
+>>> from linkage_fmu.descriptions.topology import read
+>>> t, _ = read({"joints": {"A": [0, 0], "B": [0.1, 0], "C": [0.3, 0.2], "D": [0.4, 0]},
+...              "links": [{"name": "1", "joints": ["A", "B"]},
+...                        {"name": "2", "joints": ["B", "C"]},
+...                        {"name": "3", "joints": ["C", "D"]}],
+...              "crank": {"link": "1", "pivot": "A"}}, {})
+>>> dec = decompose(t, {})
+>>> [(g["type"], g.get("branch")) for g in dec.groups]
+[('crank', None), ('RRR', 1)]
+>>> round(dec.groups[1]["length1"], 12)
+0.282842712475
+"""
+
+from __future__ import annotations
+
+import ast
+import itertools
+import math
+from dataclasses import dataclass, field
+
+from ..expressions import Expression
+from .topology import Topology, inline
+
+#: how far a pivot may be from a slot's line, relative to the distance pin-pivot, for
+#: the slot to pass through it (an RPR group)
+_THROUGH = 1e-9
+
+
+class DecompositionError(ValueError):
+    """The linkage cannot be decomposed; ``problems`` says why, naming the links."""
+
+    def __init__(self, problems: list[str]):
+        self.problems = list(problems)
+        super().__init__("; ".join(problems))
+
+
+@dataclass
+class Decomposition:
+    """The group form of a joints-and-links linkage.
+
+    Attributes
+    ----------
+    points, groups, bodies : dict, list, dict
+        The tables ``[points]``, ``[[groups]]`` and ``[bodies.L]``.
+    pairs : list of (name, a, b)
+        Every pair, as the action of body ``a`` (placed first; the frame first of all) on
+        body ``b``.
+    pose : dict
+        Point -> (x, y, where): the drawn position of each point a group places, and the
+        group that places it (``[[groups]] #k (type)``).
+    theta : str or float
+        The drawn crank angle.
+    links : tuple of str
+        The moving links, in the order of [[links]].
+    """
+
+    points: dict = field(default_factory=dict)
+    groups: list = field(default_factory=list)
+    bodies: dict = field(default_factory=dict)
+    pairs: list = field(default_factory=list)
+    pose: dict = field(default_factory=dict)
+    theta: object = 0.0
+    links: tuple = ()
+
+
+def fold(text):
+    """A number for an expression without names, else the expression with its parts
+    without names computed, and ``x - 0``, ``x * 1``, ``1 * x``, ``x / 1`` written
+    ``x``: the same value to the last bit (the evaluator computes each part so, and
+    these identities are exact, the sign of a zero included).
+
+    Examples
+    --------
+    >>> fold("hypot((0.3) - (0.1), (0.2) - (0))"), fold("atan2((0) - (0), (l) - (0))")
+    (0.282842712474619, 'atan2(0.0, l)')
+    >>> fold("(0 - 0.5) ** a - 0")
+    '(-0.5) ** a'
+    """
+    if isinstance(text, (int, float)):
+        return float(text)
+    e = Expression(text)
+    if not e.names:
+        return e({})
+    return ast.unparse(_folded(ast.parse(text, mode="eval").body))
+
+
+def _constant(x: float) -> ast.expr:
+    """A number as a node: a negative one as a negation, so that it keeps its place
+    when written out (``(-0.5) ** 2``, not ``-0.5 ** 2``)."""
+    if math.copysign(1.0, x) < 0.0:
+        return ast.UnaryOp(ast.USub(), ast.Constant(-x))
+    return ast.Constant(x)
+
+
+def _number(node: ast.expr) -> float | None:
+    """The value of a node that is a number (or a negated one), else None."""
+    if isinstance(node, ast.Constant):
+        return float(node.value)
+    if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub) and \
+            isinstance(node.operand, ast.Constant):
+        return -float(node.operand.value)
+    return None
+
+
+def _folded(node: ast.expr) -> ast.expr:
+    """``node`` with each part without names computed by the expressions' evaluator."""
+    if isinstance(node, ast.Name) and node.id == "pi":
+        return _constant(math.pi)
+    if isinstance(node, ast.BinOp):
+        parts = [_folded(node.left), _folded(node.right)]
+    elif isinstance(node, ast.UnaryOp):
+        parts = [_folded(node.operand)]
+    elif isinstance(node, ast.Call):
+        parts = [_folded(a) for a in node.args]
+    else:
+        return node
+    numbers = [_number(p) for p in parts]
+    rebuilt = (ast.BinOp(parts[0], node.op, parts[1]) if isinstance(node, ast.BinOp) else
+               ast.UnaryOp(node.op, parts[0]) if isinstance(node, ast.UnaryOp) else
+               ast.Call(node.func, parts, []))
+    if all(n is not None for n in numbers):
+        try:
+            return _constant(Expression(ast.unparse(rebuilt))({}))
+        except (ValueError, ZeroDivisionError, OverflowError):
+            return rebuilt
+    if isinstance(node, ast.BinOp):
+        left, right = numbers
+        if isinstance(node.op, ast.Sub) and right == 0.0 and math.copysign(1.0, right) > 0.0:
+            return parts[0]
+        if isinstance(node.op, (ast.Mult, ast.Div)) and right == 1.0:
+            return parts[0]
+        if isinstance(node.op, ast.Mult) and left == 1.0:
+            return parts[1]
+    return rebuilt
+
+
+class _Decomposer:
+    """One decomposition (see :func:`decompose`): what is placed so far, and the tables
+    made from it."""
+
+    def __init__(self, t: Topology, values: dict, branches: tuple, at_points: set):
+        self.t, self.values, self.branches, self.at_points = t, values, branches, at_points
+        self.params = set(values)
+        self.out = Decomposition(links=tuple(t.links))
+        self.placed_links: list = []
+        self.owner: dict = {}  # placed point -> the body it is fixed in, None if shared
+        self.first: dict = {}  # placed point -> the link to attach further links to
+        self.pair_names: set = set()
+        self.frame_ = {}  # link -> (from point, direction (ux, uy) expressions)
+
+    # -- expressions of the drawn pose -------------------------------------------------
+    def xy(self, joint: str) -> tuple:
+        at = self.t.joints[joint].at
+        return tuple(f"({inline(v, self.t.joints, self.params)})" for v in at)
+
+    def slide(self, joint: str) -> tuple:
+        return tuple(f"({inline(v, self.t.joints, self.params)})"
+                     for v in self.t.joints[joint].slide)
+
+    def num(self, text, values: dict | None = None) -> float:
+        return Expression(text)(self.values if values is None else values)
+
+    def where(self) -> str:
+        g = self.out.groups
+        return f"[[groups]] #{len(g)} ({g[-1]['type']})"
+
+    # -- the output tables ---------------------------------------------------------------
+    def group(self, spec: dict, places: dict) -> None:
+        """Add a group; ``places`` maps each point it places to its drawn (x, y)."""
+        self.out.groups.append({k: fold(v) if isinstance(v, str) and k not in _NAMES else v
+                                for k, v in spec.items()})
+        for p, (x, y) in places.items():
+            self.out.pose[p] = (x, y, self.where())
+
+    def pair(self, name: str, a: str, b: str) -> None:
+        self.pair_names.add(name)
+        self.out.pairs.append((name, a, b))
+
+    def local(self, link: str, x: str, y: str) -> dict:
+        """{from, along, across} of the drawn point (x, y) in link's own frame."""
+        ref, (ux, uy) = self.frame_[link]
+        rx, ry = self.pose_of(ref)
+        n = f"hypot({ux}, {uy})"
+        dx, dy = f"(({x}) - ({rx}))", f"(({y}) - ({ry}))"
+        return {"from": ref, "along": fold(f"({dx} * {ux} + {dy} * {uy}) / {n}"),
+                "across": fold(f"({dy} * {ux} - {dx} * {uy}) / {n}")}
+
+    def pose_of(self, point: str) -> tuple:
+        if point in self.out.points:
+            return tuple(f"({v})" for v in self.out.points[point])
+        return self.out.pose[point][:2]
+
+    # -- placing -----------------------------------------------------------------------
+    def placed(self, joint: str) -> bool:
+        return joint in self.owner
+
+    def attach(self, joint: str, link: str) -> str:
+        """The point of ``joint`` that ``link`` is pinned to: the joint itself, or at a
+        compound joint whose pair is made, the point ``J_link`` on its first link."""
+        if self.owner[joint] is not None and joint not in self.pair_names:
+            self.pair_names.add(joint)  # its pair is made now: a further link takes a copy
+            return joint
+        copy = f"{joint}_{link}"
+        self.fresh(copy, f"the pin of link {link} at the compound joint {joint}")
+        on = self.first[joint]
+        x, y = self.pose_of(joint)
+        self.group({"type": "point", "link": on, "from": joint, "name": copy}, {copy: (x, y)})
+        self.owner[copy] = self.first[copy] = on
+        self.pair_names.add(copy)
+        return copy
+
+    def fresh(self, name: str, what: str) -> None:
+        """A name the group form makes must not be a joint's."""
+        if name in self.t.joints or any(name in n.points for n in self.t.links.values()):
+            raise DecompositionError([f"[joints] {name}: the decomposition names {what} "
+                                      f"{name}; name the joint otherwise"])
+
+    def finish(self, link: str) -> None:
+        """Place the link's further joints and its points on it, and its centre of mass."""
+        spec = self.t.links[link]
+        for j in spec.joints:
+            joint = self.t.joints[j]
+            needed = joint.prismatic and j in self.at_points and self.slides(j) == link
+            if self.placed(j) or (joint.prismatic and not needed):
+                continue
+            x, y = self.xy(j)
+            self.group({"type": "point", "link": link, "name": j, **self.local(link, x, y)},
+                       {j: (x, y)})
+            self.owner[j] = self.first[j] = link
+        for point, at in spec.points.items():
+            x, y = (f"({inline(v, self.t.joints, self.params)})" for v in at)
+            self.group({"type": "point", "link": link, "name": point,
+                        **self.local(link, x, y)}, {point: (x, y)})
+        cg = tuple(f"({inline(v, self.t.joints, self.params)})" for v in spec.cg)
+        place = self.local(link, *cg)
+        self.out.bodies[link] = {"mass": spec.mass, "inertia": spec.inertia,
+                                 "cg": {k: v for k, v in place.items()
+                                        if k == "from" or v != 0.0}}
+        self.placed_links.append(link)
+
+    def slides(self, joint: str) -> str:
+        """The link that slides in a prismatic pair (the one that does not carry it)."""
+        return next(n for n in self.t.on(joint) if n != self.t.joints[joint].guide)
+
+    def branch(self, sign_of) -> object:
+        """The assembly mode of the drawn pose: ``sign_of(values)`` at the defaults, and
+        the branch parameters that flip it."""
+        s = sign_of(self.values)
+        if s == 0.0:
+            return None
+        flips = []
+        for name in self.branches:
+            flipped = dict(self.values, **{name: -self.values[name]})
+            try:
+                if sign_of(flipped) * s < 0.0:
+                    flips.append(name)
+            except (ValueError, ZeroDivisionError, OverflowError):
+                continue
+        b = 1 if s > 0.0 else -1
+        if not flips:
+            return b
+        b *= math.prod(int(self.values[n]) for n in flips)
+        return " * ".join(([] if b == 1 else ["-1"]) + flips)
+
+    # -- the decomposition ---------------------------------------------------------------
+    def run(self) -> Decomposition:
+        t = self.t
+        for j, joint in t.joints.items():
+            if len(t.on(j)) == 1 and not joint.prismatic:
+                self.out.points[j] = tuple(fold(inline(v, t.joints, self.params))
+                                           for v in joint.at)
+                self.owner[j] = self.first[j] = t.frame
+        self.crank()
+        while len(self.placed_links) < len(t.links):
+            if not (self.dyad() or self.closure()):
+                break
+        return self.out
+
+    def crank(self) -> None:
+        t, link, pivot = self.t, self.t.crank, self.t.pivot
+        others = [j for j in t.links[link].joints if j != pivot]
+        tip = others[0]
+        if t.joints[tip].prismatic:
+            raise DecompositionError([f"[crank] link: the crank's first other joint {tip} is "
+                                      "a prismatic pair; list a revolute joint after the pivot"])
+        (px, py), (bx, by) = self.xy(pivot), self.xy(tip)
+        self.out.theta = fold(f"atan2({by} - {py}, {bx} - {px})")
+        self.group({"type": "crank", "link": link, "pivot": pivot, "tip": tip,
+                    "length": f"hypot({bx} - {px}, {by} - {py})"}, {tip: (bx, by)})
+        self.pair(pivot, t.frame, link)
+        self.owner[tip] = self.first[tip] = link
+        self.frame_[link] = (pivot, (f"({bx} - {px})", f"({by} - {py})"))
+        self.finish(link)
+
+    def anchors(self, link: str, partner: str) -> tuple[list, list] | None:
+        """(the link's pairs to placed bodies, each (kind, joint): kind ``pin``,
+        ``frame guide`` or ``guide`` (a prismatic pair with a placed link), and its
+        joints not yet placed that it shares with ``partner``)."""
+        to_placed, shared = [], []
+        for j in self.t.links[link].joints:
+            joint, on = self.t.joints[j], self.t.on(j)
+            if partner in on and not self.placed(j):
+                shared.append(j)
+            elif joint.prismatic:
+                other = [n for n in on if n != link]
+                if not other:
+                    to_placed.append(("frame guide", j))
+                elif other[0] in self.placed_links:
+                    to_placed.append(("guide", j))
+            elif self.placed(j):
+                to_placed.append(("pin", j))
+        return to_placed, shared
+
+    def dyad(self) -> bool:
+        free = [n for n in self.t.links if n not in self.placed_links]
+        for x, y in itertools.combinations(free, 2):
+            ax, sx = self.anchors(x, y)
+            ay, _ = self.anchors(y, x)
+            if len(sx) != 1 or len(ax) != 1 or len(ay) != 1:
+                continue
+            s = sx[0]
+            kinds = (ax[0][0], ay[0][0])
+            rotating = not self.t.joints[s].prismatic
+            if rotating and kinds == ("pin", "pin"):
+                self.rrr(x, y, ax[0][1], s, ay[0][1])
+            elif rotating and sorted(kinds) == ["frame guide", "pin"]:
+                rod, slider = (x, y) if kinds[0] == "pin" else (y, x)
+                end = (ax if rod == x else ay)[0][1]
+                self.rrp(rod, slider, end, s, (ay if rod == x else ax)[0][1])
+            elif not rotating and kinds == ("pin", "pin"):
+                if not self.rpr(x, y, ax[0][1], s, ay[0][1]):
+                    continue
+            elif not rotating and sorted(kinds) == ["frame guide", "pin"]:
+                block, yoke = (x, y) if kinds[0] == "pin" else (y, x)
+                self.rpp(block, yoke, (ax if block == x else ay)[0][1], s,
+                         (ay if block == x else ax)[0][1])
+            else:
+                continue
+            return True
+        return False
+
+    def rrr(self, l1: str, l2: str, e1: str, c: str, e2: str) -> None:
+        p1, p2 = self.attach(e1, l1), self.attach(e2, l2)
+        (x1, y1), (x2, y2), (cx, cy) = self.pose_of(p1), self.pose_of(p2), self.xy(c)
+
+        def sign(v):
+            n = lambda s: self.num(s, v)  # noqa: E731
+            return ((n(x2) - n(x1)) * (n(cy) - n(y1)) - (n(y2) - n(y1)) * (n(cx) - n(x1)))
+
+        b = self.branch(sign)
+        if b is None:
+            raise DecompositionError([f"[joints] {c}: the dyad {e1}-{c}-{e2} (links {l1}, "
+                                      f"{l2}) is drawn at a toggle ({e1}, {c}, {e2} in line): "
+                                      "its assembly mode is undefined; draw it apart"])
+        self.group({"type": "RRR", "link1": l1, "link2": l2, "end1": p1, "middle": c,
+                    "end2": p2, "length1": f"hypot({cx} - {x1}, {cy} - {y1})",
+                    "length2": f"hypot({cx} - {x2}, {cy} - {y2})", "branch": b},
+                   {c: (cx, cy)})
+        self.pair(p1, self.owner[p1], l1)
+        self.pair(c, l1, l2)
+        self.pair(p2, self.owner[p2], l2)
+        self.owner[c], self.first[c] = None, l1
+        self.frame_[l1] = (p1, (f"({cx} - {x1})", f"({cy} - {y1})"))
+        self.frame_[l2] = (p2, (f"({cx} - {x2})", f"({cy} - {y2})"))
+        self.finish(l1)
+        self.finish(l2)
+
+    def rrp(self, rod: str, slider: str, end: str, pin: str, guide: str) -> None:
+        p = self.attach(end, rod)
+        (ex, ey), (bx, by), (tx, ty) = self.pose_of(p), self.xy(pin), self.slide(guide)
+
+        def sign(v):
+            n = lambda s: self.num(s, v)  # noqa: E731
+            return (n(bx) - n(ex)) * n(tx) + (n(by) - n(ey)) * n(ty)
+
+        b = self.branch(sign)
+        if b is None:
+            raise DecompositionError([f"[joints] {pin}: the rod {end}{pin} (link {rod}) is "
+                                      f"drawn square to the guide {guide}: the slider's "
+                                      "assembly mode is undefined; draw it apart"])
+        self.group({"type": "RRP", "rod": rod, "slider": slider, "end": p, "pin": pin,
+                    "length": f"hypot({bx} - {ex}, {by} - {ey})", "guide_point": [bx, by],
+                    "guide_angle": f"atan2({ty}, {tx})", "branch": b, "guide": guide},
+                   {pin: (bx, by)})
+        self.out.groups[-1]["guide_point"] = [fold(bx), fold(by)]
+        self.pair(p, self.owner[p], rod)
+        self.pair(pin, rod, slider)
+        self.pair(guide, self.t.frame, slider)
+        self.owner[pin], self.first[pin] = None, rod
+        self.frame_[rod] = (p, (f"({bx} - {ex})", f"({by} - {ey})"))
+        self.frame_[slider] = (pin, (tx, ty))
+        self.finish(rod)
+        self.finish(slider)
+
+    def rpr(self, x: str, y: str, jx: str, slot: str, jy: str) -> bool:
+        lever = self.t.joints[slot].guide
+        block = y if lever == x else x
+        pivot, pin = (jx, jy) if lever == x else (jy, jx)
+        (px, py), (cx, cy), (tx, ty) = self.xy(pin), self.xy(pivot), self.slide(slot)
+        n = self.num
+        ax, ay, dx, dy = n(cx) - n(px), n(cy) - n(py), n(tx), n(ty)
+        if abs(ax * dy - ay * dx) > _THROUGH * math.hypot(ax, ay) * math.hypot(dx, dy) or (
+                ax == 0.0 and ay == 0.0):
+            return False  # the slot does not pass through the lever's pivot: no RPR
+        p, c = self.attach(pin, block), self.attach(pivot, lever)
+        self.group({"type": "RPR", "block": block, "lever": lever, "pin": p, "pivot": c,
+                    "slide": slot}, {})
+        self.pair(p, self.owner[p], block)
+        self.pair(slot, block, lever)
+        self.pair(c, self.owner[c], lever)
+        (px, py), (cx, cy) = self.pose_of(p), self.pose_of(c)
+        self.frame_[lever] = (c, (f"({px} - {cx})", f"({py} - {cy})"))
+        self.frame_[block] = (p, self.frame_[lever][1])
+        self.finish(block)
+        self.finish(lever)
+        return True
+
+    def rpp(self, block: str, yoke: str, pin: str, slot: str, guide: str) -> None:
+        p = self.attach(pin, block)
+        (ex, ey), (t1x, t1y), (t2x, t2y) = self.pose_of(p), self.slide(slot), self.slide(guide)
+        qx, qy = self.xy(guide)
+        # how far along the guide the slot's line through the pin crosses it
+        s = (f"((({ex}) - {qx}) * {t1y} - (({ey}) - {qy}) * {t1x}) "
+             f"/ ({t2x} * {t1y} - {t2y} * {t1x})")
+        ref = f"{guide}_ref"
+        self.fresh(ref, f"the point of yoke {yoke} where the slot's line crosses the guide "
+                        f"{guide}")
+        rx, ry = f"({qx} + {s} * {t2x})", f"({qy} + {s} * {t2y})"
+        self.group({"type": "RPP", "block": block, "yoke": yoke, "pin": p, "ref": ref,
+                    "slot_angle": f"atan2({t1y}, {t1x})", "guide_point": [qx, qy],
+                    "guide_angle": f"atan2({t2y}, {t2x})", "slot": slot, "guide": guide},
+                   {ref: (rx, ry)})
+        self.out.groups[-1]["guide_point"] = [fold(qx), fold(qy)]
+        self.pair(p, self.owner[p], block)
+        self.pair(slot, block, yoke)
+        self.pair(guide, self.t.frame, yoke)
+        self.owner[ref] = self.first[ref] = yoke
+        self.frame_[block] = (p, (t1x, t1y))
+        self.frame_[yoke] = (ref, (t2x, t2y))
+        self.finish(block)
+        self.finish(yoke)
+
+    def closure(self) -> bool:
+        """The smallest connected set of the links left that the placed ones hold with
+        mobility 0, as one ``closure`` group; a DecompositionError if there is none or
+        it slides."""
+        t = self.t
+        free = [n for n in t.links if n not in self.placed_links]
+        for size in range(2, len(free) + 1):
+            for subset in itertools.combinations(free, size):
+                if self._connected(subset) and self._mobility(subset) == 0 and all(
+                        self._held_twice(n, subset) for n in subset):
+                    return self._emit_closure(subset)
+        raise DecompositionError([
+            f"[[links]]: a group the decomposition cannot solve: links {', '.join(free)} are "
+            "left, and no connected set of them is held by the placed links with mobility 0"])
+
+    def _connected(self, subset: tuple) -> bool:
+        seen, todo = {subset[0]}, [subset[0]]
+        while todo:
+            link = todo.pop()
+            for j in self.t.links[link].joints:
+                for other in self.t.on(j):
+                    if other in subset and other not in seen:
+                        seen.add(other)
+                        todo.append(other)
+        return len(seen) == len(subset)
+
+    def _held_twice(self, link: str, subset: tuple) -> bool:
+        """Whether ``link`` has two pairs or more within the group ``subset`` or to
+        placed bodies (a link of an Assur group does; one with a single pair would
+        turn freely while the count of the group says 0)."""
+        held = 0
+        for j in self.t.links[link].joints:
+            on = self.t.on(j)
+            if (self.placed(j) or len(on) == 1 or any(n in self.placed_links for n in on)
+                    or any(n in subset and n != link for n in on)):
+                held += 1
+        return held >= 2
+
+    def _mobility(self, subset: tuple) -> int:
+        pairs = 0
+        for j in {j for n in subset for j in self.t.links[n].joints}:
+            on = self.t.on(j)
+            inside = sum(n in subset for n in on)
+            held = self.placed(j) or len(on) == 1 or any(n in self.placed_links for n in on)
+            pairs += inside if held else inside - 1
+        return 3 * len(subset) - 2 * pairs
+
+    def _emit_closure(self, subset: tuple) -> bool:
+        t = self.t
+        sliding = [j for n in subset for j in t.links[n].joints if t.joints[j].prismatic]
+        if sliding:
+            what = (f"a dyad that no dyad of the library is (an RRP's slider and an RPP's "
+                    "yoke slide on a frame guide, an RPR's slot passes through its lever's "
+                    "pivot)" if len(subset) == 2 else
+                    f"a group of {len(subset)} links (only dyads may slide)")
+            raise DecompositionError([
+                f"[[links]]: a group the decomposition cannot solve: links "
+                f"{', '.join(subset)}, with the prismatic pair(s) "
+                f"{', '.join(dict.fromkeys(sliding))}, form {what}"])
+        links, pose, places = {}, {}, {}
+        for n in subset:
+            names = []
+            for j in t.links[n].joints:
+                inside = [m for m in t.on(j) if m in subset]
+                if self.placed(j):
+                    p = self.attach(j, n)
+                    names.append(p)
+                    pose[p] = self.pose_of(p)
+                elif len(inside) >= 2:
+                    names.append(j)
+                    pose[j] = places[j] = self.xy(j)
+            links[n] = names
+        self.group({"type": "closure", "links": links,
+                    "pose": {p: [fold(x), fold(y)] for p, (x, y) in pose.items()},
+                    "theta": self.out.theta}, places)
+        for n, names in links.items():
+            for p in names:
+                if p not in places:
+                    self.pair(p, self.owner[p], n)
+        for j in places:
+            inside = [m for m in t.on(j) if m in subset]
+            self.pair(j, inside[0], inside[1])
+            self.owner[j], self.first[j] = None, inside[0]
+        for n, names in links.items():
+            (x0, y0), (x1, y1) = pose[names[0]], pose[names[1]]
+            self.frame_[n] = (names[0], (f"({x1} - {x0})", f"({y1} - {y0})"))
+        for n in subset:
+            self.finish(n)
+        return True
+
+
+#: group-form fields that are names, never folded
+_NAMES = {"type", "link", "link1", "link2", "pivot", "tip", "end1", "end2", "middle", "rod",
+          "slider", "end", "pin", "guide", "block", "lever", "slide", "yoke", "ref", "slot",
+          "from", "name", "links", "pose", "guide_point"}
+
+
+def decompose(t: Topology, values: dict, branches: tuple = (), at_points: set = frozenset()
+              ) -> Decomposition:
+    """The group form of the joints-and-links linkage ``t``.
+
+    Parameters
+    ----------
+    t : Topology
+        The checked linkage (:func:`~linkage_fmu.descriptions.topology.read`).
+    values : dict
+        Parameter name -> default value, to evaluate the drawn pose.
+    branches : tuple of str
+        The parameters of kind ``branch``.
+    at_points : set of str
+        The prismatic pairs a load or effort acts at (their point on the sliding link).
+
+    Raises
+    ------
+    DecompositionError
+        A group the decomposition cannot solve, or a drawn pose at a toggle.
+    """
+    return _Decomposer(t, values, tuple(branches), set(at_points)).run()
+
+
+# -- what the decomposition is, for people ---------------------------------------------
+def outline(groups: list[dict]) -> list[tuple[str, str, tuple, tuple]]:
+    """For each group-form table: (class, type, its new links, its joints or points).
+
+    The class is ``crank`` for the driver, ``II`` for a dyad, ``III`` for a closure of
+    four links with one ternary link (Assur's class III triad), ``IV`` for one with two
+    ternary links, ``n links`` for another closure, and ``point`` for a point on a link
+    (its link is the one it is on, not a new one).
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets
+    >>> for row in outline(presets.preset("crank_shaper").groups):
+    ...     print(row)
+    ('crank', 'crank', ('1',), ('A', 'B'))
+    ('II', 'RPR', ('2', '3'), ('B', 'C', 'slot'))
+    ('point', 'point', ('3',), ('D',))
+    ('II', 'RRP', ('4', '5'), ('D', 'E', 'guide'))
+    """
+    from ..groups import Group
+
+    rows = []
+    for spec in groups:
+        kind = spec.get("type")
+        if kind == "point":
+            rows.append(("point", kind, (spec.get("link"),), (spec.get("name"),)))
+            continue
+        if kind == "closure":
+            links = spec.get("links", {})
+            ternary = sum(len(v) >= 3 for v in links.values())
+            cls = ("III" if len(links) == 4 and ternary == 1 else
+                   "IV" if len(links) == 4 and ternary == 2 else f"{len(links)} links")
+            joints = tuple(dict.fromkeys(j for v in links.values() for j in v))
+            rows.append((cls, kind, tuple(links), joints))
+            continue
+        group = Group.registry.get(kind)
+        if group is None:
+            rows.append(("?", str(kind), (), ()))
+            continue
+        links = tuple(spec[k] for k, f in group.FIELDS.items() if f.role == "new link")
+        if group.DRIVER:
+            rows.append(("crank", kind, links, (spec.get("pivot"), spec.get("tip"))))
+        else:
+            rows.append(("II", kind, links, tuple(group.pairs(spec))))
+    return rows
+
+
+def output_name(by: str, on: str) -> str:
+    """The name of the force output of body ``by`` on body ``on``: ``F<by><on>``, or
+    ``F<by>_<on>`` when a name is longer than one character.
+
+    Examples
+    --------
+    >>> output_name("2", "1"), output_name("OA", "0")
+    ('F21', 'FOA_0')
+    """
+    return f"F{by}{on}" if len(by) == len(on) == 1 else f"F{by}_{on}"
+
+
+def default_outputs(pairs: list, efforts: dict) -> list[dict]:
+    """The [[outputs]] of a joints-and-links linkage that gives none: the force of each
+    pair, as the action of the body placed first on the other (one output per two
+    bodies), then each effort.
+
+    Examples
+    --------
+    >>> for o in default_outputs([("A", "0", "1"), ("B", "1", "slider"),
+    ...                           ("guide", "0", "slider")], {None: {"name": "Mb"}}):
+    ...     print(o)
+    {'kind': 'force', 'name': 'F01', 'by': '0', 'on': '1'}
+    {'kind': 'force', 'name': 'F1_slider', 'by': '1', 'on': 'slider'}
+    {'kind': 'force', 'name': 'F0_slider', 'by': '0', 'on': 'slider'}
+    {'kind': 'effort', 'name': 'Mb'}
+    """
+    out, seen = [], set()
+    for _, a, b in pairs:
+        if frozenset((a, b)) not in seen:
+            seen.add(frozenset((a, b)))
+            out.append({"kind": "force", "name": output_name(a, b), "by": a, "on": b})
+    names = dict.fromkeys(s["name"] for s in efforts.values() if isinstance(s, dict))
+    out += [{"kind": "effort", "name": n} for n in names]
+    return out
+
+
+#: how far from its drawn position the linkage may place a joint at the drawn crank angle
+POSE_TOLERANCE = 1e-12
+
+
+def check_pose(mech, drawn: Decomposition, values: dict) -> str:
+    """What is wrong when ``mech``, solved at the drawn crank angle, does not reproduce
+    every drawn point to :data:`POSE_TOLERANCE` m (its parameters' ``values``), or ''.
+
+    Examples
+    --------
+    >>> from pathlib import Path
+    >>> from linkage_fmu.descriptions import Description
+    >>> import linkage_fmu
+    >>> path = Path(linkage_fmu.__file__).parents[2] / "examples/joints/four_bar.toml"
+    >>> d = Description.read(path)
+    >>> check_pose(d.build(), d.drawn, {"l_AB": 0.1, "l_BC": 0.35, "l_CD": 0.3,
+    ...                                 "l_AD": 0.4, "branch": 1})
+    ''
+    >>> print(check_pose(d.build(), d.drawn, {"l_AB": 0.1, "l_BC": 0.35, "l_CD": 0.3,
+    ...                                       "l_AD": 0.4, "branch": -1}))
+    [[groups]] #2 (RRR): a drawn pose from which a group cannot be assembled: at the drawn crank angle 0 deg it places C at (0.304166667, 0.284281502), 0.569 m from where C is drawn (0.304166667, -0.284281502); the tolerance is 1e-12 m
+    """
+    theta = Expression(drawn.theta)(values)
+    try:
+        st = mech.kinematics(theta, order=0)
+    except ValueError as err:
+        return (f"a drawn pose from which a group cannot be assembled: at the drawn crank "
+                f"angle {math.degrees(theta):.6g} deg: {err}")
+    for p, (x, y, where) in drawn.pose.items():
+        dx, dy = Expression(x)(values), Expression(y)(values)
+        px, py = st.p[p]
+        distance = math.hypot(px - dx, py - dy)
+        if not distance <= POSE_TOLERANCE:
+            return (f"{where}: a drawn pose from which a group cannot be assembled: at the "
+                    f"drawn crank angle {math.degrees(theta):.6g} deg it places {p} at "
+                    f"({px:.9g}, {py:.9g}), {distance:.3g} m from where {p} is drawn "
+                    f"({dx:.9g}, {dy:.9g}); the tolerance is {POSE_TOLERANCE:g} m")
+    return ""

@@ -1,0 +1,397 @@
+"""A linkage written as joints and links: its tables read and checked, its pairs and
+its mobility.
+
+The joints-and-links form of a description file (the way PMKS+ and SAM take a linkage)
+names every joint where it is drawn and every moving link by the joints it carries::
+
+    [linkage]   name, frame (the frame's name, default "0"), ...
+    [joints]    J = [x, y]                                 a revolute joint
+                J = { at = [x, y], slide = [dx, dy], guide = "L" }   a prismatic pair
+    [[links]]   name, joints = [...] (>= 2), mass, inertia, cg = [x, y]
+    [crank]     link, pivot
+
+A joint listed by one moving link joins it to the frame; by two, joins them; by k >= 3,
+it is a compound joint of k - 1 revolute pairs. A coordinate may be an expression of the
+parameters and of the coordinates ``x_J``, ``y_J`` of the joints (their drawn ones).
+:func:`read` checks the tables and the topology (every joint on a link, every link on
+two joints, the crank's pivot on the frame, mobility 1, by Gruebler's count);
+:mod:`~linkage_fmu.descriptions.assur` decomposes it into the group form.
+
+Examples
+--------
+>>> t, problems = read({"joints": {"A": [0, 0], "B": [0.1, 0], "C": [0.3, 0.2],
+...                                "D": [0.4, 0]},
+...                     "links": [{"name": "1", "joints": ["A", "B"]},
+...                               {"name": "2", "joints": ["B", "C"]},
+...                               {"name": "3", "joints": ["C", "D"]}],
+...                     "crank": {"link": "1", "pivot": "A"}}, {})
+>>> problems, t.mobility(), t.on("A"), t.pair_count()
+([], 1, ('1',), 4)
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, field
+from typing import Any
+
+from ..expressions import Expression, check_units
+
+#: table -> (its header in a description file, what it holds), for the joints-and-links form
+TABLES: dict[str, tuple[str, str]] = {
+    "joints": ("[joints]", "every joint where it is drawn: J = [x, y] (a revolute joint) "
+                           "or J = { at, slide, guide } (a prismatic pair)"),
+    "links": ("[[links]]", "each moving link: its name, its joints, mass, inertia and "
+                           "centre of mass where drawn"),
+    "crank": ("[crank]", "the driven link and its pivot on the frame"),
+}
+#: key of a prismatic joint's table in [joints] -> what it is
+JOINT_KEYS = {
+    "at": "where the pair is drawn, [x, y]: a point of the link that slides, on the guide's "
+          "line (required)",
+    "slide": "direction of the guide, [dx, dy], of any length but not zero (required)",
+    "guide": "the link that carries the guide (default: the frame when one moving link "
+             "lists the joint; required when two do)",
+}
+#: key of a [[links]] table -> what it is
+LINK_KEYS = {
+    "name": "name of the moving link (required), as in output names",
+    "joints": "the joints it carries, a list of two or more names of [joints] (required)",
+    "mass": "mass of the link, kg (default 0)",
+    "inertia": "moment of inertia about its centre of mass, kg.m2 (default 0)",
+    "cg": "its centre of mass where drawn, [x, y] in m (default: its first joint)",
+    "points": "points fixed on it that join nothing (a coupler point, where a load acts), "
+              "{ P = [x, y] } where drawn",
+}
+#: key of [crank] -> what it is
+CRANK_KEYS = {
+    "link": "the driven link (required)",
+    "pivot": "its joint with the frame it turns about (required); theta is the angle of "
+             "the line from the pivot to the link's first other joint",
+}
+_COORDINATE = re.compile(r"\b([xy])_([A-Za-z_][A-Za-z0-9_]*)\b")
+
+
+@dataclass(frozen=True)
+class Joint:
+    """A joint where drawn: ``at`` = (x, y) as expressions (text or numbers) of the
+    parameters; a prismatic pair also has ``slide`` (its direction) and ``guide`` (the
+    link that carries the guide, '' for the frame)."""
+
+    name: str
+    at: tuple
+    slide: tuple | None = None
+    guide: str = ""
+
+    @property
+    def prismatic(self) -> bool:
+        return self.slide is not None
+
+
+@dataclass(frozen=True)
+class Link:
+    """A moving link: its joints (in the order given), mass, inertia and drawn cg."""
+
+    name: str
+    joints: tuple
+    mass: Any = 0.0
+    inertia: Any = 0.0
+    cg: tuple = ()
+    points: dict = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class Topology:
+    """A checked joints-and-links linkage (see :func:`read`)."""
+
+    frame: str
+    joints: dict
+    links: dict
+    crank: str
+    pivot: str
+
+    def on(self, joint: str) -> tuple:
+        """The moving links that list ``joint``, in the order of [[links]]."""
+        return tuple(name for name, link in self.links.items() if joint in link.joints)
+
+    def pair_count(self) -> int:
+        """Number of pairs: one per joint on one link (to the frame), k - 1 per joint on
+        k >= 2 links (a compound joint)."""
+        return sum(max(1, len(self.on(j)) - 1) for j in self.joints)
+
+    def mobility(self) -> int:
+        """Gruebler's count, 3 n - 2 p, for n moving links and p lower pairs."""
+        return 3 * len(self.links) - 2 * self.pair_count()
+
+
+def inline(source: Any, joints: dict, parameters: set, seen: tuple = ()) -> Any:
+    """``source`` with every ``x_J``/``y_J`` of a joint J (not a parameter) replaced by
+    the expression of J's drawn coordinate, recursively; a ValueError for a loop.
+
+    Examples
+    --------
+    >>> inline("x_B + 1", {"B": Joint("B", ("l", 0))}, {"l"})
+    '(l) + 1'
+    """
+    if not isinstance(source, str):
+        return source
+
+    def replace(m):
+        axis, name = m[1], m[2]
+        if m[0] in parameters or name not in joints:
+            return m[0]
+        if name in seen:
+            raise ValueError(f"the drawn position of {name} uses itself "
+                             f"({' -> '.join(seen + (name,))})")
+        value = joints[name].at["xy".index(axis)]
+        return f"({inline(value, joints, parameters, seen + (name,))})"
+
+    return _COORDINATE.sub(replace, source)
+
+
+def read(data: dict, values: dict, frame: str = "0", measures: dict | None = None
+         ) -> tuple[Topology | None, list[str]]:
+    """The topology of the joints-and-links tables of ``data`` (a description file's
+    TOML), and the problems found, each naming its table and key. ``values`` are the
+    parameters' default values, to evaluate the drawn pose; ``measures`` (name ->
+    (value, unit)) what each measures, to check coordinates with units (which are
+    taken in SI: a coordinate is in m).
+
+    Examples
+    --------
+    >>> t, problems = read({"joints": {"A": [0, 0], "B": [1, 0]},
+    ...                     "links": [{"name": "1", "joints": ["A", "B"]}],
+    ...                     "crank": {"link": "1", "pivot": "A"}}, {})
+    >>> print(problems[0])
+    [[links]]: the linkage's mobility is -1, not 1: 3 x 1 moving links - 2 x 2 pairs (Gruebler's count; a joint on one link is a pair with the frame, a joint on k links k - 1 pairs)
+    """
+    found: list[str] = []
+    units = {} if measures is None else measures
+    joints = _joints(data.get("joints", {}), values, found, units)
+    links = _links(data.get("links", []), joints, values, frame, found, units)
+    if joints is None or links is None:
+        return None, found
+    on = {j: tuple(n for n, link in links.items() if j in link.joints) for j in joints}
+    for name, joint in joints.items():
+        where = f"[joints] {name}"
+        if not on[name]:
+            found.append(f"{where}: a joint on no link: no [[links]] table lists it")
+        if joint.prismatic:
+            if len(on[name]) >= 3:
+                found.append(f"{where}: a prismatic pair joins two links (or a link and the "
+                             f"frame); it is listed by {len(on[name])}: {', '.join(on[name])}")
+            elif len(on[name]) == 2 and joint.guide not in on[name]:
+                found.append(f"{where} guide: two links list this prismatic pair "
+                             f"({', '.join(on[name])}): say which carries the guide, "
+                             f"guide = \"{on[name][0]}\" or \"{on[name][1]}\""
+                             + (f" (got {joint.guide!r})" if joint.guide else ""))
+            elif len(on[name]) == 1 and joint.guide not in ("", frame):
+                found.append(f"{where} guide: only link {on[name][0]} lists this pair: the "
+                             f"frame {frame!r} carries its guide, not {joint.guide!r}")
+        elif joint.guide:
+            found.append(f"{where} guide: only a prismatic pair (with slide) has a guide")
+    crank, pivot = _crank(data.get("crank"), joints, links, on, found)
+    t = Topology(frame, joints, links, crank, pivot)
+    if not found and t.mobility() != 1:
+        n, p = len(links), t.pair_count()
+        found.append(f"[[links]]: the linkage's mobility is {t.mobility()}, not 1: 3 x {n} "
+                     f"moving links - 2 x {p} pairs (Gruebler's count; a joint on one link "
+                     "is a pair with the frame, a joint on k links k - 1 pairs)")
+    return (None if found else t), found
+
+
+def _vector(where: str, value: Any, found: list, values: dict, joints: dict | None = None,
+            of: tuple = (), measures: dict | None = None) -> tuple | None:
+    """``[x, y]`` of numbers or expressions, each evaluable over ``values`` (and the
+    drawn coordinates of ``joints``; ``of`` the joint whose position it is), with any
+    unit taken in SI (checked to be a length, with ``measures``)."""
+    if not (isinstance(value, (list, tuple)) and len(value) == 2):
+        found.append(f"{where}: must be [x, y], got {value!r}")
+        return None
+    out = []
+    for axis, v in zip("xy", value):
+        try:
+            e = Expression(v)
+        except ValueError as err:
+            found.append(f"{where} {axis}: {err}")
+            return None
+        if e.has_units and measures is not None:
+            try:
+                check_units(e, "m", f"{where} {axis}", measures)
+            except ValueError as err:  # it names where
+                found.append(str(err))
+                return None
+        v = e.in_si()
+        if joints is not None:
+            try:
+                e = Expression(inline(v, joints, set(values), of))
+            except ValueError as err:  # a drawn position that uses itself
+                found.append(f"{where} {axis}: {err}")
+                return None
+        try:
+            x = e(values)
+        except (ValueError, ZeroDivisionError, OverflowError, TypeError) as err:
+            found.append(f"{where} {axis} = {v!r}: {err}")
+            return None
+        if not math.isfinite(x):
+            found.append(f"{where} {axis}: {v!r} is not finite")
+            return None
+        out.append(v)
+    return tuple(out)
+
+
+def _in_si(value: Any) -> Any:
+    """A coordinate with its units taken in SI; as it is if it is no expression (the
+    checks of the joint say why)."""
+    try:
+        return Expression(value).in_si()
+    except ValueError:
+        return value
+
+
+def _joints(table: Any, values: dict, found: list, measures: dict) -> dict | None:
+    if not isinstance(table, dict) or not table:
+        found.append("[joints]: must be a table of JOINT = [x, y] (or { at, slide }), "
+                     "one per joint")
+        return None
+    raw = {}
+    for name, spec in table.items():
+        where = f"[joints] {name}"
+        if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name):
+            found.append(f"{where}: a joint's name must be an identifier")
+        if isinstance(spec, dict):
+            unknown = set(spec) - set(JOINT_KEYS)
+            if unknown:
+                found.append(f"{where}: unknown key(s) {', '.join(sorted(unknown))}; the keys "
+                             f"are {', '.join(JOINT_KEYS)}")
+            if "at" not in spec or "slide" not in spec:
+                found.append(f"{where}: a prismatic pair needs at = [x, y] and slide = [dx, dy]")
+                continue
+            guide = spec.get("guide", "")
+            if not isinstance(guide, str):
+                found.append(f"{where} guide: must be a link's name")
+                guide = ""
+            raw[name] = (spec["at"], spec["slide"], guide)
+        else:
+            raw[name] = (spec, None, "")
+    # the drawn positions may use the joints' coordinates: check them once all are known
+    stand_in = {n: Joint(n, tuple(map(_in_si, at)) if isinstance(at, list) and len(at) == 2
+                         else (0, 0)) for n, (at, _, _) in raw.items()}
+    joints = {}
+    for name, (at, slide, guide) in raw.items():
+        where = f"[joints] {name}" + (" at" if slide is not None else "")
+        xy = _vector(where, at, found, values, stand_in, (name,), measures)
+        direction = None
+        if slide is not None:
+            direction = _vector(f"[joints] {name} slide", slide, found, values, stand_in,
+                                (name,))
+            if direction is not None:
+                dx, dy = (Expression(inline(v, stand_in, set(values)))(values) for v in direction)
+                if math.hypot(dx, dy) == 0.0:
+                    found.append(f"[joints] {name} slide: {list(slide)!r} has no length: the "
+                                 "direction of the guide must not be zero")
+        if xy is not None and (slide is None or direction is not None):
+            joints[name] = Joint(name, xy, direction, guide)
+    return joints if len(joints) == len(raw) else None
+
+
+def _links(table: Any, joints: dict | None, values: dict, frame: str, found: list,
+           measures: dict) -> dict | None:
+    if not isinstance(table, list) or not table:
+        found.append("[[links]]: must be a list of tables, one per moving link")
+        return None
+    links, ok, taken = {}, True, {}
+    for k, spec in enumerate(table):
+        where = f"[[links]] #{k + 1}"
+        if not isinstance(spec, dict):
+            found.append(f"{where}: must be a table")
+            ok = False
+            continue
+        name = spec.get("name")
+        where += f" ({name})"
+        unknown = set(spec) - set(LINK_KEYS)
+        if unknown:
+            found.append(f"{where}: unknown key(s) {', '.join(sorted(unknown))}; the keys are "
+                         f"{', '.join(LINK_KEYS)}")
+        if not isinstance(name, str) or not name:
+            found.append(f"{where} name: must be a name")
+            ok = False
+            continue
+        if name == frame:
+            found.append(f"{where} name: {name!r} is the frame's name ([linkage] frame); the "
+                         "frame is not listed in [[links]]")
+        if name in links:
+            found.append(f"{where} name: link {name!r} is listed twice")
+        listed = spec.get("joints")
+        if not isinstance(listed, list) or not all(isinstance(j, str) for j in listed):
+            found.append(f"{where} joints: must be a list of joint names")
+            ok = False
+            continue
+        if len(listed) < 2:
+            found.append(f"{where} joints: a link with fewer than two joints ({len(listed)}: "
+                         f"{', '.join(listed) or 'none'}); a link carries two joints or more")
+        if len(set(listed)) != len(listed):
+            found.append(f"{where} joints: a joint is listed twice")
+        if joints is not None:
+            unknown_joints = [j for j in listed if j not in joints]
+            if unknown_joints:
+                found.append(f"{where} joints: {', '.join(map(repr, unknown_joints))} "
+                             f"{'is no joint' if len(unknown_joints) == 1 else 'are no joints'}"
+                             f" of [joints]; the joints are {', '.join(joints)}")
+                ok = False
+        cg = listed[0] if listed else None
+        if "cg" in spec:
+            cg = _vector(f"{where} cg", spec["cg"], found, values, joints or {}, (),
+                         measures)
+            ok = ok and cg is not None
+        elif joints is not None and cg in joints:
+            cg = joints[cg].at
+        points = {}
+        table = spec.get("points", {})
+        if not isinstance(table, dict):
+            found.append(f"{where} points: must be a table {{ P = [x, y], ... }}")
+            table = {}
+        for point, xy in table.items():
+            if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", point):
+                found.append(f"{where} points: {point!r}: a point's name must be an identifier")
+            elif joints is not None and point in joints:
+                found.append(f"{where} points: {point!r} is a joint; a point of a link joins "
+                             "nothing")
+            elif point in taken:
+                found.append(f"{where} points: {point!r} is already a point of link "
+                             f"{taken[point]}")
+            else:
+                points[point] = _vector(f"{where} points {point}", xy, found, values,
+                                        joints or {}, (), measures)
+                taken[point] = name
+                ok = ok and points[point] is not None
+        links[name] = Link(name, tuple(listed), spec.get("mass", 0.0), spec.get("inertia", 0.0),
+                           cg, points)
+    return links if ok and joints is not None else None
+
+
+def _crank(spec: Any, joints: dict, links: dict, on: dict, found: list) -> tuple:
+    if not isinstance(spec, dict):
+        found.append("[crank]: missing: the driven link and its pivot, "
+                     "{ link = \"1\", pivot = \"A\" }")
+        return "", ""
+    unknown = set(spec) - set(CRANK_KEYS)
+    if unknown:
+        found.append(f"[crank]: unknown key(s) {', '.join(sorted(unknown))}; the keys are "
+                     f"{', '.join(CRANK_KEYS)}")
+    link, pivot = spec.get("link"), spec.get("pivot")
+    if link not in links:
+        found.append(f"[crank] link: {link!r} is not a link of [[links]]")
+        return "", ""
+    if pivot not in links[link].joints:
+        found.append(f"[crank] pivot: {pivot!r} is not a joint of link {link} (its joints: "
+                     f"{', '.join(links[link].joints)})")
+        return "", ""
+    if joints[pivot].prismatic or on[pivot] != (link,):
+        others = [n for n in on[pivot] if n != link]
+        found.append(f"[crank] pivot: the crank pivot {pivot} is not on the frame: "
+                     + (f"it is a prismatic pair" if joints[pivot].prismatic else
+                        f"it joins link {link} to {', '.join(others)}")
+                     + "; the pivot is a revolute joint that only the crank lists")
+    return link, pivot

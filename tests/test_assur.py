@@ -1,0 +1,619 @@
+"""The decomposition of a joints-and-links linkage into groups (spec/assur.py): which
+groups, in which order, with which fields; and each problem it reports, by its message."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from linkage_fmu.descriptions import Description, DescriptionError
+from linkage_fmu.descriptions.assur import decompose, outline
+from linkage_fmu.descriptions.topology import read
+
+HEAD = """
+[linkage]
+name = "drawn"
+
+[parameters]
+h = { default = 0.2, kind = "coordinate", description = "height of C where drawn" }
+"""
+
+
+def tables(text: str) -> dict:
+    import tomllib
+
+    return tomllib.loads(text)
+
+
+def problems(text: str) -> list[str]:
+    with pytest.raises(DescriptionError) as err:
+        Description.from_toml(text, "drawn.toml")
+    assert str(err.value).startswith("drawn.toml: ")
+    return err.value.problems
+
+
+# -- a class III group: the decomposition, without building (the closure group type is
+# not the library's yet) -----------------------------------------------------------------
+#: a six-bar whose ternary coupler 5 (E, F, G) is held by three binary rods: 2 pinned to
+#: the crank at A, 3 and 4 to the frame at P and Q
+CLASS_III = {
+    "joints": {"O": [0, 0], "A": [0.1, 0], "P": [0.5, -0.1], "Q": [0.3, -0.3],
+               "E": [0.25, 0.3], "F": [0.55, 0.25], "G": [0.4, 0.05]},
+    "links": [{"name": "1", "joints": ["O", "A"]}, {"name": "2", "joints": ["A", "E"]},
+              {"name": "3", "joints": ["P", "F"]}, {"name": "4", "joints": ["Q", "G"]},
+              {"name": "5", "joints": ["E", "F", "G"], "mass": 2.0, "cg": [0.4, 0.2]}],
+    "crank": {"link": "1", "pivot": "O"},
+}
+
+
+def test_a_class_iii_group_is_one_closure_after_the_crank():
+    t, found = read(CLASS_III, {})
+    assert found == [] and t.mobility() == 1
+    dec = decompose(t, {})
+    assert outline(dec.groups) == [
+        ("crank", "crank", ("1",), ("O", "A")),
+        ("III", "closure", ("2", "3", "4", "5"), ("A", "E", "P", "F", "Q", "G")),
+    ]
+    closure = dec.groups[1]
+    # each link's joints, its direction from the first to the second; every joint where
+    # drawn; the drawn crank angle (A on the +x axis)
+    assert closure["links"] == {"2": ["A", "E"], "3": ["P", "F"], "4": ["Q", "G"],
+                                "5": ["E", "F", "G"]}
+    assert closure["pose"] == {p: [float(v) for v in xy]
+                               for p, xy in CLASS_III["joints"].items() if p != "O"}
+    assert closure["theta"] == 0.0
+    # pairs: each rod to what holds it, the coupler's three pins; the frame first
+    assert dec.pairs == [("O", "0", "1"), ("A", "1", "2"), ("P", "0", "3"),
+                         ("Q", "0", "4"), ("E", "2", "5"), ("F", "3", "5"), ("G", "4", "5")]
+    # the coupler's centre of mass in its own frame: from E along E -> F
+    e, f = (np.array(CLASS_III["joints"][p]) for p in "EF")
+    s = np.array([0.4, 0.2])
+    u = (f - e) / np.linalg.norm(f - e)
+    cg = dec.bodies["5"]["cg"]
+    assert cg["from"] == "E"
+    assert cg["along"] == pytest.approx(np.dot(s - e, u), abs=1e-15)
+    assert cg["across"] == pytest.approx(u[0] * (s - e)[1] - u[1] * (s - e)[0], abs=1e-15)
+
+
+# -- a compound joint ---------------------------------------------------------------------
+COMPOUND = HEAD + """
+[joints]
+A = [0, 0]
+B = [0.1, 0]
+C = [0.3, "h"]
+D = [0.4, 0]
+E = [0.55, 0.3]
+F = [0.7, 0.1]
+
+[[links]]
+name = "1"
+joints = ["A", "B"]
+
+[[links]]
+name = "2"
+joints = ["B", "C"]
+mass = 1.0
+cg = [0.2, 0.1]
+
+[[links]]
+name = "3"
+joints = ["C", "D"]
+
+[[links]]
+name = "4"
+joints = ["C", "E"]
+mass = 0.5
+cg = [0.45, 0.25]
+
+[[links]]
+name = "5"
+joints = ["E", "F"]
+
+[crank]
+link = "1"
+pivot = "A"
+"""
+
+
+def test_a_compound_joint_is_two_pairs_the_third_link_pinned_to_the_first():
+    """C joins 2, 3 and 4: the pair C joins 2 and 3 (the RRR that places C), the pair
+    C_4 joins 4 to 2, on 2's point C_4 where C is."""
+    d = Description.from_toml(COMPOUND, "drawn.toml")
+    assert [row[:2] for row in outline(d.groups)] == [
+        ("crank", "crank"), ("II", "RRR"), ("point", "point"), ("II", "RRR")]
+    assert d.groups[2] == {"type": "point", "link": "2", "from": "C", "name": "C_4"}
+    assert (d.groups[3]["end1"], d.groups[3]["link1"]) == ("C_4", "4")
+    assert [o["name"] for o in d.outputs] == ["F01", "F12", "F23", "F03", "F24", "F45",
+                                              "F05", "Mb"]
+    mech = d.build()
+    # the drawn pose at the drawn angle; at another, the links keep their drawn lengths
+    # (the reference: distances between the drawn joints) and C_4 stays on C
+    drawn = {"B": (0.1, 0), "C": (0.3, 0.2), "D": (0.4, 0), "E": (0.55, 0.3), "F": (0.7, 0.1)}
+    st = mech.kinematics(0.0, order=0)
+    for p, xy in drawn.items():
+        assert math.dist(st.p[p], xy) <= 1e-15
+    st = mech.kinematics(0.4, order=0)
+    for a, b in ("BC", "CD", "CE", "EF"):
+        assert math.dist(st.p[a], st.p[b]) == pytest.approx(math.dist(drawn[a], drawn[b]),
+                                                            abs=1e-15)
+    assert math.dist(st.p["C_4"], st.p["C"]) <= 1e-15
+
+
+# -- the problems -------------------------------------------------------------------------
+def test_a_joint_named_as_a_pair_the_decomposition_makes():
+    """E renamed C_4: the name of the pair that pins link 4 to the compound joint C."""
+    text = COMPOUND.replace("E = [", "C_4 = [").replace('["C", "E"]', '["C", "C_4"]').replace(
+        '["E", "F"]', '["C_4", "F"]')
+    assert problems(text) == [
+        "[joints] C_4: the decomposition names the pin of link 4 at the compound joint C "
+        "C_4; name the joint otherwise"]
+
+
+def test_a_drawn_pose_from_which_a_group_cannot_be_assembled():
+    """C drawn below the line B -> D (h < 0) while the defaults draw it above: the RRR
+    keeps the drawn pose's mode at the defaults, so the pose is not reproduced."""
+    d = Description.from_toml(COMPOUND, "drawn.toml")
+    with pytest.raises(ValueError) as err:
+        d.build(h=-0.2)
+    assert str(err.value) == (
+        "drawn.toml: [[groups]] #2 (RRR): a drawn pose from which a group cannot be "
+        "assembled: at the drawn crank angle 0 deg it places C at (0.3, 0.2), 0.4 m from "
+        "where C is drawn (0.3, -0.2); the tolerance is 1e-12 m")
+
+
+def test_a_drawn_pose_at_a_toggle():
+    text = COMPOUND.replace('C = [0.3, "h"]', "C = [0.3, 0]")
+    assert problems(text) == [
+        "[joints] C: the dyad B-C-D (links 2, 3) is drawn at a toggle (B, C, D in line): "
+        "its assembly mode is undefined; draw it apart"]
+
+
+def test_a_group_the_decomposition_cannot_solve_slides():
+    """A block on the crank pin sliding in a slot of a lever that does not pass through
+    the lever's pivot: no dyad of the library, and only dyads slide."""
+    text = HEAD + """
+[joints]
+A = [0, 0]
+B = [0.1, 0]
+C = [0, -0.4]
+s = { at = [0.1, 0], slide = [1, 0], guide = "3" }
+
+[[links]]
+name = "1"
+joints = ["A", "B"]
+
+[[links]]
+name = "2"
+joints = ["B", "s"]
+
+[[links]]
+name = "3"
+joints = ["C", "s"]
+
+[crank]
+link = "1"
+pivot = "A"
+"""
+    assert problems(text) == [
+        "[[links]]: a group the decomposition cannot solve: links 2, 3, with the prismatic "
+        "pair(s) s, form a dyad that no dyad of the library is (an RRP's slider and an "
+        "RPP's yoke slide on a frame guide, an RPR's slot passes through its lever's pivot)"]
+
+
+def test_a_group_the_decomposition_cannot_solve_none_left_is_held():
+    """The crank with a rod to the frame is locked (mobility 0), a four-bar beside it
+    moves freely (mobility 1): one in all, but no group of the links left has mobility
+    0."""
+    text = HEAD + """
+[joints]
+A = [0, 0]
+B = [0.1, 0]
+C = [0.1, 0.3]
+P = [1, 0]
+Q = [1.1, 0.2]
+R = [1.4, 0.3]
+S = [1.5, 0]
+
+[[links]]
+name = "1"
+joints = ["A", "B"]
+
+[[links]]
+name = "2"
+joints = ["B", "C"]
+
+[[links]]
+name = "5"
+joints = ["P", "Q"]
+
+[[links]]
+name = "6"
+joints = ["Q", "R"]
+
+[[links]]
+name = "7"
+joints = ["R", "S"]
+
+[crank]
+link = "1"
+pivot = "A"
+"""
+    assert problems(text) == [
+        "[[links]]: a group the decomposition cannot solve: links 2, 5, 6, 7 are left, "
+        "and no connected set of them is held by the placed links with mobility 0"]
+
+
+def test_the_crank_turns_to_a_revolute_joint():
+    """A crank whose first joint after the pivot is a slot: theta would be undefined."""
+    text = HEAD + """
+[joints]
+A = [0, 0]
+g = { at = [0.1, 0], slide = [1, 0], guide = "1" }
+C = [0.3, 0.2]
+D = [0.4, 0]
+
+[[links]]
+name = "1"
+joints = ["A", "g"]
+
+[[links]]
+name = "2"
+joints = ["g", "C"]
+
+[[links]]
+name = "3"
+joints = ["C", "D"]
+
+[crank]
+link = "1"
+pivot = "A"
+"""
+    assert problems(text) == [
+        "[crank] link: the crank's first other joint g is a prismatic pair; list a "
+        "revolute joint after the pivot"]
+
+
+# -- against an independent Newton-Euler reference ---------------------------------------
+#: the compound-joint linkage with masses, inertias, gravity and a force on link 5 at E
+LOADED = HEAD.replace('name = "drawn"', 'name = "drawn"\ngravity = "g"') + """
+g = { default = 9.81, kind = "gravity", description = "gravitational acceleration" }
+
+[joints]
+A = [0, 0]
+B = [0.1, 0]
+C = [0.3, "h"]
+D = [0.4, 0]
+E = [0.55, 0.3]
+F = [0.7, 0.1]
+
+[[links]]
+name = "1"
+joints = ["A", "B"]
+
+[[links]]
+name = "2"
+joints = ["B", "C"]
+mass = 1.0
+inertia = 0.012
+cg = [0.2, 0.1]
+
+[[links]]
+name = "3"
+joints = ["C", "D"]
+mass = 0.7
+inertia = 0.004
+
+[[links]]
+name = "4"
+joints = ["C", "E"]
+mass = 0.5
+cg = [0.45, 0.25]
+
+[[links]]
+name = "5"
+joints = ["E", "F"]
+mass = 0.9
+inertia = 0.006
+
+[crank]
+link = "1"
+pivot = "A"
+
+[[loads]]
+name = "P"
+body = "5"
+kind = "force"
+at = "E"
+direction = [0.6, -0.8]
+start = 35.0
+"""
+#: link -> (mass, inertia, cg where drawn), as LOADED gives them (a cg not given is at
+#: the link's first joint)
+INERTIA = {"1": (0.0, 0.0, (0.0, 0.0)), "2": (1.0, 0.012, (0.2, 0.1)),
+           "3": (0.7, 0.004, (0.3, 0.2)), "4": (0.5, 0.0, (0.45, 0.25)),
+           "5": (0.9, 0.006, (0.55, 0.3))}
+
+
+def newton_euler(theta: float, omega: float, alpha: float, g: float, load: float):
+    """Mb and the shaking force and moment of LOADED, from the drawn joints and the
+    links' distance constraints alone: positions by Newton on the constraints from the
+    drawn pose (continued along theta), their derivatives from the differentiated
+    constraints, then every link's Newton-Euler equations with the pair forces and Mb as
+    unknowns (a pair per joint and link beyond the first, the frame's per frame joint)."""
+    drawn = {"A": (0, 0), "B": (0.1, 0), "C": (0.3, 0.2), "D": (0.4, 0),
+             "E": (0.55, 0.3), "F": (0.7, 0.1)}
+    links = {"1": "AB", "2": "BC", "3": "CD", "4": "CE", "5": "EF"}
+    frame = {"A", "D", "F"}
+    free = ["B", "C", "E"]
+    idx = {p: 2 * k for k, p in enumerate(free)}
+    dist = {(a, b): math.dist(drawn[a], drawn[b]) for a, b in ("BC", "CD", "CE", "EF")}
+    L = math.dist(drawn["A"], drawn["B"])
+
+    def point(q, p):
+        return np.array(drawn[p], float) if p in frame else q[idx[p]:idx[p] + 2]
+
+    def constraints(q, th):
+        out = [*(point(q, "B") - L * np.array([math.cos(th), math.sin(th)]))]
+        for (a, b), d in dist.items():
+            r = point(q, a) - point(q, b)
+            out.append(r @ r - d * d)
+        return np.array(out)
+
+    def jacobian(q):
+        J = np.zeros((6, 6))
+        J[0:2, idx["B"]:idx["B"] + 2] = np.eye(2)
+        for row, (a, b) in enumerate(dist, start=2):
+            r = point(q, a) - point(q, b)
+            for p, s in ((a, 2.0), (b, -2.0)):
+                if p not in frame:
+                    J[row, idx[p]:idx[p] + 2] += s * r
+        return J
+
+    q = np.array([c for p in free for c in drawn[p]], float)
+    for th in np.linspace(0.0, theta, 16)[1:]:
+        for _ in range(30):
+            q = q - np.linalg.solve(jacobian(q), constraints(q, th))
+    J = jacobian(q)
+    c, s = math.cos(theta), math.sin(theta)
+    q1 = np.linalg.solve(J, -np.array([L * s, -L * c, 0, 0, 0, 0]))
+    quad = [L * c, L * s]
+    for a, b in dist:
+        v = point(q1, a) * (a not in frame) - point(q1, b) * (b not in frame)
+        quad.append(2.0 * v @ v)
+    q2 = np.linalg.solve(J, -np.array(quad))
+
+    def pv(vec, p):
+        return np.zeros(2) if p in frame else vec[idx[p]:idx[p] + 2]
+
+    # each link's angle derivatives and its centre of mass's acceleration
+    acc, eps, cg = {}, {}, {}
+    for name, (a, b) in links.items():
+        r = point(q, b) - point(q, a)
+        r1 = pv(q1, b) - pv(q1, a)
+        r2 = pv(q2, b) - pv(q2, a)
+        n2 = r @ r
+        w1 = (r[0] * r1[1] - r[1] * r1[0]) / n2
+        w2 = (r[0] * r2[1] - r[1] * r2[0]) / n2 - 2.0 * (r @ r1) * w1 / n2
+        r0 = np.subtract(drawn[b], drawn[a])
+        phi = math.atan2(r[1], r[0]) - math.atan2(r0[1], r0[0])
+        rot = np.array([[math.cos(phi), -math.sin(phi)], [math.sin(phi), math.cos(phi)]])
+        arm = rot @ (np.array(INERTIA[name][2]) - drawn[a])
+        cg[name] = point(q, a) + arm
+        perp = np.array([-arm[1], arm[0]])
+        a1 = pv(q1, a) + w1 * perp
+        a2 = pv(q2, a) + w2 * perp - w1 * w1 * arm
+        acc[name] = a2 * omega ** 2 + a1 * alpha
+        eps[name] = w2 * omega ** 2 + w1 * alpha
+    # unknowns: (Fx, Fy) of each pair as the action of its first body on its second, Mb
+    pairs = [("A", "0", "1"), ("B", "1", "2"), ("C", "2", "3"), ("C", "2", "4"),
+             ("D", "0", "3"), ("E", "4", "5"), ("F", "0", "5")]
+    order = list(links)
+    A = np.zeros((15, 15))
+    rhs = np.zeros(15)
+    for k, (p, a, b) in enumerate(pairs):
+        for body, sign in ((b, 1.0), (a, -1.0)):
+            if body == "0":
+                continue
+            row = 3 * order.index(body)
+            arm = point(q, p) - cg[body]
+            A[row, 2 * k] += sign
+            A[row + 1, 2 * k + 1] += sign
+            A[row + 2, 2 * k] += -sign * arm[1]
+            A[row + 2, 2 * k + 1] += sign * arm[0]
+    A[2, 14] = 1.0  # Mb on the crank
+    direction = np.array([0.6, -0.8])
+    for name in order:
+        m, inertia, _ = INERTIA[name]
+        row = 3 * order.index(name)
+        force = m * acc[name] - m * np.array([0.0, -g])
+        moment = inertia * eps[name]
+        if name == "5":
+            force = force - load * direction
+            arm = point(q, "E") - cg[name]
+            moment -= arm[0] * load * direction[1] - arm[1] * load * direction[0]
+        rhs[row:row + 3] = (*force, moment)
+    x = np.linalg.solve(A, rhs)
+    mb = x[14]
+    # what the moving links exert on the frame: minus the frame's forces on them, and
+    # minus the balancing moment the frame applies to the crank; moments about A
+    shake, shake_m = np.zeros(2), -mb
+    for k, (p, a, b) in enumerate(pairs):
+        if a == "0":
+            f = x[2 * k:2 * k + 2]
+            shake -= f
+            r = point(q, p)
+            shake_m -= r[0] * f[1] - r[1] * f[0]
+    return mb, shake[0], shake[1], shake_m
+
+
+@pytest.mark.parametrize("theta_deg", [-30.0, -12.5, 0.0, 7.0, 21.0, 30.0])
+def test_mb_and_the_shaking_force_against_newton_euler(theta_deg):
+    """Within 30 degrees of the drawn angle, at omega = 10 rad/s, alpha = 5 rad/s2,
+    g = 9.81: Mb and the shaking force and moment equal the reference to 1e-9 (relative
+    to 1 N or 1 N.m, or to the value where it is larger)."""
+    mech = Description.from_toml(LOADED, "drawn.toml").build()
+    theta = math.radians(theta_deg)
+    sol = mech.solve(theta, 10.0, 5.0, P=35.0)
+    want = newton_euler(theta, 10.0, 5.0, 9.81, 35.0)
+    for key, value in zip(("Mb", "shake_x", "shake_y", "shake_M"), want):
+        assert abs(sol[key] - value) <= 1e-9 * max(1.0, abs(value)), key
+
+
+# -- a point of a link ----------------------------------------------------------------------
+def test_a_coupler_point_carries_a_load_as_in_the_group_form():
+    """examples/coupler_four_bar.toml (written as groups, by hand) drawn as joints and
+    links, its coupler point P one of link 2's points: the same outputs at every state
+    to 1e-14 of each unit's largest value, and it starts at the drawn angle."""
+    from pathlib import Path
+
+    example = Path(__file__).parents[1] / "examples" / "coupler_four_bar.toml"
+    text = example.read_text()
+    head = text[:text.index("[points]")]
+    tail = text[text.index("[[loads]]"):]
+    drawn = head + """
+[joints]
+A = [0, 0]
+B = ["l_AB", 0]
+C = ["l_AB + (l_BC**2 - l_CD**2 + (l_AD - l_AB)**2) / (2 * (l_AD - l_AB))",
+     "sqrt(((l_BC + l_CD)**2 - (l_AD - l_AB)**2) * ((l_AD - l_AB)**2 - (l_BC - l_CD)**2)) / (2 * (l_AD - l_AB))"]
+D = ["l_AD", 0]
+
+[[links]]
+name = "1"
+joints = ["A", "B"]
+
+[[links]]
+name = "2"
+joints = ["B", "C"]
+mass = "m2"
+inertia = "J2"
+cg = ["(x_B + x_C) / 2", "(y_B + y_C) / 2"]
+points = { P = ["x_B + (P_along * (x_C - x_B) - P_across * (y_C - y_B)) / l_BC",
+                "y_B + (P_along * (y_C - y_B) + P_across * (x_C - x_B)) / l_BC"] }
+
+[[links]]
+name = "3"
+joints = ["C", "D"]
+mass = "m3"
+inertia = "J3"
+cg = ["(x_C + x_D) / 2", "(y_C + y_D) / 2"]
+
+[crank]
+link = "1"
+pivot = "A"
+
+""" + tail
+    d = Description.from_toml(drawn, "drawn.toml")
+    assert [row[:3] for row in outline(d.groups)] == [
+        ("crank", "crank", ("1",)), ("II", "RRR", ("2", "3")), ("point", "point", ("2",))]
+    want_mech = Description.read(example).build()
+    got_mech = d.build()
+    assert got_mech.start["theta"] == 0.0
+    theta = np.linspace(0.0, 2.0 * np.pi, 73)
+    want = want_mech.solve(theta, 10.0, 5.0, F_P=80.0, T4=-40.0)
+    got = got_mech.solve(theta, 10.0, 5.0, F_P=80.0, T4=-40.0)
+    units = {k: want_mech.output_info[k][0] for k in want}
+    for key in want:
+        same_unit = [np.max(np.abs(want[k])) for k in want if units[k] == units[key]]
+        assert np.max(np.abs(got[key] - want[key])) <= 1e-14 * max(same_unit), key
+
+
+def test_a_point_of_a_link_is_no_joint():
+    text = COMPOUND.replace('joints = ["E", "F"]', 'joints = ["E", "F"]\npoints = { D = [0.6, 0.2] }')
+    assert problems(text) == [
+        "[[links]] #5 (5) points: 'D' is a joint; a point of a link joins nothing"]
+
+
+def test_no_group_of_a_link_that_turns_freely():
+    """x, pinned to the crank and the frame, is a structure with it; y hangs from x by
+    one pin and from the unplaced z: {x, y} counts mobility 0 (3 x 2 - 2 x 3), but y
+    would turn about D. With a free four-bar w, v, u beside them the linkage counts 1,
+    and no group solves what is left."""
+    text = HEAD + """
+[joints]
+A = [0, 0]
+B = [0.1, 0]
+C = [0.2, 0.3]
+D = [0.3, 0.1]
+E = [0.5, 0.2]
+F = [0.6, 0]
+G = [1, 0]
+H = [1.1, 0.2]
+I = [1.4, 0.3]
+J = [1.5, 0]
+
+[[links]]
+name = "1"
+joints = ["A", "B"]
+
+[[links]]
+name = "x"
+joints = ["B", "C", "D"]
+
+[[links]]
+name = "y"
+joints = ["D", "E"]
+
+[[links]]
+name = "z"
+joints = ["E", "F"]
+
+[[links]]
+name = "w"
+joints = ["G", "H"]
+
+[[links]]
+name = "v"
+joints = ["H", "I"]
+
+[[links]]
+name = "u"
+joints = ["I", "J"]
+
+[crank]
+link = "1"
+pivot = "A"
+"""
+    assert problems(text) == [
+        "[[links]]: a group the decomposition cannot solve: links x, y, z, w, v, u are left, "
+        "and no connected set of them is held by the placed links with mobility 0"]
+
+
+def test_two_links_of_a_closure_on_one_placed_joint_are_two_pairs():
+    """The class III six-bar with rod 3 pinned to the crank at A instead of the frame at
+    P: A is a compound joint of the crank, 2 and 3, so the closure pins 2 at A and 3 at
+    A_3, the crank's point where A is."""
+    data = {**CLASS_III, "links": [dict(link) for link in CLASS_III["links"]]}
+    data["links"][2]["joints"] = ["A", "F"]  # rod 3 from A instead of the frame joint P
+    data["joints"] = {k: v for k, v in CLASS_III["joints"].items() if k != "P"}
+    t, found = read(data, {})
+    assert found == []
+    dec = decompose(t, {})
+    assert [row[:2] for row in outline(dec.groups)] == [
+        ("crank", "crank"), ("point", "point"), ("III", "closure")]
+    assert dec.groups[1] == {"type": "point", "link": "1", "from": "A", "name": "A_3"}
+    assert dec.groups[2]["links"] == {"2": ["A", "E"], "3": ["A_3", "F"], "4": ["Q", "G"],
+                                      "5": ["E", "F", "G"]}
+    assert [p for p in dec.pairs if p[0].startswith("A")] == [("A", "1", "2"),
+                                                              ("A_3", "1", "3")]
+
+
+def test_a_load_over_the_cycle_may_use_a_prismatic_pairs_point():
+    """The scotch yoke drawn as joints and links with its load 400 N + 3000 N/m * y_slot
+    (slot's point on the block, at B): the preset with that load given state by state,
+    400 + 3000 * l_AB sin(theta), to 1e-12 N."""
+    from pathlib import Path
+
+    from linkage_fmu import presets
+
+    path = Path(__file__).parents[1] / "examples" / "joints" / "scotch_yoke.toml"
+    text = path.read_text().replace("start = 400.0", 'value = "400 + 3000 * y_slot"')
+    mech = Description.from_toml(text, str(path)).build()
+    preset = presets.get("scotch_yoke")
+    for theta in (0.3, 1.0, 2.5, 4.0):
+        got = mech.solve(theta, 10.0, 5.0)
+        want = preset.solve(theta, 10.0, 5.0, 400.0 + 3000.0 * 0.1 * math.sin(theta))
+        for key in ("F23y", "Mb", "F4", "F41y"):
+            assert got[key] == pytest.approx(want[key], abs=1e-12), key

@@ -1,0 +1,176 @@
+"""Reading a linkage written as joints and links: each bad input is refused with a
+message that names the file, the table and the problem (spec/topology.py, and the
+reading of the form in spec/description.py)."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from linkage_fmu.descriptions import Description, DescriptionError
+from linkage_fmu.descriptions.topology import Joint, Link, Topology
+
+#: a four-bar drawn at theta = 0: crank 1 = AB, coupler 2 = BC, rocker 3 = CD
+FOUR_BAR = """
+[linkage]
+name = "drawn"
+
+[parameters]
+l = { default = 0.1, kind = "length", description = "crank length" }
+
+[joints]
+A = [0, 0]
+B = ["l", 0]
+C = [0.3, 0.2]
+D = [0.4, 0]
+
+[[links]]
+name = "1"
+joints = ["A", "B"]
+
+[[links]]
+name = "2"
+joints = ["B", "C"]
+mass = 1.0
+cg = [0.2, 0.1]
+
+[[links]]
+name = "3"
+joints = ["C", "D"]
+
+[crank]
+link = "1"
+pivot = "A"
+"""
+
+
+def problems(text: str) -> list[str]:
+    with pytest.raises(DescriptionError) as err:
+        Description.from_toml(text, "drawn.toml")
+    assert str(err.value).startswith("drawn.toml: ")
+    return err.value.problems
+
+
+def test_the_four_bar_reads_and_its_defaults_follow_the_form():
+    """No [[outputs]], [effort] or model: the force of each pair as F<by><on>, by the
+    body placed first (the frame "0" first), the effort Mb on the crank, the model its
+    name."""
+    d = Description.from_toml(FOUR_BAR, "drawn.toml")
+    assert d.model == "drawn" and d.efforts == {None: {"name": "Mb", "body": "1"}}
+    assert [(o["name"], o.get("by"), o.get("on")) for o in d.outputs] == [
+        ("F01", "0", "1"), ("F12", "1", "2"), ("F23", "2", "3"), ("F03", "0", "3"),
+        ("Mb", None, None)]
+
+
+def test_mobility_not_one_gives_the_count():
+    # D on link 2 as well: a compound joint at C is not it; a fourth link from C to the
+    # frame makes a structure (mobility 0)
+    text = FOUR_BAR + '\n[[links]]\nname = "4"\njoints = ["C", "E"]\n'
+    text = text.replace("D = [0.4, 0]", "D = [0.4, 0]\nE = [0.5, 0.3]")
+    assert problems(text) == [
+        "[[links]]: the linkage's mobility is 0, not 1: 3 x 4 moving links - 2 x 6 pairs "
+        "(Gruebler's count; a joint on one link is a pair with the frame, a joint on k "
+        "links k - 1 pairs)"]
+
+
+def test_a_joint_on_no_link():
+    text = FOUR_BAR.replace("D = [0.4, 0]", "D = [0.4, 0]\nE = [0.5, 0.3]")
+    assert problems(text) == ["[joints] E: a joint on no link: no [[links]] table lists it"]
+
+
+def test_a_link_with_fewer_than_two_joints():
+    text = FOUR_BAR.replace('joints = ["C", "D"]', 'joints = ["C"]')
+    assert "[[links]] #3 (3) joints: a link with fewer than two joints (1: C); a link " \
+           "carries two joints or more" in problems(text)
+
+
+def test_a_crank_pivot_not_on_the_frame():
+    text = FOUR_BAR.replace('pivot = "A"', 'pivot = "B"')
+    assert problems(text) == [
+        "[crank] pivot: the crank pivot B is not on the frame: it joins link 1 to 2; the "
+        "pivot is a revolute joint that only the crank lists"]
+
+
+def test_unknown_joint_names():
+    text = FOUR_BAR.replace('joints = ["B", "C"]', 'joints = ["B", "X"]')
+    assert problems(text)[0] == (
+        "[[links]] #2 (2) joints: 'X' is no joint of [joints]; the joints are A, B, C, D")
+
+
+def test_a_mass_is_named_by_its_links_table():
+    assert problems(FOUR_BAR.replace("mass = 1.0", 'mass = "3 m"')) == [
+        "[[links]] #2 (2) mass = '3 m' must be a mass (kg), but it is a length (m)"]
+
+
+def test_coordinates_with_units_are_taken_in_si():
+    """C drawn at ("300 mm", "l + 100 mm"): the coupler's length is |BC| = hypot(0.2, 0.2)
+    and the rocker's hypot(0.1, 0.2), as plain numbers draw it."""
+    d = Description.from_toml(FOUR_BAR.replace("C = [0.3, 0.2]", 'C = ["300 mm", "l + 100 mm"]'),
+                              "drawn.toml")
+    assert d.groups[1]["length1"] == "hypot(0.3 - l, l + 0.1)"
+    mech = d.build()
+    assert mech.groups[1].L1 == pytest.approx(math.hypot(0.2, 0.2), abs=1e-16)
+    assert mech.groups[1].L2 == pytest.approx(math.hypot(0.1, 0.2), abs=1e-16)
+
+
+def test_a_crank_that_is_no_link():
+    assert problems(FOUR_BAR.replace('link = "1"', 'link = "9"')) == [
+        "[crank] link: '9' is not a link of [[links]]"]
+
+
+@pytest.mark.parametrize("vector, message", [
+    ("[0.3]", "[joints] C: must be [x, y], got [0.3]"),
+    ('[0.3, "h"]', "[joints] C y = 'h': unknown name 'h' in 'h'"),
+    ('[0.3, "sqrt(l - 1)"]', "[joints] C y = 'sqrt(l - 1)': math domain error"),
+    ('[0.3, "2 s"]', "[joints] C y = '2 s' must be a length (m), but it is a time (s)"),
+    ('[0.3, "0.2 +"]', "[joints] C y: '0.2 +' is not an expression: invalid syntax"),
+])
+def test_bad_vectors(vector, message):
+    assert problems(FOUR_BAR.replace("C = [0.3, 0.2]", f"C = {vector}")) == [message]
+
+
+def test_a_slide_of_zero_length():
+    text = FOUR_BAR.replace("D = [0.4, 0]", "D = { at = [0.4, 0], slide = [0, 0] }")
+    assert problems(text) == [
+        "[joints] D slide: [0, 0] has no length: the direction of the guide must not be zero"]
+
+
+def test_a_prismatic_pair_of_two_links_needs_its_guide():
+    text = FOUR_BAR.replace("C = [0.3, 0.2]", "C = { at = [0.3, 0.2], slide = [1, 0] }")
+    assert problems(text) == [
+        "[joints] C guide: two links list this prismatic pair (2, 3): say which carries "
+        "the guide, guide = \"2\" or \"3\""]
+
+
+def test_a_drawn_position_that_uses_itself():
+    text = FOUR_BAR.replace("C = [0.3, 0.2]", 'C = ["x_D - 0.1", "y_D"]')
+    text = text.replace("D = [0.4, 0]", 'D = [0.4, "y_C + 0.2"]')
+    assert problems(text)[0] == (
+        "[joints] C y: the drawn position of C uses itself (C -> D -> C)")
+
+
+def test_both_forms_mixed():
+    text = FOUR_BAR + "\n[points]\nA = [0, 0]\n"
+    assert problems(text) == [
+        "[points]: a description is written either as groups ([points], [[groups]], "
+        "[bodies]) or as joints and links ([joints], [[links]], [crank]), not both"]
+
+
+def test_gruebler_counts_a_compound_joint_as_k_minus_one_pairs():
+    """Three links on one pin are two pairs: a Watt-like chain with C on 2, 3 and 4."""
+    joints = {n: Joint(n, (0, 0)) for n in "ABCDE"}
+    links = {"1": Link("1", ("A", "B")), "2": Link("2", ("B", "C")),
+             "3": Link("3", ("C", "D")), "4": Link("4", ("C", "E"))}
+    t = Topology("0", joints, links, "1", "A")
+    # pairs: A, B, C (two), D, E = 6; 3 x 4 - 2 x 6 = 0
+    assert (t.on("C"), t.pair_count(), t.mobility()) == (("2", "3", "4"), 6, 0)
+
+
+def test_it_starts_where_it_is_drawn():
+    """B drawn at 0.7 rad from A: theta starts there, unless [inputs] says otherwise."""
+    text = FOUR_BAR.replace('B = ["l", 0]', 'B = ["l * cos(0.7)", "l * sin(0.7)"]')
+    assert Description.from_toml(text, "drawn.toml").build().start["theta"] == \
+        pytest.approx(0.7, abs=1e-15)
+    text += "\n[inputs]\ntheta = 0.1\n"
+    assert Description.from_toml(text, "drawn.toml").build().start["theta"] == 0.1
