@@ -541,3 +541,42 @@ def assemble(fixed: dict, guess: dict, lengths: list, tol: float = 1e-15) -> dic
     out = {name: np.asarray(v, dtype=float) for name, v in fixed.items()}
     out.update({name: x[2 * k:2 * k + 2].copy() for k, name in enumerate(free)})
     return out
+
+
+# --- checks of a solution that need none of the reaction unknowns -----------------------
+
+def power_balance(lk: Linkage, r: dict, g: float, loads: dict | None = None) -> tuple:
+    """(``Mb`` times the crank's speed plus the power of the weights and loads, the rate
+    of change of the kinetic energy) of the solution ``r``: equal by virtual power."""
+    loads = loads or {}
+    qd, qdd = r["qd"], r["qdd"]
+    power = r["Mb"] * qd[3 * lk.index[lk.crank] + 2]
+    kinetic = 0.0
+    for i, link in enumerate(lk.links):
+        v, a = qd[3 * i:3 * i + 2], qdd[3 * i:3 * i + 2]
+        power -= link.mass * g * v[1]
+        kinetic += link.mass * v @ a + link.inertia * qd[3 * i + 2] * qdd[3 * i + 2]
+    for ld in lk.loads:
+        i = lk.index[ld["body"]]
+        value = loads.get(ld["name"], ld["start"])
+        if ld["kind"] == "moment":
+            power += value * qd[3 * i + 2]
+        else:  # the load point's velocity: v_cg + w x arm
+            arm = _arm(lk, i, ld["at"], r["q"])
+            w = qd[3 * i + 2]
+            power += value * ld["direction"] @ (qd[3 * i:3 * i + 2]
+                                                + w * np.array([-arm[1], arm[0]]))
+    return float(power), float(kinetic)
+
+
+def momentum_balance(lk: Linkage, r: dict, g: float, loads: dict | None = None) -> np.ndarray:
+    """The weights and loads of the moving links minus their ``m a``: the force they put
+    on the frame, which ``shake_x``, ``shake_y`` must equal."""
+    loads = loads or {}
+    total = np.zeros(2)
+    for i, link in enumerate(lk.links):
+        total += -link.mass * r["qdd"][3 * i:3 * i + 2] - np.array([0.0, link.mass * g])
+    for ld in lk.loads:
+        if ld["kind"] == "force":
+            total += loads.get(ld["name"], ld["start"]) * ld["direction"]
+    return total

@@ -77,40 +77,6 @@ def test_reference_equals_presets(name):
             assert ref[key] == pytest.approx(sol[key], abs=TOL), (name, key, offset)
 
 
-def power_balance(lk, r, loads):
-    """(Mb omega + power of the weights and loads, d/dt of the kinetic energy), from the
-    reference's own velocities and accelerations."""
-    qd, qdd = r["qd"], r["qdd"]
-    power = r["Mb"] * qd[3 * lk.index[lk.crank] + 2]
-    kin = 0.0
-    for i, link in enumerate(lk.links):
-        v, a = qd[3 * i:3 * i + 2], qdd[3 * i:3 * i + 2]
-        power -= link.mass * G * v[1]
-        kin += link.mass * v @ a + link.inertia * qd[3 * i + 2] * qdd[3 * i + 2]
-    for ld in lk.loads:
-        i = lk.index[ld["body"]]
-        value = loads.get(ld["name"], ld["start"])
-        if ld["kind"] == "moment":
-            power += value * qd[3 * i + 2]
-        else:  # velocity of the load's point: v_cg + w x arm
-            arm = r["p"][ld["at"]] - (lk.links[i].cg + r["q"][3 * i:3 * i + 2])
-            w = qd[3 * i + 2]
-            power += value * ld["direction"] @ (qd[3 * i:3 * i + 2]
-                                                + w * np.array([-arm[1], arm[0]]))
-    return power, kin
-
-
-def momentum_balance(lk, r, loads):
-    """Weights and loads minus m a of all the moving links: what they put on the frame."""
-    total = np.zeros(2)
-    for i, link in enumerate(lk.links):
-        total += -link.mass * r["qdd"][3 * i:3 * i + 2] - np.array([0.0, link.mass * G])
-    for ld in lk.loads:
-        if ld["kind"] == "force":
-            total += loads.get(ld["name"], ld["start"]) * ld["direction"]
-    return total
-
-
 @pytest.mark.parametrize("name", CASES)
 def test_virtual_power(name):
     """Mb omega + power of the weights and the load = d/dt of the kinetic energy (1e-9 W)."""
@@ -118,7 +84,7 @@ def test_virtual_power(name):
     lk = ne.read(DATA / path)
     for offset in OFFSETS[::3]:
         r = ne.solve(lk, lk.theta_drawn + offset, OMEGA, ALPHA, G, {"load": load})
-        power, kin = power_balance(lk, r, {"load": load})
+        power, kin = ne.power_balance(lk, r, G, {"load": load})
         assert power == pytest.approx(kin, abs=1e-9)
 
 
@@ -128,7 +94,7 @@ def test_shaking_is_the_momentum_balance(name):
     path, load, _ = CASES[name]
     lk = ne.read(DATA / path)
     r = ne.solve(lk, lk.theta_drawn + 0.2, OMEGA, ALPHA, G, {"load": load})
-    total = momentum_balance(lk, r, {"load": load})
+    total = ne.momentum_balance(lk, r, G, {"load": load})
     assert r["shake_x"] == pytest.approx(total[0], abs=1e-9)
     assert r["shake_y"] == pytest.approx(total[1], abs=1e-9)
 
@@ -163,9 +129,9 @@ def test_compound_joint():
     for offset in OFFSETS[::4]:
         r = ne.solve(lk, lk.theta_drawn + offset, OMEGA, ALPHA, G)
         assert r["residual"] < 1e-10
-        power, kin = power_balance(lk, r, {})
+        power, kin = ne.power_balance(lk, r, G)
         assert power == pytest.approx(kin, abs=1e-9)
-        total = momentum_balance(lk, r, {})
+        total = ne.momentum_balance(lk, r, G)
         assert r["shake_x"] == pytest.approx(total[0], abs=1e-9)
         assert r["shake_y"] == pytest.approx(total[1], abs=1e-9)
         assert {k for k in r["R"] if k[0] == "C"} == {("C", "3"), ("C", "4")}
