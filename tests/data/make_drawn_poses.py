@@ -85,7 +85,8 @@ body = "1"
 
 
 def six_bar() -> str:
-    l_oa, l_ab, l_o1b, l_o1k, l_kd, a, b, rho, m4 = 0.15, 0.97, 0.66, 0.25, 0.86, 0.5, 0.37, 10.0, 20.0
+    l_oa, l_ab, l_o1b, l_o1k, l_kd = 0.15, 0.97, 0.66, 0.25, 0.86
+    a, b, rho, m4 = 0.5, 0.37, 10.0, 20.0
     pa = (l_oa * math.cos(THETA), l_oa * math.sin(THETA))
     p = assemble({"O": (0.0, 0.0), "A": pa, "O1": (a, b)}, {"B": (0.3, 1.0)},
                  [("A", "B", l_ab), ("O1", "B", l_o1b)])
@@ -288,16 +289,16 @@ def klann() -> None:
         ("leg", ["E", "F"], ["G"], bent(p, "E", "F", "G", rho),
          "the leg E-F-G, bent at the knee F: two bars welded at F, G the foot"),
     ]
-    header = '''# One leg of Klann's linkage (US patent 6,260,862): a six-bar of pivots only. Proportions:
-# the optimised Klann geometry published at boim.com/Walkin8r/Klann.html (units taken
-# as cm): crank AC = 17.5 about the axle A; frame pivots B = (-38.8, -12.5) and
-# D = (-14.6, 41.9) from A; lower rocker BH = 23.7; connecting arm C-H-F with CH = 38.8,
-# FH = 35.2, CF = 73.4 (bent about 15 deg at H); upper rocker DE = 34.1; leg E-F-G with
-# EF = 57.7, FG = 59, EG = 111.7 (the knee F bent about 34 deg), G the foot. That page
-# gives the lengths, not the assembly modes: of the eight, the one drawn here (H above
-# the line B->C; F above the line C->H; E above-left, the foot G below) is the one that
-# assembles over the whole turn with the longest flat bottom of the foot path: its
-# lowest 3 units span the whole stride of 64 units. Drawn with the crank along +x
+    header = '''# One leg of Klann's linkage (US patent 6,260,862): a six-bar of pivots only.
+# Proportions: the optimised Klann geometry published at boim.com/Walkin8r/Klann.html
+# (units taken as cm): crank AC = 17.5 about the axle A; frame pivots B = (-38.8, -12.5)
+# and D = (-14.6, 41.9) from A; lower rocker BH = 23.7; connecting arm C-H-F with
+# CH = 38.8, FH = 35.2, CF = 73.4 (bent about 15 deg at H); upper rocker DE = 34.1; leg
+# E-F-G with EF = 57.7, FG = 59, EG = 111.7 (the knee F bent about 34 deg), G the foot.
+# That page gives the lengths, not the assembly modes: of the eight, the one drawn here
+# (H above the line B->C; F above the line C->H; E above-left, the foot G below) is the
+# one that assembles over the whole turn with the longest flat bottom of the foot path:
+# its lowest 3 units span the whole stride of 64 units. Drawn with the crank along +x
 # (theta = 0), closed by Newton on those lengths (tests/data/make_drawn_poses.py).
 # Links are aluminium flat bar 25 x 6 mm (0.405 kg/m; m = rho L, J = m L^2 / 12); the
 # arm and the leg are two such bars welded at their bend. F_foot is the ground's

@@ -132,19 +132,19 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
 
     A link is drawn as the convex hull of the points it carries (:func:`link_points`,
     :func:`hull`): a bar between two (or between the ends of points on one line), a
-    lightly filled plate with an outline for three or more, a slider a square, revolute joints circles, frame points hatched
-    triangles and fixed guides dashed lines. Each :func:`force_pairs` force whose joint is
-    known is an arrow ``F * scale`` [m] starting at its joint's point, labelled with its
-    name and magnitude beyond its tip. Each load is labelled with its name and value
-    (as given, or, over the cycle, at this angle): a force as an arrow ``value *
-    direction * scale`` [m] ending at its point, so that it points the way the force
-    acts, a moment as an arc about the middle of its link's points with its head in
-    the moment's sense (counter-clockwise for a positive value); a load of 0 is drawn
-    faint, in its positive sense (a force 0.15 of the linkage's size long).
-    The labels are placed when the figure is drawn
-    (their size is in points, the linkage's in metres), each as near its point or tip
-    as it can be without covering another label, a joint, a frame point's symbol, the
-    scale, an arrow, an arc or a guide, nor, unless that takes it much farther, a link
+    lightly filled plate with an outline for three or more, a slider a square, revolute
+    joints circles, frame points hatched triangles and fixed guides dashed lines. Each
+    :func:`force_pairs` force whose joint is known is an arrow ``F * scale`` [m]
+    starting at its joint's point, labelled with its name and magnitude beyond its tip.
+    Each load is labelled with its name and value (as given, or, over the cycle, at this
+    angle): a force as an arrow ``value * direction * scale`` [m] ending at its point,
+    so that it points the way the force acts, a moment as an arc about the middle of its
+    link's points with its head in the moment's sense (counter-clockwise for a positive
+    value); a load of 0 is drawn faint, in its positive sense (a force 0.15 of the
+    linkage's size long). The labels are placed when the figure is drawn (their size is
+    in points, the linkage's in metres), each as near its point or tip as it can be
+    without covering another label, a joint, a frame point's symbol, the scale, an
+    arrow, an arc or a guide, nor, unless that takes it much farther, a link
     (:func:`place_boxes`); with a thin line to it if it had to move away.
 
     Parameters
