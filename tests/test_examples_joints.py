@@ -21,6 +21,7 @@ import pytest
 import newton_euler as ne
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+DATA = Path(__file__).resolve().parent / "data"
 NAMES = ("jansen", "klann", "triad_six_bar")
 OMEGA, ALPHA, G = 10.0, 5.0, 9.81
 TOL = 1e-9  # N.m and N
@@ -130,16 +131,27 @@ def library(path: Path):
         raise
 
 
-@pytest.mark.parametrize("path", [EXAMPLES / f"{n}.toml" for n in NAMES]
-                         + [Path(__file__).parent / "data" / f"{n}_joints.toml"
-                            for n in ("four_bar", "six_bar")], ids=lambda p: p.stem)
+#: every joints-and-links file with the loads to test it with
+FILES = {EXAMPLES / f"{n}.toml": LOADS[n] for n in NAMES} | {
+    DATA / "four_bar_joints.toml": {"load": 3.0},
+    DATA / "six_bar_joints.toml": {"load": 150.0},
+    DATA / "slider_crank_joints.toml": {"load": 300.0},
+    DATA / "coupler_four_bar_joints.toml": {"F_P": 80.0, "T4": -40.0},
+}
+
+
+@pytest.mark.parametrize("path", FILES, ids=lambda p: p.stem)
 def test_library_equals_reference(path):
-    """The library's Mb and shaking force equal the reference's to 1e-9 within 30 deg
-    of the drawn angle, omega 10, alpha 5, g 9.81."""
+    """The library reproduces every drawn joint at the drawn angle (1e-12 m), and its
+    Mb and shaking force equal the reference's to 1e-9 within 30 deg of the drawn
+    angle, omega 10, alpha 5, g 9.81."""
     mech = library(path)
     lk = ne.read(path)
-    loads = LOADS.get(path.stem, {"load": 3.0} if path.stem == "four_bar_joints"
-                      else {"load": 150.0})
+    st = mech.kinematics(lk.theta_drawn, order=0)
+    for j, p in lk.joints.items():
+        if j not in lk.slides:
+            assert np.max(np.abs(np.array(st.p[j], float) - p)) < 1e-12, j
+    loads = FILES[path]
     for offset in OFFSETS:
         theta = lk.theta_drawn + offset
         ref = ne.solve(lk, theta, OMEGA, ALPHA, G, loads)

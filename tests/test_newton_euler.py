@@ -1,10 +1,11 @@
 """The independent Newton-Euler reference (tests/newton_euler.py), proved on the presets.
 
-The four_bar and six_bar presets are written as joints and links in tests/data (drawn at
-60 deg by tests/data/make_drawn_poses.py). The reference reads them with tomllib and
-shares no code with the library's groups or solver; its ``Mb`` and shaking force must
-equal the group-form presets' to 1e-9 (N.m, N) at angles within 30 deg of the drawn one,
-with omega 10 rad/s, alpha 5 rad/s^2 and g 9.81. Its own physics is checked by virtual
+The four_bar, six_bar (with its slider) and slider_crank (e = 0.01) presets and the
+coupler four-bar example (a force at a coupler point that is no joint) are written as
+joints and links in tests/data (drawn at 60 deg by tests/data/make_drawn_poses.py). The
+reference reads them with tomllib and shares no code with the library's groups or
+solver; its ``Mb`` and shaking force must equal the group form's to 1e-9 (N.m, N) at
+angles within 30 deg of the drawn one, with omega 10 rad/s, alpha 5 rad/s^2 and g 9.81. Its own physics is checked by virtual
 power and by the momentum balance, which involve none of the library.
 """
 
@@ -17,20 +18,32 @@ import numpy as np
 import pytest
 
 import newton_euler as ne
-from linkage_fmu import presets
+from linkage_fmu import Description, presets
 
 DATA = Path(__file__).resolve().parent / "data"
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 TOL = 1e-9  # N.m and N: the issue's figure
 OMEGA, ALPHA, G = 10.0, 5.0, 9.81
 OFFSETS = np.radians(np.linspace(-30.0, 30.0, 13))
-#: preset -> (the file, the load's magnitude, {(joint, joint): the preset's length})
+#: case -> (the file, its loads, {(joint, joint): the group form's length})
 CASES = {
-    "four_bar": ("four_bar_joints.toml", 3.0,
+    "four_bar": ("four_bar_joints.toml", {"load": 3.0},
                  {("A", "B"): 0.10, ("B", "C"): 0.35, ("C", "D"): 0.30, ("A", "D"): 0.40}),
-    "six_bar": ("six_bar_joints.toml", 150.0,
+    "six_bar": ("six_bar_joints.toml", {"load": 150.0},
                 {("O", "A"): 0.15, ("A", "B"): 0.97, ("O1", "B"): 0.66, ("O1", "K"): 0.25,
                  ("K", "D"): 0.86, ("K", "B"): 0.41}),
+    "slider_crank": ("slider_crank_joints.toml", {"load": 300.0}, {("O", "A"): 0.05,
+                                                                     ("A", "B"): 0.20}),
+    "coupler_four_bar": ("coupler_four_bar_joints.toml", {"F_P": 80.0, "T4": -40.0},
+                         {("A", "B"): 0.10, ("B", "C"): 0.35, ("C", "D"): 0.30,
+                          ("A", "D"): 0.40, ("B", "P"): math.hypot(0.20, 0.05)}),
 }
+#: the group form of each case, at the parameters its file is drawn with
+GROUP_FORM = {"four_bar": lambda: presets.get("four_bar"),
+              "six_bar": lambda: presets.get("six_bar"),
+              "slider_crank": lambda: presets.get("slider_crank", e=0.01),
+              "coupler_four_bar": lambda: Description.read(EXAMPLES / "coupler_four_bar.toml")
+              .build()}
 SHAKE = ("shake_x", "shake_y", "shake_M")
 
 
@@ -44,13 +57,13 @@ def test_drawn_pose_is_the_preset(name):
     path, _, lengths = CASES[name]
     lk = ne.read(DATA / path)
     for (u, v), length in lengths.items():
-        assert distance(lk.joints, u, v) == pytest.approx(length, abs=1e-15)
+        assert distance({**lk.joints, **lk.points}, u, v) == pytest.approx(length, abs=1e-15)
     assert math.degrees(lk.theta_drawn) == pytest.approx(60.0, abs=1e-12)
 
 
 def test_drawn_pose_branches():
-    """The assembly modes of the presets' defaults: C left of B->D; B left of A->O1, D
-    above K."""
+    """The assembly modes of the group forms: C left of B->D; B left of A->O1, D above
+    K; the piston B on the +x side of A, on the line y = e; P left of B->C."""
     def left(p, a, b, c):
         (ax, ay), (bx, by), (cx, cy) = p[a], p[b], p[c]
         return (bx - ax) * (cy - ay) - (by - ay) * (cx - ax) > 0
@@ -60,18 +73,22 @@ def test_drawn_pose_branches():
     assert left(four, "B", "D", "C")
     assert left(six, "A", "O1", "B")
     assert six["D"][1] > six["K"][1] and six["D"][0] == 0.5
+    piston = ne.read(DATA / "slider_crank_joints.toml").joints
+    assert piston["B"][0] > piston["A"][0] and piston["B"][1] == 0.01
+    coupler = ne.read(DATA / "coupler_four_bar_joints.toml")
+    assert left({**coupler.joints, **coupler.points}, "B", "C", "P")
 
 
 @pytest.mark.parametrize("name", CASES)
 def test_reference_equals_presets(name):
     """Mb and the shaking force of the reference equal the group-form preset's to 1e-9."""
-    path, load, _ = CASES[name]
+    path, loads, _ = CASES[name]
     lk = ne.read(DATA / path)
-    mech = presets.get(name)
+    mech = GROUP_FORM[name]()
     for offset in OFFSETS:
         theta = lk.theta_drawn + offset
-        ref = ne.solve(lk, theta, OMEGA, ALPHA, G, {"load": load})
-        sol = mech.solve(theta, omega=OMEGA, alpha=ALPHA, load=load)
+        ref = ne.solve(lk, theta, OMEGA, ALPHA, G, loads)
+        sol = mech.solve(theta, omega=OMEGA, alpha=ALPHA, **loads)
         assert ref["residual"] < 1e-10
         for key in ("Mb",) + SHAKE:
             assert ref[key] == pytest.approx(sol[key], abs=TOL), (name, key, offset)
@@ -80,21 +97,21 @@ def test_reference_equals_presets(name):
 @pytest.mark.parametrize("name", CASES)
 def test_virtual_power(name):
     """Mb omega + power of the weights and the load = d/dt of the kinetic energy (1e-9 W)."""
-    path, load, _ = CASES[name]
+    path, loads, _ = CASES[name]
     lk = ne.read(DATA / path)
     for offset in OFFSETS[::3]:
-        r = ne.solve(lk, lk.theta_drawn + offset, OMEGA, ALPHA, G, {"load": load})
-        power, kin = ne.power_balance(lk, r, G, {"load": load})
+        r = ne.solve(lk, lk.theta_drawn + offset, OMEGA, ALPHA, G, loads)
+        power, kin = ne.power_balance(lk, r, G, loads)
         assert power == pytest.approx(kin, abs=1e-9)
 
 
 @pytest.mark.parametrize("name", CASES)
 def test_shaking_is_the_momentum_balance(name):
     """The force the links put on the frame = their weights and loads minus m a (1e-9 N)."""
-    path, load, _ = CASES[name]
+    path, loads, _ = CASES[name]
     lk = ne.read(DATA / path)
-    r = ne.solve(lk, lk.theta_drawn + 0.2, OMEGA, ALPHA, G, {"load": load})
-    total = ne.momentum_balance(lk, r, G, {"load": load})
+    r = ne.solve(lk, lk.theta_drawn + 0.2, OMEGA, ALPHA, G, loads)
+    total = ne.momentum_balance(lk, r, G, loads)
     assert r["shake_x"] == pytest.approx(total[0], abs=1e-9)
     assert r["shake_y"] == pytest.approx(total[1], abs=1e-9)
 

@@ -1,6 +1,7 @@
-"""Write the joints-and-links files: in tests/data, the four_bar and six_bar presets at
-their default parameters drawn at a crank angle of 60 deg; in examples/, Jansen's and
-Klann's linkages and the six-bar with a class III group. Every pose is closed by
+"""Write the joints-and-links files: in tests/data, the four_bar, six_bar and
+slider_crank presets and examples/coupler_four_bar.toml, drawn at a crank angle of
+60 deg; in examples/, Jansen's and Klann's linkages and the six-bar with a class III
+group. Every pose is closed by
 :func:`newton_euler.assemble` from the links' lengths (run from the repository root:
 ``python tests/data/make_drawn_poses.py``)."""
 
@@ -147,6 +148,140 @@ description = "external force on the slider along -y"
 [effort]
 name = "Mb"
 body = "OA"
+'''
+
+
+def slider_crank() -> str:
+    l_oa, l_ab, e = 0.05, 0.20, 0.01  # the preset's lengths, with an offset e = 0.01
+    a = (l_oa * math.cos(THETA), l_oa * math.sin(THETA))
+    b = (a[0] + math.sqrt(l_ab ** 2 - (e - a[1]) ** 2), e)  # on the +x side
+    s2 = np.array(a) + 0.06 / l_ab * (np.array(b) - np.array(a))
+    return f'''# The slider_crank preset with e = 0.01 (its other parameters at their defaults),
+# drawn at theta = 60 deg, as joints and links: the piston 3 slides on a frame guide
+# along +x through (0, e) (the joint "guide"). Written by tests/data/make_drawn_poses.py.
+[linkage]
+name = "slider_crank_joints"
+frame = "4"
+gravity = "g"
+
+[parameters]
+g = {{ default = 9.81, kind = "gravity", description = "gravity along -y" }}
+
+[joints]
+O = [0.0, 0.0]
+A = {xy(a)}
+B = {xy(b)}
+guide = {{ at = {xy(b)}, slide = [1.0, 0.0] }}
+
+[[links]]
+name = "1"
+joints = ["O", "A"]
+mass = 0.0
+inertia = 0.0
+cg = [0.0, 0.0]
+
+[[links]]
+name = "2"
+joints = ["A", "B"]
+mass = 0.8
+inertia = 0.004
+cg = {xy(s2)}
+
+[[links]]
+name = "3"
+joints = ["B", "guide"]
+mass = 0.6
+inertia = 0.0
+cg = {xy(b)}
+
+[crank]
+link = "1"
+pivot = "O"
+
+[[loads]]
+name = "load"
+body = "3"
+kind = "force"
+at = "B"
+direction = [-1, 0]
+description = "force on the piston along the guide, towards the crank"
+
+[effort]
+name = "Mb"
+body = "1"
+'''
+
+
+def coupler_four_bar() -> str:
+    l_ab, l_bc, l_cd, l_ad = 0.10, 0.35, 0.30, 0.40
+    b = (l_ab * math.cos(THETA), l_ab * math.sin(THETA))
+    p = assemble({"A": (0.0, 0.0), "B": b, "D": (l_ad, 0.0)}, {"C": (0.35, 0.3)},
+                 [("B", "C", l_bc), ("D", "C", l_cd)])
+    along = (p["C"] - p["B"]) / l_bc
+    point = p["B"] + 0.20 * along + 0.05 * np.array([-along[1], along[0]])
+    return f'''# examples/coupler_four_bar.toml at its default parameters, drawn at theta = 60 deg,
+# as joints and links: the coupler point P is a point of link 2 that is no joint.
+# Written by tests/data/make_drawn_poses.py.
+[linkage]
+name = "coupler_four_bar_joints"
+frame = "0"
+gravity = "g"
+
+[parameters]
+g = {{ default = 9.81, kind = "gravity", description = "gravity along -y" }}
+
+[joints]
+A = {xy(p["A"])}
+B = {xy(p["B"])}
+C = {xy(p["C"])}
+D = {xy(p["D"])}
+
+[points]
+P = {xy(point)}
+
+[[links]]
+name = "1"
+joints = ["A", "B"]
+mass = 0.0
+inertia = 0.0
+cg = {xy(p["A"])}
+
+[[links]]
+name = "2"
+joints = ["B", "C"]
+points = ["P"]
+mass = 2.0
+inertia = 0.02
+cg = {xy((p["B"] + p["C"]) / 2)}
+
+[[links]]
+name = "3"
+joints = ["C", "D"]
+mass = 1.5
+inertia = 0.012
+cg = {xy((p["C"] + p["D"]) / 2)}
+
+[crank]
+link = "1"
+pivot = "A"
+
+[[loads]]
+name = "F_P"
+body = "2"
+kind = "force"
+at = "P"
+direction = [0, -1]
+start = 80.0
+
+[[loads]]
+name = "T4"
+body = "3"
+kind = "moment"
+start = 120.0
+
+[effort]
+name = "Mb"
+body = "1"
 '''
 
 
@@ -359,6 +494,8 @@ def triad_six_bar() -> None:
 if __name__ == "__main__":
     (HERE / "four_bar_joints.toml").write_text(four_bar())
     (HERE / "six_bar_joints.toml").write_text(six_bar())
+    (HERE / "slider_crank_joints.toml").write_text(slider_crank())
+    (HERE / "coupler_four_bar_joints.toml").write_text(coupler_four_bar())
     jansen()
     klann()
     triad_six_bar()
