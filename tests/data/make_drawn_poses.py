@@ -344,8 +344,8 @@ def write_example(path, header, name, title, model, p, joints, points, links, cr
     out += ["", "[crank]", f'link = "{crank[0]}"', f'pivot = "{crank[1]}"']
     for ld in loads:
         out += ["", "[[loads]]"] + [f"{k} = {v}" for k, v in ld.items()]
+    # no [[outputs]]: a linkage of joints and links names its own (F<i><j>, Mb, shake_*)
     out += ["", "[effort]", 'name = "Mb"', f'body = "{crank[0]}"', "",
-            "[[outputs]]", 'kind = "effort"', 'name = "Mb"', "",
             "[inputs]", f"omega = {omega!r}", ""]
     path.write_text("\n".join(out))
 
