@@ -183,3 +183,25 @@ def test_reference_is_independent_and_its_examples_hold():
     imported |= {n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)}
     assert not any(name and name.startswith("linkage_fmu") for name in imported)
     assert doctest.testmod(ne).failed == 0
+
+
+def test_frame_listed_as_a_link_and_values_for_expressions():
+    """The frame may list its joints as a link of its own name; a coordinate may be a
+    parameter's name or an expression resolved in ``values``, or a length with a unit.
+    Each gives the same answer as the plain file (1e-12); an unresolved expression is
+    refused by name."""
+    import tomllib
+
+    data = tomllib.loads((DATA / "four_bar_joints.toml").read_text())
+    plain = ne.solve(ne.from_data(data), 1.2, OMEGA, ALPHA, G, {"load": 3.0})
+    data["links"].append({"name": "4", "joints": ["A", "D"]})
+    data["parameters"]["l_AD"] = {"default": 0.4}
+    data["joints"]["D"] = ["l_AD", "0 mm"]
+    data["joints"]["B"] = ["l_AB * cos(60 deg)", data["joints"]["B"][1]]
+    lk = ne.from_data(data, {"l_AB * cos(60 deg)": 0.1 * math.cos(math.radians(60.0))})
+    assert lk.frame_joints == {"A", "D"}
+    r = ne.solve(lk, 1.2, OMEGA, ALPHA, G, {"load": 3.0})
+    for key in ("Mb",) + SHAKE:
+        assert r[key] == pytest.approx(plain[key], abs=1e-12)
+    with pytest.raises(ne.ReferenceError, match=r"\[joints\] B: 'l_AB \* cos\(60 deg\)'"):
+        ne.from_data(data)
