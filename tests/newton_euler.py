@@ -121,7 +121,8 @@ class Linkage:
         return math.atan2(t[1] - p[1], t[0] - p[0])
 
 
-def _number(value, what: str, values: dict) -> float:
+def _number(value, what: str, values: dict, length: bool = False) -> float:
+    """A plain number, a key of ``values``, or (a ``length``) a length with a unit."""
     if isinstance(value, bool):
         raise ReferenceError(f"{what}: {value!r} is not a number")
     if isinstance(value, (int, float)):
@@ -130,16 +131,16 @@ def _number(value, what: str, values: dict) -> float:
         if value in values:
             return float(values[value])
         match = _NUMBER_UNIT.match(value)
-        if match and (match[2] == "" or match[2] in _LENGTH):
+        if match and (match[2] == "" or (length and match[2] in _LENGTH)):
             return float(match[1]) * _LENGTH.get(match[2] or "m")
-    raise ReferenceError(f"{what}: {value!r} is neither a number, a length with a unit "
-                         f"(m, cm, mm) nor a resolved value")
+    units = ", a length with a unit (m, cm, mm)" if length else ""
+    raise ReferenceError(f"{what}: {value!r} is neither a number{units} nor a resolved value")
 
 
 def _xy(value, what: str, values: dict) -> np.ndarray:
     if not isinstance(value, list) or len(value) != 2:
         raise ReferenceError(f"{what}: expected [x, y], got {value!r}")
-    return np.array([_number(v, what, values) for v in value])
+    return np.array([_number(v, what, values, length=True) for v in value])
 
 
 def from_data(data: dict, values: dict | None = None) -> Linkage:
@@ -177,6 +178,9 @@ def from_data(data: dict, values: dict | None = None) -> Linkage:
         for j in listed:
             if j not in joints:
                 raise ReferenceError(f"link {name}: joint {j!r} is not in [joints]")
+        for j in spec.get("points", ()):
+            if j not in points:
+                raise ReferenceError(f"link {name}: point {j!r} is not in [points]")
         if name == frame:
             frame_joints.update(listed)
             continue
