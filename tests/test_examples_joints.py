@@ -158,3 +158,20 @@ def test_library_equals_reference(path):
         sol = mech.solve(theta, omega=OMEGA, alpha=ALPHA, **loads)
         for key in ("Mb", "shake_x", "shake_y", "shake_M"):
             assert sol[key] == pytest.approx(ref[key], abs=TOL), (path.stem, key, offset)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_reference_motion_is_the_derivative_of_its_positions(name):
+    """Velocities and accelerations from the differentiated constraints equal central
+    differences of the positions (step 1e-3 rad: truncation about 1e-7 of the values)
+    with q' omega and q'' omega^2 + q' alpha."""
+    lk = read(name)
+    h = 1e-3
+    for offset in OFFSETS[::4]:
+        theta = lk.theta_drawn + offset
+        q0, qm, qp = (ne.positions(lk, theta + d) for d in (0.0, -h, h))
+        qd, qdd = ne.motion(lk, q0, OMEGA, ALPHA)
+        d1, d2 = (qp - qm) / (2 * h), (qp - 2 * q0 + qm) / h ** 2
+        scale = np.max(np.abs(qdd))
+        np.testing.assert_allclose(qd, d1 * OMEGA, atol=1e-6 * np.max(np.abs(qd)))
+        np.testing.assert_allclose(qdd, d2 * OMEGA ** 2 + d1 * ALPHA, atol=1e-5 * scale)
