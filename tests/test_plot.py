@@ -938,3 +938,76 @@ def test_convergence_is_the_optimisations_history(tmp_path):
     fig.savefig(tmp_path / "c.png")
     assert (tmp_path / "c.png").read_bytes()[:8] == PNG
     plt.close(fig)
+
+
+def test_hull_of_a_links_points():
+    """The convex hull by hand: a square's corners counter-clockwise from the lowest
+    (its centre and a point on an edge left out); points on one line give its ends."""
+    pos = {"a": (0.0, 0.0), "b": (1.0, 0.0), "c": (1.0, 1.0), "d": (0.0, 1.0),
+           "m": (0.5, 0.5), "e": (1.0, 0.5)}
+    assert plot.hull(["m", "c", "a", "e", "d", "b"], pos) == ["a", "b", "c", "d"]
+    line = {"p": (0.0, 0.0), "q": (0.3, 0.6), "r": (0.1, 0.2)}
+    assert plot.hull(["r", "q", "p"], line) == ["p", "q"]
+    assert plot.hull(["q", "p"], line) == ["p", "q"]
+
+
+def link_artist(ax, name: str):
+    (artist,) = [a for a in ax.get_children() if a.get_gid() == f"link:{name}"]
+    return artist
+
+
+def test_linkage_draws_a_ternary_link_as_a_plate():
+    """The coupler of the coupler four-bar carries B, C and its point P (off the line
+    BC): it is a Polygon whose corners are those three points where the solver puts
+    them, counter-clockwise (its signed area is the triangle's, by the cross product),
+    lightly filled with an opaque outline; the crank and the rocker stay bars from one
+    joint to the other."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Polygon
+
+    mech = Description.read(EXAMPLE).build()
+    theta = math.radians(40.0)
+    st = mech.kinematics(theta, order=0)
+    ax = plot.linkage(mech, theta).axes[0]
+    plate = link_artist(ax, "2")
+    assert isinstance(plate, Polygon)
+    corners = np.array(plate.get_xy(), float)[:-1]  # the last closes the ring
+    points = np.array([st.p[p] for p in ("B", "C", "P")], float)
+    assert len(corners) == 3
+    for p in points:
+        assert np.min(np.hypot(*(corners - p).T)) < 1e-12
+    (bx, by), (cx, cy), (px, py) = points
+    area = abs((cx - bx) * (py - by) - (cy - by) * (px - bx)) / 2
+    x, y = corners.T
+    signed = (np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))) / 2
+    assert signed == pytest.approx(area, rel=1e-12)
+    assert plate.get_facecolor()[3] == pytest.approx(0.2)
+    assert plate.get_edgecolor()[3] == 1.0
+    for link, ends in (("1", ("A", "B")), ("3", ("C", "D"))):
+        bar = link_artist(ax, link)
+        assert isinstance(bar, Line2D)
+        np.testing.assert_allclose(np.array(bar.get_xydata(), float),
+                                   np.array([st.p[p] for p in ends], float), atol=1e-15)
+
+
+@pytest.mark.parametrize("name, link, ends, inner", [
+    ("six_bar", "O1B", ("O1", "B"), "K"),       # K on the rocker, between O1 and B
+    ("crank_shaper", "3", ("C", "D"), "B"),     # the block's B on the lever C-D
+])
+def test_linkage_draws_points_on_one_line_as_a_bar(name, link, ends, inner):
+    """A link whose points lie on one line is a bar between the two ends (the inner
+    point lies on it, between them), not a plate."""
+    from matplotlib.lines import Line2D
+
+    mech = presets.get(name)
+    theta = math.radians(60.0)
+    st = mech.kinematics(theta, order=0)
+    bar = link_artist(plot.linkage(mech, theta).axes[0], link)
+    assert isinstance(bar, Line2D)
+    xy = np.array(bar.get_xydata(), float)
+    got = sorted(map(tuple, xy))
+    want = sorted(tuple(float(v) for v in st.p[p]) for p in ends)
+    np.testing.assert_allclose(got, want, atol=1e-12)
+    (ax_, ay), (bx, by), (kx, ky) = (np.array(st.p[p], float) for p in (*ends, inner))
+    t = ((kx - ax_) * (bx - ax_) + (ky - ay) * (by - ay)) / ((bx - ax_) ** 2 + (by - ay) ** 2)
+    assert 0.0 < t < 1.0

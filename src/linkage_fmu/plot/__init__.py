@@ -39,7 +39,7 @@ Examples
 from .convergence import convergence
 from .curves import ZERO_FRACTION, loss, polar, revolution_mean, rounded, shaking, torque
 from .inputs import N_ANGLES
-from .parts import ForcePair, force_pairs, link_points
+from .parts import ForcePair, force_pairs, hull, link_points
 from .picture import ARROW_FRACTION, MOMENT_FRACTION, linkage
 from .placement import place_boxes
 from .speed import speed
@@ -48,6 +48,6 @@ from .transmission_angles import TOGGLE_TOL, toggles, transmission
 __all__ = ["torque", "polar", "linkage", "transmission", "shaking", "speed", "loss",
            "convergence",
            "ForcePair",
-           "force_pairs", "link_points", "revolution_mean", "rounded", "toggles",
+           "force_pairs", "link_points", "hull", "revolution_mean", "rounded", "toggles",
            "place_boxes", "N_ANGLES", "ARROW_FRACTION", "MOMENT_FRACTION", "TOGGLE_TOL",
            "ZERO_FRACTION"]

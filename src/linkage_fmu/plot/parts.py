@@ -1,10 +1,10 @@
 """What of a linkage the plots draw: its force outputs paired by component, each with
-the joint it acts at, and the points each link carries."""
+the joint it acts at, the points each link carries and the outline they make."""
 
 from __future__ import annotations
 
 import re
-from typing import TYPE_CHECKING, NamedTuple
+from typing import TYPE_CHECKING, NamedTuple, Sequence
 
 from ..outputs import SHAKING, joint_between
 
@@ -105,3 +105,47 @@ def link_points(mech: "Mechanism") -> dict[str, tuple[str, ...]]:
         if link in points and point not in points[link]:
             points[link].append(point)
     return {k: tuple(v) for k, v in points.items()}
+
+
+def hull(points: Sequence[str], pos: dict) -> list[str]:
+    """The points of ``points`` on their convex hull, counter-clockwise from the lowest
+    (then leftmost); points on an edge (within 1e-9 of the points' extent, what
+    rounding leaves of a point placed on a line) are left out, so points on one line
+    give the two ends of it.
+
+    A link is drawn as this hull: a plate if it has three or more corners, else a bar.
+
+    Examples
+    --------
+    >>> pos = {"A": (0.0, 0.0), "B": (1.0, 0.0), "C": (0.5, 1.0), "M": (0.5, 0.2)}
+    >>> hull(["A", "B", "C", "M"], pos)
+    ['A', 'B', 'C']
+    >>> hull(["B", "M", "A"], {"A": (0.0, 0.0), "B": (1.0, 0.0), "M": (0.4, 0.0)})
+    ['A', 'B']
+    """
+    order = sorted(dict.fromkeys(points), key=lambda p: (pos[p][0], pos[p][1]))
+    if len(order) < 3:
+        return order
+
+    xs, ys = zip(*(pos[p] for p in order))
+    size = max(max(xs) - min(xs), max(ys) - min(ys))
+    flat = 1e-9 * size * size  # |o a| times the distance of b from the line o a
+
+    def turn(o, a, b):  # > 0: o -> a -> b turns counter-clockwise
+        (ox, oy), (ax, ay), (bx, by) = pos[o], pos[a], pos[b]
+        return (ax - ox) * (by - oy) - (ay - oy) * (bx - ox)
+
+    def chain(seq):  # Andrew's monotone chain, one side
+        out: list[str] = []
+        for p in seq:
+            while len(out) >= 2 and turn(out[-2], out[-1], p) <= flat:
+                out.pop()
+            out.append(p)
+        return out
+
+    lower, upper = chain(order), chain(order[::-1])
+    ring = lower[:-1] + upper[:-1]
+    if len(ring) < 3:  # all on one line: its two ends
+        return [order[0], order[-1]]
+    start = min(range(len(ring)), key=lambda k: (pos[ring[k]][1], pos[ring[k]][0]))
+    return ring[start:] + ring[:start]

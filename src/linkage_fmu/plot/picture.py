@@ -12,7 +12,7 @@ import numpy as np
 from ..printing import number
 from .figures import figure_axes
 from .inputs import crank_angles, input_values, inputs_text, solve_at
-from .parts import force_pairs, link_points
+from .parts import force_pairs, hull, link_points
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -36,17 +36,6 @@ def _size(points: Sequence[tuple[float, float]], fallback: float) -> float:
     xy = np.asarray(points, dtype=float)
     size = float(np.max(np.ptp(xy, axis=0))) if len(xy) else 0.0
     return size if size > 0.0 else float(fallback)
-
-
-def _ordered(points: Sequence[str], pos: dict) -> list[str]:
-    """``points`` around their centroid, so that a link of three or more points is
-    drawn as a polygon that does not cross itself."""
-    if len(points) < 3:
-        return list(points)
-    xy = np.array([pos[p] for p in points])
-    c = xy.mean(axis=0)
-    order = np.argsort(np.arctan2(xy[:, 1] - c[1], xy[:, 0] - c[0]), kind="stable")
-    return [points[k] for k in order]
 
 
 def _nice(value: float) -> float:
@@ -141,20 +130,21 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     """The linkage at one crank angle, with every joint force drawn as an arrow from its
     joint and every external load at its point or on its link, the forces to one scale.
 
-    Links are lines between the points they carry (:func:`link_points`; a polygon for
-    three or more), a slider a square, revolute joints circles, frame points hatched
-    triangles and fixed guides dashed lines. Each :func:`force_pairs` force whose joint is
-    known is an arrow ``F * scale`` [m] starting at its joint's point, labelled with its
-    name and magnitude beyond its tip. Each load is labelled with its name and value
-    (as given, or, over the cycle, at this angle): a force as an arrow ``value *
-    direction * scale`` [m] ending at its point, so that it points the way the force
-    acts, a moment as an arc about the middle of its link's points with its head in
-    the moment's sense (counter-clockwise for a positive value); a load of 0 is drawn
-    faint, in its positive sense (a force 0.15 of the linkage's size long).
-    The labels are placed when the figure is drawn
-    (their size is in points, the linkage's in metres), each as near its point or tip
-    as it can be without covering another label, a joint, a frame point's symbol, the
-    scale, an arrow, an arc or a guide, nor, unless that takes it much farther, a link
+    A link is drawn as the convex hull of the points it carries (:func:`link_points`,
+    :func:`hull`): a bar between two (or between the ends of points on one line), a
+    lightly filled plate with an outline for three or more, a slider a square, revolute
+    joints circles, frame points hatched triangles and fixed guides dashed lines. Each
+    :func:`force_pairs` force whose joint is known is an arrow ``F * scale`` [m]
+    starting at its joint's point, labelled with its name and magnitude beyond its tip.
+    Each load is labelled with its name and value (as given, or, over the cycle, at this
+    angle): a force as an arrow ``value * direction * scale`` [m] ending at its point,
+    so that it points the way the force acts, a moment as an arc about the middle of its
+    link's points with its head in the moment's sense (counter-clockwise for a positive
+    value); a load of 0 is drawn faint, in its positive sense (a force 0.15 of the
+    linkage's size long). The labels are placed when the figure is drawn (their size is
+    in points, the linkage's in metres), each as near its point or tip as it can be
+    without covering another label, a joint, a frame point's symbol, the scale, an
+    arrow, an arc or a guide, nor, unless that takes it much farther, a link
     (:func:`place_boxes`); with a thin line to it if it had to move away.
 
     Parameters
@@ -179,7 +169,8 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
         Its axes hold the quiver ``gid="forces"`` (``X, Y`` the joint points, ``U, V``
         the forces times ``scale``, in :func:`force_pairs` order), the quiver key
         ``gid="scale"`` (a round force to scale; the title gives the scale in m/N),
-        lines ``gid="link:<name>"`` (a patch for a slider) and ``gid="joints"``; each
+        lines ``gid="link:<name>"`` (a patch for a slider, a ``Polygon`` of the hull's
+        corners, counter-clockwise, for a plate) and ``gid="joints"``; each
         load's quiver ``gid="load:<name>"`` (one arrow: ``X, Y`` its point, the tip;
         ``U, V`` the force times ``scale``) or, for a moment, line
         ``gid="load:<name>"`` (the arc, from its tail to its head, :data:`MOMENT_FRACTION`
@@ -230,6 +221,7 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
         raise ValueError(f"scale must be a finite number > 0 [m/N], got {scale!r}")
 
     fig, ax = figure_axes(ax, figsize=(8.0, 6.5))
+    from matplotlib.colors import to_rgba
     from matplotlib.patches import Polygon, Rectangle
 
     from .label_placer import LabelPlacer  # a matplotlib artist: imported to draw
@@ -257,13 +249,16 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
                                    rotation_point="center", facecolor=color, alpha=0.35,
                                    edgecolor=color, lw=1.5, zorder=2, gid=f"link:{link}"))
             continue
-        ring = _ordered(pts, pos)
+        ring = hull(pts, pos)
         xy = [pos[p] for p in ring] + ([pos[ring[0]]] if len(ring) > 2 else [])
         lines += [(x0, y0, x1 - x0, y1 - y0) for (x0, y0), (x1, y1) in zip(xy, xy[1:])]
+        if len(ring) > 2:  # a plate: its joints' and points' hull, lightly filled
+            ax.add_patch(Polygon(xy[:-1], closed=True, facecolor=to_rgba(color, 0.2),
+                                 edgecolor=color, lw=2.0, joinstyle="round", zorder=2,
+                                 label=f"link {link}", gid=f"link:{link}"))
+            continue
         ax.plot(*zip(*xy), "-", color=color, lw=3.0, solid_capstyle="round", zorder=2,
                 label=f"link {link}", gid=f"link:{link}")
-        if len(ring) > 2:
-            ax.add_patch(Polygon(xy, closed=True, facecolor=color, alpha=0.15, lw=0, zorder=1))
     revolute = [j.point for j in mech.joints if j.normal is None]
     jx, jy = zip(*[pos[p] for p in revolute]) if revolute else ((), ())
     ax.plot(jx, jy, "o", ms=7, mfc="white", mec="k", mew=1.3, ls="none", zorder=4,
