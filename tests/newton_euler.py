@@ -45,9 +45,9 @@ Values: plain numbers (SI), a number with a length unit (``"120 mm"``), or a str
 is a key of ``values`` (resolved numbers for parameters or expressions; a bare parameter
 name also takes its ``[parameters]`` default).
 
-Named points of a link that are not joints (a foot, a coupler point) are drawn in
-``[points]`` and listed by their link under ``points = [...]``; loads act at a joint or
-such a point (``at``), or as a moment on a body.
+Named points of a link that are not joints (a foot, a coupler point) are drawn in their
+link's table, ``points = { P = [x, y] }``; loads act at a joint or such a point
+(``at``), or as a moment on a body.
 """
 
 from __future__ import annotations
@@ -169,8 +169,7 @@ def from_data(data: dict, values: dict | None = None) -> Linkage:
             slides[name] = s / np.hypot(*s)
         else:
             joints[name] = _xy(spec, f"[joints] {name}", resolved)
-    points = {name: _xy(spec, f"[points] {name}", resolved)
-              for name, spec in data.get("points", {}).items()}
+    points: dict = {}
     links, frame_joints = [], set()
     for k, spec in enumerate(data.get("links", [])):
         name = str(spec.get("name", k + 1))
@@ -178,16 +177,20 @@ def from_data(data: dict, values: dict | None = None) -> Linkage:
         for j in listed:
             if j not in joints:
                 raise ReferenceError(f"link {name}: joint {j!r} is not in [joints]")
-        for j in spec.get("points", ()):
-            if j not in points:
-                raise ReferenceError(f"link {name}: point {j!r} is not in [points]")
+        drawn = spec.get("points", {})
+        if not isinstance(drawn, dict):
+            raise ReferenceError(f"link {name}: points must be a table {{ P = [x, y] }}")
+        for j, xy in drawn.items():
+            if j in joints or j in points:
+                raise ReferenceError(f"link {name}: point {j!r} is already a joint or a point")
+            points[j] = _xy(xy, f"link {name}.points.{j}", resolved)
         if name == frame:
             frame_joints.update(listed)
             continue
         if len(listed) < 2 and not any(j in slides for j in listed):
             raise ReferenceError(f"link {name}: {len(listed)} joint(s); a link needs two")
         cg = spec.get("cg")
-        links.append(Link(name, listed, tuple(spec.get("points", ())),
+        links.append(Link(name, listed, tuple(drawn),
                           _number(spec.get("mass", 0.0), f"link {name}.mass", resolved),
                           _number(spec.get("inertia", 0.0), f"link {name}.inertia", resolved),
                           joints[listed[0]].copy() if cg is None

@@ -236,9 +236,6 @@ B = {xy(p["B"])}
 C = {xy(p["C"])}
 D = {xy(p["D"])}
 
-[points]
-P = {xy(point)}
-
 [[links]]
 name = "1"
 joints = ["A", "B"]
@@ -249,7 +246,7 @@ cg = {xy(p["A"])}
 [[links]]
 name = "2"
 joints = ["B", "C"]
-points = ["P"]
+points = {{ P = {xy(point)} }}
 mass = 2.0
 inertia = 0.02
 cg = {xy((p["B"] + p["C"]) / 2)}
@@ -323,23 +320,20 @@ def bent(p, u, v, w, rho):
     return m, j, cg
 
 
-def write_example(path, header, name, title, model, p, joints, points, links, crank,
-                  loads, omega):
+def write_example(path, header, name, title, model, p, joints, links, crank, loads, omega):
     out = [header.rstrip(), "[linkage]", f'name = "{name}"', f'title = "{title}"',
            f'model = "{model}"', 'frame = "0"', 'gravity = "g"', "",
            "[parameters]",
            'g = { default = 9.81, kind = "gravity", description = "gravity along -y" }', "",
            "[joints]"]
     out += [f"{j} = {mm_xy(p[j])}" for j in joints]
-    if points:
-        out += ["", "[points]  # points of a link that are not joints, where drawn"]
-        out += [f"{j} = {mm_xy(p[j])}" for j in points]
     for link in links:
         lname, ljoints, lpoints, (m, inertia, cg), note = link
         out += ["", "[[links]]" + (f"  # {note}" if note else ""), f'name = "{lname}"',
                 "joints = [" + ", ".join(f'"{j}"' for j in ljoints) + "]"]
-        if lpoints:
-            out.append("points = [" + ", ".join(f'"{j}"' for j in lpoints) + "]")
+        if lpoints:  # points of the link that are not joints, where drawn
+            out.append("points = { " + ", ".join(f"{j} = {mm_xy(p[j])}" for j in lpoints)
+                       + " }")
         out += [f"mass = {m:.17g}", f"inertia = {inertia:.17g}", f"cg = {mm_xy(cg)}"]
     out += ["", "[crank]", f'link = "{crank[0]}"', f'pivot = "{crank[1]}"']
     for ld in loads:
@@ -393,7 +387,7 @@ def jansen() -> None:
 '''
     write_example(EXAMPLES / "jansen.toml", header, "jansen", "One leg of Jansen's linkage "
                   "(Strandbeest), holy numbers", "Jansen", p,
-                  ["O", "A", "Z", "Zc", "B", "C", "D", "E"], ["F"], links, ("crank", "O"),
+                  ["O", "A", "Z", "Zc", "B", "C", "D", "E"], links, ("crank", "O"),
                   [dict(name='"F_foot"', body='"leg"', kind='"force"', at='"F"',
                         direction="[0, 1]", start="40.0",
                         description='"ground reaction on the foot F, along +y"')], 10.0)
@@ -440,7 +434,7 @@ def klann() -> None:
 # reaction on the foot G, straight up.
 '''
     write_example(EXAMPLES / "klann.toml", header, "klann", "One leg of Klann's linkage",
-                  "Klann", p, ["A", "C", "B", "H", "F", "D", "E"], ["G"], links,
+                  "Klann", p, ["A", "C", "B", "H", "F", "D", "E"], links,
                   ("crank", "A"),
                   [dict(name='"F_foot"', body='"leg"', kind='"force"', at='"G"',
                         direction="[0, 1]", start="30.0",
@@ -485,7 +479,7 @@ def triad_six_bar() -> None:
 '''
     write_example(EXAMPLES / "triad_six_bar.toml", header, "triad_six_bar",
                   "Six-bar with a class III group (a plate on three rods)", "TriadSixBar", p,
-                  ["O", "A", "O2", "O3", "P1", "P2", "P3"], [], links, ("crank", "O"),
+                  ["O", "A", "O2", "O3", "P1", "P2", "P3"], links, ("crank", "O"),
                   [dict(name='"T"', body='"plate"', kind='"moment"', start="5.0",
                         description='"load torque on the plate, counter-clockwise positive"')],
                   10.0)
