@@ -89,7 +89,8 @@ def test_a_crank_pivot_not_on_the_frame():
     text = FOUR_BAR.replace('pivot = "A"', 'pivot = "B"')
     assert problems(text) == [
         "[crank] pivot: the crank pivot B is not on the frame: it joins link 1 to 2; the "
-        "pivot is a revolute joint that only the crank lists"]
+        "pivot is a revolute joint that only the crank lists, or one the frame's entry in "
+        "[[links]] lists"]
 
 
 def test_unknown_joint_names():

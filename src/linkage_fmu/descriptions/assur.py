@@ -22,7 +22,10 @@ reproduces every drawn joint (:func:`check_pose`).
 Pairs: a revolute pair takes its joint's name; at a compound joint J (on k links) the
 pair J joins the first two of its links to be placed, and each further link L is
 joined to the first by the pair ``J_L`` (its pin, the point ``J_L``, is a point of the
-first link where J is). A prismatic pair takes its joint's name.
+first link where J is). At a joint J on the frame (the frame's entry in [[links]] lists
+it) with k moving links, the pair J joins the frame to the first of them to be placed,
+and each further link L is joined to the frame by the pair ``J_L`` (at the frame's
+point ``J_L``, where J is). A prismatic pair takes its joint's name.
 
 Examples
 --------
@@ -80,6 +83,8 @@ class Decomposition:
         The drawn crank angle.
     links : tuple of str
         The moving links, in the order of [[links]].
+    tables : dict
+        Moving link -> its number in [[links]] (from 1; the frame's entry counted).
     """
 
     points: dict = field(default_factory=dict)
@@ -89,6 +94,7 @@ class Decomposition:
     pose: dict = field(default_factory=dict)
     theta: object = 0.0
     links: tuple = ()
+    tables: dict = field(default_factory=dict)
 
 
 def fold(text):
@@ -169,7 +175,7 @@ class _Decomposer:
     def __init__(self, t: Topology, values: dict, branches: tuple, at_points: set):
         self.t, self.values, self.branches, self.at_points = t, values, branches, at_points
         self.params = set(values)
-        self.out = Decomposition(links=tuple(t.links))
+        self.out = Decomposition(links=tuple(t.links), tables=dict(t.tables))
         self.placed_links: list = []
         self.owner: dict = {}  # placed point -> the body it is fixed in, None if shared
         self.first: dict = {}  # placed point -> the link to attach further links to
@@ -224,13 +230,20 @@ class _Decomposer:
 
     def attach(self, joint: str, link: str) -> str:
         """The point of ``joint`` that ``link`` is pinned to: the joint itself, or at a
-        compound joint whose pair is made, the point ``J_link`` on its first link."""
+        compound joint whose pair is made, the point ``J_link`` on its first link (on
+        the frame, for a joint on the frame)."""
         if self.owner[joint] is not None and joint not in self.pair_names:
             self.pair_names.add(joint)  # its pair is made now: a further link takes a copy
             return joint
         copy = f"{joint}_{link}"
-        self.fresh(copy, f"the pin of link {link} at the compound joint {joint}")
         on = self.first[joint]
+        if on == self.t.frame:
+            self.fresh(copy, f"the pin of link {link} at the frame joint {joint}")
+            self.out.points[copy] = self.out.points[joint]
+            self.owner[copy] = self.first[copy] = on
+            self.pair_names.add(copy)
+            return copy
+        self.fresh(copy, f"the pin of link {link} at the compound joint {joint}")
         x, y = self.pose_of(joint)
         self.group({"type": "point", "link": on, "from": joint, "name": copy}, {copy: (x, y)})
         self.owner[copy] = self.first[copy] = on
@@ -294,7 +307,7 @@ class _Decomposer:
     def run(self) -> Decomposition:
         t = self.t
         for j, joint in t.joints.items():
-            if len(t.on(j)) == 1 and not joint.prismatic:
+            if t.grounded(j) and not joint.prismatic:
                 self.out.points[j] = tuple(fold(inline(v, t.joints, self.params))
                                            for v in joint.at)
                 self.owner[j] = self.first[j] = t.frame

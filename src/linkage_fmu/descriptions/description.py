@@ -553,8 +553,9 @@ def _as_links(d: Description, problems: list[str]) -> list[str]:
     out = []
     for p in problems:
         for k, link in enumerate(d.drawn.links):
+            number = d.drawn.tables.get(link, k + 1)
             for key in ("mass", "inertia"):
-                p = p.replace(f"[bodies.{link}] {key}", f"[[links]] #{k + 1} ({link}) {key}")
+                p = p.replace(f"[bodies.{link}] {key}", f"[[links]] #{number} ({link}) {key}")
         out.append(p)
     return out
 

@@ -7,14 +7,19 @@ names every joint where it is drawn and every moving link by the joints it carri
     [linkage]   name, frame (the frame's name, default "0"), ...
     [joints]    J = [x, y]                                 a revolute joint
                 J = { at = [x, y], slide = [dx, dy], guide = "L" }   a prismatic pair
-    [[links]]   name, joints = [...] (>= 2), mass, inertia, cg = [x, y]
+    [[links]]   name, joints = [...] (>= 2), mass, inertia, cg = [x, y],
+                points = { P = [x, y] }                    a moving link
+                name = FRAME, joints = [...]               the frame's entry (optional)
     [crank]     link, pivot
 
 A joint listed by one moving link joins it to the frame; by two, joins them; by k >= 3,
-it is a compound joint of k - 1 revolute pairs. A coordinate may be an expression of the
+it is a compound joint of k - 1 revolute pairs. A joint the frame's entry lists (the
+[[links]] table named as the frame) is on the frame: each of the k moving links that
+list it is pinned to the frame there (k pairs), as PMKS+ draws one ground pin with
+several links. A coordinate may be an expression of the
 parameters and of the coordinates ``x_J``, ``y_J`` of the joints (their drawn ones).
-:func:`read` checks the tables and the topology (every joint on a link, every link on
-two joints, the crank's pivot on the frame, mobility 1, by Gruebler's count);
+:func:`read` checks the tables and the topology (every joint on a moving link, every
+link on two joints, the crank's pivot on the frame, mobility 1, by Gruebler's count);
 :mod:`~linkage_fmu.descriptions.assur` decomposes it into the group form.
 
 Examples
@@ -27,6 +32,18 @@ Examples
 ...                     "crank": {"link": "1", "pivot": "A"}}, {})
 >>> problems, t.mobility(), t.on("A"), t.pair_count()
 ([], 1, ('1',), 4)
+
+The rocker 3 pinned to the frame at the crank's pivot A (a rod from C to A), with the
+frame's entry listing A: A is two pairs with the frame.
+
+>>> t, problems = read({"joints": {"A": [0, 0], "B": [0.1, 0], "C": [0.3, 0.2]},
+...                     "links": [{"name": "0", "joints": ["A"]},
+...                               {"name": "1", "joints": ["A", "B"]},
+...                               {"name": "2", "joints": ["B", "C"]},
+...                               {"name": "3", "joints": ["C", "A"]}],
+...                     "crank": {"link": "1", "pivot": "A"}}, {})
+>>> problems, t.mobility(), t.on("A"), t.on_frame, t.pair_count()
+([], 1, ('1', '3'), frozenset({'A'}), 4)
 """
 
 from __future__ import annotations
@@ -43,7 +60,8 @@ TABLES: dict[str, tuple[str, str]] = {
     "joints": ("[joints]", "every joint where it is drawn: J = [x, y] (a revolute joint) "
                            "or J = { at, slide, guide } (a prismatic pair)"),
     "links": ("[[links]]", "each moving link: its name, its joints, mass, inertia and "
-                           "centre of mass where drawn"),
+                           "centre of mass where drawn; and, optionally, the frame's entry: "
+                           "its name and its joints"),
     "crank": ("[crank]", "the driven link and its pivot on the frame"),
 }
 #: key of a prismatic joint's table in [joints] -> what it is
@@ -56,13 +74,21 @@ JOINT_KEYS = {
 }
 #: key of a [[links]] table -> what it is
 LINK_KEYS = {
-    "name": "name of the moving link (required), as in output names",
+    "name": "name of the moving link (required), as in output names; the table named as "
+            "the frame ([linkage] frame) is the frame's entry (see below)",
     "joints": "the joints it carries, a list of two or more names of [joints] (required)",
     "mass": "mass of the link, kg (default 0)",
     "inertia": "moment of inertia about its centre of mass, kg.m2 (default 0)",
     "cg": "its centre of mass where drawn, [x, y] in m (default: its first joint)",
     "points": "points fixed on it that join nothing (a coupler point, where a load acts), "
               "{ P = [x, y] } where drawn",
+}
+#: key of the frame's entry in [[links]] (the table named as the frame) -> what it is
+FRAME_KEYS = {
+    "name": "the frame's name, [linkage] frame (default \"0\")",
+    "joints": "the joints on the frame, a list of one or more names of [joints]: each "
+              "moving link that lists one is pinned to the frame there (k links on it: k "
+              "pairs)",
 }
 #: key of [crank] -> what it is
 CRANK_KEYS = {
@@ -103,22 +129,32 @@ class Link:
 
 @dataclass(frozen=True)
 class Topology:
-    """A checked joints-and-links linkage (see :func:`read`)."""
+    """A checked joints-and-links linkage (see :func:`read`): ``on_frame`` holds the
+    joints the frame's entry in [[links]] lists, ``tables`` each moving link's number
+    in [[links]] (from 1, the frame's entry counted)."""
 
     frame: str
     joints: dict
     links: dict
     crank: str
     pivot: str
+    on_frame: frozenset = frozenset()
+    tables: dict = field(default_factory=dict)
 
     def on(self, joint: str) -> tuple:
         """The moving links that list ``joint``, in the order of [[links]]."""
         return tuple(name for name, link in self.links.items() if joint in link.joints)
 
+    def grounded(self, joint: str) -> bool:
+        """Whether ``joint`` joins its moving links to the frame: the frame's entry lists
+        it, or one moving link only does."""
+        return joint in self.on_frame or len(self.on(joint)) == 1
+
     def pair_count(self) -> int:
         """Number of pairs: one per joint on one link (to the frame), k - 1 per joint on
-        k >= 2 links (a compound joint)."""
-        return sum(max(1, len(self.on(j)) - 1) for j in self.joints)
+        k >= 2 links (a compound joint), k per joint of the frame's entry on k links."""
+        return sum(len(self.on(j)) if j in self.on_frame else max(1, len(self.on(j)) - 1)
+                   for j in self.joints)
 
     def mobility(self) -> int:
         """Gruebler's count, 3 n - 2 p, for n moving links and p lower pairs."""
@@ -169,15 +205,23 @@ def read(data: dict, values: dict, frame: str = "0", measures: dict | None = Non
     found: list[str] = []
     units = {} if measures is None else measures
     joints = _joints(data.get("joints", {}), values, found, units)
-    links = _links(data.get("links", []), joints, values, frame, found, units)
+    ground: dict = {}  # the frame's entry: "where" (its table) and "joints"
+    links = _links(data.get("links", []), joints, values, frame, found, units, ground)
     if joints is None or links is None:
         return None, found
     on = {j: tuple(n for n, link in links.items() if j in link.joints) for j in joints}
+    on_frame = frozenset(ground.get("joints", ()))
     for name, joint in joints.items():
         where = f"[joints] {name}"
-        if not on[name]:
+        if not on[name] and name in on_frame:
+            found.append(f"{ground['where']} joints: {name} is on the frame only: no moving "
+                         "link lists it, so it joins nothing")
+        elif not on[name]:
             found.append(f"{where}: a joint on no link: no [[links]] table lists it")
-        if joint.prismatic:
+        if joint.prismatic and name in on_frame and len(on[name]) >= 2:
+            found.append(f"{where}: a prismatic pair joins two bodies; the frame's entry "
+                         f"and {len(on[name])} moving links list it: {', '.join(on[name])}")
+        elif joint.prismatic:
             if len(on[name]) >= 3:
                 found.append(f"{where}: a prismatic pair joins two links (or a link and the "
                              f"frame); it is listed by {len(on[name])}: {', '.join(on[name])}")
@@ -191,13 +235,15 @@ def read(data: dict, values: dict, frame: str = "0", measures: dict | None = Non
                              f"frame {frame!r} carries its guide, not {joint.guide!r}")
         elif joint.guide:
             found.append(f"{where} guide: only a prismatic pair (with slide) has a guide")
-    crank, pivot = _crank(data.get("crank"), joints, links, on, found)
-    t = Topology(frame, joints, links, crank, pivot)
+    crank, pivot = _crank(data.get("crank"), joints, links, on, on_frame, found)
+    t = Topology(frame, joints, links, crank, pivot, on_frame, ground.get("tables", {}))
     if not found and t.mobility() != 1:
         n, p = len(links), t.pair_count()
         found.append(f"[[links]]: the linkage's mobility is {t.mobility()}, not 1: 3 x {n} "
                      f"moving links - 2 x {p} pairs (Gruebler's count; a joint on one link "
-                     "is a pair with the frame, a joint on k links k - 1 pairs)")
+                     "is a pair with the frame, a joint on k links k - 1 pairs"
+                     + (", a joint of the frame's entry on k links k pairs)" if on_frame
+                        else ")"))
     return (None if found else t), found
 
 
@@ -296,12 +342,41 @@ def _joints(table: Any, values: dict, found: list, measures: dict) -> dict | Non
     return joints if len(joints) == len(raw) else None
 
 
+def _frame_entry(where: str, spec: dict, joints: dict | None, found: list,
+                 ground: dict) -> None:
+    """Read the frame's entry in [[links]] into ``ground``: its joints only."""
+    if ground:
+        found.append(f"{where} name: the frame is listed twice (first as {ground['where']})")
+        return
+    ground["where"] = where
+    others = [k for k in spec if k not in FRAME_KEYS]
+    if others:
+        found.append(f"{where}: the frame's entry gives {', '.join(others)}; it lists the "
+                     "frame's joints only (name, joints): the frame has no mass, inertia, "
+                     "cg or points")
+    listed = spec.get("joints")
+    if not isinstance(listed, list) or not listed or \
+            not all(isinstance(j, str) for j in listed):
+        found.append(f"{where} joints: must be a list of the joints on the frame (one or "
+                     "more names of [joints])")
+        return
+    if len(set(listed)) != len(listed):
+        found.append(f"{where} joints: a joint is listed twice")
+    if joints is not None:
+        unknown = [j for j in listed if j not in joints]
+        if unknown:
+            found.append(f"{where} joints: {', '.join(map(repr, unknown))} "
+                         f"{'is no joint' if len(unknown) == 1 else 'are no joints'} of "
+                         f"[joints]; the joints are {', '.join(joints)}")
+    ground["joints"] = tuple(j for j in listed if joints is None or j in joints)
+
+
 def _links(table: Any, joints: dict | None, values: dict, frame: str, found: list,
-           measures: dict) -> dict | None:
+           measures: dict, ground: dict) -> dict | None:
     if not isinstance(table, list) or not table:
         found.append("[[links]]: must be a list of tables, one per moving link")
         return None
-    links, ok, taken = {}, True, {}
+    links, ok, taken, tables = {}, True, {}, {}
     for k, spec in enumerate(table):
         where = f"[[links]] #{k + 1}"
         if not isinstance(spec, dict):
@@ -310,6 +385,9 @@ def _links(table: Any, joints: dict | None, values: dict, frame: str, found: lis
             continue
         name = spec.get("name")
         where += f" ({name})"
+        if name == frame:
+            _frame_entry(where, spec, joints, found, ground)
+            continue
         unknown = set(spec) - set(LINK_KEYS)
         if unknown:
             found.append(f"{where}: unknown key(s) {', '.join(sorted(unknown))}; the keys are "
@@ -318,9 +396,6 @@ def _links(table: Any, joints: dict | None, values: dict, frame: str, found: lis
             found.append(f"{where} name: must be a name")
             ok = False
             continue
-        if name == frame:
-            found.append(f"{where} name: {name!r} is the frame's name ([linkage] frame); the "
-                         "frame is not listed in [[links]]")
         if name in links:
             found.append(f"{where} name: link {name!r} is listed twice")
         listed = spec.get("joints")
@@ -368,10 +443,13 @@ def _links(table: Any, joints: dict | None, values: dict, frame: str, found: lis
                 ok = ok and points[point] is not None
         links[name] = Link(name, tuple(listed), spec.get("mass", 0.0), spec.get("inertia", 0.0),
                            cg, points)
+        tables[name] = k + 1
+    ground["tables"] = tables
     return links if ok and joints is not None else None
 
 
-def _crank(spec: Any, joints: dict, links: dict, on: dict, found: list) -> tuple:
+def _crank(spec: Any, joints: dict, links: dict, on: dict, on_frame: frozenset,
+           found: list) -> tuple:
     if not isinstance(spec, dict):
         found.append("[crank]: missing: the driven link and its pivot, "
                      "{ link = \"1\", pivot = \"A\" }")
@@ -388,10 +466,11 @@ def _crank(spec: Any, joints: dict, links: dict, on: dict, found: list) -> tuple
         found.append(f"[crank] pivot: {pivot!r} is not a joint of link {link} (its joints: "
                      f"{', '.join(links[link].joints)})")
         return "", ""
-    if joints[pivot].prismatic or on[pivot] != (link,):
+    if joints[pivot].prismatic or (on[pivot] != (link,) and pivot not in on_frame):
         others = [n for n in on[pivot] if n != link]
         found.append(f"[crank] pivot: the crank pivot {pivot} is not on the frame: "
                      + (f"it is a prismatic pair" if joints[pivot].prismatic else
                         f"it joins link {link} to {', '.join(others)}")
-                     + "; the pivot is a revolute joint that only the crank lists")
+                     + "; the pivot is a revolute joint that only the crank lists, or one "
+                     "the frame's entry in [[links]] lists")
     return link, pivot
