@@ -14,8 +14,9 @@ link's joints are collinear. The constraints are
 
 - a joint shared by moving links: each of them puts its copy of the joint at the same
   place (two equations per pair of links on the pin: a compound joint is one pin);
-- a joint listed by one moving link only (or also by the frame's entry in ``[[links]]``):
-  the link's copy stays where the joint is drawn;
+- a joint listed by one moving link only, or by the frame's entry in ``[[links]]`` (the
+  table named as the frame, ``name`` and ``joints`` only): each moving link's copy of it
+  stays where the joint is drawn (k links on a frame joint: k pins to the frame);
 - a slider ``{ at = [x, y], slide = [dx, dy] }`` listed by one moving link: that link
   translates (its angle stays as drawn) with the point on the line through ``at`` along
   ``slide`` (a prismatic pair on a frame guide);
@@ -185,6 +186,10 @@ def from_data(data: dict, values: dict | None = None) -> Linkage:
                 raise ReferenceError(f"link {name}: point {j!r} is already a joint or a point")
             points[j] = _xy(xy, f"link {name}.points.{j}", resolved)
         if name == frame:
+            extra = set(spec) - {"name", "joints"}
+            if extra:
+                raise ReferenceError(f"the frame's entry {name}: it lists joints only, not "
+                                     f"{', '.join(sorted(extra))}")
             frame_joints.update(listed)
             continue
         if len(listed) < 2 and not any(j in slides for j in listed):
@@ -243,8 +248,8 @@ def _rows(lk: Linkage) -> list:
     idx = lk.index
     for j in lk.joints:
         on = [idx[name] for name in lk.on(j)]
-        if not on and j not in lk.frame_joints:
-            raise ReferenceError(f"joint {j!r} is on no link")
+        if not on:
+            raise ReferenceError(f"joint {j!r} is on no moving link")
         if j in lk.slides:
             if len(on) != 1:
                 raise ReferenceError(f"slider {j!r}: only a slider on a frame guide "

@@ -320,13 +320,17 @@ def bent(p, u, v, w, rho):
     return m, j, cg
 
 
-def write_example(path, header, name, title, model, p, joints, links, crank, loads, omega):
+def write_example(path, header, name, title, model, p, joints, links, crank, loads, omega,
+                  on_frame=()):
     out = [header.rstrip(), "[linkage]", f'name = "{name}"', f'title = "{title}"',
            f'model = "{model}"', 'frame = "0"', 'gravity = "g"', "",
            "[parameters]",
            'g = { default = 9.81, kind = "gravity", description = "gravity along -y" }', "",
            "[joints]"]
     out += [f"{j} = {mm_xy(p[j])}" for j in joints]
+    if on_frame:  # the frame's entry: its joints, each a pin of the frame
+        out += ["", "[[links]]  # the frame: its pins", 'name = "0"',
+                "joints = [" + ", ".join(f'"{j}"' for j in on_frame) + "]"]
     for link in links:
         lname, ljoints, lpoints, (m, inertia, cg), note = link
         out += ["", "[[links]]" + (f"  # {note}" if note else ""), f'name = "{lname}"',
@@ -351,8 +355,7 @@ HOLY = dict(a=38.0, b=41.5, c=39.3, d=40.1, e=55.8, f=39.4, g=36.7, h=65.7, i=49
 
 def jansen() -> None:
     cm = {k: v / 100.0 for k, v in HOLY.items()}
-    fixed = {"O": (0.0, 0.0), "Z": (-cm["a"], -cm["l"]), "Zc": (-cm["a"], -cm["l"]),
-             "A": (0.0, cm["m"])}  # the crank straight up
+    fixed = {"O": (0.0, 0.0), "Z": (-cm["a"], -cm["l"]), "A": (0.0, cm["m"])}  # crank up
     # start of Newton: a sketch with the crank up, the leg hanging to the left
     guess = {"B": (-0.47, 0.33), "C": (-0.21, -0.43), "D": (-0.78, -0.14),
              "E": (-0.57, -0.47), "F": (-0.08, -0.90)}
@@ -367,7 +370,7 @@ def jansen() -> None:
         ("k", ["A", "C"], [], bar(p, "A", "C", rho), "k = 61.9 cm"),
         ("bde", ["Z", "B", "D"], [], plate(p, "Z", "B", "D", sigma),
          "the upper triangle b = ZB, d = ZD, e = BD: a plate"),
-        ("c", ["Zc", "C"], [], bar(p, "Zc", "C", rho), "c = 39.3 cm"),
+        ("c", ["Z", "C"], [], bar(p, "Z", "C", rho), "c = 39.3 cm"),
         ("f", ["D", "E"], [], bar(p, "D", "E", rho), "f = 39.4 cm"),
         ("leg", ["C", "E"], ["F"], plate(p, "C", "E", "F", sigma),
          "the leg triangle g = CE, h = EF, i = CF: a plate, F the foot"),
@@ -380,17 +383,19 @@ def jansen() -> None:
 # leg hanging to the left of the axle; the pose was closed by Newton on those lengths
 # (tests/data/make_drawn_poses.py), so every drawn distance is a holy number.
 # The pin A carries three links (crank, j, k) and so does C (k, c, leg): compound joints.
-# Z and Zc are the frame pivot of the triangle bde and of the rocker c, drawn at the
-# same place. Bars are PVC tube (0.15 kg/m, m = rho L, J = m L^2 / 12); the two
-# triangles are plates of 6 kg/m^2 (9 mm plywood; J = m (a^2 + b^2 + c^2) / 36).
+# Z is one frame pivot of two links, the triangle bde and the rocker c: the frame's
+# entry in [[links]] lists it (and the crank axle O). Bars are PVC tube (0.15 kg/m,
+# m = rho L, J = m L^2 / 12); the two triangles are plates of 6 kg/m^2 (9 mm plywood;
+# J = m (a^2 + b^2 + c^2) / 36).
 # The load F_foot is the ground's reaction on the foot F, straight up.
 '''
     write_example(EXAMPLES / "jansen.toml", header, "jansen", "One leg of Jansen's linkage "
                   "(Strandbeest), holy numbers", "Jansen", p,
-                  ["O", "A", "Z", "Zc", "B", "C", "D", "E"], links, ("crank", "O"),
+                  ["O", "A", "Z", "B", "C", "D", "E"], links, ("crank", "O"),
                   [dict(name='"F_foot"', body='"leg"', kind='"force"', at='"F"',
                         direction="[0, 1]", start="40.0",
-                        description='"ground reaction on the foot F, along +y"')], 10.0)
+                        description='"ground reaction on the foot F, along +y"')], 10.0,
+                  on_frame=("O", "Z"))
 
 
 #: Klann's linkage, optimised proportions published at boim.com/Walkin8r/Klann.html
