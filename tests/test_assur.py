@@ -617,3 +617,115 @@ def test_a_load_over_the_cycle_may_use_a_prismatic_pairs_point():
         want = preset.solve(theta, 10.0, 5.0, 400.0 + 3000.0 * 0.1 * math.sin(theta))
         for key in ("F23y", "Mb", "F4", "F41y"):
             assert got[key] == pytest.approx(want[key], abs=1e-12), key
+
+
+# -- one frame pin for several links: the frame's entry in [[links]] --------------------
+#: a four-bar A-B-C-D with a dyad C-E-S on its pin C; link 5's far end S is on the frame,
+#: where the rocker's pivot D or the crank's pivot A is. ``{frame}`` is the frame's entry
+#: and ``{s}`` the joint link 5 lists.
+SHARED_PIN = """
+[linkage]
+name = "drawn"
+gravity = "g"
+
+[parameters]
+g = {{ default = 9.81, kind = "gravity", description = "gravitational acceleration" }}
+
+[joints]
+A = [0, 0]
+B = [0.1, 0]
+C = [0.3, 0.2]
+D = [0.4, 0]
+E = {e}
+{extra}
+{frame}
+[[links]]
+name = "1"
+joints = ["A", "B"]
+mass = 0.3
+inertia = 0.0004
+cg = [0.05, 0.0]
+
+[[links]]
+name = "2"
+joints = ["B", "C"]
+mass = 1.0
+inertia = 0.012
+cg = [0.2, 0.1]
+
+[[links]]
+name = "3"
+joints = ["C", "D"]
+mass = 0.7
+inertia = 0.004
+cg = [0.35, 0.1]
+
+[[links]]
+name = "4"
+joints = ["C", "E"]
+mass = 0.5
+inertia = 0.003
+cg = {cg4}
+
+[[links]]
+name = "5"
+joints = ["E", "{s}"]
+mass = 0.9
+inertia = 0.006
+cg = {cg5}
+
+[crank]
+link = "1"
+pivot = "A"
+
+[[loads]]
+name = "P"
+body = "5"
+kind = "force"
+at = "E"
+direction = [0.6, -0.8]
+start = 35.0
+"""
+#: the shared frame pin -> where E is drawn, link 4's and link 5's centres of mass
+SHARED = {"D": ("[0.55, 0.3]", "[0.425, 0.25]", "[0.475, 0.15]"),
+          "A": ("[0.15, 0.4]", "[0.225, 0.3]", "[0.075, 0.2]")}
+
+
+def shared_pin(pin: str, one_pin: bool) -> str:
+    """SHARED_PIN with link 5 on the frame at ``pin``: the frame's entry listing it
+    (``one_pin``), or a second joint ``S`` drawn where ``pin`` is."""
+    e, cg4, cg5 = SHARED[pin]
+    at = {"A": "[0, 0]", "D": "[0.4, 0]"}[pin]
+    return SHARED_PIN.format(
+        e=e, cg4=cg4, cg5=cg5, s=pin if one_pin else "S",
+        extra="" if one_pin else f"S = {at}",
+        frame='[[links]]\nname = "0"\njoints = ["A", "D"]\n' if one_pin else "")
+
+
+@pytest.mark.parametrize("pin", SHARED)
+def test_two_links_on_one_frame_pin(pin):
+    """Link 5 pinned to the frame where the rocker's pivot D (or the crank's pivot A)
+    is: written as one frame pin listed by the frame's entry, its pairs are ``pin``
+    (the link placed first) and ``<pin>_5``, both with the frame; Mb and the shaking
+    force and moment equal those of the same linkage written with two joints drawn at
+    one place (1e-13), and the independent reference's (tests/newton_euler.py, 1e-9),
+    within 30 deg of the drawn angle at omega 10 rad/s, alpha 5 rad/s2, g 9.81."""
+    import tomllib
+
+    import newton_euler as ne
+
+    one = Description.from_toml(shared_pin(pin, True), "drawn.toml")
+    two = Description.from_toml(shared_pin(pin, False), "drawn.toml")
+    first = "1" if pin == "A" else "3"
+    assert (pin, "0", first) in one.drawn.pairs and (f"{pin}_5", "0", "5") in one.drawn.pairs
+    assert one.points[f"{pin}_5"] == one.points[pin]
+    lk = ne.from_data(tomllib.loads(shared_pin(pin, True)))
+    assert lk.on(pin) == [first, "5"] and lk.frame_joints == {"A", "D"}
+    one_mech, two_mech = one.build(), two.build()
+    for theta in np.radians(np.linspace(-30.0, 30.0, 7)):
+        got = one_mech.solve(theta, 10.0, 5.0, P=35.0)
+        same = two_mech.solve(theta, 10.0, 5.0, P=35.0)
+        ref = ne.solve(lk, theta, 10.0, 5.0, 9.81, {"P": 35.0})
+        for key in ("Mb", "shake_x", "shake_y", "shake_M"):
+            assert got[key] == pytest.approx(same[key], abs=1e-13), (key, theta)
+            assert got[key] == pytest.approx(ref[key], abs=1e-9), (key, theta)

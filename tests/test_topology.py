@@ -175,3 +175,33 @@ def test_it_starts_where_it_is_drawn():
         pytest.approx(0.7, abs=1e-15)
     text += "\n[inputs]\ntheta = 0.1\n"
     assert Description.from_toml(text, "drawn.toml").build().start["theta"] == 0.1
+
+
+#: FOUR_BAR with the frame's entry in [[links]] first, listing its pins A and D
+WITH_FRAME = FOUR_BAR.replace('[[links]]\nname = "1"',
+                              '[[links]]\nname = "0"\njoints = ["A", "D"]\n\n'
+                              '[[links]]\nname = "1"', 1)
+
+
+def test_the_frames_entry_reads_as_the_plain_file():
+    """Listing the frame pins A and D in the frame's entry changes nothing: the same
+    groups and pairs; the moving links keep their [[links]] numbers in messages."""
+    plain, listed = (Description.from_toml(t, "drawn.toml") for t in (FOUR_BAR, WITH_FRAME))
+    assert listed.groups == plain.groups and listed.drawn.pairs == plain.drawn.pairs
+    assert problems(WITH_FRAME.replace("mass = 1.0", 'mass = "3 m"')) == [
+        "[[links]] #3 (2) mass = '3 m' must be a mass (kg), but it is a length (m)"]
+
+
+def test_a_frame_entry_with_a_mass():
+    text = WITH_FRAME.replace('joints = ["A", "D"]', 'joints = ["A", "D"]\nmass = 2.0')
+    assert problems(text) == [
+        "[[links]] #1 (0): the frame's entry gives mass; it lists the frame's joints only "
+        "(name, joints): the frame has no mass, inertia, cg or points"]
+
+
+def test_a_frame_joint_that_joins_nothing():
+    text = WITH_FRAME.replace('joints = ["A", "D"]', 'joints = ["A", "D", "E"]')
+    text = text.replace("D = [0.4, 0]", "D = [0.4, 0]\nE = [0.5, 0.3]")
+    assert problems(text) == [
+        "[[links]] #1 (0) joints: E is on the frame only: no moving link lists it, so it "
+        "joins nothing"]
