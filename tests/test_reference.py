@@ -100,6 +100,7 @@ def test_every_table_and_its_keys(text):
         assert f"| `{header}` | {holds} |" in tables
     for heading, keys in [("### `[joints]`", topology.JOINT_KEYS),
                           ("### `[[links]]`", topology.LINK_KEYS),
+                          ("### The frame's entry in `[[links]]`", topology.FRAME_KEYS),
                           ("### `[crank]`", topology.CRANK_KEYS)]:
         part = section(text, heading)
         assert keys_listed(part) == list(keys), heading

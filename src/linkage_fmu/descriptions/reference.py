@@ -303,7 +303,7 @@ preset written so.
 ```toml
 [linkage]
 name = "drawn_four_bar"
-frame = "0"                 # the frame's name (default "0"); it is not a [[links]] table
+frame = "0"                 # the frame's name (default "0")
 
 [parameters]
 l_AB = {{ default = 0.1, kind = "length", description = "crank length AB" }}
@@ -314,6 +314,10 @@ B = ["l_AB", 0]             # numbers in m, with units, or expressions of the pa
 C = ["300 mm", "y_B + 0.2"] # ... and of the drawn coordinates x_J, y_J of the joints
 D = [0.4, 0]
 # a prismatic pair: P = {{ at = [x, y], slide = [dx, dy], guide = "L" }}
+
+[[links]]                   # the frame's entry (optional): the joints on the frame
+name = "0"
+joints = ["A", "D"]
 
 [[links]]                   # each moving link: its joints, mass, inertia, cg where drawn
 name = "1"
@@ -349,15 +353,33 @@ below).
 
 `J = [x, y]` is a revolute joint where it is drawn. A joint listed by one moving link
 joins that link to the frame; by two, joins them; by k of them, it is a compound joint
-of k - 1 revolute pairs. A prismatic pair is a table:
+of k - 1 revolute pairs. A joint the frame's entry lists (see below) is on the frame:
+each of the k moving links that list it is pinned to the frame there (k pairs). A
+prismatic pair is a table:
 
 {_keys(topology.JOINT_KEYS)}
 
-Two links pinned to the frame at one place are two joints drawn at the same place.
-
 ### `[[links]]`
 
+Each moving link is a table:
+
 {_keys(topology.LINK_KEYS)}
+
+### The frame's entry in `[[links]]`
+
+The frame may have an entry too, as PMKS+ draws the ground as a link: the table whose
+`name` is the frame's (`[linkage] frame`, default `"0"`), with these keys only (the frame
+has no mass, inertia, cg or points, and an entry that gives one is refused):
+
+{_keys(topology.FRAME_KEYS)}
+
+So several links pinned to the frame at one place share one joint: with
+`joints = ["Z"]` in the frame's entry, a triangle `["Z", "B", "D"]` and a rocker
+`["Z", "C"]` are each pinned to the frame at Z (two pairs), where without the entry Z
+would join them to each other. A joint the frame's entry lists must be on a moving link
+(it joins nothing else). Without a frame entry, a joint on the frame is one that one
+moving link only lists, and two links pinned to the frame at one place are two joints
+drawn at the same place. `examples/jansen.toml` has one.
 
 ### `[crank]`
 
@@ -370,11 +392,11 @@ angle is that line's angle in the drawn pose.
 ### What the reader checks
 
 The mobility, by Gruebler's count `3 n - 2 p` (n moving links, p pairs: one per joint
-on one link, k - 1 per joint on k links), must be 1, and the message gives the count.
-Every joint is on a link, every link carries two joints or more, the crank's pivot is a
-revolute joint on the frame (no other link lists it), every name a link lists is a
-joint, every slide has a length, a prismatic pair of two links says which carries the
-guide.
+on one link, k - 1 per joint on k links, k per joint of the frame's entry on k links),
+must be 1, and the message gives the count. Every joint is on a moving link, every link
+carries two joints or more, the crank's pivot is a revolute joint on the frame (no other
+link lists it, or the frame's entry lists it), every name a link lists is a joint,
+every slide has a length, a prismatic pair of two links says which carries the guide.
 
 ### The decomposition
 
@@ -411,13 +433,17 @@ to its guide) has no mode: draw it apart.
 
 A revolute pair takes its joint's name; at a compound joint J the pair J joins the first
 two of its links to be placed, and each further link L is joined to the first by the
-pair `J_L` (at the point `J_L` of the first link, where J is). A prismatic pair takes its
-joint's name; its normal force acts through, and its couple is taken about, the pin of
-the dyad that makes it (an `RRP`'s and an `RPR`'s pin, the `RPP` slot's pin), or for an
-`RPP`'s frame guide the yoke's point `GUIDE_ref` where the slot's line crosses the
-guide's. The `at` of a prismatic pair is a point of the link that slides (not the one
-that carries the guide): a load or an effort may act at it by the pair's name, and a
-load's `value` may use its `x_J`, `y_J`.
+pair `J_L` (at the point `J_L` of the first link, where J is). At a joint J of the
+frame's entry, the pair J joins the frame to the first of its links to be placed, and
+each further link L is joined to the frame by the pair `J_L` (at the frame's point
+`J_L`, where J is).
+
+A prismatic pair takes its joint's name; its normal force acts through, and its couple
+is taken about, the pin of the dyad that makes it (an `RRP`'s and an `RPR`'s pin, the
+`RPP` slot's pin), or for an `RPP`'s frame guide the yoke's point `GUIDE_ref` where the
+slot's line crosses the guide's. The `at` of a prismatic pair is a point of the link
+that slides (not the one that carries the guide): a load or an effort may act at it by
+the pair's name, and a load's `value` may use its `x_J`, `y_J`.
 
 ### What is made when it is not given
 
