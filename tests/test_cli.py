@@ -640,4 +640,4 @@ def test_info_prints_the_decomposition_of_a_linkage_drawn_as_joints_and_links(tm
     assert (status, out) == (2, "")
     assert err == (f"linkage-fmu: {bad}: [crank] pivot: the crank pivot B is not on the "
                    "frame: it joins link 1 to 2; the pivot is a revolute joint that only the "
-                   "crank lists\n")
+                   "crank lists, or one the frame's entry in [[links]] lists\n")
