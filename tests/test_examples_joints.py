@@ -119,17 +119,10 @@ def test_reference_physics(name):
 
 
 def library(path: Path):
-    """The library's Mechanism of the description at ``path``; skipped while the
-    library reads only the group form."""
-    from linkage_fmu import Description, DescriptionError
+    """The library's Mechanism of the description at ``path``."""
+    from linkage_fmu import Description
 
-    try:
-        return Description.read(path).build()
-    except DescriptionError as err:
-        if any(p.startswith("[joints]: unknown table") for p in err.problems):
-            pytest.skip("the library does not read joints-and-links descriptions yet "
-                        "([joints], [[links]], [crank]: issue 31)")
-        raise
+    return Description.read(path).build()
 
 
 #: every joints-and-links file with the loads to test it with

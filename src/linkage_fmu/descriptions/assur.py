@@ -22,7 +22,8 @@ reproduces every drawn joint (:func:`check_pose`).
 Pairs: a revolute pair takes its joint's name; at a compound joint J (on k links) the
 pair J joins the first two of its links to be placed, and each further link L is
 joined to the first by the pair ``J_L`` (its pin, the point ``J_L``, is a point of the
-first link where J is). At a joint J on the frame (the frame's entry in [[links]] lists
+first link where J is); inside a class III (or higher) group, whose links are placed
+together, each further link is pinned to the link listed before it. At a joint J on the frame (the frame's entry in [[links]] lists
 it) with k moving links, the pair J joins the frame to the first of them to be placed,
 and each further link L is joined to the frame by the pair ``J_L`` (at the frame's
 point ``J_L``, where J is). A prismatic pair takes its joint's name.
@@ -561,8 +562,12 @@ class _Decomposer:
                 if p not in places:
                     self.pair(p, self.owner[p], n)
         for j in places:
-            inside = [m for m in t.on(j) if m in subset]
+            # the closure group's pairs at a point it places: the first two links listing
+            # it, then each further one pinned to the one listed before it
+            inside = [n for n, names in links.items() if j in names]
             self.pair(j, inside[0], inside[1])
+            for k in range(2, len(inside)):
+                self.pair(f"{j}_{inside[k]}", inside[k - 1], inside[k])
             self.owner[j], self.first[j] = None, inside[0]
         for n, names in links.items():
             (x0, y0), (x1, y1) = pose[names[0]], pose[names[1]]
