@@ -785,3 +785,29 @@ def test_every_pair_at_a_compound_joint_inside_a_closure_is_an_output():
                 if want is None:
                     want = -sum(ref[(p, m)] for m in links - {n})
                 assert np.max(np.abs(got - want)) <= 1e-9, (p, n, theta)
+
+
+def test_a_parameter_that_turns_a_slot_off_its_lever_is_refused():
+    """The slotted lever's slot, drawn through the lever's pivot C, makes an RPR group,
+    whose slot runs along its lever: a parameter ``e`` that tilts the drawn slide would
+    be dropped, so a build where it is not 0 is refused, naming the pair; at e = 0 it
+    builds."""
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[1] / "examples" / "joints"
+            / "slotted_lever.toml").read_text()
+    text = text.replace('slide = ["x_B - x_C", "y_B - y_C"]',
+                        'slide = ["x_B - x_C", "y_B - y_C + e"]').replace(
+        "[parameters]\n", '[parameters]\ne = { default = 0.0, kind = "coordinate", '
+                          'description = "tilt of the drawn slot" }\n')
+    d = Description.from_toml(text, "tilt.toml")
+    assert d.build().solve(0.7)["Mb"] == pytest.approx(
+        Description.read(Path(__file__).resolve().parents[1] / "examples" / "joints"
+                         / "slotted_lever.toml").build().solve(0.7)["Mb"], abs=1e-12)
+    with pytest.raises(ValueError, match=r"^tilt\.toml: \[joints\] slot slide: a drawn pose "
+                                         r"from which a group cannot be assembled: at the "
+                                         r"drawn crank angle 0 deg the pair slides along "
+                                         r"\(.*\), not along its drawn slide \(.*\) \(sine "
+                                         r"of the angle between them 0\.\d+; the tolerance "
+                                         r"is 1e-12\)$"):
+        d.build(e=0.2)

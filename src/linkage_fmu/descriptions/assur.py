@@ -86,6 +86,9 @@ class Decomposition:
         The moving links, in the order of [[links]].
     tables : dict
         Moving link -> its number in [[links]] (from 1; the frame's entry counted).
+    slides : dict
+        Prismatic pair -> (dx, dy): its drawn direction of sliding, to check that the
+        groups' guides follow it at every parameter set (:func:`check_pose`).
     """
 
     points: dict = field(default_factory=dict)
@@ -96,6 +99,7 @@ class Decomposition:
     theta: object = 0.0
     links: tuple = ()
     tables: dict = field(default_factory=dict)
+    slides: dict = field(default_factory=dict)
 
 
 def fold(text):
@@ -312,6 +316,8 @@ class _Decomposer:
                 self.out.points[j] = tuple(fold(inline(v, t.joints, self.params))
                                            for v in joint.at)
                 self.owner[j] = self.first[j] = t.frame
+            if joint.prismatic:
+                self.out.slides[j] = tuple(fold(v) for v in self.slide(j))
         self.crank()
         while len(self.placed_links) < len(t.links):
             if not (self.dyad() or self.closure()):
@@ -690,6 +696,8 @@ def default_outputs(pairs: list, efforts: dict) -> list[dict]:
     return out
 
 
+#: the largest sine of the angle between a prismatic pair's drawn slide and its guide
+SLIDE_TOLERANCE = 1e-12
 #: how far from its drawn position the linkage may place a joint at the drawn crank angle
 POSE_TOLERANCE = 1e-12
 
@@ -727,4 +735,17 @@ def check_pose(mech, drawn: Decomposition, values: dict) -> str:
                     f"drawn crank angle {math.degrees(theta):.6g} deg it places {p} at "
                     f"({px:.9g}, {py:.9g}), {distance:.3g} m from where {p} is drawn "
                     f"({dx:.9g}, {dy:.9g}); the tolerance is {POSE_TOLERANCE:g} m")
+    pairs = {j.name: j for j in mech.joints}
+    for name, (x, y) in drawn.slides.items():
+        # a group keeps the guide's direction as its own geometry makes it (an RPR's slot
+        # along its lever): a drawn slide that parameters turn off it would be dropped
+        tx, ty = Expression(x)(values), Expression(y)(values)
+        nx, ny = pairs[name].normal_at(st)
+        off = abs(nx * tx + ny * ty) / math.hypot(tx, ty)
+        if not off <= SLIDE_TOLERANCE:
+            return (f"[joints] {name} slide: a drawn pose from which a group cannot be "
+                    f"assembled: at the drawn crank angle {math.degrees(theta):.6g} deg the "
+                    f"pair slides along ({-ny:.9g}, {nx:.9g}), not along its drawn slide "
+                    f"({tx:.9g}, {ty:.9g}) (sine of the angle between them {off:.3g}; the "
+                    f"tolerance is {SLIDE_TOLERANCE:g})")
     return ""
