@@ -333,7 +333,10 @@ class Closure(Group):
         def condition() -> str:
             return (f"{self._cannot_close}: continued from its drawn pose (at theta = "
                     f"{fmt(self.theta0)} rad), Newton's method reaches no position that "
-                    f"keeps its links' lengths at {fmt(angle)} rad")
+                    f"keeps its links' lengths at {fmt(angle)} rad, on its way to theta = "
+                    f"{fmt(st.theta)} rad the shorter way round (a linkage whose crank "
+                    "cannot turn fully reaches only the states on the side of its drawn "
+                    "pose that way: draw it nearer to them)")
 
         def fail(bad=None):
             if bad is None:
