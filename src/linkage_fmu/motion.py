@@ -199,8 +199,9 @@ def simulate(mech, tau, t, theta0=None, omega0=None, rtol: float = 1e-10,
 
     def acceleration(ti, th, w):
         try:
-            m0 = mech.solve(th, w, 0.0, outputs=(effort,), **named)[effort]
-            J = mech.reduced_inertia(th)[0] + extra
+            # one solve gives both (its kernel, where the linkage has one)
+            sol = mech.solve(th, w, 0.0, outputs=(effort, "J_red"), **named)
+            m0, J = sol[effort], sol["J_red"] + extra
         except (AssemblyError, SingularPositionError) as err:
             raise type(err)(mech.name, th, f"{_why(err)} "
                             f"(reached at t = {ti:.9g} s)") from None
