@@ -4,7 +4,8 @@
                         [--platforms all|LIST|host]
 
 The linkages are the presets and the description files in ``examples/`` (the coupler
-four-bar, and the engine driven by its indicator diagram over 720 degrees).
+four-bar, the engine driven by its indicator diagram over 720 degrees, and, written as
+joints and links, Jansen's and Klann's legs and the six-bar with a class III group).
 
 ``DIR/<Model>.fmu`` (default ``dist``) is the pythonfmu FMU, built by
 ``linkage_fmu.fmi.build_fmu``: it bundles the installed ``linkage_fmu`` package, the
