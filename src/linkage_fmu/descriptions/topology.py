@@ -363,12 +363,18 @@ def _frame_entry(where: str, spec: dict, joints: dict | None, found: list,
     if len(set(listed)) != len(listed):
         found.append(f"{where} joints: a joint is listed twice")
     if joints is not None:
-        unknown = [j for j in listed if j not in joints]
-        if unknown:
-            found.append(f"{where} joints: {', '.join(map(repr, unknown))} "
-                         f"{'is no joint' if len(unknown) == 1 else 'are no joints'} of "
-                         f"[joints]; the joints are {', '.join(joints)}")
+        _unknown_joints(where, listed, joints, found)
     ground["joints"] = tuple(j for j in listed if joints is None or j in joints)
+
+
+def _unknown_joints(where: str, listed: list, joints: dict, found: list) -> bool:
+    """Report the names in ``listed`` that are no joint of ``joints``; whether any is."""
+    unknown = [j for j in listed if j not in joints]
+    if unknown:
+        found.append(f"{where} joints: {', '.join(map(repr, unknown))} "
+                     f"{'is no joint' if len(unknown) == 1 else 'are no joints'} of "
+                     f"[joints]; the joints are {', '.join(joints)}")
+    return bool(unknown)
 
 
 def _links(table: Any, joints: dict | None, values: dict, frame: str, found: list,
@@ -408,13 +414,8 @@ def _links(table: Any, joints: dict | None, values: dict, frame: str, found: lis
                          f"{', '.join(listed) or 'none'}); a link carries two joints or more")
         if len(set(listed)) != len(listed):
             found.append(f"{where} joints: a joint is listed twice")
-        if joints is not None:
-            unknown_joints = [j for j in listed if j not in joints]
-            if unknown_joints:
-                found.append(f"{where} joints: {', '.join(map(repr, unknown_joints))} "
-                             f"{'is no joint' if len(unknown_joints) == 1 else 'are no joints'}"
-                             f" of [joints]; the joints are {', '.join(joints)}")
-                ok = False
+        if joints is not None and _unknown_joints(where, listed, joints, found):
+            ok = False
         cg = listed[0] if listed else None
         if "cg" in spec:
             cg = _vector(f"{where} cg", spec["cg"], found, values, joints or {}, (),
