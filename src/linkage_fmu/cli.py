@@ -276,7 +276,16 @@ def _warning(message, category, filename, lineno, file=None, line=None) -> None:
     print(f"linkage-fmu: warning: {message}", file=file or sys.stderr)
 
 
-def _main(argv: list[str] | None) -> int:
+def build_parser() -> argparse.ArgumentParser:
+    """The command line's parser, every command a subparser of it (the loads of a named
+    linkage are added to its command's by :func:`_main`); :mod:`linkage_fmu.cli_reference`
+    writes the command-line reference from it.
+
+    Examples
+    --------
+    >>> sorted(subcommands(build_parser()))[:3]
+    ['build', 'check', 'flywheel']
+    """
     parser = argparse.ArgumentParser(
         prog="linkage-fmu", description="Kinetostatics of crank-driven planar linkages: "
         "joint reactions and driving torque, as tables and FMUs.", epilog=EPILOG,
@@ -449,13 +458,22 @@ def _main(argv: list[str] | None) -> int:
     reference = sub.add_parser("reference", help="the reference of the description file "
                                                  "format, made from the code (Markdown)")
     reference.add_argument("-o", "--output", help="write it to FILE (default: print it)")
+    return parser
 
+
+def subcommands(parser: argparse.ArgumentParser) -> dict[str, argparse.ArgumentParser]:
+    """The parser of each command of ``parser``, by name, in the order they were added."""
+    (action,) = [a for a in parser._actions if isinstance(a, argparse._SubParsersAction)]
+    return dict(action.choices)
+
+
+def _main(argv: list[str] | None) -> int:
+    parser = build_parser()
     argv = sys.argv[1:] if argv is None else list(argv)
     try:
         command, named = _named_linkage(argv)
         if named is not None:  # its loads are options of the command, in its --help
-            _load_options({"table": table, "sweep": sweep, "optimize": opt, "plot": plot,
-                           "simulate": simulate, "flywheel": fly}[command], named)
+            _load_options(subcommands(parser)[command], named)
         args = parser.parse_args(argv)
         _writable(args)
         if args.command == "check":

@@ -1,0 +1,116 @@
+"""The command-line reference (Markdown), written from the parser of :mod:`linkage_fmu.cli`,
+so that it lists every command and option the command line has, with its help.
+
+``python -m linkage_fmu.cli_reference > docs/cli.md`` writes the documentation's page (a
+test keeps it current).
+
+Examples
+--------
+>>> text = markdown()
+>>> text.splitlines()[2]
+'# Command-line reference'
+>>> "## `linkage-fmu table`" in text and "| `--theta THETA` |" in text
+True
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from .cli import build_parser, subcommands
+
+INTRO = """\
+<!-- written by python -m linkage_fmu.cli_reference > docs/cli.md; do not edit -->
+
+# Command-line reference
+
+`linkage-fmu COMMAND LINKAGE [options]`, installed with the package (activate the venv,
+`. .venv/bin/activate`, or call `.venv/bin/linkage-fmu`; `python -m linkage_fmu` is the
+same). `LINKAGE` is a description file (`.toml`) or a preset's name. Each load of the
+linkage is an option `--NAME VALUE` of `table`, `sweep`, `optimize`, `plot`, `simulate`
+and `flywheel`, listed by `linkage-fmu COMMAND LINKAGE --help` (a preset's one load is
+`--load`). Values may carry units and be expressions, as in a description file:
+`--set l_AB=120mm`, `--omega "1800 rpm"`, `--theta "0:360:15 deg"`; plain numbers are
+SI, angles in radians. A user error ends with status 2 and one line naming the option
+and what is wrong.
+"""
+
+
+def _cell(text: str) -> str:
+    """``text`` as one cell of a Markdown table: one line, its bars escaped."""
+    return " ".join(text.split()).replace("|", "\\|")
+
+
+def _invocation(action: argparse.Action, formatter: argparse.HelpFormatter) -> str:
+    """How an argument is typed: ``--theta THETA``, ``-o, --output OUTPUT``, ``linkage``."""
+    if not action.option_strings:
+        return formatter._metavar_formatter(action, action.dest)(1)[0]
+    if action.nargs == 0:
+        return ", ".join(action.option_strings)
+    return ", ".join(action.option_strings) + " " + formatter._format_args(
+        action, action.dest.upper())
+
+
+def _arguments(parser: argparse.ArgumentParser) -> list[str]:
+    """The table of ``parser``'s arguments: how each is typed, its choices and default,
+    its help."""
+    formatter = parser._get_formatter()
+    rows = ["| argument | choices | default | meaning |", "|---|---|---|---|"]
+    for action in parser._actions:
+        if isinstance(action, (argparse._HelpAction, argparse._VersionAction)):
+            continue
+        choices = ", ".join(f"`{c}`" for c in action.choices) if action.choices else ""
+        default = ("" if action.default in (None, False, [], argparse.SUPPRESS)
+                   or action.nargs == 0 else f"`{action.default}`")
+        required = " (required)" if action.required and action.option_strings else ""
+        rows.append(f"| `{_cell(_invocation(action, formatter))}`{required} | "
+                    f"{_cell(choices)} | {_cell(default)} | {_cell(action.help or '')} |")
+    return rows
+
+
+def _usage(parser: argparse.ArgumentParser) -> str:
+    return " ".join(parser.format_usage().removeprefix("usage: ").split())
+
+
+def markdown(parser: argparse.ArgumentParser | None = None) -> str:
+    """The reference of the command line ``parser`` (default: ``linkage-fmu``'s) in
+    Markdown: its usage and examples, then each command with its summary, usage and a
+    table of its arguments.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser, optional
+        A parser with subcommands; default :func:`linkage_fmu.cli.build_parser`'s.
+
+    Returns
+    -------
+    str
+        The page, ending with a newline.
+
+    Examples
+    --------
+    >>> "| `--Cs VALUE` (required) |" in markdown()
+    True
+    """
+    parser = build_parser() if parser is None else parser
+    commands = subcommands(parser)
+    helps = {a.dest: a.help for action in parser._actions
+             if isinstance(action, argparse._SubParsersAction) for a in action._choices_actions}
+    out = [INTRO, "```text", _usage(parser), "```", "", parser.description or "", "",
+           "| command | what it does |", "|---|---|"]
+    out += [f"| [`{name}`](#linkage-fmu-{name}) | {_cell(helps.get(name) or '')} |"
+            for name in commands]
+    out += ["", "Examples, as `linkage-fmu --help` prints them:", "", "```sh"]
+    out += [line.strip() if not line.startswith("      ") else "    " + line.strip()
+            for line in (parser.epilog or "").splitlines()[1:]]
+    out += ["```", ""]
+    for name, command in commands.items():
+        out += [f"## `linkage-fmu {name}`", "", f"{_cell(helps.get(name) or '')}.", "",
+                "```text", _usage(command), "```", ""]
+        out += _arguments(command) + [""]
+    return "\n".join(out).rstrip("\n") + "\n"
+
+
+if __name__ == "__main__":
+    sys.stdout.write(markdown())
