@@ -1,10 +1,10 @@
-"""The README shows what the project ships (its examples run as doctests), and each of
-its python blocks runs on its own, as written, from the project root; so does each of
-the documentation pages in :data:`PAGES`."""
+"""The README is short (at most 300 lines), shows what the project ships (its example
+runs as a doctest) and links to pages that exist; each of its python blocks runs on its
+own, as written, from the project root (tests/test_docs.py does the same for every page
+of the documentation)."""
 
 from __future__ import annotations
 
-import importlib.util
 import os
 import re
 import subprocess
@@ -17,49 +17,32 @@ import linkage_fmu
 
 ROOT = Path(__file__).parents[1]
 README = (ROOT / "README.md").read_text()
-#: the documentation pages whose python blocks run as the README's
-PAGES = ("README.md", "docs/joints-and-links.md")
-#: (page, line in it, text) of each python block
-BLOCKS = [(page, text.count("\n", 0, m.start()) + 1, m.group(1))
-          for page in PAGES for text in [(ROOT / page).read_text()]
-          for m in re.finditer(r"```python\n(.*?)```", text, flags=re.S)]
+#: a python block: its text
+PYTHON = re.compile(r"```python\n(.*?)```", flags=re.S)
 #: runs a doctest file, exit status 1 if an example fails
 DOCTEST = ("import doctest, sys; failed, _ = doctest.testfile(sys.argv[1], "
            "module_relative=False); sys.exit(failed > 0)")
 
 
-def test_the_readme_shows_the_example_files_as_they_are():
-    """The description file in "Your own linkage" is examples/coupler_four_bar.toml, byte
-    for byte, and every line of the engine's excerpt (its comments after ``#`` aside, and
-    the ``# ...`` line) is a line of examples/engine.toml (the README's doctests load
-    those files)."""
-    readme = (ROOT / "README.md").read_text()
-    blocks = re.findall(r"```toml\n(.*?)```", readme, flags=re.S)
-    coupler = (ROOT / "examples" / "coupler_four_bar.toml").read_text()
-    assert len(blocks) == 2 and coupler in blocks
-    excerpt = next(b for b in blocks if b != coupler)
-    engine = [line.strip() for line in
-              (ROOT / "examples" / "engine.toml").read_text().splitlines()]
-    for line in excerpt.splitlines():
-        code = line.split(" #")[0].strip()
-        if code and code != "# ...":
-            assert code in engine, line
+def blocks(page: str) -> list[tuple[int, str]]:
+    """(line, text) of each python block of ``page`` (a path from the project root)."""
+    text = (ROOT / page).read_text()
+    return [(text.count("\n", 0, m.start()) + 1, m.group(1)) for m in PYTHON.finditer(text)]
 
 
-@pytest.mark.parametrize("page, line, block", BLOCKS,
-                         ids=[f"line{n}" if page == "README.md" else f"{Path(page).stem}-line{n}"
-                              for page, n, _ in BLOCKS])
-def test_each_python_block_runs_on_its_own(page, line, block, tmp_path):
-    """In a fresh interpreter from the project root, nothing from the blocks before it
-    (pytest's README doctest shares one namespace over the whole file, so a block using
-    ``np`` or ``mech`` of an earlier one passed there and failed for a reader): a block
-    of ``>>>`` examples as a doctest, any other as a script; the block of run_fmu builds
-    the FMU it runs (dist/native/FourBar.fmu, as ``linkage-fmu build --native``)."""
+def run_block(page: str, line: int, block: str, folder: Path) -> None:
+    """Run ``block`` in a fresh interpreter from the project root, with nothing from the
+    blocks before it (pytest's README doctest shares one namespace over the whole file,
+    so a block using ``np`` or ``mech`` of an earlier one passed there and failed for a
+    reader): a block of ``>>>`` examples as a doctest, any other as a script file (as a
+    reader runs it: ``python script.py``, so that ``if __name__ == "__main__":`` and the
+    processes a Dask cluster starts behave as they do for them)."""
     if ">>>" in block:
-        (tmp_path / "block.txt").write_text(block)
-        command = [sys.executable, "-c", DOCTEST, str(tmp_path / "block.txt")]
+        (folder / "block.txt").write_text(block)
+        command = [sys.executable, "-c", DOCTEST, str(folder / "block.txt")]
     else:
-        command = [sys.executable, "-c", block]
+        (folder / "block_script.py").write_text(block)
+        command = [sys.executable, str(folder / "block_script.py")]
     source = str(Path(linkage_fmu.__file__).parents[1])  # the package under test
     env = {**os.environ, "MPLBACKEND": "Agg",
            "PYTHONPATH": os.pathsep.join(filter(None, [source, os.environ.get("PYTHONPATH")]))}
@@ -68,26 +51,43 @@ def test_each_python_block_runs_on_its_own(page, line, block, tmp_path):
     assert run.returncode == 0, f"{page} line {line}:\n{run.stdout[-3000:]}{run.stderr[-3000:]}"
 
 
-def test_every_python_block_is_found():
-    """The README's ten python blocks, four of them doctests, and the one of
-    docs/joints-and-links.md, a doctest: a block the pattern missed would go untested."""
-    readme = [b for page, _, b in BLOCKS if page == "README.md"]
-    assert len(readme) == README.count("```python") == 10
-    assert sum(">>>" in b for b in readme) == 4
-    joints = [b for page, _, b in BLOCKS if page == "docs/joints-and-links.md"]
-    assert len(joints) == 1 and ">>>" in joints[0]
+def test_the_readme_is_at_most_300_lines():
+    assert len(README.splitlines()) <= 300
 
 
-def test_the_joints_page_shows_what_info_prints():
-    """Each output of ``linkage-fmu info`` pasted into docs/joints-and-links.md (the
-    class III six-bar's whole, Jansen's groups) is what it prints for the example file
-    as it is: the page's text against a run of the command, byte for byte (regenerate:
-    python docs/make_joints_pictures.py)."""
-    spec = importlib.util.spec_from_file_location("make_joints_pictures",
-                                                  ROOT / "docs" / "make_joints_pictures.py")
-    script = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(script)
-    page = script.PAGE.read_text()
-    shown = [m.group(2) for m in script.BLOCK.finditer(page)]
-    assert shown == ["examples/triad_six_bar.toml", "examples/jansen.toml"]
-    assert script.pasted(page) == page, "regenerate: python docs/make_joints_pictures.py"
+@pytest.mark.parametrize("line, block", blocks("README.md"),
+                         ids=[f"line{n}" for n, _ in blocks("README.md")])
+def test_each_python_block_runs_on_its_own(line, block, tmp_path):
+    """The first example (a doctest) and the FMU run in fmpy, which builds the FMU it
+    runs (dist/native/FourBar.fmu, as ``linkage-fmu build --native four_bar``)."""
+    run_block("README.md", line, block, tmp_path)
+
+
+def test_the_readme_has_its_parts():
+    """The two commands, unchanged (.ci/run and the test suite run the second); how to
+    run the installed command; a first example of at most 20 lines, a doctest; an FMU
+    run in fmpy in at most 10 lines; the two pictures."""
+    assert ("python3 -m venv .venv && .venv/bin/pip install . && .venv/bin/python "
+            "build_fmu.py\npython3 -m venv .venv && .venv/bin/pip install -e \".[test]\" && "
+            ".venv/bin/python -m pytest\n") in README
+    assert ". .venv/bin/activate" in README and ".venv/bin/linkage-fmu" in README
+    (_, first), (_, fmu) = blocks("README.md")
+    assert ">>>" in first and len(first.splitlines()) <= 20
+    assert "fmpy" in fmu and len(fmu.splitlines()) <= 10
+    pictures = re.findall(r"!\[[^\]]*\]\(([^)]+)\)", README)
+    assert pictures == ["docs/four_bar.gif", "docs/crank_shaper_forces.png"]
+    assert (ROOT / pictures[1]).is_file()
+
+
+def test_every_link_of_the_readme_is_a_file():
+    """Each relative link of the README names a file of the project (the animation and
+    its page aside: they come with the animation)."""
+    links = re.findall(r"\]\(([^)#:]+)(?:#[^)]*)?\)", README)
+    assert len(links) >= 15
+    coming = {"docs/four_bar.gif", "docs/guide/animations.md"}
+    missing = [link for link in links if not (ROOT / link).is_file() and link not in coming]
+    assert not missing
+
+
+def test_no_source_document_is_named_by_its_seed_number():
+    assert not re.search(r"seed \d{3}", README, flags=re.I)

@@ -1,0 +1,91 @@
+"""Every python block of every page of the documentation (docs/, mkdocs.yml's site) runs
+on its own, as written, from the project root; the pages show the example files as they
+are, and name their source documents for what they are."""
+
+from __future__ import annotations
+
+import importlib.util
+import re
+from pathlib import Path
+
+import pytest
+
+from test_readme import PYTHON, ROOT, blocks, run_block
+
+DOCS = ROOT / "docs"
+#: every page of the site, from the project root
+PAGES = sorted(str(p.relative_to(ROOT)) for p in DOCS.rglob("*.md"))
+#: (page, line in it, text) of each python block
+BLOCKS = [(page, line, text) for page in PAGES for line, text in blocks(page)]
+
+
+@pytest.mark.parametrize("page, line, block", BLOCKS,
+                         ids=[f"{Path(page).stem}-line{n}" for page, n, _ in BLOCKS])
+def test_each_python_block_runs_on_its_own(page, line, block, tmp_path):
+    """A doctest block as a doctest, any other as a script. The blocks that build an
+    FMU build the four-bar's native FMU (dist/native/FourBar.fmu), a second's work; the
+    Dask block sweeps 10 designs on a local cluster."""
+    run_block(page, line, block, tmp_path)
+
+
+def test_every_python_block_is_found():
+    """As many blocks as the pages open with ```python (a block the pattern missed
+    would go untested), on the pages of the user guide and getting started at least."""
+    for page in PAGES:
+        text = (ROOT / page).read_text()
+        assert len(PYTHON.findall(text)) == text.count("```python"), page
+    pages = {page for page, _, _ in BLOCKS}
+    for page in ("getting-started.md", "guide/solving.md", "guide/loads.md",
+                 "guide/friction.md", "guide/motion.md", "guide/fmus.md", "guide/sweeps.md",
+                 "guide/plots.md", "guide/linkages.md", "joints-and-links.md"):
+        assert f"docs/{page}" in pages, page
+    assert len(BLOCKS) >= 18
+
+
+def test_the_pages_show_the_example_files_as_they_are():
+    """The description file on the linkages page is examples/coupler_four_bar.toml, byte
+    for byte, and every line of the engine's excerpt on the loads page (its comments
+    after ``#`` aside, and the ``# ...`` line) is a line of examples/engine.toml (the
+    pages' doctests load those files)."""
+    coupler = (ROOT / "examples" / "coupler_four_bar.toml").read_text()
+    (linkages,) = re.findall(r"```toml\n(.*?)```", (DOCS / "guide" / "linkages.md").read_text(),
+                             flags=re.S)
+    assert linkages == coupler
+    (excerpt,) = re.findall(r"```toml\n(.*?)```", (DOCS / "guide" / "loads.md").read_text(),
+                            flags=re.S)
+    engine = [line.strip() for line in
+              (ROOT / "examples" / "engine.toml").read_text().splitlines()]
+    for line in excerpt.splitlines():
+        code = line.split(" #")[0].strip()
+        if code and code != "# ...":
+            assert code in engine, line
+
+
+def test_the_joints_page_shows_what_info_prints():
+    """Each output of ``linkage-fmu info`` pasted into docs/joints-and-links.md (the
+    class III six-bar's whole, Jansen's groups) is what it prints for the example file
+    as it is: the page's text against a run of the command, byte for byte (regenerate:
+    python docs/make_joints_pictures.py)."""
+    spec = importlib.util.spec_from_file_location("make_joints_pictures",
+                                                  ROOT / "docs" / "make_joints_pictures.py")
+    script = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(script)
+    page = script.PAGE.read_text()
+    shown = [m.group(2) for m in script.BLOCK.finditer(page)]
+    assert shown == ["examples/triad_six_bar.toml", "examples/jansen.toml"]
+    assert script.pasted(page) == page, "regenerate: python docs/make_joints_pictures.py"
+
+
+def test_no_page_names_a_source_document_by_its_seed_number():
+    """The source documents are named for what they are (the scotch yoke worked
+    example, ...), never "seed 000"."""
+    for page in PAGES:
+        assert not re.search(r"seed \d{3}", (ROOT / page).read_text(), flags=re.I), page
+
+
+def test_every_page_is_in_the_sites_navigation():
+    """Each page but the generated benchmark pages is reached from mkdocs.yml's nav (a
+    page outside it would be built but found by no reader)."""
+    nav = (ROOT / "mkdocs.yml").read_text().split("\nnav:\n")[1]
+    listed = set(re.findall(r"^\s+- (?:[^:\n]+: )?([\w/.-]+\.md)$", nav, flags=re.M))
+    assert listed == {str(Path(p).relative_to("docs")) for p in PAGES}
