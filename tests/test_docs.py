@@ -5,11 +5,15 @@ are, and name their source documents for what they are."""
 from __future__ import annotations
 
 import importlib.util
+import os
 import re
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
 
+import linkage_fmu
 from test_readme import PYTHON, ROOT, blocks, run_block
 
 DOCS = ROOT / "docs"
@@ -91,3 +95,23 @@ def test_every_page_is_in_the_sites_navigation():
     listed = set(re.findall(r"^\s+- (?:[^:\n]+: )?([\w/.-]+\.md)$", nav, flags=re.M))
     results = {f"benchmarks/results/{p.name}" for p in (ROOT / "benchmarks" / "results").glob("*.md")}
     assert listed == {str(Path(p).relative_to("docs")) for p in PAGES} | results
+
+
+def test_the_flywheel_report_shown_is_what_the_command_prints(tmp_path):
+    """The report on the motion page under ``linkage-fmu flywheel examples/engine.toml
+    ...`` is what that command prints today, line for line."""
+    page = (DOCS / "guide" / "motion.md").read_text()
+    command = re.search(r"```sh\n(linkage-fmu flywheel examples/engine\.toml [^\n]*)\n```\n\n"
+                        r"```text\n(.*?)```", page, flags=re.S)
+    assert command is not None
+    source = str(Path(linkage_fmu.__file__).parents[1])
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(
+        filter(None, [source, os.environ.get("PYTHONPATH")]))}
+    args = ["--omega-mean", "3000 rpm", "--Cs", "0.02"]
+    assert command.group(1) == "linkage-fmu flywheel examples/engine.toml " + " ".join(
+        f'"{a}"' if " " in a else a for a in args)
+    run = subprocess.run([sys.executable, "-m", "linkage_fmu", "flywheel",
+                          "examples/engine.toml", *args], cwd=ROOT, env=env,
+                         capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout == command.group(2)
