@@ -12,9 +12,9 @@ import sys
 from pathlib import Path
 
 import pytest
+from test_readme import PYTHON, ROOT, blocks, run_block
 
 import linkage_fmu
-from test_readme import PYTHON, ROOT, blocks, run_block
 
 DOCS = ROOT / "docs"
 #: every page of the site, from the project root
@@ -93,7 +93,8 @@ def test_every_page_is_in_the_sites_navigation():
     but found by no reader; the strict build also refuses it)."""
     nav = (ROOT / "mkdocs.yml").read_text().split("\nnav:\n")[1]
     listed = set(re.findall(r"^\s+- (?:[^:\n]+: )?([\w/.-]+\.md)$", nav, flags=re.M))
-    results = {f"benchmarks/results/{p.name}" for p in (ROOT / "benchmarks" / "results").glob("*.md")}
+    results = {f"benchmarks/results/{p.name}"
+               for p in (ROOT / "benchmarks" / "results").glob("*.md")}
     assert listed == {str(Path(p).relative_to("docs")) for p in PAGES} | results
 
 
