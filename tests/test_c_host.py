@@ -2,7 +2,7 @@
 
 The FMU binary is a pythonfmu wrapper that embeds Python, so the host needs this
 interpreter's libpython preloaded, its home in ``PYTHONHOME`` and its site-packages (numpy)
-on ``PYTHONPATH``: the README's commands for them are run and the host given nothing else
+on ``PYTHONPATH``: the FMUs page's commands for them are run and the host given nothing else
 but ``PATH``. The helpers here (compiling the host for this machine or, with zig, for
 another platform; reading a modelDescription; comparing a run with the direct solver)
 serve the native FMUs' tests too (``test_native.py``, ``test_platforms.py``).
@@ -104,10 +104,10 @@ def error_against_direct(stdout: str, outputs: dict[str, int], steps: int, omega
 
 
 def readme_environment() -> dict[str, str]:
-    """The variables the README's ``sh`` block exports for a non-Python host, each
-    command run with this interpreter."""
-    readme = (ROOT / "README.md").read_text()
-    block = next(b for b in re.findall(r"```sh\n(.*?)```", readme, flags=re.S)
+    """The variables the ``sh`` block of the FMUs' page (docs/guide/fmus.md) exports for
+    a non-Python host, each command run with this interpreter."""
+    page = (ROOT / "docs" / "guide" / "fmus.md").read_text()
+    block = next(b for b in re.findall(r"```sh\n(.*?)```", page, flags=re.S)
                  if "LD_PRELOAD" in b)
     env = {}
     for name, command in re.findall(r"^export (\w+)=\$\((.*)\)$", block, flags=re.M):
@@ -125,7 +125,7 @@ def test_c_host_matches_direct_solver(fmu: Path, tmp_path: Path) -> None:
 
 
 def test_the_readme_environment_is_all_a_clean_host_needs(fmu: Path, tmp_path: Path) -> None:
-    """The host with only ``PATH`` and what the README's commands export (LD_PRELOAD,
+    """The host with only ``PATH`` and what the FMUs page's commands export (LD_PRELOAD,
     PYTHONHOME, PYTHONPATH), as ``env -i`` would give it, computes the same revolution."""
     env = readme_environment()
     assert set(env) == {"LD_PRELOAD", "PYTHONHOME", "PYTHONPATH"}
