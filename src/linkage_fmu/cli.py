@@ -276,7 +276,38 @@ def _warning(message, category, filename, lineno, file=None, line=None) -> None:
     print(f"linkage-fmu: warning: {message}", file=file or sys.stderr)
 
 
-def build_parser() -> argparse.ArgumentParser:
+class Parser(argparse.ArgumentParser):
+    """An argument parser that keeps what it is given, so that the command-line
+    reference can be written from it (:mod:`linkage_fmu.cli_reference`): ``arguments``,
+    every argument's action in the order added; ``commands``, each command's parser by
+    name, and on each, ``summary``, the help its command was added with."""
+
+    def __init__(self, *args, **kwargs):
+        self.arguments: list[argparse.Action] = []
+        self.commands: dict[str, Parser] = {}
+        self.summary: str | None = None
+        super().__init__(*args, **kwargs)
+
+    def add_argument(self, *args, **kwargs) -> argparse.Action:
+        action = super().add_argument(*args, **kwargs)
+        self.arguments.append(action)
+        return action
+
+    def add_subparsers(self, **kwargs):
+        action = super().add_subparsers(**kwargs)
+        add = action.add_parser
+
+        def add_parser(name: str, **options) -> Parser:
+            parser = add(name, **options)
+            parser.summary = options.get("help")
+            self.commands[name] = parser
+            return parser
+
+        action.add_parser = add_parser
+        return action
+
+
+def build_parser() -> Parser:
     """The command line's parser, every command a subparser of it (the loads of a named
     linkage are added to its command's by :func:`_main`); :mod:`linkage_fmu.cli_reference`
     writes the command-line reference from it.
@@ -286,7 +317,7 @@ def build_parser() -> argparse.ArgumentParser:
     >>> sorted(subcommands(build_parser()))[:3]
     ['build', 'check', 'flywheel']
     """
-    parser = argparse.ArgumentParser(
+    parser = Parser(
         prog="linkage-fmu", description="Kinetostatics of crank-driven planar linkages: "
         "joint reactions and driving torque, as tables and FMUs.", epilog=EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -461,10 +492,9 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def subcommands(parser: argparse.ArgumentParser) -> dict[str, argparse.ArgumentParser]:
+def subcommands(parser: Parser) -> dict[str, Parser]:
     """The parser of each command of ``parser``, by name, in the order they were added."""
-    (action,) = [a for a in parser._actions if isinstance(a, argparse._SubParsersAction)]
-    return dict(action.choices)
+    return dict(parser.commands)
 
 
 def _main(argv: list[str] | None) -> int:

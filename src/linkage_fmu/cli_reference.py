@@ -18,7 +18,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from .cli import build_parser, subcommands
+from .cli import Parser, build_parser, subcommands
 
 INTRO = """\
 <!-- written by python -m linkage_fmu.cli_reference > docs/cli.md; do not edit -->
@@ -42,46 +42,66 @@ def _cell(text: str) -> str:
     return " ".join(text.split()).replace("|", "\\|")
 
 
-def _invocation(action: argparse.Action, formatter: argparse.HelpFormatter) -> str:
+def _metavar(action: argparse.Action) -> str:
+    """What an argument's value is called, as ``--help`` shows it: ``THETA``, ``KIND
+    [NAME ...]``, ``NAME=VALUE``."""
+    name = action.metavar
+    if name is None and action.choices:
+        name = "{" + ",".join(map(str, action.choices)) + "}"
+    elif name is None:
+        name = action.dest.upper() if action.option_strings else action.dest
+    if isinstance(name, tuple):  # one name per value, the last repeated
+        return " ".join([*name[:-1], f"[{name[-1]} ...]"] if action.nargs == "+"
+                        else name)
+    if action.nargs == "+":
+        return f"{name} [{name} ...]"
+    if action.nargs == "*":
+        return f"[{name} ...]"
+    if action.nargs == "?":
+        return f"[{name}]"
+    if isinstance(action.nargs, int):
+        return " ".join([name] * action.nargs)
+    return name
+
+
+def _invocation(action: argparse.Action) -> str:
     """How an argument is typed: ``--theta THETA``, ``-o, --output OUTPUT``, ``linkage``."""
     if not action.option_strings:
-        return formatter._metavar_formatter(action, action.dest)(1)[0]
+        return _metavar(action)
     if action.nargs == 0:
         return ", ".join(action.option_strings)
-    return ", ".join(action.option_strings) + " " + formatter._format_args(
-        action, action.dest.upper())
+    return ", ".join(action.option_strings) + " " + _metavar(action)
 
 
-def _arguments(parser: argparse.ArgumentParser) -> list[str]:
+def _arguments(parser: Parser) -> list[str]:
     """The table of ``parser``'s arguments: how each is typed, its choices and default,
     its help."""
-    formatter = parser._get_formatter()
     rows = ["| argument | choices | default | meaning |", "|---|---|---|---|"]
-    for action in parser._actions:
-        if isinstance(action, (argparse._HelpAction, argparse._VersionAction)):
+    for action in parser.arguments:
+        if action.dest in ("help", "version"):
             continue
         choices = ", ".join(f"`{c}`" for c in action.choices) if action.choices else ""
         default = ("" if action.default in (None, False, [], argparse.SUPPRESS)
                    or action.nargs == 0 else f"`{action.default}`")
         required = " (required)" if action.required and action.option_strings else ""
-        rows.append(f"| `{_cell(_invocation(action, formatter))}`{required} | "
+        rows.append(f"| `{_cell(_invocation(action))}`{required} | "
                     f"{_cell(choices)} | {_cell(default)} | {_cell(action.help or '')} |")
     return rows
 
 
-def _usage(parser: argparse.ArgumentParser) -> str:
+def _usage(parser: Parser) -> str:
     return " ".join(parser.format_usage().removeprefix("usage: ").split())
 
 
-def markdown(parser: argparse.ArgumentParser | None = None) -> str:
+def markdown(parser: Parser | None = None) -> str:
     """The reference of the command line ``parser`` (default: ``linkage-fmu``'s) in
     Markdown: its usage and examples, then each command with its summary, usage and a
     table of its arguments.
 
     Parameters
     ----------
-    parser : argparse.ArgumentParser, optional
-        A parser with subcommands; default :func:`linkage_fmu.cli.build_parser`'s.
+    parser : linkage_fmu.cli.Parser, optional
+        A parser with commands; default :func:`linkage_fmu.cli.build_parser`'s.
 
     Returns
     -------
@@ -95,8 +115,7 @@ def markdown(parser: argparse.ArgumentParser | None = None) -> str:
     """
     parser = build_parser() if parser is None else parser
     commands = subcommands(parser)
-    helps = {a.dest: a.help for action in parser._actions
-             if isinstance(action, argparse._SubParsersAction) for a in action._choices_actions}
+    helps = {name: command.summary for name, command in commands.items()}
     out = [INTRO, "```text", _usage(parser), "```", "", parser.description or "", "",
            "| command | what it does |", "|---|---|"]
     out += [f"| [`{name}`](#linkage-fmu-{name}) | {_cell(helps.get(name) or '')} |"
