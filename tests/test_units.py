@@ -82,8 +82,9 @@ def test_a_parameter_takes_a_unit_of_its_kind():
 
 
 def test_solve_takes_inputs_and_parameters_with_units():
-    """The scotch yoke at 60 deg, 95.4929... rpm (10 rad/s) and 0.4 kN gives seed 000's
-    quoted Mb = 15.6699 N m and F23 = 313.3975 N; with l_AB = "100 mm" the same."""
+    """The scotch yoke at 60 deg, 95.4929... rpm (10 rad/s) and 0.4 kN gives the scotch
+    yoke worked example's quoted Mb = 15.6699 N m and F23 = 313.3975 N; with
+    l_AB = "100 mm" the same."""
     yoke = presets.get("scotch_yoke", l_AB="100 mm")
     rpm = 10.0 * 60 / (2 * math.pi)
     sol = yoke.solve("60 deg", f"{rpm!r} rpm", "0 rad/s**2", "0.4 kN")
