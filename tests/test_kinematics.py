@@ -80,7 +80,8 @@ def test_scotch_yoke_motion_matches_the_worked_example_formulas():
 
 def test_assembly_error_names_angle_and_condition():
     mech = presets.get("four_bar", l_AB=0.3)  # |BD| reaches 0.7 > 0.35 + 0.30
-    with pytest.raises(AssemblyError, match=r"theta = 3\.14159 rad .*\|BD\| = 0\.7 m > BC \+ CD = 0\.65 m"):
+    with pytest.raises(AssemblyError,
+                       match=r"theta = 3\.14159 rad .*\|BD\| = 0\.7 m > BC \+ CD = 0\.65 m"):
         mech.kinematics(math.pi)
     with pytest.raises(AssemblyError, match="E|guide"):
         presets.get("slider_crank", e=0.3).kinematics(0.0)

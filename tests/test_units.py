@@ -72,9 +72,10 @@ def test_plain_numbers_stay_si():
 def test_a_parameter_takes_a_unit_of_its_kind():
     """``Parameter.validate`` converts and checks: 120 mm is 0.12 m; an angle in degrees;
     a length in kg is refused, naming the parameter."""
-    assert Parameter("l_AB", 0.1, "length", "crank").validate("120 mm") == pytest.approx(0.12, rel=1e-15)
-    assert Parameter("gamma", 0.0, "angle", "guide").validate("90 deg") == pytest.approx(math.pi / 2,
-                                                                                 rel=1e-15)
+    length = Parameter("l_AB", 0.1, "length", "crank")
+    assert length.validate("120 mm") == pytest.approx(0.12, rel=1e-15)
+    angle = Parameter("gamma", 0.0, "angle", "guide")
+    assert angle.validate("90 deg") == pytest.approx(math.pi / 2, rel=1e-15)
     with pytest.raises(ValueError, match=r"l_AB = '2 kg' must be a length"):
         Parameter("l_AB", 0.1, "length", "crank").validate("2 kg")
     with pytest.raises(ValueError, match="l_AB must be > 0"):
