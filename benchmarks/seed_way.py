@@ -1,9 +1,10 @@
 """The source documents' way, for comparison: per crank angle, the kinematics from the
 closed-loop vector equations, then the 9x9 equilibrium matrix built with numpy and
-solved with ``np.linalg.solve`` (seed 002's flowchart; seed 000's MATLAB loop).
+solved with ``np.linalg.solve`` (the flowchart of the hinged four-bar worked example; the
+MATLAB loop of the scotch yoke worked example).
 
-The four-bar matrix is seed 002's own (section 6), with the centres of mass on the
-link axes (``beta = 0``) and the crank's at A, as in the seed. The slider-crank is the
+The four-bar matrix is the hinged four-bar worked example's own (section 6), with the
+centres of mass on the link axes (``beta = 0``) and the crank's at A, as there. The slider-crank is the
 same scheme for the preset ``slider_crank`` with ``e = gamma = 0`` (its defaults).
 """
 

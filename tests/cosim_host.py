@@ -24,12 +24,12 @@ so each FMU runs what it bundles.
 import json
 import sys
 
+from libcosimpy._internal import get_last_error_message
 from libcosimpy.CosimExecution import CosimExecution
 from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
 from libcosimpy.CosimManipulator import CosimManipulator
 from libcosimpy.CosimObserver import CosimObserver
 from libcosimpy.CosimSlave import CosimLocalSlave
-from libcosimpy._internal import get_last_error_message
 
 INPUT, OUTPUT = 0, 2  # libcosim's variable causalities
 

@@ -18,8 +18,8 @@ linkage_fmu. Jobs (``job["job"]``), each on the FMU ``job["fmu"]`` with the star
   exitInitializationMode: each status and the log;
 - ``steps``: co-simulation steps ``job["steps"]`` (``[tau, h]`` each), each from the last
   successful time of the one before (a Discard too): per step the status, the last
-  successful time, ``theta`` and ``omega`` with the read's status, the CPU time it took (reported, never judged
-  here) and what it logged.
+  successful time, ``theta`` and ``omega`` with the read's status, the CPU time it took (reported,
+  never judged here) and what it logged.
 """
 
 import json
@@ -52,9 +52,13 @@ class Drive:
             self.s.instantiate(loggingOn=True, logMessage=lambda env, status, cat, msg:
                                self.log.append([status, msg.decode(errors="replace")]))
         else:
-            from fmpy.fmi2 import (fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
-                                   fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
             from fmpy import calloc, free
+            from fmpy.fmi2 import (
+                fmi2CallbackAllocateMemoryTYPE,
+                fmi2CallbackFreeMemoryTYPE,
+                fmi2CallbackFunctions,
+                fmi2CallbackLoggerTYPE,
+            )
             cb = fmi2CallbackFunctions()
             cb.logger = fmi2CallbackLoggerTYPE(lambda c, inst, status, cat, msg: self.log.append(
                 [status, msg.decode(errors="replace")]))

@@ -75,7 +75,7 @@ def slave_checks(fmu: Path) -> None:
         rng = np.random.default_rng(1)
         t, h = 0.0, 0.01
         worst = 0.0
-        for k in range(50):
+        for _ in range(50):
             x = {"theta": rng.uniform(0, 2 * math.pi), "omega": rng.uniform(-5, 5),
                  "alpha": rng.uniform(-50, 50), "load": rng.uniform(-20, 20)}
             s.setFloat64([vr[n] for n in x], list(x.values()))

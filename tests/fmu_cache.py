@@ -37,10 +37,10 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Callable
 from contextlib import contextmanager
 from importlib import metadata
 from pathlib import Path
-from typing import Callable
 
 import linkage_fmu
 from linkage_fmu.ccompiler import find_compiler, find_cross_compiler

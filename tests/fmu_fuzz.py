@@ -703,7 +703,8 @@ def main(argv=None) -> int:
               f"{'/'.join(map(str, statuses.values()))}; {tally['Mb equal to tau']} reads with "
               f"Mb equal to tau, {tally['stuck']} stuck, {tally['discard in the step']} "
               f"steps discarded inside", flush=True)
-        print(f"{fmu.name} energy over {args.steps} steps: {run_energy(fmu, args.steps, args.seed)}")
+        energy = run_energy(fmu, args.steps, args.seed)
+        print(f"{fmu.name} energy over {args.steps} steps: {energy}")
         return 0
     if args.drive:
         for fmu in sorted(Path(args.dist).glob("*Drive.fmu")):

@@ -13,8 +13,13 @@ import math
 import sys
 
 from fmpy import calloc, extract, free, read_model_description
-from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
-                       fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
+from fmpy.fmi2 import (
+    FMU2Slave,
+    fmi2CallbackAllocateMemoryTYPE,
+    fmi2CallbackFreeMemoryTYPE,
+    fmi2CallbackFunctions,
+    fmi2CallbackLoggerTYPE,
+)
 
 _CALLBACKS = []
 STATUS = ("ok", "warning", "discard", "error", "fatal", "pending")
@@ -86,7 +91,7 @@ def main(job):
             if k == job.get("save_at"):
                 saved[spec["name"]] = (fmu.getFMUstate(), u, entry["outputs"][-1])
     if "save_at" in job:  # restore the saved state, then again through bytes
-        for spec, entry, fmu, vin, vout, names in runs:
+        for spec, entry, fmu, vin, vout, _ in runs:
             state, u, expected = saved[spec["name"]]
             fmu.setFMUstate(state)
             entry["restored"] = fmu.getReal(vout)
@@ -96,7 +101,7 @@ def main(job):
             fmu.setFMUstate(fmu.deSerializeFMUstate(blob))
             entry["deserialized"] = fmu.getReal(vout)
             entry["expected_after_restore"] = expected
-    for spec, entry, fmu, *_ in runs:
+    for _, _, fmu, *_ in runs:
         fmu.terminate()
         fmu.freeInstance()
     for k, sim in enumerate(job.get("simulate", [])):  # replay cross-check inputs

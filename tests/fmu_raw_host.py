@@ -21,8 +21,13 @@ import zlib
 from ctypes import byref, c_char_p, c_double, c_int, c_size_t, c_uint, c_void_p
 
 from fmpy import calloc, extract, free, read_model_description
-from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
-                       fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
+from fmpy.fmi2 import (
+    FMU2Slave,
+    fmi2CallbackAllocateMemoryTYPE,
+    fmi2CallbackFreeMemoryTYPE,
+    fmi2CallbackFunctions,
+    fmi2CallbackLoggerTYPE,
+)
 
 LAST_SUCCESSFUL_TIME, TERMINATED = 2, 3  # fmi2StatusKind
 

@@ -62,9 +62,13 @@ def main(path: str, scenario: list = SCENARIO) -> dict:
     unzip = extract(path)
     log = []
     if version == "2":
-        from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE,
-                               fmi2CallbackFreeMemoryTYPE, fmi2CallbackFunctions,
-                               fmi2CallbackLoggerTYPE)
+        from fmpy.fmi2 import (
+            FMU2Slave,
+            fmi2CallbackAllocateMemoryTYPE,
+            fmi2CallbackFreeMemoryTYPE,
+            fmi2CallbackFunctions,
+            fmi2CallbackLoggerTYPE,
+        )
 
         fmu = FMU2Slave(guid=md.guid, unzipDirectory=unzip,
                         modelIdentifier=md.coSimulation.modelIdentifier, instanceName="a")
@@ -131,7 +135,7 @@ def main(path: str, scenario: list = SCENARIO) -> dict:
             status, values = calls[op]()
             answers.append([op, status, values])
         else:
-            answers.append([op, status_of(lambda: calls[op](*args)), None])
+            answers.append([op, status_of(lambda: calls[op](*args)), None])  # noqa: B023
     free_()
     return {"answers": answers, "log": log}
 

@@ -30,15 +30,38 @@ import math
 import struct
 import sys
 import zlib
-from ctypes import (CDLL, POINTER, byref, c_bool, c_char_p, c_double, c_float, c_int, c_int8,
-                    c_int16, c_int32, c_int64, c_size_t, c_uint, c_uint8, c_uint16, c_uint32,
-                    c_uint64, c_void_p, cast)
+from ctypes import (
+    CDLL,
+    POINTER,
+    byref,
+    c_bool,
+    c_char_p,
+    c_double,
+    c_float,
+    c_int,
+    c_int8,
+    c_int16,
+    c_int32,
+    c_int64,
+    c_size_t,
+    c_uint,
+    c_uint8,
+    c_uint16,
+    c_uint32,
+    c_uint64,
+    c_void_p,
+    cast,
+)
 
-from fmpy import extract, read_model_description
+from fmpy import calloc, extract, free, read_model_description
 from fmpy.fmi1 import FMICallException
-from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
-                       fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
-from fmpy import calloc, free
+from fmpy.fmi2 import (
+    FMU2Slave,
+    fmi2CallbackAllocateMemoryTYPE,
+    fmi2CallbackFreeMemoryTYPE,
+    fmi2CallbackFunctions,
+    fmi2CallbackLoggerTYPE,
+)
 from fmpy.fmi3 import FMU3Slave, fmi3FMUState
 
 KINDS = ("input", "parameter")
@@ -360,8 +383,13 @@ def structure_job(job, path, unzip, md, log):
 def resources_job(job, path, unzip, md, log):
     """FMI 3.0 instances made with each of ``job["paths"]`` as the resourcePath: made or
     not, what was logged, and the outputs of one step of those made."""
-    from fmpy.fmi3 import (fmi3Boolean, fmi3InstanceEnvironment, fmi3IntermediateUpdateCallback,
-                           fmi3LogMessageCallback, fmi3ValueReference)
+    from fmpy.fmi3 import (
+        fmi3Boolean,
+        fmi3InstanceEnvironment,
+        fmi3IntermediateUpdateCallback,
+        fmi3LogMessageCallback,
+        fmi3ValueReference,
+    )
 
     results = []
     outs = [v.valueReference for v in md.modelVariables if v.causality == "output"]
@@ -423,7 +451,7 @@ def huge_job(job, path, unzip, md, log):
             status = f(*args)
             results[call] = [status, " | ".join(m for _, m in log[k:])]
     null = {}  # references of the type's variables and a NULL value array: named first
-    for name, ctype in TYPES3:
+    for name, _ in TYPES3:
         known = [v.valueReference for v in md.modelVariables if v.type == name]
         if not known:
             continue

@@ -439,7 +439,7 @@ def newton_euler(theta: float, omega: float, alpha: float, g: float, load: float
     # what the moving links exert on the frame: minus the frame's forces on them, and
     # minus the balancing moment the frame applies to the crank; moments about A
     shake, shake_m = np.zeros(2), -mb
-    for k, (p, a, b) in enumerate(pairs):
+    for k, (p, a, _) in enumerate(pairs):
         if a == "0":
             f = x[2 * k:2 * k + 2]
             shake -= f
@@ -504,7 +504,7 @@ cg = ["(x_C + x_D) / 2", "(y_C + y_D) / 2"]
 link = "1"
 pivot = "A"
 
-""" + tail
+""" + tail  # noqa: E501 (TOML)
     d = Description.from_toml(drawn, "drawn.toml")
     assert [row[:3] for row in outline(d.groups)] == [
         ("crank", "crank", ("1",)), ("II", "RRR", ("2", "3")), ("point", "point", ("2",))]
@@ -521,7 +521,8 @@ pivot = "A"
 
 
 def test_a_point_of_a_link_is_no_joint():
-    text = COMPOUND.replace('joints = ["E", "F"]', 'joints = ["E", "F"]\npoints = { D = [0.6, 0.2] }')
+    text = COMPOUND.replace('joints = ["E", "F"]',
+                            'joints = ["E", "F"]\npoints = { D = [0.6, 0.2] }')
     assert problems(text) == [
         "[[links]] #5 (5) points: 'D' is a joint; a point of a link joins nothing"]
 

@@ -11,8 +11,12 @@ from pathlib import Path
 
 import pytest
 
-from linkage_fmu.ccompiler import (CompilerError, CompilerWarning, compile_shared,
-                                   find_cross_compiler)
+from linkage_fmu.ccompiler import (
+    CompilerError,
+    CompilerWarning,
+    compile_shared,
+    find_cross_compiler,
+)
 
 #: C that compiles and warns under -Wall -Wextra (an unused variable and parameter)
 WARNS = "int twice(int x, int unused) { int spare; return 2 * x; }\n"

@@ -1,4 +1,4 @@
-"""The command line prints the seed 000 table and names bad input."""
+"""The command line prints the table of the scotch yoke worked example and names bad input."""
 
 from __future__ import annotations
 
@@ -12,12 +12,13 @@ import pandas as pd
 from linkage_fmu.cli import main
 
 
-def test_table_csv_reproduces_seed_quoted_mb():
+def test_table_csv_reproduces_the_worked_example_quoted_mb():
     out = io.StringIO()
     with redirect_stdout(out):
         assert main(["table", "scotch_yoke", "--n", "7", "--csv"]) == 0
     df = pd.read_csv(io.StringIO(out.getvalue()), index_col="theta")
-    assert len(df) == 7 and df["Mb"].iloc[0] == 40.0  # seed 000, theta = 0: Mb = 40.0000
+    # the scotch yoke worked example, theta = 0: Mb = 40.0000
+    assert len(df) == 7 and df["Mb"].iloc[0] == 40.0
 
 
 def test_bad_parameter_is_reported_not_raised():
@@ -429,7 +430,6 @@ def bad_inputs(tmp_path) -> list:
     """(argv, the one line expected on stderr) of user errors, each naming the file or
     the option and what is wrong; the files are made in ``tmp_path``."""
     import zipfile
-
     from pathlib import Path
 
     example = (Path(__file__).parents[1] / "examples" / "coupler_four_bar.toml").read_text()
@@ -543,7 +543,6 @@ def test_every_example_in_the_help_is_taken():
     from linkage_fmu import presets
     from linkage_fmu.expressions import evaluate
 
-    parser = argparse.ArgumentParser()
     captured = {}
     original = argparse.ArgumentParser.parse_args
 

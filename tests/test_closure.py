@@ -19,9 +19,9 @@ import numpy as np
 import pytest
 
 from linkage_fmu import AssemblyError, Description, newton, presets
+from linkage_fmu.descriptions.description import DescriptionError
 from linkage_fmu.groups import Closure
 from linkage_fmu.precise import reference
-from linkage_fmu.descriptions.description import DescriptionError
 
 TH0 = 0.5  # the drawn crank angle, rad
 R = 0.05  # the crank's length, m

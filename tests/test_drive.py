@@ -28,13 +28,13 @@ import pytest
 from fmpy import simulate_fmu
 from fmpy.validation import validate_fmu
 
-from conftest import run_host
-from linkage_fmu import presets, ranges
-from linkage_fmu.cli import main
 import fmu_cache
 import fmu_fuzz
+from conftest import run_host
 from fmu_cache import build_native_fmu
 from fmu_fuzz import run_drive
+from linkage_fmu import presets, ranges
+from linkage_fmu.cli import main
 from test_c_host import compile_host, model_outputs
 
 HOST = Path(__file__).with_name("drive_host.py")
@@ -493,7 +493,7 @@ def friction_reference(tau, omega0, t, theta0=0.3):
             f1 = mb(d, th, w, a1, "closed_form") - tau
         width = 1e-9 * (1.0 + abs(a1))
 
-        @functools.lru_cache(maxsize=None)  # brentq asks again for the bracket's ends
+        @functools.cache  # brentq asks again for the bracket's ends
         def f(a):
             return mb(d, th, w, a) - tau
 
@@ -518,7 +518,7 @@ def friction_reference(tau, omega0, t, theta0=0.3):
 
         stop.terminal, stop.direction = True, -d
         keep = np.flatnonzero(t >= t0)
-        sol = solve_ivp(lambda s, y: [y[1], acceleration(d, y[0], y[1])], (t0, t[-1]), x,
+        sol = solve_ivp(lambda s, y, d=d: [y[1], acceleration(d, y[0], y[1])], (t0, t[-1]), x,
                         method="DOP853", rtol=1e-12, atol=1e-12, t_eval=t[keep], events=stop)
         theta[keep[:len(sol.t)]], omega[keep[:len(sol.t)]] = sol.y
         if sol.status != 1:

@@ -12,7 +12,6 @@ omega 10 rad/s, alpha 5 rad/s^2 and g 9.81 (issue 31's first "done when").
 from __future__ import annotations
 
 import itertools
-import math
 from pathlib import Path
 
 import numpy as np

@@ -23,7 +23,6 @@ import pytest
 from fmpy import read_model_description
 
 from fmu_cache import build_fmu, build_native_fmu
-
 from test_fmu_states import assert_outputs, direct, host, inputs, parameters
 
 FMUS = {"native-four_bar": ("native", "four_bar"), "native-six_bar": ("native", "six_bar"),

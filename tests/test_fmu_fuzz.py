@@ -25,9 +25,8 @@ from __future__ import annotations
 
 import pytest
 
-from linkage_fmu import presets
-
 from fmu_fuzz import check_counts, run
+from linkage_fmu import presets
 
 STEPS = 2_000
 

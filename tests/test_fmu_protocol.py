@@ -282,8 +282,8 @@ def test_a_value_just_outside_a_declared_bound_is_refused(four_bar2, four_bar_dr
         assert f"{v.name} must be" in said, (v.name, outside, said)
         (set_at, _), (exit_at, _), (_, said_at) = (results[14 * k + 10], results[14 * k + 11],
                                                    results[14 * k + 12])
-        assert set_at == OK and f"{v.name} must be" not in (said_at or ""), (v.name, at,
-                                                                             said_at)
+        assert set_at == OK and exit_at == OK, (v.name, at, set_at, exit_at)
+        assert f"{v.name} must be" not in (said_at or ""), (v.name, at, said_at)
 
 
 def test_an_invalid_parameter_set_fails_exit_initialization_until_it_is_fixed(fmu2, tmp_path):

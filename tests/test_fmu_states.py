@@ -119,7 +119,8 @@ def forgeries(flavour: str, version: int) -> tuple[list, list]:
     bad = [{"key": "magic", "value": b"LKFMUSX\0".hex(), "hex": True},
            {"key": "format", "value": 1}, {"key": "format", "value": 3},
            {"key": "format", "value": 2**32 - 1},
-           {"key": "nid", "value": 0}, {"key": "nid", "value": 8}, {"key": "nid", "value": 2**32 - 1},
+           {"key": "nid", "value": 0}, {"key": "nid", "value": 8},
+           {"key": "nid", "value": 2**32 - 1},
            {"key": "id", "value": "FourBaR"}, {"key": "id", "value": "FourBa"},
            {"key": "nguid", "value": 0}, {"key": "nguid", "value": 2**31},
            {"key": "guid", "value": "{not-the-guid-of-this-build-0000000000}"},
@@ -129,7 +130,7 @@ def forgeries(flavour: str, version: int) -> tuple[list, list]:
            {"key": "time", "value": math.nan}, {"key": "time", "value": math.inf},
            {"key": "time", "value": -math.inf},
            {"tail": "00"}, {"tail": "0000000000000000"}, {"cut": 1}, {"cut": 4}, {"cut": 40}]
-    for name, (vr, v) in table(flavour).items():
+    for _, (vr, v) in table(flavour).items():
         key = f"value {vr}"
         if v.causality == "parameter" and v.type == "Real":
             values = [math.nan, math.inf, -math.inf]

@@ -16,9 +16,9 @@ from scipy.optimize import fsolve
 
 from conftest import IDS, VARIANTS
 from linkage_fmu import SelfLockingError, presets, solver
+from linkage_fmu.descriptions.description import Description, DescriptionError
 from linkage_fmu.kinetostatics import effort_coefficient
 from linkage_fmu.precise import MP, reference
-from linkage_fmu.descriptions.description import Description, DescriptionError
 
 NAMES = presets.names()
 STATES = [(0.3, 7.0, -20.0, 30.0), (1.7, -4.0, 3.0, 0.0), (4.4, 0.0, 0.0, 50.0),
@@ -95,7 +95,8 @@ def test_zero_mu_is_bit_identical_to_no_friction(name):
             for method in ("closed_form", "interpreted", "direct"):
                 a, b = mech.solve(*state, method=method), bare.solve(*state, method=method)
                 for n in common:
-                    assert a[n] == b[n] or (math.isnan(a[n]) and math.isnan(b[n])), (state, method, n)
+                    assert a[n] == b[n] or (math.isnan(a[n]) and math.isnan(b[n])), \
+                        (state, method, n)
         for om in (0.0, 9.0):
             a, b = mech.solve(th, om, 2.0, 30.0), bare.solve(th, om, 2.0, 30.0)
             for n in common:
@@ -322,7 +323,8 @@ def _fsolve_slider_crank(theta, omega, alpha, P, mu=MU):
     phid = -l1 * math.cos(theta) * omega / (l2 * cphi)
     phidd = (l1 * (math.sin(theta) * omega ** 2 - math.cos(theta) * alpha)
              + l2 * sphi * phid ** 2) / (l2 * cphi)
-    et, en = np.array([math.cos(theta), math.sin(theta)]), np.array([-math.sin(theta), math.cos(theta)])
+    et = np.array([math.cos(theta), math.sin(theta)])
+    en = np.array([-math.sin(theta), math.cos(theta)])
     ep, epn = np.array([cphi, sphi]), np.array([-sphi, cphi])
     A = l1 * et
     S1 = p["l_OS1"] * et
@@ -434,7 +436,7 @@ def test_every_method_agrees_up_to_the_largest_coefficient_taken(name):
                 except ValueError as err:
                     answers[method] = type(err).__name__
             direct = answers["direct"]
-            for method, answer in answers.items():
+            for answer in answers.values():
                 if isinstance(direct, str):
                     assert answer == direct, (mu, theta, answers)
                 else:

@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 from conftest import VARIANTS
-from linkage_fmu import AssemblyError, presets, precise
+from linkage_fmu import AssemblyError, precise, presets
 from linkage_fmu.precise import MP
 
 TH = np.linspace(0.0, 2 * np.pi, 181)[:-1] + 0.013  # 180 angles, off the symmetric ones
@@ -128,14 +128,14 @@ def test_scotch_yoke_with_the_yoke_alone():
 
 
 def test_slider_crank_with_the_piston_alone():
-    """x = r cos(theta) + s, s = sqrt(l**2 - r**2 sin(theta)**2): x' = -r sin - f with
+    """x = r cos(theta) + s, s = sqrt(L**2 - r**2 sin(theta)**2): x' = -r sin - f with
     f = r**2 sin cos / s, x'' = -r cos - r**2 cos(2 theta) / s - (r**2 sin cos)**2 / s**3;
     J = m x'**2, dJ = 2 m x' x''."""
-    m, r, l = 0.6, 0.05, 0.2
-    mech = presets.get("slider_crank", l_OA=r, l_AB=l, m1=0.0, J1=0.0, m2=0.0, J2=0.0, m3=m)
+    m, r, L = 0.6, 0.05, 0.2
+    mech = presets.get("slider_crank", l_OA=r, l_AB=L, m1=0.0, J1=0.0, m2=0.0, J2=0.0, m3=m)
     J, dJ = mech.reduced_inertia(TH)
     s, c = np.sin(TH), np.cos(TH)
-    root = np.sqrt(l ** 2 - r ** 2 * s ** 2)
+    root = np.sqrt(L ** 2 - r ** 2 * s ** 2)
     x1 = -r * s - r ** 2 * s * c / root
     x2 = -r * c - r ** 2 * np.cos(2 * TH) / root - (r ** 2 * s * c) ** 2 / root ** 3
     np.testing.assert_allclose(J, m * x1 ** 2, rtol=0, atol=1e-15 * m * r ** 2)

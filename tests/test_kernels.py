@@ -16,8 +16,8 @@ from hypothesis import strategies as st_
 from conftest import IDS, VARIANTS
 from linkage_fmu import AssemblyError, SingularPositionError, numerics, presets
 from linkage_fmu.kernels import TRACE, trace
-from linkage_fmu.kernels.trace import Reason, TracingError
 from linkage_fmu.kernels.c_source import SUMMARY_HEAD
+from linkage_fmu.kernels.trace import Reason, TracingError
 
 STATES = st_.tuples(
     st_.floats(0.0, 2 * math.pi),
@@ -46,24 +46,24 @@ def test_kernels_are_the_interpreted_formulas_bit_for_bit(variant, state):
     interpreted closed form's, bit for bit (the same operations in the same order), and
     equal the direct solver to 1e-13 max(1, cond/100) of the largest output."""
     mech = presets.get(variant[0], **variant[1])
-    for state in (state, (state[0], 0.0, 0.0, state[3])):
+    for at in (state, (state[0], 0.0, 0.0, state[3])):
         for outputs in plans(mech):
             try:
-                ref = mech.solve(*state, method="interpreted", outputs=outputs)
+                ref = mech.solve(*at, method="interpreted", outputs=outputs)
             except (AssemblyError, SingularPositionError):
                 with pytest.raises((AssemblyError, SingularPositionError)):
-                    mech.solve(*state, outputs=outputs)
+                    mech.solve(*at, outputs=outputs)
                 continue
-            got = mech.solve(*state, outputs=outputs)
+            got = mech.solve(*at, outputs=outputs)
             # the same floats, NaN as NaN (eta where no power enters)
             assert {n: _bits(v) for n, v in got.items()} == {
                 n: _bits(v) for n, v in ref.items()}, outputs
-            direct = mech.solve(*state, method="direct", outputs=outputs)
+            direct = mech.solve(*at, method="direct", outputs=outputs)
             forces = [n for n in got if n in mech.output_names and not math.isnan(ref[n])]
             if forces:
                 scale = max(abs(ref[n]) for n in forces)
                 tol = 1e-13 * max(1.0, ref["cond"] / 100 if "cond" in ref else
-                                  mech.solve(*state, outputs=("cond",))["cond"] / 100)
+                                  mech.solve(*at, outputs=("cond",))["cond"] / 100)
                 for n in forces:
                     assert abs(got[n] - direct[n]) <= tol * scale, n
 

@@ -67,8 +67,9 @@ def test_six_bar_and_slider_crank_guides():
     np.testing.assert_allclose(np.hypot(bx - ax, by - ay), 0.2, atol=1e-15)
 
 
-def test_scotch_yoke_motion_matches_seed_formulas():
-    """y3 = l sin(theta), v3 = l omega cos(theta), a3 = -l omega^2 sin(theta) (seed 000)."""
+def test_scotch_yoke_motion_matches_the_worked_example_formulas():
+    """y3 = l sin(theta), v3 = l omega cos(theta), a3 = -l omega^2 sin(theta) (the scotch
+    yoke worked example)."""
     th = np.linspace(0, 2 * np.pi, 36)
     st = presets.get("scotch_yoke").kinematics(th, order=2)
     np.testing.assert_allclose(st.p["S3"][1], 0.1 * np.sin(th), atol=1e-16)
@@ -79,7 +80,8 @@ def test_scotch_yoke_motion_matches_seed_formulas():
 
 def test_assembly_error_names_angle_and_condition():
     mech = presets.get("four_bar", l_AB=0.3)  # |BD| reaches 0.7 > 0.35 + 0.30
-    with pytest.raises(AssemblyError, match=r"theta = 3\.14159 rad .*\|BD\| = 0\.7 m > BC \+ CD = 0\.65 m"):
+    with pytest.raises(AssemblyError,
+                       match=r"theta = 3\.14159 rad .*\|BD\| = 0\.7 m > BC \+ CD = 0\.65 m"):
         mech.kinematics(math.pi)
     with pytest.raises(AssemblyError, match="E|guide"):
         presets.get("slider_crank", e=0.3).kinematics(0.0)

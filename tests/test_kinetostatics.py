@@ -1,6 +1,8 @@
-"""Kinetostatics against named references: the seed 000 table (MATLAB output printed in
-the source), the seed 002 9x9 matrix built literally from its table, virtual power, the
-equilibrium of every link, virtual work for the static six-bar, and a published textbook
+"""Kinetostatics against named references: the table of the scotch yoke worked example (a
+Chinese kinetostatics course; MATLAB output printed in the source), the 9x9 matrix of the
+hinged four-bar worked example (a Chinese course, kinetostatics without friction) built
+literally from its table, virtual power, the equilibrium of every link, virtual work for
+the static six-bar of the six-bar coursework (Bertyaev et al.), and a published textbook
 slider-crank (Marghitu 2009)."""
 
 from __future__ import annotations
@@ -20,16 +22,18 @@ from linkage_fmu import presets
 from linkage_fmu.kinetostatics import closed_form, equilibrium_system
 from linkage_fmu.loads import wrenches
 
-SEED000 = Path(__file__).parent / "reference" / "seed000_table.csv"
-# seed column -> (our output, sign): MECHANISMS.md: F12x and F41x are minus the printed
+SCOTCH_YOKE_TABLE = Path(__file__).parent / "reference" / "seed000_table.csv"
+# the worked example's column -> (our output, sign): MECHANISMS.md: F12x and F41x are
+# minus the printed
 COLUMNS = {"FR23": ("F23y", 1), "FR4p": ("F4p", 1), "FR4": ("F4", 1), "FR12x": ("F12x", -1),
            "FR12y": ("F12y", 1), "FR41x": ("F41x", -1), "FR41y": ("F41y", 1), "Mb": ("Mb", 1)}
 
 
 @pytest.mark.parametrize("method", ["closed_form", "direct"])
-def test_seed000_table(method):
-    """All 36 angles x 8 columns of seed 000's table to 1e-3 (printed to 4 decimals)."""
-    ref = pd.read_csv(SEED000)
+def test_scotch_yoke_worked_example_table(method):
+    """All 36 angles x 8 columns of the scotch yoke worked example's table to 1e-3 (printed
+    to 4 decimals)."""
+    ref = pd.read_csv(SCOTCH_YOKE_TABLE)
     sol = presets.get("scotch_yoke").solve(ref["theta_rad"].to_numpy(), omega=10.0,
                                            load=400.0, method=method)
     for col, (name, sign) in COLUMNS.items():
@@ -42,17 +46,19 @@ def test_seed000_table(method):
     (150, 350.0000, -378.8861, -34.6410, 330.0000, -30.3109),
     (220, 464.2788, -444.5727, -30.6418, 489.9903, -35.5658),
 ])
-def test_seed000_quoted_values(method, deg, FR23, FR4, FR12x, FR12y, Mb):
-    """The values seed 000 quotes in its text, to the 4 decimals it prints."""
+def test_scotch_yoke_worked_example_quoted_values(method, deg, FR23, FR4, FR12x, FR12y, Mb):
+    """The values the scotch yoke worked example quotes in its text, to the 4 decimals it
+    prints."""
     s = presets.get("scotch_yoke").solve(math.radians(deg), omega=10.0, load=400.0, method=method)
     got = (s["F23y"], s["F4"], s["F4p"], -s["F12x"], s["F12y"], -s["F41x"], s["F41y"], s["Mb"])
     want = (FR23, FR4, FR4, FR12x, FR12y, FR12x, FR12y, Mb)
     np.testing.assert_allclose(got, want, atol=6e-5, rtol=0)
 
 
-def _seed002_solution(p, theta, omega, alpha, Mr):
-    """Seed 002's 9x9 system, each entry typed from the seed's table (section 6), with
-    kinematics from mpmath positions and mpmath.diff (independent of the package)."""
+def _hinged_four_bar_solution(p, theta, omega, alpha, Mr):
+    """The hinged four-bar worked example's 9x9 system, each entry typed from its table
+    (section 6), with kinematics from mpmath positions and mpmath.diff (independent of the
+    package)."""
     mpmath.mp.dps = 40
 
     def angles(t):
@@ -117,10 +123,11 @@ def _seed002_solution(p, theta, omega, alpha, Mr):
 @pytest.mark.parametrize("theta, omega, alpha, Mr", [
     (0.3, 10.0, 0.0, 0.0), (1.7, -12.0, 40.0, 5.0), (4.0, 25.0, -300.0, -8.0),
 ])
-def test_four_bar_matches_seed002_matrix(method, theta, omega, alpha, Mr):
-    """four_bar == seed 002's own 9x9 system (crank CG at A as in the seed) to 1e-9 relative."""
+def test_four_bar_matches_hinged_four_bar_worked_example(method, theta, omega, alpha, Mr):
+    """four_bar == the hinged four-bar worked example's own 9x9 system (crank CG at A as
+    there) to 1e-9 relative."""
     mech = presets.get("four_bar")
-    ref = _seed002_solution(mech.parameters, theta, omega, alpha, Mr)
+    ref = _hinged_four_bar_solution(mech.parameters, theta, omega, alpha, Mr)
     sol = mech.solve(theta, omega, alpha, Mr, method=method)
     scale = max(abs(v) for v in ref.values())
     for name, value in ref.items():
@@ -207,7 +214,8 @@ def _virtual_work_effort(mech, theta):
 @pytest.mark.parametrize("theta", [0.2, 1.1, 2.5, 3.6, 5.0])
 @pytest.mark.parametrize("method", ["closed_form", "direct"])
 def test_static_six_bar_effort_is_virtual_work(driver, theta, method):
-    """Seed 001: balancing effort for every driver equals the virtual-work value (1e-10)."""
+    """The six-bar coursework: balancing effort for every driver equals the virtual-work
+    value (1e-10)."""
     mech = presets.get("six_bar", driver=driver)
     sol = mech.solve(theta, method=method)
     name = "Pb" if driver == "D" else "Mb"

@@ -30,8 +30,8 @@ import numpy as np
 import pytest
 
 from conftest import MODELS
-from linkage_fmu import presets
 from fmu_cache import build_fmu, build_native_fmu
+from linkage_fmu import presets
 from linkage_fmu.fmi import fmu_linkage
 from linkage_fmu.fmi.check import compare, reference
 from linkage_fmu.fmi.run import revolution

@@ -15,9 +15,9 @@ import numpy as np
 import pytest
 
 from linkage_fmu import presets
+from linkage_fmu.descriptions import Description, DescriptionError
 from linkage_fmu.interpolation import AngleTable
 from linkage_fmu.precise import reference
-from linkage_fmu.descriptions import Description, DescriptionError
 from linkage_fmu.sweep import sweep
 
 R, L = 0.05, 0.20

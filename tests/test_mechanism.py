@@ -11,10 +11,9 @@ from unittest import mock
 import numpy as np
 import pytest
 
+from conftest import IDS, VARIANTS
 from linkage_fmu import SingularPositionError, friction, groups, kinetostatics, presets
 from linkage_fmu.loads import wrenches
-
-from conftest import IDS, VARIANTS
 
 TH = np.linspace(0.05, 2 * np.pi, 25)
 
@@ -60,7 +59,8 @@ def test_static_scene_skips_derivatives_and_matches_full_path(mech):
 
 def test_effort_only_skips_reactions_and_matches_full_path(mech):
     name = mech.effort.name
-    with mock.patch.object(kinetostatics, "closed_form", side_effect=AssertionError("closed_form")), \
+    with mock.patch.object(kinetostatics, "closed_form",
+                           side_effect=AssertionError("closed_form")), \
          mock.patch.object(kinetostatics, "direct", side_effect=AssertionError("direct")):
         fast = mech.solve(TH, 7.0, -20.0, 30.0, outputs=(name,))
     full = mech.solve(TH, 7.0, -20.0, 30.0, method="direct")
@@ -118,7 +118,8 @@ def test_exactly_singular_scalar_state_raises_with_angle():
 @pytest.mark.parametrize("kwargs, error, pattern", [
     ({"theta": math.nan}, ValueError, "theta must be a finite number, got nan"),
     ({"omega": math.inf}, ValueError, "omega must be a finite number, got inf"),
-    ({"load": "1 m"}, ValueError, r"load = '1 m' must be a moment \(N.m\), but it is a length \(m\)"),
+    ({"load": "1 m"}, ValueError,
+     r"load = '1 m' must be a moment \(N.m\), but it is a length \(m\)"),
     ({"load": "fast"}, ValueError, "load = 'fast': unknown name 'fast'"),
     ({"omega": [1.0, "2 rpm"]}, TypeError, "omega must be an array of real numbers"),
     ({"alpha": np.array([0.0, np.nan])}, ValueError, r"alpha must be finite: entry \(1,\) is nan"),
@@ -266,8 +267,8 @@ def _compare_lean(mech, calls, monkeypatch) -> tuple[list, int]:
     outcomes, missed = [], 0
     for args, kwargs in calls:
         before = len(fallbacks)
-        got = _outcome(lambda: mech.solve(*args, **kwargs))
-        ref = _outcome(lambda: general(*args, outputs=everything, **kwargs))
+        got = _outcome(lambda: mech.solve(*args, **kwargs))  # noqa: B023
+        ref = _outcome(lambda: general(*args, outputs=everything, **kwargs))  # noqa: B023
         assert got == ref, (args, kwargs, got[:2], ref[:2])
         outcomes.append(got[0])
         plain = all(type(v) is float for v in args + tuple(kwargs.values()))

@@ -49,7 +49,8 @@ def test_work_of_a_constant_torque_is_the_kinetic_energy_gained(name, params):
     work = 2.0 * (run["theta"].iloc[-1] - run["theta"].iloc[0])
     kinetic = 0.5 * run["J_red"] * run["omega"] ** 2
     gained = kinetic - kinetic.iloc[0]
-    # at every output time, against the work done up to it; measured <= 1.5e-9 (slider-crank at 470 rad/s)
+    # at every output time, against the work done up to it; measured <= 1.5e-9 (slider-crank
+    # at 470 rad/s)
     done = 2.0 * (run["theta"] - run["theta"].iloc[0])
     assert np.max(np.abs(gained - done)) <= 1e-8 * work
     assert run["theta"].iloc[-1] > 0.3 + math.pi  # it turned half a revolution at least
@@ -402,7 +403,7 @@ def test_moment_and_slope_is_the_kernel_s_Mb_and_a_derivative_by_alpha():
     for theta, omega, alpha in [(0.7, 12.0, 3.0), (2.9, -4.0, 0.0), (4.4, 0.0, 50.0)]:
         Mb, slope = f(theta, omega, alpha)
 
-        def direct(a):
+        def direct(a, theta=theta, omega=omega):
             return mech.solve(theta, omega, a, outputs=("Mb",), method="direct", **loads)["Mb"]
 
         assert Mb == pytest.approx(direct(alpha), rel=1e-12, abs=1e-13)

@@ -18,10 +18,10 @@ from fmpy.validation import validate_fmu
 
 from conftest import MODELS
 from linkage_fmu import presets
-from linkage_fmu.solver import SOLVED
 from linkage_fmu.fmi import check_fmu
 from linkage_fmu.fmi.check import reference
 from linkage_fmu.fmi.run import revolution, step_fmu
+from linkage_fmu.solver import SOLVED
 from test_c_host import compile_host, model_outputs
 
 NATIVE_MODELS = (*MODELS.values(), "CouplerFourBar")

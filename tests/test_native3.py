@@ -56,8 +56,7 @@ def test_run_fmu_names_the_discarded_step(native3):
     import numpy as np
 
     from linkage_fmu import presets
-    from linkage_fmu.fmi.run import revolution
-    from linkage_fmu.fmi.run import FMURunError, run_fmu
+    from linkage_fmu.fmi.run import FMURunError, revolution, run_fmu
 
     mech = presets.get("four_bar", l_AB=0.3)
     u = revolution(mech, 72)

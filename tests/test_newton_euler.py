@@ -5,8 +5,8 @@ coupler four-bar example (a force at a coupler point that is no joint) are writt
 joints and links in tests/data (drawn at 60 deg by tests/data/make_drawn_poses.py). The
 reference reads them with tomllib and shares no code with the library's groups or
 solver; its ``Mb`` and shaking force must equal the group form's to 1e-9 (N.m, N) at
-angles within 30 deg of the drawn one, with omega 10 rad/s, alpha 5 rad/s^2 and g 9.81. Its own physics is checked by virtual
-power and by the momentum balance, which involve none of the library.
+angles within 30 deg of the drawn one, with omega 10 rad/s, alpha 5 rad/s^2 and g 9.81. Its own
+physics is checked by virtual power and by the momentum balance, which involve none of the library.
 """
 
 from __future__ import annotations

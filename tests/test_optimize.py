@@ -11,8 +11,14 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from linkage_fmu.optimize import (INFEASIBLE, Constraint, NoFeasibleDesignError,
-                                  OptimizationResult, optimize, parse_constraint)
+from linkage_fmu.optimize import (
+    INFEASIBLE,
+    Constraint,
+    NoFeasibleDesignError,
+    OptimizationResult,
+    optimize,
+    parse_constraint,
+)
 from linkage_fmu.sweep import grid, sweep
 
 THETA = np.radians(np.arange(0.0, 360.0, 5.0))  # 72 angles: the same for every search

@@ -478,7 +478,7 @@ def covered(boxes, marks) -> list:
     from matplotlib.transforms import Bbox
 
     out = []
-    for gid, text, box, _ in boxes:
+    for gid, _, box, _ in boxes:
         for name, path, filled, pad in marks:
             grown = Bbox.from_extents(box.x0 - pad, box.y0 - pad, box.x1 + pad, box.y1 + pad)
             if path.intersects_bbox(grown, filled=filled):
@@ -880,7 +880,8 @@ def test_bad_input_is_refused_with_the_choices():
         plot.polar(four, "F12")
     with pytest.raises(ValueError, match=r"no force pair 'N43'.*F21 \(F21x, F21y\)"):
         plot.polar(presets.get("slider_crank"), "N43")  # one component: not a pair
-    with pytest.raises(ValueError, match=r"no output 'Mx'.*F21x, .*Mb, Mf_A, .*P_loss, eta, shake_x, shake_y, shake_M, gamma_C, cond"):
+    with pytest.raises(ValueError, match=r"no output 'Mx'.*F21x, .*Mb, Mf_A, .*P_loss, eta, "
+                                         r"shake_x, shake_y, shake_M, gamma_C, cond"):
         plot.torque(four, output="Mx")
     with pytest.raises(TypeError, match="not both"):
         plot.torque(four, theta=[0.0, 1.0], theta_deg=[0.0, 1.0])

@@ -25,7 +25,8 @@ SPEC = {
         {"l_OA": 0.15, "l_AB": 0.97, "l_O1B": 0.66, "l_O1K": 0.25, "l_KD": 0.86, "a": 0.50,
          "b": 0.37, "rho": 10.0, "m4": 20.0, "g": 9.81, "driver": "OA", "branch_B": 1,
          "branch_D": 1},
-        ("XO", "YO", "XA", "YA", "XB", "YB", "XO1", "YO1", "XK", "YK", "XD", "YD", "N4", "Mb", "Pb"),
+        ("XO", "YO", "XA", "YA", "XB", "YB", "XO1", "YO1", "XK", "YK", "XD", "YD", "N4", "Mb",
+         "Pb"),
         (0.0, 0.0, 0.0, 0.0),
     ),
     "slider_crank": (
@@ -85,7 +86,8 @@ def test_names_defaults_and_outputs(name):
     spec = presets.preset(name)
     assert {p.name: p.default for p in spec.parameter_specs()} == params
     mech = presets.get(name)
-    # the specification's outputs, the friction's, then the shaking force and moment every linkage has
+    # the specification's outputs, the friction's, then the shaking force and moment every
+    # linkage has
     assert mech.output_names == outputs + ("shake_x", "shake_y", "shake_M")
     assert mech.parameters == params
     i = spec.inputs

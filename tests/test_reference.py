@@ -18,8 +18,8 @@ from pathlib import Path
 import pytest
 
 from linkage_fmu import expressions, groups, parameters, presets, units
-from linkage_fmu.outputs import SHAKING
 from linkage_fmu.descriptions import Description, description, reference, topology
+from linkage_fmu.outputs import SHAKING
 
 ROOT = Path(__file__).resolve().parents[1]
 DOC = ROOT / "docs" / "description.md"

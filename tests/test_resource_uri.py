@@ -23,9 +23,8 @@ from urllib.parse import quote
 
 import pytest
 
-from linkage_fmu import presets
 from fmu_cache import build_fmu
-
+from linkage_fmu import presets
 from test_fmu_protocol import ERROR, OK, raw, start, variables
 
 INPUTS = [0.8, 6.0, 1.0, 2.0]

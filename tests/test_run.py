@@ -9,8 +9,7 @@ import numpy as np
 import pytest
 
 from linkage_fmu import presets
-from linkage_fmu.fmi.run import revolution
-from linkage_fmu.fmi.run import FMURunError, run_fmu
+from linkage_fmu.fmi.run import FMURunError, revolution, run_fmu
 
 
 @pytest.mark.parametrize("flavour", ["pythonfmu", "native"])

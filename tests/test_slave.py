@@ -12,13 +12,13 @@ import math
 
 import numpy as np
 import pytest
+from pythonfmu.enums import Fmi2Status
 
 from linkage_fmu import SelfLockingError, presets
 from linkage_fmu.ccompiler import find_compiler
 from linkage_fmu.fmi.slave import PACKAGE, LinkageSlave, fingerprint
 from linkage_fmu.fmi.variables import variables
 from linkage_fmu.solver import HOT_CALLS, LOCKED
-from pythonfmu.enums import Fmi2Status
 
 #: relative tolerance against the direct solver (the pythonfmu FMU's check in build_fmu.py)
 RTOL = 1e-9

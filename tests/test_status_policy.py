@@ -170,7 +170,7 @@ def test_a_parameter_set_that_overflows_is_a_discard_in_both_flavours(model, par
             ("enter", OK), *(("set", OK) for _ in params), ("exit", OK),
             ("outputs", WARNING), ("inputs", OK), ("step", DISCARD), ("outputs", WARNING),
             ("step", DISCARD), ("output", WARNING), ("terminate", OK)], name
-        for op, status, values in run["answers"]:
+        for op, _, values in run["answers"]:
             assert values is None or all(v is None for v in values), (name, op)
         log = run["log"]
         assert [status for status, _ in log] == [WARNING, DISCARD], name

@@ -72,9 +72,10 @@ def test_plain_numbers_stay_si():
 def test_a_parameter_takes_a_unit_of_its_kind():
     """``Parameter.validate`` converts and checks: 120 mm is 0.12 m; an angle in degrees;
     a length in kg is refused, naming the parameter."""
-    assert Parameter("l_AB", 0.1, "length", "crank").validate("120 mm") == pytest.approx(0.12, rel=1e-15)
-    assert Parameter("gamma", 0.0, "angle", "guide").validate("90 deg") == pytest.approx(math.pi / 2,
-                                                                                 rel=1e-15)
+    length = Parameter("l_AB", 0.1, "length", "crank")
+    assert length.validate("120 mm") == pytest.approx(0.12, rel=1e-15)
+    angle = Parameter("gamma", 0.0, "angle", "guide")
+    assert angle.validate("90 deg") == pytest.approx(math.pi / 2, rel=1e-15)
     with pytest.raises(ValueError, match=r"l_AB = '2 kg' must be a length"):
         Parameter("l_AB", 0.1, "length", "crank").validate("2 kg")
     with pytest.raises(ValueError, match="l_AB must be > 0"):
@@ -82,8 +83,9 @@ def test_a_parameter_takes_a_unit_of_its_kind():
 
 
 def test_solve_takes_inputs_and_parameters_with_units():
-    """The scotch yoke at 60 deg, 95.4929... rpm (10 rad/s) and 0.4 kN gives seed 000's
-    quoted Mb = 15.6699 N m and F23 = 313.3975 N; with l_AB = "100 mm" the same."""
+    """The scotch yoke at 60 deg, 95.4929... rpm (10 rad/s) and 0.4 kN gives the scotch
+    yoke worked example's quoted Mb = 15.6699 N m and F23 = 313.3975 N; with
+    l_AB = "100 mm" the same."""
     yoke = presets.get("scotch_yoke", l_AB="100 mm")
     rpm = 10.0 * 60 / (2 * math.pi)
     sol = yoke.solve("60 deg", f"{rpm!r} rpm", "0 rad/s**2", "0.4 kN")

@@ -15,9 +15,9 @@ Examples
 from pathlib import Path
 
 from . import presets
+from .descriptions import Description, DescriptionError
 from .errors import AssemblyError, OverflowInputError, SelfLockingError, SingularPositionError
 from .mechanism import Mechanism, Solution
-from .descriptions import Description, DescriptionError
 
 __version__ = "0.1.0"
 __all__ = ["presets", "load", "Description", "DescriptionError", "Mechanism", "Solution",

@@ -62,7 +62,8 @@ class Body:
             raise ValueError(f"body {self.name!r}: give the centre of mass as along/across or "
                              "as distance/angle, not both")
         if not self.ref:
-            raise ValueError(f"body {self.name!r} needs the point 'ref' its centre of mass is measured from")
+            raise ValueError(f"body {self.name!r} needs the point 'ref' its centre of mass is "
+                             "measured from")
 
     @functools.cached_property
     def offset(self) -> float:

@@ -20,8 +20,8 @@ import shutil
 import subprocess
 import sys
 import warnings
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Sequence
 
 #: compilers tried in order when ``CC`` is not set
 CANDIDATES = ("cc", "gcc", "clang")

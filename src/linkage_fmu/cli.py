@@ -3,8 +3,8 @@ info|table|sweep|optimize|plot|simulate|flywheel|build|check|reference``.
 
 Every command takes a description file or a preset name; ``--set NAME=VALUE`` overrides
 a parameter, and each load of the linkage is an option ``--NAME VALUE`` of ``table``,
-``sweep``, ``optimize``, ``plot``, ``simulate`` and ``flywheel`` (listed by their ``--help`` once the
-linkage is named). Values may
+``sweep``, ``optimize``, ``plot``, ``simulate`` and ``flywheel`` (listed by their ``--help`` once
+the linkage is named). Values may
 carry units and be expressions, as in a description file: ``--set l_AB=120mm``, ``--set
 gamma=pi/2``, ``--omega "1800 rpm"``, ``--F_P "0.2 kN"``, ``--theta "0:360:15 deg"``;
 plain numbers are SI, angles in radians.
@@ -32,18 +32,19 @@ from pathlib import Path
 import numpy as np
 
 from . import __version__, presets, ranges
+from .descriptions import Description, DescriptionError
+from .descriptions.assur import outline
 from .expressions import evaluate
 from .printing import number
 from .solver import frame
-from .descriptions import Description, DescriptionError
-from .descriptions.assur import outline
 
 EPILOG = """examples:
   linkage-fmu info four_bar
   linkage-fmu table scotch_yoke --omega 10 --load 400
   linkage-fmu table my_linkage.toml --theta 0:360:15 --deg --F_P 80 --T4 120 --csv
   linkage-fmu table four_bar --theta 0:360:0.001 --deg -o revolution.parquet
-  linkage-fmu sweep four_bar --grid l_AB=0.05:0.15:0.01 --grid l_BC=0.3,0.35 --omega 10 -o designs.csv
+  linkage-fmu sweep four_bar --grid l_AB=0.05:0.15:0.01 --grid l_BC=0.3,0.35 --omega 10 \
+      -o designs.csv
   linkage-fmu sweep four_bar --samples designs.csv --scheduler local
   linkage-fmu optimize four_bar --vary l_BC=0.3:0.45 --vary l_CD=0.25:0.4 --minimize Mb_peak \
       --subject-to "gamma_C_min_deg >= 45" --subject-to valid --seed 1 --plot convergence.png
@@ -848,8 +849,6 @@ def _flywheel(d: Description, args) -> int:
 
 
 def _sweep(d: Description, args) -> int:
-    import pandas as pd
-
     from .sweep import grid, sweep
 
     mech = d.build()

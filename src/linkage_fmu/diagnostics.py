@@ -13,14 +13,13 @@ Examples
 from __future__ import annotations
 
 import math
-from typing import Iterable
+from collections.abc import Iterable
 
 import numpy as np
 
 from . import inertia, kinetostatics, numerics
 from .groups import KinematicState
 from .kernels.trace import Reason
-
 
 #: the diagnostics every linkage has, after the transmission angle of each dyad
 NAMES = ("cond", "J_red", "dJ_red")

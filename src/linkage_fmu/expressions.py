@@ -15,7 +15,8 @@ Examples
 >>> Expression("__import__('os')")
 Traceback (most recent call last):
 ...
-ValueError: '__import__' is not a function an expression may call; the functions are: abs, acos, asin, atan, atan2, cos, degrees, hypot, max, min, radians, sin, sqrt, tan
+ValueError: '__import__' is not a function an expression may call; the functions are: abs, acos,
+asin, atan, atan2, cos, degrees, hypot, max, min, radians, sin, sqrt, tan
 """
 
 from __future__ import annotations
@@ -24,10 +25,9 @@ import ast
 import math
 import operator
 import re
-from typing import Callable, Mapping
+from collections.abc import Callable, Mapping
 
-from . import numerics
-from . import units
+from . import numerics, units
 
 #: functions an expression may call
 #: (those of :mod:`~linkage_fmu.numerics`: on floats, or on traced parameters)

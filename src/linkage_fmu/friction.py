@@ -45,11 +45,14 @@ import numpy as np
 from . import kinetostatics, newton
 from .groups.base import Joint, KinematicState, push
 from .kernels.trace import Reason
-from .numerics import ARRAY
+
 # the iterations, shared with the closure of class III groups, under this module's names;
 # its constants are read here at each call (a test may change them on this module)
 from .newton import ITERATIONS, MAX_ITERATIONS, TINY, TOLERANCE, inverse, not_  # noqa: F401
-from .newton import loop as _loop, tape_of as _tape, tolerance as _tolerance
+from .newton import loop as _loop
+from .newton import tape_of as _tape
+from .newton import tolerance as _tolerance
+from .numerics import ARRAY
 
 
 def iterate(xp, x: list, step, fail, first=None, memory: tuple = ()) -> list:

@@ -13,8 +13,8 @@ body, no weight when ``g = 0``, no moment of a force acting at the centre of mas
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Sequence
 
 from . import numerics
 from .expressions import Expression

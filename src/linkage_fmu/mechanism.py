@@ -10,16 +10,18 @@ built from a :class:`~linkage_fmu.descriptions.Description` (a description file,
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterable, Sequence
 from types import MappingProxyType
-from typing import Callable, Iterable, Sequence
 
 import numpy as np
 
 from . import diagnostics, flywheel, friction, inertia, motion, numerics
-from .expressions import evaluate
 from .bodies import Body, Effort
 from .errors import AssemblyError
-from .friction import Declared, outputs as friction_outputs, resolve as resolve_friction
+from .expressions import evaluate
+from .friction import Declared
+from .friction import outputs as friction_outputs
+from .friction import resolve as resolve_friction
 from .groups import FRAME, OWNER, Group, Joint, KinematicState
 from .loads import Load, powers, wrenches
 from .numerics import ARRAY, SCALAR, finite_array, finite_float
@@ -127,7 +129,8 @@ class Mechanism:
             raise ValueError(f"{name}: bodies {body_names} do not match the moving links {links}")
         for load in self.loads:
             if load.body not in body_names:
-                raise ValueError(f"{name}: load {load.name} acts on {load.body!r}, not a moving link")
+                raise ValueError(f"{name}: load {load.name} acts on {load.body!r}, not a moving "
+                                 "link")
         cg_points = [b.cg_point() for b in self.bodies if b.cg != b.ref]
         self.groups = tuple(groups) + tuple(cg_points)
         self.cg = {b.name: b.cg for b in self.bodies}
@@ -186,7 +189,8 @@ class Mechanism:
                                          if not getattr(o, "finite", True))
         self.diagnostic_names = tuple(f"gamma_{d.key}" for d in self.dyads) + diagnostics.NAMES
         _check_names(name, {"input": self.input_names, "parameter": tuple(self.parameters),
-                            "output": self.output_names, "diagnostic output": self.diagnostic_names})
+                            "output": self.output_names,
+                            "diagnostic output": self.diagnostic_names})
         #: the real-valued parameters, the arguments of its kernels (a branch or a choice
         #: is structure, as is a friction with every mu 0); none for a linkage built
         #: without a description
@@ -461,7 +465,8 @@ def _check_load_points(name: str, loads: Sequence[Load], bodies: Sequence[Body],
     >>> _check_load_points(mech.name, [F], mech.bodies, mech.owner, mech.joints)
     Traceback (most recent call last):
     ...
-    ValueError: four_bar: load F acts on body 2 at point D, which is not a point of body 2 (its points: B, C, S2)
+    ValueError: four_bar: load F acts on body 2 at point D, which is not a point of body 2 (its
+    points: B, C, S2)
     """
     points = {b.name: {b.ref, b.cg} for b in bodies}
     for point, link in owner.items():

@@ -18,7 +18,8 @@ crank sticks while the torque lies within the friction band (:func:`simulate`).
 from __future__ import annotations
 
 import math
-from typing import Callable, NamedTuple
+from collections.abc import Callable
+from typing import NamedTuple
 
 import numpy as np
 
@@ -137,8 +138,8 @@ def simulate(mech, tau, t, theta0=None, omega0=None, rtol: float = 1e-10,
     values are those at rest with friction at its limit against the way ``tau`` pushes
     the crank (of the linkage with ``drive = +1`` where ``tau`` lies at or above the
     band's middle, else ``-1``), as the drive FMU reports them; ``Mb`` is ``tau`` (the
-    crank is held: the linkage takes it all) and ``P_loss`` is 0. ``attrs["switches"]`` lists each change, a
-    :class:`Switch` ``(time, theta, to)``: ``to`` = +1 or -1 where the crank starts to
+    crank is held: the linkage takes it all) and ``P_loss`` is 0. ``attrs["switches"]`` lists each
+    change, a :class:`Switch` ``(time, theta, to)``: ``to`` = +1 or -1 where the crank starts to
     move from rest in that direction (breaks away, or reverses at once after a stop), 0
     where it comes to rest and sticks; a start at rest is the first entry.
 
@@ -550,7 +551,7 @@ def _with_friction(mech, effort: str, torque, t: np.ndarray, theta0: float, omeg
             leave = out_of_band(ti)
             if leave:
                 edge = hi if leave > 0.0 else lo
-                tb = brentq(lambda s: torque(s, th, 0.0) - edge, before, ti,
+                tb = brentq(lambda s: torque(s, th, 0.0) - edge, before, ti,  # noqa: B023
                             xtol=4.0 * _EPS * max(abs(before), abs(ti)), rtol=4.0 * _EPS)
                 n = int(np.searchsorted(t, tb, side="right")) - k
                 rows.extend((float(s), th, 0.0, 0) for s in t[k:k + n])

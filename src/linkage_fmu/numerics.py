@@ -8,14 +8,14 @@ once). The mode is a namespace of the few non-arithmetic functions the formulas 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from types import SimpleNamespace
-from typing import Callable, Union
 
 import numpy as np
 
 from .kernels.trace import sign
 
-Number = Union[float, np.ndarray]
+Number = float | np.ndarray
 
 
 def array_sign(x: np.ndarray) -> np.ndarray:

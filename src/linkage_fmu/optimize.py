@@ -30,8 +30,9 @@ import inspect
 import math
 import re
 import time
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Callable, Iterator, Mapping, Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pandas as pd
@@ -141,7 +142,8 @@ def parse_constraint(spec: str | Constraint | tuple) -> Constraint:
     >>> parse_constraint("F21_peak == 500")
     Traceback (most recent call last):
     ...
-    ValueError: constraint 'F21_peak == 500': expected NAME OP VALUE with OP one of <=, >=, <, > (as in 'gamma_C_min_deg >= 40'), or 'valid'
+    ValueError: constraint 'F21_peak == 500': expected NAME OP VALUE with OP one of <=, >=, <, > (as
+    in 'gamma_C_min_deg >= 40'), or 'valid'
     """
     if isinstance(spec, Constraint):
         return spec

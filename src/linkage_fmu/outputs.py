@@ -7,8 +7,8 @@ floats and arrays alike.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 from . import numerics
 from .expressions import Expression
@@ -171,8 +171,8 @@ class Shaking:
     friction included) and through the driver (the reaction of the balancing effort,
     which the frame applies), the moment about the crank's pivot, counter-clockwise
     positive. It equals the external loads, weights and d'Alembert forces of the moving
-    links together (their momentum balance: friction is internal); a load whose reaction also acts on the frame (gas pressure on a
-    cylinder head) is not subtracted."""
+    links together (their momentum balance: friction is internal); a load whose reaction also acts
+    on the frame (gas pressure on a cylinder head) is not subtracted."""
 
     name: str
     component: str

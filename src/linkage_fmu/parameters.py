@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any, Mapping
+from typing import Any
 
 from .expressions import evaluate
 from .numerics import finite_float
@@ -124,12 +125,14 @@ class Parameter:
         """Return the checked value, or raise a ``TypeError``/``ValueError`` naming it."""
         if self.kind == "branch":
             if isinstance(value, bool) or value not in (1, -1):
-                raise ValueError(f"{self.name} must be +1 or -1 ({self.description}), got {value!r}")
+                raise ValueError(
+                    f"{self.name} must be +1 or -1 ({self.description}), got {value!r}")
             return int(value)
         if self.kind == "choice":
             if value not in self.choices:
                 raise ValueError(
-                    f"{self.name} must be one of {', '.join(map(repr, self.choices))}, got {value!r}"
+                    f"{self.name} must be one of {', '.join(map(repr, self.choices))}, "
+                    f"got {value!r}"
                 )
             return value
         unit, rule, ok = _REAL_KINDS[self.kind]

@@ -74,7 +74,8 @@ def reference(mech, theta: float, omega: float | None = None, alpha: float | Non
     >>> import math
     >>> from linkage_fmu import presets
     >>> ref = reference(presets.get("scotch_yoke"), math.radians(60), 10.0, 0.0, 400.0)
-    >>> round(float(ref["Mb"]), 4), round(float(ref["F23y"]), 4)  # seed 000 quotes these
+    >>> # the values the scotch yoke worked example quotes
+    >>> round(float(ref["Mb"]), 4), round(float(ref["F23y"]), 4)
     (15.6699, 313.3975)
     """
     values, given = mech.inputs(omega, alpha, loads, named_loads)

@@ -11,11 +11,14 @@ Examples
 ('scotch_yoke', 'four_bar', 'six_bar', 'slider_crank', 'slotted_lever', 'crank_shaper')
 >>> mech = presets.get("four_bar", l_AB=0.12)
 >>> mech.output_names
-('F21x', 'F21y', 'F32x', 'F32y', 'F43x', 'F43y', 'F14x', 'F14y', 'Mb', 'Mf_A', 'Mf_B', 'Mf_C', 'Mf_D', 'P_loss', 'eta', 'shake_x', 'shake_y', 'shake_M')
+('F21x', 'F21y', 'F32x', 'F32y', 'F43x', 'F43y', 'F14x', 'F14y', 'Mb', 'Mf_A', 'Mf_B', 'Mf_C',
+'Mf_D', 'P_loss', 'eta', 'shake_x', 'shake_y', 'shake_M')
 >>> presets.get("four_bar", l_ab=0.12)
 Traceback (most recent call last):
 ...
-TypeError: four_bar has no parameter 'l_ab'; its parameters are: l_AB, l_BC, l_CD, l_AD, m1, J1, l_AS1, beta1, m2, J_S2, l_BS2, beta2, m3, J_S3, l_DS3, beta3, g, branch, mu_A, r_A, mu_B, r_B, mu_C, r_C, mu_D, r_D, drive
+TypeError: four_bar has no parameter 'l_ab'; its parameters are: l_AB, l_BC, l_CD, l_AD, m1, J1,
+l_AS1, beta1, m2, J_S2, l_BS2, beta2, m3, J_S3, l_DS3, beta3, g, branch, mu_A, r_A, mu_B, r_B, mu_C,
+r_C, mu_D, r_D, drive
 """
 
 from __future__ import annotations
@@ -23,8 +26,8 @@ from __future__ import annotations
 import functools
 from pathlib import Path
 
-from .mechanism import Mechanism
 from .descriptions import Description
+from .mechanism import Mechanism
 
 FOLDER = Path(__file__).with_name("linkages")
 #: the presets, in the specification's order
@@ -43,7 +46,7 @@ def path(name: str) -> Path:
     return FOLDER / f"{name}.toml"
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def preset(name: str) -> Description:
     """The description of the preset ``name`` (parameters, loads, input start values).
 

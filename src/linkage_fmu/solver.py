@@ -22,14 +22,14 @@ state (:attr:`ArraySolution.status`, :attr:`ArraySolution.problems`);
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
-from typing import Iterable, NamedTuple
+from collections.abc import Iterable, Mapping
+from typing import NamedTuple
 
 import numpy as np
 
 from . import diagnostics, ranges
-from .expressions import evaluate
 from .errors import AssemblyError, OverflowInputError, SelfLockingError, SingularPositionError
+from .expressions import evaluate
 from .kernels import TRACE, Kernel, trace
 from .kernels.trace import Reason
 from .numerics import ARRAY, SCALAR, finite_array, finite_float
@@ -537,7 +537,8 @@ class Solver:
         or an index array), in blocks that stay in the CPU caches (the formulas make
         many temporaries per state); results into ``out`` and ``valid``."""
         if isinstance(rows, slice):
-            parts = (slice(i, min(i + CHUNK, rows.stop)) for i in range(rows.start, rows.stop, CHUNK))
+            parts = (slice(i, min(i + CHUNK, rows.stop))
+                     for i in range(rows.start, rows.stop, CHUNK))
         else:
             parts = (rows[i:i + CHUNK] for i in range(0, rows.size, CHUNK))
         with np.errstate(divide="ignore", invalid="ignore"):

@@ -52,15 +52,15 @@ import functools
 import itertools
 import math
 import warnings
-from typing import Iterator, Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 
 import numpy as np
 import pandas as pd
 
-from .kernels.c_source import SUMMARY_HEAD
-from .presets import linkage
-from .parameters import resolve
 from .descriptions import Description
+from .kernels.c_source import SUMMARY_HEAD
+from .parameters import resolve
+from .presets import linkage
 
 #: states a task solves at least (Dask's per-task overhead is 0.2 to 1 ms)
 STATES_PER_TASK = 50_000

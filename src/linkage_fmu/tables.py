@@ -22,8 +22,8 @@ import bisect
 import csv
 import hashlib
 import math
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Sequence
 
 import numpy as np
 

@@ -1,6 +1,6 @@
 """Linkages as data: description files, their expressions, and building a Mechanism."""
 
-from .description import Description, DescriptionError
 from ..expressions import Expression
+from .description import Description, DescriptionError
 
 __all__ = ["Description", "DescriptionError", "Expression"]

@@ -7,8 +7,8 @@ they take a hand-written file. The crank comes first; then, as long as a link is
 placed, the first dyad the library solves is peeled off (RRR, RRP: a rod and a slider on
 a frame guide, RPR: a block sliding on a lever through the lever's pivot, RPP: a block in
 the slot of a yoke on a frame guide), trying the links two by two in the order of
-[[links]]; a link's further joints and its points become ``point`` groups on it. What no dyad resolves
-is the smallest connected set of links that the placed ones hold with mobility 0: a
+[[links]]; a link's further joints and its points become ``point`` groups on it. What no dyad
+resolves is the smallest connected set of links that the placed ones hold with mobility 0: a
 ``closure`` group (revolute pairs only).
 
 Every number of the group form is an expression of the drawn coordinates (lengths,
@@ -23,10 +23,10 @@ Pairs: a revolute pair takes its joint's name; at a compound joint J (on k links
 pair J joins the first two of its links to be placed, and each further link L is
 joined to the first by the pair ``J_L`` (its pin, the point ``J_L``, is a point of the
 first link where J is); inside a class III (or higher) group, whose links are placed
-together, each further link is pinned to the link listed before it. At a joint J on the frame (the frame's entry in [[links]] lists
-it) with k moving links, the pair J joins the frame to the first of them to be placed,
-and each further link L is joined to the frame by the pair ``J_L`` (at the frame's
-point ``J_L``, where J is). A prismatic pair takes its joint's name.
+together, each further link is pinned to the link listed before it. At a joint J on the frame (the
+frame's entry in [[links]] lists it) with k moving links, the pair J joins the frame to the first of
+them to be placed, and each further link L is joined to the frame by the pair ``J_L`` (at the
+frame's point ``J_L``, where J is). A prismatic pair takes its joint's name.
 
 Examples
 --------
@@ -539,7 +539,7 @@ class _Decomposer:
         t = self.t
         sliding = [j for n in subset for j in t.links[n].joints if t.joints[j].prismatic]
         if sliding:
-            what = (f"a dyad that no dyad of the library is (an RRP's slider and an RPP's "
+            what = ("a dyad that no dyad of the library is (an RRP's slider and an RPP's "
                     "yoke slide on a frame guide, an RPR's slot passes through its lever's "
                     "pivot)" if len(subset) == 2 else
                     f"a group of {len(subset)} links (only dyads may slide)")
@@ -718,7 +718,9 @@ def check_pose(mech, drawn: Decomposition, values: dict) -> str:
     ''
     >>> print(check_pose(d.build(), d.drawn, {"l_AB": 0.1, "l_BC": 0.35, "l_CD": 0.3,
     ...                                       "l_AD": 0.4, "branch": -1}))
-    [[groups]] #2 (RRR): a drawn pose from which a group cannot be assembled: at the drawn crank angle 0 deg it places C at (0.304166667, 0.284281502), 0.569 m from where C is drawn (0.304166667, -0.284281502); the tolerance is 1e-12 m
+    [[groups]] #2 (RRR): a drawn pose from which a group cannot be assembled: at the drawn crank
+    angle 0 deg it places C at (0.304166667, 0.284281502), 0.569 m from where C is drawn
+    (0.304166667, -0.284281502); the tolerance is 1e-12 m
     """
     theta = Expression(drawn.theta)(values)
     try:

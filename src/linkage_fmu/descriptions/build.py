@@ -9,13 +9,13 @@ from pathlib import Path
 
 from .. import numerics
 from ..bodies import Body, Effort
+from ..expressions import Expression
+from ..friction import Declared, Friction
 from ..groups import Group, LinkJoints
 from ..kernels.trace import Reason
 from ..loads import Load
 from ..mechanism import Mechanism
 from ..outputs import Couple, Derived, EffortOutput, Force, Magnitude, Normal
-from ..expressions import Expression
-from ..friction import Declared, Friction
 from ..parameters import resolve
 from ..tables import PeriodicTable
 

@@ -58,8 +58,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..groups import OWNER, Field, Group, LinkJoints
 from ..expressions import Expression, check_units
+from ..groups import OWNER, Field, Group, LinkJoints
 from ..outputs import SHAKING
 from ..parameters import KINDS, Parameter
 
@@ -521,7 +521,8 @@ class Description:
             if p["choices"]:
                 spec["choices"] = list(p["choices"])
             lines.append(f"{_key(name)} = {_toml(spec)}")
-        lines += ["", "[points]"] + [f"{_key(n)} = {_toml(list(xy))}" for n, xy in self.points.items()]
+        lines += ["", "[points]"] + [f"{_key(n)} = {_toml(list(xy))}"
+                                     for n, xy in self.points.items()]
         for spec in self.groups:
             lines += ["", "[[groups]]"] + [f"{_key(k)} = {_toml(v)}" for k, v in spec.items()]
         for link, spec in self.bodies.items():
@@ -535,12 +536,14 @@ class Description:
         elif self.efforts:
             choose = next(iter(self.efforts))[0]
             lines += ["", "[effort]", f"choose = {_toml(choose)}"]
-            lines += [f"options.{_key(str(w[1]))} = {_toml(spec)}" for w, spec in self.efforts.items()]
+            lines += [f"options.{_key(str(w[1]))} = {_toml(spec)}"
+                      for w, spec in self.efforts.items()]
         for spec in self.outputs:
             lines += ["", "[[outputs]]"] + [f"{_key(k)} = {_toml(v)}" for k, v in spec.items()]
         lines += ["", "[inputs]"] + [f"{k} = {_toml(v)}" for k, v in self.inputs.items()]
         for joint, spec in self.friction.items():
-            lines += ["", f"[friction.{_key(joint)}]"] + [f"{k} = {_toml(v)}" for k, v in spec.items()]
+            lines += ["", f"[friction.{_key(joint)}]"] + [f"{k} = {_toml(v)}"
+                                                          for k, v in spec.items()]
         return "\n".join(lines) + "\n"
 
 
@@ -1133,8 +1136,8 @@ class _Checker:
         if not isinstance(table_unit, str):
             self.found.append(f"{where} table_unit: must be a unit, such as \"bar\" or \"kN\"")
         elif table_unit:
-            self.expr(f"{where} table_unit and scale", f"1 {table_unit} * ({spec.get('scale', 1.0)})",
-                      unit=unit)
+            self.expr(f"{where} table_unit and scale",
+                      f"1 {table_unit} * ({spec.get('scale', 1.0)})", unit=unit)
 
     def force_load(self, where: str, spec: dict) -> None:
         at, body = spec.get("at"), spec.get("body")

@@ -412,8 +412,8 @@ solves is taken off, trying the links two by two in the order of `[[links]]`:
 
 A link's other joints and its `points` become `point` groups on it, once it is placed
 (a load or an effort may act at them, and a load's `value` may use their `x_P`, `y_P`);
-its centre of mass becomes its `cg = {{ from, along, across }}` in the group type's link direction. What no
-dyad resolves is the smallest connected set of the links left that the placed links hold
+its centre of mass becomes its `cg = {{ from, along, across }}` in the group type's link direction.
+What no dyad resolves is the smallest connected set of the links left that the placed links hold
 with mobility 0, solved as one `closure` group (its pairs revolute: a group of more than
 two links with a prismatic pair, or a dyad with one that the table above does not list,
 is refused as a group the decomposition cannot solve).
@@ -456,7 +456,7 @@ the pair's name, and a load's `value` may use its `x_J`, `y_J`.
 - `[linkage] model`: the name.
 
 `Mb`, the shaking force and moment, `J_red` and the diagnostics follow as for any
-linkage."""
+linkage."""  # noqa: E501 (the tables' rows)
 
 
 def _loads() -> str:

@@ -200,7 +200,8 @@ def read(data: dict, values: dict, frame: str = "0", measures: dict | None = Non
     ...                     "links": [{"name": "1", "joints": ["A", "B"]}],
     ...                     "crank": {"link": "1", "pivot": "A"}}, {})
     >>> print(problems[0])
-    [[links]]: the linkage's mobility is -1, not 1: 3 x 1 moving links - 2 x 2 pairs (Gruebler's count; a joint on one link is a pair with the frame, a joint on k links k - 1 pairs)
+    [[links]]: the linkage's mobility is -1, not 1: 3 x 1 moving links - 2 x 2 pairs (Gruebler's
+    count; a joint on one link is a pair with the frame, a joint on k links k - 1 pairs)
     """
     found: list[str] = []
     units = {} if measures is None else measures
@@ -470,7 +471,7 @@ def _crank(spec: Any, joints: dict, links: dict, on: dict, on_frame: frozenset,
     if joints[pivot].prismatic or (on[pivot] != (link,) and pivot not in on_frame):
         others = [n for n in on[pivot] if n != link]
         found.append(f"[crank] pivot: the crank pivot {pivot} is not on the frame: "
-                     + (f"it is a prismatic pair" if joints[pivot].prismatic else
+                     + ("it is a prismatic pair" if joints[pivot].prismatic else
                         f"it joins link {link} to {', '.join(others)}")
                      + "; the pivot is a revolute joint that only the crank lists, or one "
                      "the frame's entry in [[links]] lists")

@@ -27,9 +27,9 @@ not an ELF, PE or Mach-O file (it starts with b'not a li')
 from __future__ import annotations
 
 import struct
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Sequence
 
 #: what zig's Mach-O linker exports from every dylib besides the code's own names
 LINKER_MADE = frozenset({"_mh_dylib_header", "__dso_handle"})

@@ -177,7 +177,8 @@ def build_fmu(source, out: str | Path = "dist", fmi_version: int = 2, **paramete
     guid = str(uuid.uuid4())
     # a module name of its own: the host's Python keeps one module per name
     module = f"linkage_fmu_{d.model}_{hashlib.sha256(guid.encode()).hexdigest()[:12]}"
-    wrapper = Path(pythonfmu.__file__).parent / "resources" / "binaries" / "linux64" / WRAPPED_LIBRARY
+    wrapper = (Path(pythonfmu.__file__).parent / "resources" / "binaries" / "linux64"
+               / WRAPPED_LIBRARY)
     with tempfile.TemporaryDirectory(prefix="linkage_fmu_build_") as tmp:
         root = Path(tmp) / "fmu"
         resources = root / "resources"
@@ -259,7 +260,8 @@ def build_native_fmu(source, out: str | Path | None = None, fmi_version: int = 2
     >>> build_native_fmu("four_bar", platforms="x86_64-windows,linux64")
     Traceback (most recent call last):
     ...
-    ValueError: unknown platform 'linux64': the platforms are all, x86_64-linux, aarch64-linux, x86_64-windows, x86_64-darwin, aarch64-darwin
+    ValueError: unknown platform 'linux64': the platforms are all, x86_64-linux, aarch64-linux,
+    x86_64-windows, x86_64-darwin, aarch64-darwin
     """
     _check_version(fmi_version)
     chosen = select(platforms, fmi_version)

@@ -13,7 +13,8 @@ Examples
 >>> [p.name for p in select("all", 3)]
 ['x86_64-linux', 'aarch64-linux', 'x86_64-windows', 'x86_64-darwin', 'aarch64-darwin']
 >>> {folder: [p.name for p in ps] for folder, ps in folders(select("all", 2), 2).items()}
-{'linux64': ['x86_64-linux'], 'win64': ['x86_64-windows'], 'darwin64': ['x86_64-darwin', 'aarch64-darwin']}
+{'linux64': ['x86_64-linux'], 'win64': ['x86_64-windows'], 'darwin64': ['x86_64-darwin',
+'aarch64-darwin']}
 >>> PLATFORMS["x86_64-windows"].library("FourBar")
 'FourBar.dll'
 """
@@ -21,8 +22,8 @@ Examples
 from __future__ import annotations
 
 import platform as pyplatform
+from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import Iterable
 
 #: flags of every build by zig: no debug information (nor a .pdb beside a DLL), no
 #: run-time checks of undefined behaviour (zig's own defaults trap on it), and no
@@ -154,7 +155,8 @@ def select(spec: str | Iterable[str] | None, fmi_version: int) -> tuple[Platform
     >>> select("win32", 3)
     Traceback (most recent call last):
     ...
-    ValueError: unknown platform 'win32': the platforms are all, x86_64-linux, aarch64-linux, x86_64-windows, x86_64-darwin, aarch64-darwin
+    ValueError: unknown platform 'win32': the platforms are all, x86_64-linux, aarch64-linux,
+    x86_64-windows, x86_64-darwin, aarch64-darwin
     """
     if spec is None:
         this = host()

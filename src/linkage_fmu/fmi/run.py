@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import ctypes
 import functools
-
 import math
 import shutil
 import xml.etree.ElementTree as ET
@@ -29,8 +28,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..mechanism import Mechanism
 from ..descriptions import Description
+from ..mechanism import Mechanism
 
 #: fmpy's status of a discarded step (fmi2Discard, fmi3Discard)
 DISCARD = 2
@@ -195,7 +194,7 @@ def step_fmu(fmu: str | Path, inputs: np.ndarray, start_values: dict | None = No
     return rows, messages
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _printing_logger():
     # kept for the life of the process: the proxy holds its address
     from fmpy.fmi2 import fmi2CallbackLoggerTYPE, printLogMessage

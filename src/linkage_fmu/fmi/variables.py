@@ -15,7 +15,8 @@ Examples
 >>> from linkage_fmu import presets
 >>> table = variables(presets.get("four_bar"))
 >>> [(v.name, v.causality, v.unit) for v in table[:4]]
-[('theta', 'input', 'rad'), ('omega', 'input', 'rad/s'), ('alpha', 'input', 'rad/s2'), ('load', 'input', 'N.m')]
+[('theta', 'input', 'rad'), ('omega', 'input', 'rad/s'), ('alpha', 'input', 'rad/s2'), ('load',
+'input', 'N.m')]
 >>> table[-1].name, table[-1].depends
 ('dJ_red', ('theta',))
 >>> [v.options for v in variables(presets.get("four_bar"), "native") if v.name == "method"]

@@ -34,8 +34,15 @@ import jinja2
 
 from .. import __version__
 from ..kernels.c_source import c_literal
-from .variables import (MOTION_STATE, TOLERANCE, Variable, bounds, crank_choices,
-                        drive_variables, variables)
+from .variables import (
+    MOTION_STATE,
+    TOLERANCE,
+    Variable,
+    bounds,
+    crank_choices,
+    drive_variables,
+    variables,
+)
 
 TEMPLATES = Path(__file__).with_name("templates")
 #: unit -> (SI base-unit exponents, display units as (name, factor))
@@ -194,7 +201,8 @@ def model_description(mech, flavour: str, fmi_version: int, guid: str,
     vr_of = {v.name: vr for vr, v in enumerate(table)}
     d = mech.description
     what = ("its motion under a moment on the crank, with the friction of its joints "
-            "(sticking at rest inside the friction band), and its joint reactions" if drive else "joint reactions and balancing effort (kinetostatics)")
+            "(sticking at rest inside the friction band), and its joint reactions" if drive
+            else "joint reactions and balancing effort (kinetostatics)")
     return _XML.get_template(f"modelDescription{fmi_version}.xml").render(
         model=model_name(mech, drive), guid=guid, flavour=flavour, version=__version__,
         title=f"{d.title or d.name}: {what}", drive=drive,
@@ -204,7 +212,7 @@ def model_description(mech, flavour: str, fmi_version: int, guid: str,
         derivatives=[vr for s in table if s.state for vr, v in enumerate(table)
                      if v.derivative == s.name],
         tool=_TOOLS[flavour].format(version=__version__, pythonfmu=pythonfmu.__version__),
-        now=datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
+        now=datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%dT%H:%M:%SZ"),
         sources=sources, units=UNITS.items() if fmi_version == 2 else
         {**UNITS, "s": ({"s": 1}, [])}.items(), categories=LOG_CATEGORIES, stop=_stop(mech),
         step=drive_step(_stop(mech)) if drive else _stop(mech) / 360.0,

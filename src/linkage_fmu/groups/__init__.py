@@ -14,8 +14,17 @@ Examples
 ['RPP', 'RPR', 'RRP', 'RRR', 'closure', 'crank', 'point']
 """
 
-from .base import (FRAME, OWNER, ROLE_MEANINGS, ROLES, Field, Group, Joint, KinematicState,
-                   LinkJoints)
+from .base import (
+                   FRAME,
+                   OWNER,
+                   ROLE_MEANINGS,
+                   ROLES,
+                   Field,
+                   Group,
+                   Joint,
+                   KinematicState,
+                   LinkJoints,
+)
 from .closure import Closure
 from .crank import Crank
 from .point import LinkPoint

@@ -25,9 +25,9 @@ from __future__ import annotations
 
 import math
 from abc import ABC, abstractmethod
-from collections.abc import Collection, Iterable
+from collections.abc import Callable, Collection, Iterable
 from dataclasses import dataclass
-from typing import Callable, ClassVar, NamedTuple
+from typing import ClassVar, NamedTuple
 
 import numpy as np
 
@@ -253,7 +253,8 @@ class Field:
     >>> Field("mass", "mass of the link")
     Traceback (most recent call last):
     ...
-    ValueError: unknown field role 'mass'; the roles are new link, link, point, new point, new joint, length, angle, coordinate, vector, branch, link joints, pose
+    ValueError: unknown field role 'mass'; the roles are new link, link, point, new point, new
+    joint, length, angle, coordinate, vector, branch, link joints, pose
     """
 
     role: str
@@ -313,7 +314,8 @@ class Group(ABC):
     ...     kind = "no_fields_example"
     Traceback (most recent call last):
     ...
-    TypeError: group type NoFields (kind 'no_fields_example') must declare FIELDS, a dict of field name -> Field; it has none
+    TypeError: group type NoFields (kind 'no_fields_example') must declare FIELDS, a dict of field
+    name -> Field; it has none
 
     Attributes
     ----------
@@ -405,7 +407,7 @@ class Group(ABC):
         """
         return []
 
-    def attach(self, before: tuple, frame_points: dict) -> None:
+    def attach(self, before: tuple, frame_points: dict) -> None:  # noqa: B027 (optional hook)
         """Called by the mechanism with the groups ``before`` this one (in order) and
         its frame points (name -> ``(x, y)``): a group that needs to place the points
         it uses at other states than the one it is solved at keeps them. Nothing by

@@ -18,8 +18,7 @@ import numpy as np
 from .. import newton, numerics
 from ..kernels.trace import Reason
 from ..numerics import SCALAR
-from .base import (OWNER, Field, Group, Joint, KinematicState, LinkJoints, fmt, moment_about,
-                   push)
+from .base import OWNER, Field, Group, Joint, KinematicState, LinkJoints, fmt, moment_about, push
 
 #: steps of the continuation from the drawn crank angle to a state's (at most half a turn
 #: away: 11.25 degrees a step). Measured on the class III six-bar of tests/test_closure.py
@@ -223,7 +222,8 @@ class Closure(Group):
         >>> for problem in Closure.problems(spec, {"B"}):
         ...     print(problem)
         pose X: is listed by no link
-        links: 2 distance equations for 4 unknown coordinates (x and y of E, F): an Assur group has as many
+        links: 2 distance equations for 4 unknown coordinates (x and y of E, F): an Assur group has
+        as many
         """
         links = cls._links(spec)
         pose = spec.get("pose")

@@ -5,8 +5,20 @@ from __future__ import annotations
 from .. import numerics
 from ..kernels.trace import Reason
 from ..numerics import SCALAR
-from .base import (FRAME, OWNER, Field, Group, Joint, KinematicState, angle_and_kappa,
-                   left_normal, moment_about, names_in, push, unit_vector)
+from .base import (
+    FRAME,
+    OWNER,
+    Field,
+    Group,
+    Joint,
+    KinematicState,
+    angle_and_kappa,
+    left_normal,
+    moment_about,
+    names_in,
+    push,
+    unit_vector,
+)
 
 
 class RPP(Group):

@@ -4,8 +4,20 @@ from __future__ import annotations
 
 import numpy as np
 
-from .base import (FRAME, OWNER, Field, Group, Joint, KinematicState, angle_and_kappa, fmt,
-                   left_normal, moment_about, push, unit_vector)
+from .base import (
+    FRAME,
+    OWNER,
+    Field,
+    Group,
+    Joint,
+    KinematicState,
+    angle_and_kappa,
+    fmt,
+    left_normal,
+    moment_about,
+    push,
+    unit_vector,
+)
 
 
 class RRP(Group):

@@ -6,8 +6,17 @@ import math
 
 import numpy as np
 
-from .base import (OWNER, Field, Group, Joint, KinematicState, angle_and_kappa, fmt, moment_about,
-                   push)
+from .base import (
+    OWNER,
+    Field,
+    Group,
+    Joint,
+    KinematicState,
+    angle_and_kappa,
+    fmt,
+    moment_about,
+    push,
+)
 
 
 class RRR(Group):

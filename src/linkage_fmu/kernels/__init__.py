@@ -19,8 +19,8 @@ Examples
 from __future__ import annotations
 
 import time
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Callable, Mapping, Sequence
 
 from . import compiled
 from .c_source import SUMMARY_HEAD, c_source

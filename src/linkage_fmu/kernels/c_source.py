@@ -804,7 +804,8 @@ def _reduction(i: int, kind: str, y: list) -> tuple[list, list, list]:
                      f"{ind}        b = v > b ? v : b;",
                      f"{ind}        c += v != v ? 1.0 : 0.0;", f"{ind}    }}",
                      f"{ind}    /* over- or underflow, or a NaN beside an infinity */",
-                     f"{ind}    if (c != (double)nbad || !(b < 1e300) || (b > 0.0 && b < 1e-290)) {{",
+                     f"{ind}    if (c != (double)nbad || !(b < 1e300)"
+                     f" || (b > 0.0 && b < 1e-290)) {{",
                      f"{ind}        b = -1.0;",
                      f"{ind}        for (size_t j = 0; j < m; j++) {{",
                      f"{ind}            const double v = hypot({y[0]}, {y[1]});",

@@ -2,8 +2,8 @@
 
 Arrays call a shared library through ctypes (one call for many states); one state calls
 a small CPython extension module (``pykernel.c`` around the kernel: a call costs a
-fraction of a microsecond, ctypes several). Each is keyed by the hash of its source, the compiler and
-the flags, and kept in the user's cache folder (``$LINKAGE_FMU_CACHE``, else
+fraction of a microsecond, ctypes several). Each is keyed by the hash of its source, the compiler
+and the flags, and kept in the user's cache folder (``$LINKAGE_FMU_CACHE``, else
 ``$XDG_CACHE_HOME/linkage_fmu`` or ``~/.cache/linkage_fmu``), never in the package. Where
 no C compiler is found, :func:`load` returns None after one warning, and the caller keeps
 its numpy path.
@@ -20,8 +20,8 @@ import sys
 import sysconfig
 import tempfile
 import warnings
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 
@@ -63,12 +63,12 @@ def _no_compiler_warning() -> None:
                   "about 10x slower per state", RuntimeWarning, stacklevel=3)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def warn_once(message: str) -> None:
     warnings.warn(message, RuntimeWarning, stacklevel=4)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _library(path: str):
     return ctypes.CDLL(path)
 
@@ -301,7 +301,7 @@ def build_module(source: str):
     return _load_module(name, str(target))
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _load_module(name: str, path: str):
     spec = importlib.util.spec_from_file_location(name, path)
     module = importlib.util.module_from_spec(spec)

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..outputs import SHAKING
-from ..printing import ZERO_FRACTION, number
+from ..printing import ZERO_FRACTION, number  # noqa: F401 (re-exported)
 from .figures import degree_axis, figure_axes, greek, pyplot
 from .inputs import crank_angles, finite_or_fail, input_values, inputs_text, solve_at
 from .parts import find_pair

@@ -4,7 +4,8 @@ given), every output at them, and the inputs as a title gives them."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Sequence
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -59,7 +60,7 @@ def solve_at(mech: "Mechanism", theta, inputs: dict):
 
 def inputs_text(mech: "Mechanism", inputs: dict) -> str:
     """``inputs`` as a title gives them: ``ω = 10 rad/s, α = 0 rad/s², ...``."""
-    units = {"omega": "rad/s", "alpha": "rad/s²", **{l.name: l.unit for l in mech.loads}}
+    units = {"omega": "rad/s", "alpha": "rad/s²", **{load.name: load.unit for load in mech.loads}}
     greek = {"omega": "ω", "alpha": "α"}
     return ", ".join(f"{greek.get(k, k)} = {number(v, 6)} {units[k]}" for k, v in inputs.items())
 

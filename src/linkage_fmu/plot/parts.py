@@ -4,7 +4,8 @@ the joint it acts at, the points each link carries and the outline they make."""
 from __future__ import annotations
 
 import re
-from typing import TYPE_CHECKING, NamedTuple, Sequence
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, NamedTuple
 
 from ..outputs import SHAKING, joint_between
 
