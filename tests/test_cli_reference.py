@@ -68,7 +68,7 @@ def test_every_command_and_option_of_the_help_is_in_it(text):
         options = re.findall(r"^  (-[-\w]+(?:, --[-\w]+)?)(?: ([A-Z_]+[^ ]*))?(?:  +(.*))?$",
                              done.stdout, flags=re.M)
         assert options, command
-        for option, metavar, help_start in options:
+        for option, _metavar, help_start in options:
             if option in ("-h, --help",):
                 continue
             row = next((r for r in own.splitlines()

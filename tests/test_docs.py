@@ -12,9 +12,9 @@ import sys
 from pathlib import Path
 
 import pytest
-from test_readme import PYTHON, ROOT, blocks, run_block
 
 import linkage_fmu
+from test_readme import PYTHON, ROOT, blocks, run_block
 
 DOCS = ROOT / "docs"
 #: every page of the site, from the project root

@@ -43,10 +43,10 @@ EPILOG = """examples:
   linkage-fmu table scotch_yoke --omega 10 --load 400
   linkage-fmu table my_linkage.toml --theta 0:360:15 --deg --F_P 80 --T4 120 --csv
   linkage-fmu table four_bar --theta 0:360:0.001 --deg -o revolution.parquet
-  linkage-fmu sweep four_bar --grid l_AB=0.05:0.15:0.01 --grid l_BC=0.3,0.35 --omega 10 \
+  linkage-fmu sweep four_bar --grid l_AB=0.05:0.15:0.01 --grid l_BC=0.3,0.35 --omega 10 \\
       -o designs.csv
   linkage-fmu sweep four_bar --samples designs.csv --scheduler local
-  linkage-fmu optimize four_bar --vary l_BC=0.3:0.45 --vary l_CD=0.25:0.4 --minimize Mb_peak \
+  linkage-fmu optimize four_bar --vary l_BC=0.3:0.45 --vary l_CD=0.25:0.4 --minimize Mb_peak \\
       --subject-to "gamma_C_min_deg >= 45" --subject-to valid --seed 1 --plot convergence.png
   linkage-fmu plot four_bar --what torque --omega 10 -o torque.png
   linkage-fmu plot four_bar --what polar F21 -o F21.svg
