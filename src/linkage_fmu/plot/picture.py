@@ -267,16 +267,15 @@ def drawn_points(mech: "Mechanism") -> list[str]:
                   set(mech.frame_points))
 
 
-def scenes(mech: "Mechanism", theta: np.ndarray, inputs: dict,
-           theta_deg: np.ndarray | None = None) -> list[Scene]:
-    """The :class:`Scene` at each crank angle of ``theta`` [rad] (a 1-D array), from
-    one array kinematics and one array solve (``theta_deg``: the angles in degrees as
-    given, for the titles)."""
+def scenes(mech: "Mechanism", theta: np.ndarray, inputs: dict, count: int | None = None):
+    """``(scenes, solution)``: the :class:`Scene` at each of the first ``count`` (all
+    if None) crank angles of ``theta`` [rad] (a 1-D array), and the solution at every
+    angle, from one array kinematics and one array solve."""
     theta = np.asarray(theta, dtype=float).reshape(-1)
-    deg = np.degrees(theta) if theta_deg is None else np.asarray(theta_deg, float).reshape(-1)
     st = mech.kinematics(theta, order=0)
     sol = solve_at(mech, theta, inputs)
-    values = {}
+    pairs = tuple(p for p in force_pairs(mech) if p.point is not None)
+    values: dict = {}
 
     def at(k: int):
         def value(name: str) -> float:
@@ -285,14 +284,17 @@ def scenes(mech: "Mechanism", theta: np.ndarray, inputs: dict,
             return float(values[name][k])
         return value
 
-    return [_scene(mech, _StateAt(st, k), at(k), float(deg[k]), inputs)
-            for k in range(theta.size)]
+    n = theta.size if count is None else count
+    return [_scene(mech, _StateAt(st, k), at(k), math.degrees(theta[k]), inputs, pairs)
+            for k in range(n)], sol
 
 
-def _scene(mech: "Mechanism", st, value, theta_deg: float, inputs: dict) -> Scene:
+def _scene(mech: "Mechanism", st, value, theta_deg: float, inputs: dict,
+           pairs: tuple | None = None) -> Scene:
     """The :class:`Scene` at the state ``st`` (floats), ``value(name)`` giving each
-    output there."""
-    pairs = tuple(p for p in force_pairs(mech) if p.point is not None)
+    output there; ``pairs`` the force pairs that act at a point, if known."""
+    if pairs is None:
+        pairs = tuple(p for p in force_pairs(mech) if p.point is not None)
     forces = np.array([(value(p.x), value(p.y)) for p in pairs], dtype=float).reshape(-1, 2)
     effort = mech.effort.name if mech.effort.name in mech.output_names else None
     return Scene(theta_deg, {p: (float(x), float(y)) for p, (x, y) in st.p.items()},
