@@ -55,7 +55,7 @@ EPILOG = """examples:
   linkage-fmu plot slider_crank --what loss --set mu_guide=0.1 --omega 10 --load 100 -o loss.png
   linkage-fmu animate four_bar -o four_bar.gif
   linkage-fmu animate four_bar --set l_AB=0.3 --what torque --frames 36 -o rocker.gif
-  linkage-fmu animate slider_crank --what shaking --omega "1800 rpm" -o engine.mp4
+  linkage-fmu animate slider_crank --what shaking --omega "1800 rpm" --frames 36 -o engine.gif
   linkage-fmu simulate four_bar --tau 2 --t-end 1 --theta0 "30 deg" --omega0 5 --n 11
   linkage-fmu simulate slider_crank --set mu_guide=0.1 --tau 0.5 --t-end 1 --omega0 0 --load 20
   linkage-fmu flywheel examples/engine.toml --omega-mean "3000 rpm" --Cs 0.02

@@ -239,6 +239,7 @@ def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int =
     curve_deg = np.linspace(lo, hi, N_ANGLES)
     frames_, sol = scenes(mech, np.radians(np.concatenate([deg, curve_deg])), inputs,
                           count=deg.size)
+    frames_ = [s._replace(theta_deg=float(d)) for s, d in zip(frames_, deg)]  # as given
     curves, unit, title = _curves(mech, what, sol, deg.size)
     finite_or_fail(mech, np.concatenate([c[deg.size:] for c in curves.values()]), curve_deg,
                    sol)
