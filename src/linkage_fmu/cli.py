@@ -3,11 +3,11 @@ info|table|sweep|optimize|plot|animate|simulate|flywheel|build|check|reference``
 
 Every command takes a description file or a preset name; ``--set NAME=VALUE`` overrides
 a parameter, and each load of the linkage is an option ``--NAME VALUE`` of ``table``,
-``sweep``, ``optimize``, ``plot``, ``animate``, ``simulate`` and ``flywheel`` (listed by their ``--help`` once the
-linkage is named). Values may
-carry units and be expressions, as in a description file: ``--set l_AB=120mm``, ``--set
-gamma=pi/2``, ``--omega "1800 rpm"``, ``--F_P "0.2 kN"``, ``--theta "0:360:15 deg"``;
-plain numbers are SI, angles in radians.
+``sweep``, ``optimize``, ``plot``, ``animate``, ``simulate`` and ``flywheel`` (listed by
+their ``--help`` once the linkage is named). Values may carry units and be expressions,
+as in a description file: ``--set l_AB=120mm``, ``--set gamma=pi/2``,
+``--omega "1800 rpm"``, ``--F_P "0.2 kN"``, ``--theta "0:360:15 deg"``; plain numbers are
+SI, angles in radians.
 
 Examples
 --------
@@ -55,7 +55,7 @@ EPILOG = """examples:
   linkage-fmu plot slider_crank --what loss --set mu_guide=0.1 --omega 10 --load 100 -o loss.png
   linkage-fmu animate four_bar -o four_bar.gif
   linkage-fmu animate four_bar --set l_AB=0.3 --what torque --frames 36 -o rocker.gif
-  linkage-fmu animate slider_crank --what shaking --omega "1800 rpm" --frames 36 -o engine.gif
+  linkage-fmu animate slider_crank --what shaking --omega 200 --frames 36 -o engine.gif
   linkage-fmu simulate four_bar --tau 2 --t-end 1 --theta0 "30 deg" --omega0 5 --n 11
   linkage-fmu simulate slider_crank --set mu_guide=0.1 --tau 0.5 --t-end 1 --omega0 0 --load 20
   linkage-fmu flywheel examples/engine.toml --omega-mean "3000 rpm" --Cs 0.02
