@@ -14,10 +14,10 @@ import numpy as np
 from .. import ranges
 from ..outputs import SHAKING
 from ..printing import number
-from .curves import _draw_curve
+from .curves import draw_curve
 from .figures import degree_axis, pyplot
 from .inputs import N_ANGLES, finite_or_fail, input_values, inputs_text
-from .picture import ARROW_FRACTION, Scene, _size, draw_scene, drawn_points, scenes
+from .picture import ARROW_FRACTION, Scene, draw_scene, drawn_points, linkage_size, scenes
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.animation import FuncAnimation
@@ -245,7 +245,7 @@ def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int =
                    sol)
 
     drawn = drawn_points(mech)
-    size = _size([s.pos[p] for s in frames_ for p in drawn
+    size = linkage_size([s.pos[p] for s in frames_ for p in drawn
                   if all(map(math.isfinite, s.pos[p]))], mech.length_scale)
     largest = max(s.largest for s in frames_)
     scale = ARROW_FRACTION * size / largest if largest > 0.0 else 1.0
@@ -329,7 +329,7 @@ def _draw_curves(ax, mech: "Mechanism", curves: dict, deg: np.ndarray, curve_deg
     n = deg.size
     if len(curves) == 1:  # the effort: its mean and peak, as plot.torque draws it
         (name, values), = curves.items()
-        _draw_curve(ax, np.radians(curve_deg), curve_deg, values[n:], name, unit)
+        draw_curve(ax, np.radians(curve_deg), curve_deg, values[n:], name, unit)
     else:
         for k, (name, values) in enumerate(curves.items()):
             ax.plot(curve_deg, values[n:], color=f"C{k}", lw=1.4 if name != "|shake|" else 2.0,

@@ -31,8 +31,14 @@ _LINK_COLORS = ("C0", "C1", "C2", "C4", "C9", "C6", "C8", "C5", "C7")  # no red:
 _LOAD_COLOR = "k"
 
 
-def _size(points: Sequence[tuple[float, float]], fallback: float) -> float:
-    """The larger side of the bounding box of ``points``; ``fallback`` if zero."""
+def linkage_size(points: Sequence[tuple[float, float]], fallback: float) -> float:
+    """The larger side of the bounding box of ``points``; ``fallback`` if zero.
+
+    Examples
+    --------
+    >>> linkage_size([(0.0, 0.0), (0.4, 0.0), (0.3, 0.25)], 1.0), linkage_size([], 0.1)
+    (0.4, 0.1)
+    """
     xy = np.asarray(points, dtype=float)
     size = float(np.max(np.ptp(xy, axis=0))) if len(xy) else 0.0
     return size if size > 0.0 else float(fallback)
@@ -204,7 +210,7 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     st = mech.kinematics(th, order=0)  # raises where it cannot be assembled
     sol = solve_at(mech, th, inputs)
     scene = _scene(mech, st, lambda name: float(sol[name]), float(deg[0]), inputs)
-    size = _size([scene.pos[p] for p in drawn_points(mech)], mech.length_scale)
+    size = linkage_size([scene.pos[p] for p in drawn_points(mech)], mech.length_scale)
     largest = scene.largest
     if scale is None:
         scale = ARROW_FRACTION * size / largest if largest > 0.0 else 1.0
@@ -262,7 +268,14 @@ def _pick(xy, k: int) -> tuple[float, float]:
 
 
 def drawn_points(mech: "Mechanism") -> list[str]:
-    """The points the picture draws: every link's and the frame's, sorted."""
+    """The points the picture draws: every link's and the frame's, sorted.
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets
+    >>> drawn_points(presets.get("four_bar"))
+    ['A', 'B', 'C', 'D']
+    """
     return sorted({p for pts in link_points(mech).values() for p in pts} |
                   set(mech.frame_points))
 
@@ -270,7 +283,20 @@ def drawn_points(mech: "Mechanism") -> list[str]:
 def scenes(mech: "Mechanism", theta: np.ndarray, inputs: dict, count: int | None = None):
     """``(scenes, solution)``: the :class:`Scene` at each of the first ``count`` (all
     if None) crank angles of ``theta`` [rad] (a 1-D array), and the solution at every
-    angle, from one array kinematics and one array solve."""
+    angle, from one array kinematics and one array solve.
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets
+    >>> from linkage_fmu.plot.inputs import input_values
+    >>> mech = presets.get("four_bar")
+    >>> inputs = input_values(mech, 10.0, 0.0, (), {})
+    >>> frames, sol = scenes(mech, np.radians([0.0, 90.0, 180.0]), inputs, count=2)
+    >>> len(frames), sol["F21x"].shape, [p.name for p in frames[1].pairs]
+    (2, (3,), ['F21', 'F32', 'F43', 'F14'])
+    >>> bool(np.allclose(frames[1].pos["B"], (0.0, 0.1)))  # the crank pin, at 90 deg
+    True
+    """
     theta = np.asarray(theta, dtype=float).reshape(-1)
     st = mech.kinematics(theta, order=0)
     sol = solve_at(mech, theta, inputs)
