@@ -232,8 +232,12 @@ def test_mp4_with_ffmpeg(tmp_path):  # pragma: no cover - where ffmpeg is instal
     ({"frames": 2.5}, "frames must be a whole number >= 2, got 2.5"),
     ({"what": "polar"}, "what='polar': expected one of forces, torque, shaking"),
     ({"path": "x.avi"}, "x.avi: an animation is written to a .gif or .mp4 file, not .avi"),
+    ({"path": "{tmp}/no/x.gif"}, "{tmp}/no/x.gif: there is no folder {tmp}/no"),
 ])
-def test_library_errors(kwargs, message):
+def test_library_errors(kwargs, message, tmp_path):
+    """Each bad argument: a ValueError naming it and why, before any work."""
+    kwargs = {k: v.format(tmp=tmp_path) if isinstance(v, str) else v for k, v in kwargs.items()}
+    message = message.format(tmp=tmp_path)
     with pytest.raises(ValueError, match=message.replace(".", r"\.").replace("(", r"\(")):
         plot.animate(presets.get("four_bar"), **kwargs)
 

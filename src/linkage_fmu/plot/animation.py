@@ -206,8 +206,8 @@ def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int =
     Raises
     ------
     ValueError
-        ``what``, ``frames`` or ``path``'s suffix is not one of the above, or the
-        linkage cannot be assembled anywhere.
+        ``what``, ``frames`` or ``path``'s suffix is not one of the above, ``path``'s
+        folder does not exist, or the linkage cannot be assembled anywhere.
     RuntimeError
         An ``.mp4`` without ffmpeg installed.
 
@@ -230,6 +230,8 @@ def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int =
         raise ValueError(f"frames must be a whole number >= 2, got {frames!r}")
     if path is not None:
         _suffix(path)
+        if not Path(path).resolve().parent.is_dir():
+            raise ValueError(f"{path}: there is no folder {Path(path).parent}")
         _writer(Path(path), fps)  # no ffmpeg: said before the work
     import matplotlib
 
