@@ -145,6 +145,32 @@ def test_the_curve_is_the_solved_output_over_the_motion(what, names):
         np.testing.assert_allclose(y, expected, rtol=1e-9, atol=1e-9 * np.max(np.abs(expected)))
 
 
+def test_an_engine_turns_over_its_cycle_of_two_revolutions():
+    """examples/engine.toml's gas force is a table over period_deg = 720 (a four-stroke
+    cycle, read from the file here): the frames go round twice, 720 / frames degrees
+    apart, the crank drawn at each angle modulo 360, the curve over 0..720 deg; with the
+    gas force given a value, one revolution."""
+    import tomllib
+    from pathlib import Path
+
+    import linkage_fmu
+
+    path = Path(__file__).parents[1] / "examples" / "engine.toml"
+    (gas,) = tomllib.loads(path.read_text())["loads"]
+    assert gas["period_deg"] == 720
+    mech = linkage_fmu.load(path)
+    anim = plot.animate(mech, frames=8, what="torque", **SMALL)
+    np.testing.assert_array_equal(anim.theta_deg, 90.0 * np.arange(8))
+    for k in (1, 5):
+        anim.draw(k)
+        assert crank_angle(anim, mech) % 360.0 == pytest.approx(anim.theta_deg[k] % 360.0,
+                                                                abs=1e-9)
+    x = artist(anim.figure.axes[1], "Mb").get_xdata()
+    assert (x[0], x[-1], x.size) == (0.0, 720.0, 1441)
+    steady = plot.animate(mech, frames=8, F_gas=1000.0, **SMALL)
+    np.testing.assert_array_equal(steady.theta_deg, 45.0 * np.arange(8))
+
+
 def test_a_crank_that_cannot_turn_moves_over_its_range():
     """The four-bar with a 0.3 m crank assembles while the distance from the crank pin
     B to the rocker's pivot D is at most l_BC + l_CD: for |theta| <= acos((l_AB^2 +

@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .. import ranges
+from ..flywheel import cycle_revolutions
 from ..outputs import SHAKING
 from ..printing import number
 from .curves import draw_curve
@@ -36,10 +37,13 @@ EDGE_FRACTION = 0.02
 SUFFIXES = (".gif", ".mp4")
 
 
-def motion_range(mech: "Mechanism") -> tuple[float, float, bool]:
+def motion_range(mech: "Mechanism", given=()) -> tuple[float, float, bool]:
     """``(first, last, full)``: the crank angles [deg] the animation goes between, and
-    whether that is a whole revolution (``0, 360, True``). Otherwise the range where the
-    linkage assembles (:func:`linkage_fmu.ranges.assembles`; one that runs over 360 deg
+    whether the crank turns round: from 0 over a revolution (``0, 360, True``), or over
+    the revolutions of a cycle where a load's table needs several
+    (:func:`~linkage_fmu.flywheel.cycle_revolutions`; ``given``, the loads given a
+    value: a four-stroke engine's 720 deg unless its gas force is given). Otherwise the
+    range where the linkage assembles (:func:`linkage_fmu.ranges.assembles`; one that runs over 360 deg
     joined, as from -136 to 136 deg) that holds the start angle (else the longest), less
     :data:`EDGE_FRACTION` of it at each end.
 
@@ -53,7 +57,7 @@ def motion_range(mech: "Mechanism") -> tuple[float, float, bool]:
     """
     where = ranges.assembles(mech)
     if where == [(0.0, 360.0)]:
-        return 0.0, 360.0, True
+        return 0.0, 360.0 * cycle_revolutions(mech, None, given), True
     if not where:
         raise ValueError(f"{mech.name} cannot be assembled at any crank angle: nothing to "
                          "animate")
@@ -66,9 +70,10 @@ def motion_range(mech: "Mechanism") -> tuple[float, float, bool]:
     return lo + edge, hi - edge, False
 
 
-def frame_angles(mech: "Mechanism", frames: int) -> np.ndarray:
-    """The crank angle [deg] of each frame: a revolution ``360 / frames`` apart from 0
-    (360 left out: it is the first frame again, and the animation loops), or
+def frame_angles(mech: "Mechanism", frames: int, given=()) -> np.ndarray:
+    """The crank angle [deg] of each frame: where the crank turns round, a revolution
+    (or a cycle of several) ``360 / frames`` (``720 / frames``, ...) degrees apart from
+    0 (360 left out: it is the first frame again, and the animation loops); else
     ``frames`` angles from the first to the last of :func:`motion_range`.
 
     Examples
@@ -77,9 +82,9 @@ def frame_angles(mech: "Mechanism", frames: int) -> np.ndarray:
     >>> frame_angles(presets.get("four_bar"), 4).tolist()
     [0.0, 90.0, 180.0, 270.0]
     """
-    lo, hi, full = motion_range(mech)
+    lo, hi, full = motion_range(mech, given)
     if full:
-        return 360.0 * np.arange(frames) / frames
+        return hi * np.arange(frames) / frames
     return np.linspace(lo, hi, frames)
 
 
@@ -163,8 +168,9 @@ def _writer(path: Path, fps: float):
 def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int = N_FRAMES,
             omega=None, alpha=None, fps: float = 12.0, dpi: float = 80.0,
             figsize=(11.0, 4.8), **named_loads) -> LinkageAnimation:
-    """The linkage moving over a revolution (or, where the crank cannot turn one, over
-    its range: :func:`motion_range`), with its joint forces and loads drawn as
+    """The linkage moving over a revolution (or the cycle of several a load's table
+    needs, as a four-stroke engine's; where the crank cannot turn round, over its
+    range: :func:`motion_range`), with its joint forces and loads drawn as
     :func:`~linkage_fmu.plot.linkage` draws them, and beside it a curve over the motion
     with a cursor at each frame's crank angle; written to ``path`` if given.
 
@@ -186,7 +192,7 @@ def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int =
         magnitude.
     frames : int
         Frames (>= 2): over a revolution, ``360 / frames`` degrees apart (5 by
-        default).
+        default); over a cycle of two, ``720 / frames``.
     omega, alpha, **named_loads : float or str, optional
         The crank's speed [rad/s] and acceleration [rad/s2] and the loads by name, as
         for :func:`~linkage_fmu.plot.torque`; the linkage's start values if not given.
@@ -236,9 +242,10 @@ def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int =
     import matplotlib
 
     inputs = input_values(mech, omega, alpha, (), named_loads)
-    deg = frame_angles(mech, int(frames))
-    lo, hi, _ = motion_range(mech)
-    curve_deg = np.linspace(lo, hi, N_ANGLES)
+    deg = frame_angles(mech, int(frames), named_loads)
+    lo, hi, full = motion_range(mech, named_loads)
+    turns = round(hi / 360.0) if full else 1  # 0.5 degrees apart over a revolution
+    curve_deg = np.linspace(lo, hi, (N_ANGLES - 1) * turns + 1)
     frames_, sol = scenes(mech, np.radians(np.concatenate([deg, curve_deg])), inputs,
                           count=deg.size)
     frames_ = [s._replace(theta_deg=float(d)) for s, d in zip(frames_, deg)]  # as given
