@@ -43,9 +43,9 @@ def motion_range(mech: "Mechanism", given=()) -> tuple[float, float, bool]:
     the revolutions of a cycle where a load's table needs several
     (:func:`~linkage_fmu.flywheel.cycle_revolutions`; ``given``, the loads given a
     value: a four-stroke engine's 720 deg unless its gas force is given). Otherwise the
-    range where the linkage assembles (:func:`linkage_fmu.ranges.assembles`; one that runs over 360 deg
-    joined, as from -136 to 136 deg) that holds the start angle (else the longest), less
-    :data:`EDGE_FRACTION` of it at each end.
+    range where the linkage assembles (:func:`linkage_fmu.ranges.assembles`; one that
+    runs over 360 deg joined, as from -136 to 136 deg) that holds the start angle (else
+    the longest), less :data:`EDGE_FRACTION` of it at each end.
 
     Examples
     --------
