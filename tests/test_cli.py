@@ -607,7 +607,8 @@ def test_the_examples_of_the_help_run(tmp_path, monkeypatch):
         status, _, err = run(argv[1:])
         assert status == 0, (line, err)
         ran.append(argv[1])
-    assert {"info", "table", "sweep", "optimize", "plot", "simulate", "flywheel"} <= set(ran)
+    assert {"info", "table", "sweep", "optimize", "plot", "animate", "simulate",
+            "flywheel"} <= set(ran)
 
 
 def test_an_angle_in_exponent_notation_is_a_number():

@@ -1,13 +1,13 @@
 """One command line over the library: ``linkage-fmu
-info|table|sweep|optimize|plot|simulate|flywheel|build|check|reference``.
+info|table|sweep|optimize|plot|animate|simulate|flywheel|build|check|reference``.
 
 Every command takes a description file or a preset name; ``--set NAME=VALUE`` overrides
 a parameter, and each load of the linkage is an option ``--NAME VALUE`` of ``table``,
-``sweep``, ``optimize``, ``plot``, ``simulate`` and ``flywheel`` (listed by their ``--help`` once
-the linkage is named). Values may
-carry units and be expressions, as in a description file: ``--set l_AB=120mm``, ``--set
-gamma=pi/2``, ``--omega "1800 rpm"``, ``--F_P "0.2 kN"``, ``--theta "0:360:15 deg"``;
-plain numbers are SI, angles in radians.
+``sweep``, ``optimize``, ``plot``, ``animate``, ``simulate`` and ``flywheel`` (listed by
+their ``--help`` once the linkage is named). Values may carry units and be expressions,
+as in a description file: ``--set l_AB=120mm``, ``--set gamma=pi/2``,
+``--omega "1800 rpm"``, ``--F_P "0.2 kN"``, ``--theta "0:360:15 deg"``; plain numbers are
+SI, angles in radians.
 
 Examples
 --------
@@ -54,6 +54,9 @@ EPILOG = """examples:
   linkage-fmu plot four_bar --what gamma --set l_AB=0.3 -o gamma.png
   linkage-fmu plot examples/engine.toml --what speed --Cs 0.02 -o speed.png
   linkage-fmu plot slider_crank --what loss --set mu_guide=0.1 --omega 10 --load 100 -o loss.png
+  linkage-fmu animate four_bar -o four_bar.gif
+  linkage-fmu animate four_bar --set l_AB=0.3 --what torque --frames 36 -o rocker.gif
+  linkage-fmu animate slider_crank --what shaking --omega 200 --frames 36 -o engine.gif
   linkage-fmu simulate four_bar --tau 2 --t-end 1 --theta0 "30 deg" --omega0 5 --n 11
   linkage-fmu simulate slider_crank --set mu_guide=0.1 --tau 0.5 --t-end 1 --omega0 0 --load 20
   linkage-fmu flywheel examples/engine.toml --omega-mean "3000 rpm" --Cs 0.02
@@ -120,7 +123,7 @@ def speeds(args) -> tuple:
 
 
 #: the commands that take the loads of the linkage as options
-LOAD_COMMANDS = ("table", "sweep", "optimize", "plot", "simulate", "flywheel")
+LOAD_COMMANDS = ("table", "sweep", "optimize", "plot", "animate", "simulate", "flywheel")
 
 
 def _load_options(parser: argparse.ArgumentParser, d: Description) -> None:
@@ -422,6 +425,26 @@ def build_parser() -> Parser:
                            "none)")
     plot.add_argument("-o", "--output", required=True, help="FILE.png, .svg or .pdf")
 
+    anim = sub.add_parser("animate", help="the linkage moving over a revolution (or the "
+                                          "range it assembles over) with its forces, beside "
+                                          "a curve with a cursor: a GIF or an MP4",
+                          usage="linkage-fmu animate LINKAGE -o FILE.gif|FILE.mp4 [options]",
+                          epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    _linkage(anim, linkage_help)
+    anim.add_argument("-o", "--output", required=True,
+                      help="FILE.gif (written with pillow) or FILE.mp4 (needs ffmpeg)")
+    anim.add_argument("--what", default="forces", metavar="KIND",
+                      help="the curve beside the linkage: forces (each joint force's "
+                           "magnitude, the default), torque (the balancing effort) or shaking "
+                           "(the shaking force)")
+    anim.add_argument("--frames", type=int, default=72,
+                      help="frames over the motion (default 72: 5 degrees apart over a "
+                           "revolution)")
+    _motion(anim)
+    anim.add_argument("--fps", type=float, default=12.0, help="frames a second (default 12)")
+    anim.add_argument("--dpi", type=float, default=80.0,
+                      help="pixels an inch of the 11 x 4.8 inch figure (default 80)")
+
     simulate = sub.add_parser("simulate", help="the motion under a constant torque on the "
                                                "crank, over time", epilog=EPILOG,
                               formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -520,6 +543,8 @@ def _main(argv: list[str] | None) -> int:
             return _optimize(d, args)
         if args.command == "plot":
             return _plot(d, args)
+        if args.command == "animate":
+            return _animate(d, args)
         if args.command == "simulate":
             return _simulate(d, args)
         if args.command == "flywheel":
@@ -801,6 +826,38 @@ def _plot(d: Description, args) -> int:
         raise UsageError(f"-o {args.output}: the file must end in .png, .svg or .pdf")
     fig.savefig(args.output, dpi=120, bbox_inches="tight")
     print(f"wrote {args.output}", file=sys.stderr)
+    return 0
+
+
+def _animate(d: Description, args) -> int:
+    """Check what can be checked before the linkage is solved, then animate it."""
+    suffixes = (".gif", ".mp4")
+    if not args.output.lower().endswith(suffixes):
+        raise UsageError(f"-o {args.output}: the file must end in .gif or .mp4")
+    kinds = ("forces", "torque", "shaking")
+    if args.what not in kinds:
+        raise UsageError(f"--what {args.what}: expected one of {', '.join(kinds)}")
+    if args.frames < 2:
+        raise UsageError(f"--frames must be >= 2, got {args.frames}")
+    for option in ("fps", "dpi"):
+        value = getattr(args, option)
+        if not (math.isfinite(value) and value > 0):
+            raise UsageError(f"--{option} must be a number > 0, got {value:g}")
+    try:
+        import matplotlib
+    except ImportError:
+        raise UsageError('animations need matplotlib: pip install "linkage_fmu[plot]"') from None
+    matplotlib.use("Agg")
+    from .plot.animation import animate
+
+    mech = d.build(**dict(args.params))
+    omega, alpha = speeds(args)
+    try:
+        anim = animate(mech, args.output, what=args.what, frames=args.frames, omega=omega,
+                       alpha=alpha, fps=args.fps, dpi=args.dpi, **loads(args))
+    except RuntimeError as err:  # an MP4 without ffmpeg: the message says how to get it
+        raise UsageError(f"-o {err}") from None
+    print(f"wrote {args.output} ({len(anim)} frames)", file=sys.stderr)
     return 0
 
 

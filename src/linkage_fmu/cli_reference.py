@@ -18,7 +18,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from .cli import Parser, build_parser, subcommands
+from .cli import LOAD_COMMANDS, Parser, build_parser, subcommands
 
 INTRO = """\
 <!-- written by python -m linkage_fmu.cli_reference > docs/cli.md; do not edit -->
@@ -28,9 +28,9 @@ INTRO = """\
 `linkage-fmu COMMAND LINKAGE [options]`, installed with the package (activate the venv,
 `. .venv/bin/activate`, or call `.venv/bin/linkage-fmu`; `python -m linkage_fmu` is the
 same). `LINKAGE` is a description file (`.toml`) or a preset's name. Each load of the
-linkage is an option `--NAME VALUE` of `table`, `sweep`, `optimize`, `plot`, `simulate`
-and `flywheel`, listed by `linkage-fmu COMMAND LINKAGE --help` (a preset's one load is
-`--load`). Values may carry units and be expressions, as in a description file:
+linkage is an option `--NAME VALUE` of {load_commands}, listed by
+`linkage-fmu COMMAND LINKAGE --help` (a preset's one load is `--load`). Values may carry
+units and be expressions, as in a description file:
 `--set l_AB=120mm`, `--omega "1800 rpm"`, `--theta "0:360:15 deg"`; plain numbers are
 SI, angles in radians. A user error ends with status 2 and one line naming the option
 and what is wrong.
@@ -116,7 +116,9 @@ def markdown(parser: Parser | None = None) -> str:
     parser = build_parser() if parser is None else parser
     commands = subcommands(parser)
     helps = {name: command.summary for name, command in commands.items()}
-    out = [INTRO, "```text", _usage(parser), "```", "", parser.description or "", "",
+    loaded = [f"`{c}`" for c in LOAD_COMMANDS]
+    intro = INTRO.format(load_commands=", ".join(loaded[:-1]) + " and " + loaded[-1])
+    out = [intro, "```text", _usage(parser), "```", "", parser.description or "", "",
            "| command | what it does |", "|---|---|"]
     out += [f"| [`{name}`](#linkage-fmu-{name}) | {_cell(helps.get(name) or '')} |"
             for name in commands]

@@ -412,7 +412,7 @@ def flywheel(mech, omega_mean, Cs, revolutions: int | None = None,
     omega = _speed(mech.start["omega"] if omega_mean is None else omega_mean, "omega_mean")
     cs = _fraction(Cs)
     named = motion.constant_loads(mech, loads)
-    cycle = _Cycle(mech, effort, omega, _revolutions(mech, revolutions, named),
+    cycle = _Cycle(mech, effort, omega, cycle_revolutions(mech, revolutions, named),
                    _count("intervals", intervals, 16), named)
     e_max, th_e_max = cycle.extreme(cycle.energy, cycle.energy_at, +1)
     e_min, th_e_min = cycle.extreme(cycle.energy, cycle.energy_at, -1)
@@ -496,7 +496,7 @@ def periodic_motion(mech, omega_mean, flywheel=0.0, revolutions: int | None = No
     if inertia < 0.0:
         raise ValueError(f"flywheel must be >= 0 (a moment of inertia, kg m2), got {inertia!r}")
     named = motion.constant_loads(mech, loads)
-    cycle = _Cycle(mech, effort, omega, _revolutions(mech, revolutions, named),
+    cycle = _Cycle(mech, effort, omega, cycle_revolutions(mech, revolutions, named),
                    _count("intervals", intervals, 16), named)
     return _periodic(cycle, inertia, samples, rtol)
 
@@ -721,8 +721,18 @@ def _count(name: str, value, least: int) -> int:
     return int(value)
 
 
-def _revolutions(mech, revolutions, given: dict) -> int:
-    """The revolutions of a cycle: as given, else 1 or the most a table needs."""
+def cycle_revolutions(mech, revolutions: int | None = None, given=()) -> int:
+    """The revolutions of the crank in a cycle: ``revolutions`` if given, else 1 or the
+    most that a load's table over the cycle needs (the loads named in ``given`` are
+    given values: no table). The four-stroke engine of ``examples/engine.toml``, its gas
+    force a table over ``period_deg = 720``: 2.
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets
+    >>> cycle_revolutions(presets.get("four_bar")), cycle_revolutions(presets.get("four_bar"), 3)
+    (1, 3)
+    """
     if revolutions is not None:
         return _count("revolutions", revolutions, 1)
     return max([1] + [math.ceil(ld.table.period_deg / 360.0 - 1e-9)

@@ -1,7 +1,8 @@
 """Plots of a linkage's kinetostatics: driving torque, pin-force polars, the linkage
 with its joint forces and loads, transmission angles, the shaking force and moment, and
 the crank's speed over a cycle with a flywheel, the power friction dissipates with
-the efficiency, and an optimisation's convergence.
+the efficiency, an optimisation's convergence, and the linkage in motion with its
+forces (:func:`animate`, a GIF or an MP4).
 
 Every public function returns a :class:`matplotlib.figure.Figure` and draws into the
 ``ax`` given, or into a new figure (made with :mod:`matplotlib.pyplot`, so ``plt.show()``
@@ -36,6 +37,7 @@ Examples
 ['F21', 'F32', 'F43', 'F14']
 """
 
+from .animation import N_FRAMES, LinkageAnimation, animate
 from .convergence import convergence
 from .curves import ZERO_FRACTION, loss, polar, revolution_mean, rounded, shaking, torque
 from .inputs import N_ANGLES
@@ -46,7 +48,7 @@ from .speed import speed
 from .transmission_angles import TOGGLE_TOL, toggles, transmission
 
 __all__ = ["torque", "polar", "linkage", "transmission", "shaking", "speed", "loss",
-           "convergence",
+           "convergence", "animate", "LinkageAnimation", "N_FRAMES",
            "ForcePair",
            "force_pairs", "link_points", "hull", "revolution_mean", "rounded", "toggles",
            "place_boxes", "N_ANGLES", "ARROW_FRACTION", "MOMENT_FRACTION", "TOGGLE_TOL",

@@ -143,12 +143,12 @@ def torque(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads,
     unit, description = mech.output_info[name]
 
     fig, ax = figure_axes(ax)
-    _draw_curve(ax, rad, deg, values, name, unit)
+    draw_curve(ax, rad, deg, values, name, unit)
     ax.set_title(f"{mech.name}: {description}\n{inputs_text(mech, inputs)}", fontsize=10)
     return fig
 
 
-def _draw_curve(ax: "Axes", rad: np.ndarray, deg: np.ndarray, values: np.ndarray, name: str,
+def draw_curve(ax: "Axes", rad: np.ndarray, deg: np.ndarray, values: np.ndarray, name: str,
                 unit: str, scale: float = 0.0) -> None:
     """The curve of :func:`torque`: ``values`` against ``deg``, their mean over ``rad``
     and their peak magnitude, a line at 0, the axes' labels and the legend; the mean
@@ -335,7 +335,7 @@ def shaking(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     # scotch yoke's is zero but for rounding (1e-14 N m beside 10 N m)
     force = np.hypot(fx, fy)
     arm = float(np.nanmax(force, initial=0.0)) * mech.length_scale
-    _draw_curve(moment_ax, rad, deg, moment, m, mech.output_info[m][0], scale=arm)
+    draw_curve(moment_ax, rad, deg, moment, m, mech.output_info[m][0], scale=arm)
     moment_ax.set_title(f"shaking moment about the crank pivot {mech.crank.pivot}, "
                         "counter-clockwise positive", fontsize=10)
     return fig
@@ -408,7 +408,7 @@ def loss(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta_de
                                                     layout="constrained")
     else:
         fig = power_ax.figure
-    _draw_curve(power_ax, rad, deg, power, "P_loss", mech.output_info["P_loss"][0])
+    draw_curve(power_ax, rad, deg, power, "P_loss", mech.output_info["P_loss"][0])
     power_ax.set_title(f"{mech.name}: {mech.output_info['P_loss'][1]}\n"
                        f"{inputs_text(mech, inputs)}", fontsize=10)
     finite = np.isfinite(eta)

@@ -32,8 +32,14 @@ _LINK_COLORS = ("C0", "C1", "C2", "C4", "C9", "C6", "C8", "C5", "C7")  # no red:
 _LOAD_COLOR = "k"
 
 
-def _size(points: Sequence[tuple[float, float]], fallback: float) -> float:
-    """The larger side of the bounding box of ``points``; ``fallback`` if zero."""
+def linkage_size(points: Sequence[tuple[float, float]], fallback: float) -> float:
+    """The larger side of the bounding box of ``points``; ``fallback`` if zero.
+
+    Examples
+    --------
+    >>> linkage_size([(0.0, 0.0), (0.4, 0.0), (0.3, 0.25)], 1.0), linkage_size([], 0.1)
+    (0.4, 0.1)
+    """
     xy = np.asarray(points, dtype=float)
     size = float(np.max(np.ptp(xy, axis=0))) if len(xy) else 0.0
     return size if size > 0.0 else float(fallback)
@@ -200,33 +206,160 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     ['load = 5 N.m']
     """
     rad, deg = crank_angles(theta, theta_deg, scalar=True)
-    th, th_deg = float(rad[0]), float(deg[0])
     inputs = input_values(mech, omega, alpha, loads, named_loads)
-    st = mech.kinematics(th, order=0)
-    pos = {p: (float(x), float(y)) for p, (x, y) in st.p.items()}
-    pairs = [p for p in force_pairs(mech) if p.point is not None]
-    effort = mech.effort.name if mech.effort.name in mech.output_names else None
+    th = float(rad[0])
+    st = mech.kinematics(th, order=0)  # raises where it cannot be assembled
     sol = solve_at(mech, th, inputs)
-    forces = np.array([(sol[p.x], sol[p.y]) for p in pairs], dtype=float).reshape(-1, 2)
-    origins = np.array([pos[p.point] for p in pairs], dtype=float).reshape(-1, 2)
-    loads_now = _loads_at(mech, st, inputs)
-
-    links = link_points(mech)
-    drawn = sorted({p for pts in links.values() for p in pts} | set(mech.frame_points))
-    size = _size([pos[p] for p in drawn], mech.length_scale)
-    largest = max([0.0, *np.hypot(forces[:, 0], forces[:, 1]),
-                   *(abs(ld.value) for ld in loads_now if ld.direction is not None)])
+    scene = _scene(mech, st, lambda name: float(sol[name]), float(deg[0]), inputs)
+    size = linkage_size([scene.pos[p] for p in drawn_points(mech)], mech.length_scale)
+    largest = scene.largest
     if scale is None:
         scale = ARROW_FRACTION * size / largest if largest > 0.0 else 1.0
     elif not (math.isfinite(scale) and scale > 0.0):
         raise ValueError(f"scale must be a finite number > 0 [m/N], got {scale!r}")
 
     fig, ax = figure_axes(ax, figsize=(8.0, 6.5))
+    tips = draw_scene(ax, mech, scene, scale, size, largest)
+    lo, hi = tips.min(axis=0) - 0.12 * size, tips.max(axis=0) + 0.12 * size
+    lo[1] -= 2.2 * 0.025 * size + 0.12 * size  # the ground hatching, and a band for the scale
+    ax.set_xlim(lo[0], hi[0])
+    ax.set_ylim(lo[1], hi[1])
+    ax.set_title(scene_title(mech, scene, inputs, scale, largest, size), fontsize=10)
+    return fig
+
+
+class Scene(NamedTuple):
+    """The linkage at one state, what :func:`draw_scene` draws: the crank angle
+    ``theta_deg`` [deg], the points' positions ``pos`` [m], the links' unit directions
+    ``u``, the :func:`force_pairs` forces that act at a point (``forces``, shape
+    ``(n, 2)`` [N], their ``pairs``), the loads and the balancing effort (None if it
+    is not an output)."""
+
+    theta_deg: float
+    pos: dict
+    u: dict
+    pairs: tuple
+    forces: np.ndarray
+    loads: list
+    effort: float | None
+
+    @property
+    def largest(self) -> float:
+        """The largest finite joint force or load force [N] (0 if none)."""
+        magnitudes = [*np.hypot(self.forces[:, 0], self.forces[:, 1]),
+                      *(abs(ld.value) for ld in self.loads if ld.direction is not None)]
+        return max([0.0, *(m for m in magnitudes if math.isfinite(m))])
+
+
+class _StateAt:
+    """One state of an array kinematic state, as floats: what a load's value at a
+    state needs (its angle, its points, the links' directions)."""
+
+    def __init__(self, st, k: int):
+        from ..numerics import SCALAR
+
+        self.theta, self.xp = float(np.asarray(st.theta).reshape(-1)[k]), SCALAR
+        self.p = {n: _pick(v, k) for n, v in st.p.items()}
+        self.u = {n: _pick(v, k) for n, v in st.u.items()}
+
+
+def _pick(xy, k: int) -> tuple[float, float]:
+    """``(x, y)`` of the ``k``-th state, each an array over the states or one number."""
+    return tuple(float(np.asarray(c).reshape(-1)[k] if np.ndim(c) else c) for c in xy)
+
+
+def drawn_points(mech: "Mechanism") -> list[str]:
+    """The points the picture draws: every link's and the frame's, sorted.
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets
+    >>> drawn_points(presets.get("four_bar"))
+    ['A', 'B', 'C', 'D']
+    """
+    return sorted({p for pts in link_points(mech).values() for p in pts} |
+                  set(mech.frame_points))
+
+
+def scenes(mech: "Mechanism", theta: np.ndarray, inputs: dict, count: int | None = None):
+    """``(scenes, solution)``: the :class:`Scene` at each of the first ``count`` (all
+    if None) crank angles of ``theta`` [rad] (a 1-D array), and the solution at every
+    angle, from one array kinematics and one array solve.
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets
+    >>> from linkage_fmu.plot.inputs import input_values
+    >>> mech = presets.get("four_bar")
+    >>> inputs = input_values(mech, 10.0, 0.0, (), {})
+    >>> frames, sol = scenes(mech, np.radians([0.0, 90.0, 180.0]), inputs, count=2)
+    >>> len(frames), sol["F21x"].shape, [p.name for p in frames[1].pairs]
+    (2, (3,), ['F21', 'F32', 'F43', 'F14'])
+    >>> bool(np.allclose(frames[1].pos["B"], (0.0, 0.1)))  # the crank pin, at 90 deg
+    True
+    """
+    theta = np.asarray(theta, dtype=float).reshape(-1)
+    st = mech.kinematics(theta, order=0)
+    sol = solve_at(mech, theta, inputs)
+    pairs = tuple(p for p in force_pairs(mech) if p.point is not None)
+    values: dict = {}
+
+    def at(k: int):
+        def value(name: str) -> float:
+            if name not in values:
+                values[name] = np.broadcast_to(np.asarray(sol[name], float), theta.shape)
+            return float(values[name][k])
+        return value
+
+    n = theta.size if count is None else count
+    return [_scene(mech, _StateAt(st, k), at(k), math.degrees(theta[k]), inputs, pairs)
+            for k in range(n)], sol
+
+
+def _scene(mech: "Mechanism", st, value, theta_deg: float, inputs: dict,
+           pairs: tuple | None = None) -> Scene:
+    """The :class:`Scene` at the state ``st`` (floats), ``value(name)`` giving each
+    output there; ``pairs`` the force pairs that act at a point, if known."""
+    if pairs is None:
+        pairs = tuple(p for p in force_pairs(mech) if p.point is not None)
+    forces = np.array([(value(p.x), value(p.y)) for p in pairs], dtype=float).reshape(-1, 2)
+    effort = mech.effort.name if mech.effort.name in mech.output_names else None
+    return Scene(theta_deg, {p: (float(x), float(y)) for p, (x, y) in st.p.items()},
+                 {n: (float(c), float(s)) for n, (c, s) in st.u.items()}, pairs, forces,
+                 _loads_at(mech, st, inputs), None if effort is None else value(effort))
+
+
+def scene_title(mech: "Mechanism", scene: Scene, inputs: dict, scale: float, largest: float,
+                size: float) -> str:
+    """The picture's title: the angle, the inputs, the effort, the scale."""
+    title = f"{mech.name} at θ = {number(scene.theta_deg)}°, {inputs_text(mech, inputs)}\n"
+    if scene.effort is not None:
+        # a sum of forces times lengths: what rounding leaves of a zero is 0 (the scotch
+        # yoke's Mb at 90 deg, 1.8e-15 N m beside 260 N on a 0.1 m crank)
+        arm = size if mech.effort.direction is None else 1.0
+        title += (f"{mech.effort.name} = {number(scene.effort, scale=largest * arm)} "
+                  f"{mech.output_info[mech.effort.name][0]}; ")
+    return title + f"forces to scale {number(scale)} m/N (1 N = {number(1000 * scale, 3)} mm)"
+
+
+def draw_scene(ax: "Axes", mech: "Mechanism", scene: Scene, scale: float, size: float,
+               largest: float) -> np.ndarray:
+    """Draws ``scene`` into ``ax`` as :func:`linkage` does (the forces ``scale`` [m/N],
+    the symbols for a linkage ``size`` [m] across, the scale's key a round force near
+    half ``largest`` [N]), its labels placed at each draw, equal aspect; the limits
+    and the title left to the caller. Returns the points drawn (shape ``(n, 2)`` [m]: the
+    points, the arrows' tips and tails), whose extent the limits should hold."""
     from matplotlib.colors import to_rgba
     from matplotlib.patches import Polygon, Rectangle
 
     from .label_placer import LabelPlacer  # a matplotlib artist: imported to draw
 
+    pos, links = scene.pos, link_points(mech)
+    drawn = drawn_points(mech)
+    ok = np.isfinite(scene.forces).all(axis=1)  # no arrow where there is no force
+    pairs = [p for p, good in zip(scene.pairs, ok) if good]
+    forces = scene.forces[ok]
+    origins = np.array([pos[p.point] for p in pairs], dtype=float).reshape(-1, 2)
     s = 0.025 * size
     for name in mech.frame_points:
         _draw_frame_point(ax, *pos[name], s, name)
@@ -244,7 +377,7 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     for k, (link, pts) in enumerate(links.items()):
         color = _LINK_COLORS[k % len(_LINK_COLORS)]
         if len(pts) == 1:  # a slider or block: a square along its direction
-            (x, y), (ux, uy) = pos[pts[0]], st.u.get(link, (1.0, 0.0))
+            (x, y), (ux, uy) = pos[pts[0]], scene.u.get(link, (1.0, 0.0))
             ax.add_patch(Rectangle((x - 2 * s, y - 1.2 * s), 4 * s, 2.4 * s,
                                    angle=math.degrees(math.atan2(float(uy), float(ux))),
                                    rotation_point="center", facecolor=color, alpha=0.35,
@@ -278,7 +411,7 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     for p, (x, y), du, dv, (fx, fy) in zip(pairs, origins, u, v, forces):
         labels.add(f"{p.name}\n{number(math.hypot(fx, fy), 3)} N", (x + du, y + dv), (du, dv),
                    "crimson", fontsize=8, gid=f"force:{p.name}")  # beyond the tip
-    drawn_loads = _draw_loads(ax, loads_now, pos, links, scale, size, labels)
+    drawn_loads = _draw_loads(ax, scene.loads, pos, links, scale, size, labels)
     labels.quivers.append(quiver)
     labels.segments = np.array(lines, dtype=float).reshape(-1, 4)
     if largest > 0.0:
@@ -290,21 +423,8 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
 
     tips = np.concatenate([np.array([pos[p] for p in drawn]), origins + np.c_[u, v],
                            drawn_loads[:, :2], drawn_loads[:, :2] + drawn_loads[:, 2:]])
-    lo, hi = tips.min(axis=0) - 0.12 * size, tips.max(axis=0) + 0.12 * size
-    lo[1] -= 2.2 * s + 0.12 * size  # the ground hatching, and a band for the scale
-    ax.set_xlim(lo[0], hi[0])
-    ax.set_ylim(lo[1], hi[1])
     ax.set_aspect("equal", adjustable="box")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
-    title = f"{mech.name} at θ = {number(th_deg)}°, {inputs_text(mech, inputs)}\n"
-    if effort is not None:
-        # a sum of forces times lengths: what rounding leaves of a zero is 0 (the scotch
-        # yoke's Mb at 90 deg, 1.8e-15 N m beside 260 N on a 0.1 m crank)
-        arm = size if mech.effort.direction is None else 1.0
-        title += (f"{effort} = {number(sol[effort], scale=largest * arm)} "
-                  f"{mech.output_info[effort][0]}; ")
-    title += f"forces to scale {number(scale)} m/N (1 N = {number(1000 * scale, 3)} mm)"
-    ax.set_title(title, fontsize=10)
     ax.grid(True, alpha=0.2)
-    return fig
+    return tips

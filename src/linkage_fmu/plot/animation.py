@@ -1,0 +1,363 @@
+"""The linkage in motion (:func:`animate`): the picture of :func:`~.picture.linkage` at
+each frame's crank angle, its forces to one scale for the whole motion, beside a curve
+over the motion with a cursor at the frame's angle; written as a GIF (pillow) or an MP4
+(ffmpeg)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from .. import ranges
+from ..flywheel import cycle_revolutions
+from ..outputs import SHAKING
+from ..printing import number
+from .curves import draw_curve
+from .figures import degree_axis, pyplot
+from .inputs import N_ANGLES, finite_or_fail, input_values, inputs_text
+from .picture import ARROW_FRACTION, Scene, draw_scene, drawn_points, linkage_size, scenes
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.animation import FuncAnimation
+    from matplotlib.figure import Figure
+
+    from ..mechanism import Mechanism
+
+#: frames by default: 5 degrees apart over a revolution
+N_FRAMES = 72
+#: what the curve beside the linkage shows
+WHATS = ("forces", "torque", "shaking")
+#: a crank that cannot turn a revolution moves over its range less this fraction of the
+#: range at each end: the ends are toggles, where the forces grow without bound
+EDGE_FRACTION = 0.02
+#: the files an animation is written to, by suffix
+SUFFIXES = (".gif", ".mp4")
+
+
+def motion_range(mech: "Mechanism", given=()) -> tuple[float, float, bool]:
+    """``(first, last, full)``: the crank angles [deg] the animation goes between, and
+    whether the crank turns round: from 0 over a revolution (``0, 360, True``), or over
+    the revolutions of a cycle where a load's table needs several
+    (:func:`~linkage_fmu.flywheel.cycle_revolutions`; ``given``, the loads given a
+    value: a four-stroke engine's 720 deg unless its gas force is given). Otherwise the
+    range where the linkage assembles (:func:`linkage_fmu.ranges.assembles`; one that
+    runs over 360 deg joined, as from -136 to 136 deg) that holds the start angle (else
+    the longest), less :data:`EDGE_FRACTION` of it at each end.
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets
+    >>> motion_range(presets.get("four_bar"))
+    (0.0, 360.0, True)
+    >>> [round(v, 2) for v in motion_range(presets.get("four_bar", l_AB=0.3))[:2]]
+    [-130.51, 130.51]
+    """
+    where = ranges.assembles(mech)
+    if where == [(0.0, 360.0)]:
+        return 0.0, 360.0 * cycle_revolutions(mech, None, given), True
+    if not where:
+        raise ValueError(f"{mech.name} cannot be assembled at any crank angle: nothing to "
+                         "animate")
+    if len(where) > 1 and where[0][0] == 0.0 and where[-1][1] == 360.0:  # one range over 0
+        where = [(where[-1][0] - 360.0, where[0][1])] + where[1:-1]
+    start = math.degrees(mech.start["theta"]) % 360.0
+    holding = [(a, b) for a, b in where if a <= start <= b or a <= start - 360.0 <= b]
+    lo, hi = max(holding or where, key=lambda r: r[1] - r[0])
+    edge = EDGE_FRACTION * (hi - lo)
+    return lo + edge, hi - edge, False
+
+
+def frame_angles(mech: "Mechanism", frames: int, given=()) -> np.ndarray:
+    """The crank angle [deg] of each frame: where the crank turns round, a revolution
+    (or a cycle of several) ``360 / frames`` (``720 / frames``, ...) degrees apart from
+    0 (360 left out: it is the first frame again, and the animation loops); else
+    ``frames`` angles from the first to the last of :func:`motion_range`.
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets
+    >>> frame_angles(presets.get("four_bar"), 4).tolist()
+    [0.0, 90.0, 180.0, 270.0]
+    """
+    lo, hi, full = motion_range(mech, given)
+    if full:
+        return hi * np.arange(frames) / frames
+    return np.linspace(lo, hi, frames)
+
+
+class LinkageAnimation:
+    """The animation :func:`animate` makes: ``figure`` (the linkage's axes first, the
+    curve's second), ``animation`` (a :class:`matplotlib.animation.FuncAnimation`,
+    e.g. for ``to_jshtml()`` in a notebook), ``theta_deg`` (each frame's crank angle
+    [deg]), ``scale`` (the arrows' length per force [m/N], one for every frame) and
+    ``what``; :meth:`draw` draws a frame, :meth:`save` writes the file."""
+
+    def __init__(self, figure: "Figure", scenes_: list[Scene], draw_frame, scale: float,
+                 what: str):
+        self.figure = figure
+        self.theta_deg = np.array([s.theta_deg for s in scenes_])
+        self.scale = scale
+        self.what = what
+        self._draw = draw_frame
+        self._animation: "FuncAnimation | None" = None
+
+    @property
+    def animation(self) -> "FuncAnimation":
+        """The :class:`matplotlib.animation.FuncAnimation` of the frames, made when
+        first asked for (matplotlib warns of one deleted before it is shown)."""
+        if self._animation is None:
+            from matplotlib.animation import FuncAnimation
+
+            self._animation = FuncAnimation(self.figure, lambda k: self._draw(k) or [],
+                                            frames=len(self), init_func=lambda: [],
+                                            blit=False, cache_frame_data=False, repeat=True)
+        return self._animation
+
+    def __len__(self) -> int:
+        return self.theta_deg.size
+
+    def draw(self, k: int) -> None:
+        """Draws the ``k``-th frame into :attr:`figure` (the labels are placed when the
+        figure is rendered)."""
+        self._draw(k)
+
+    def save(self, path, fps: float = 12.0, dpi: float = 80.0) -> Path:
+        """Writes the animation to ``path``: a ``.gif`` (with pillow) or an ``.mp4``
+        (with ffmpeg, which must be installed), ``fps`` frames a second, ``dpi`` pixels
+        an inch of the figure. Returns the path."""
+        path = Path(path)
+        writer = _writer(path, fps)
+        # frame by frame, as Animation.save does, without its redraw of the canvas after
+        # each frame (a third of the time: the frame is drawn again when it is grabbed)
+        with writer.saving(self.figure, str(path), dpi):
+            for k in range(len(self)):
+                self._draw(k)
+                writer.grab_frame()
+        return path
+
+
+def _suffix(path) -> str:
+    suffix = Path(path).suffix.lower()
+    if suffix not in SUFFIXES:
+        raise ValueError(f"{path}: an animation is written to a .gif or .mp4 file, not "
+                         f"{suffix or 'a file without a suffix'}")
+    return suffix
+
+
+def _writer(path: Path, fps: float):
+    """The matplotlib writer for ``path``'s suffix; a RuntimeError saying how to get
+    ffmpeg for an MP4 where it is not installed."""
+    from matplotlib import animation, rcParams
+
+    if not (math.isfinite(fps) and fps > 0):
+        raise ValueError(f"fps must be a number > 0, got {fps!r}")
+    if _suffix(path) == ".gif":
+        return animation.PillowWriter(fps=fps)
+    if not animation.FFMpegWriter.isAvailable():
+        raise RuntimeError(
+            f"{path}: writing an MP4 needs ffmpeg, and there is no "
+            f"{rcParams['animation.ffmpeg_path']!r} on the PATH; install it (apt install "
+            "ffmpeg, brew install ffmpeg, conda install ffmpeg, or from https://ffmpeg.org), "
+            "or write a .gif, which needs nothing more")
+    return animation.FFMpegWriter(fps=fps)
+
+
+def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int = N_FRAMES,
+            omega=None, alpha=None, fps: float = 12.0, dpi: float = 80.0,
+            figsize=(11.0, 4.8), **named_loads) -> LinkageAnimation:
+    """The linkage moving over a revolution (or the cycle of several a load's table
+    needs, as a four-stroke engine's; where the crank cannot turn round, over its
+    range: :func:`motion_range`), with its joint forces and loads drawn as
+    :func:`~linkage_fmu.plot.linkage` draws them, and beside it a curve over the motion
+    with a cursor at each frame's crank angle; written to ``path`` if given.
+
+    Every frame is solved in one array call. The arrows are to one scale for the whole
+    motion (the largest force of any frame :data:`ARROW_FRACTION` of the largest extent
+    of the linkage over the motion), so that their lengths compare between frames; the
+    view is fixed, and the labels are placed at each frame so that none overlaps
+    another, an arrow, or a joint.
+
+    Parameters
+    ----------
+    mech : Mechanism
+    path : str or Path, optional
+        Write the animation there: ``.gif`` (pillow, which matplotlib installs) or
+        ``.mp4`` (needs ffmpeg on the PATH). None: only make it.
+    what : {"forces", "torque", "shaking"}
+        The curve: the magnitude of each joint force; the balancing effort (``Mb``)
+        with its mean and peak; or the shaking force ``shake_x``, ``shake_y`` and its
+        magnitude.
+    frames : int
+        Frames (>= 2): over a revolution, ``360 / frames`` degrees apart (5 by
+        default); over a cycle of two, ``720 / frames``.
+    omega, alpha, **named_loads : float or str, optional
+        The crank's speed [rad/s] and acceleration [rad/s2] and the loads by name, as
+        for :func:`~linkage_fmu.plot.torque`; the linkage's start values if not given.
+    fps, dpi : float
+        Frames a second, and pixels an inch of the figure (``figsize`` inches), of the
+        file written.
+
+    Returns
+    -------
+    LinkageAnimation
+        Its ``figure``'s first axes hold the linkage as :func:`~linkage_fmu.plot.linkage`
+        draws it at the frame last drawn (``gid="link:<name>"``, ``"forces"``, ...);
+        the second the curve(s) (gid: the output's name, ``"|F21|"``, ``"|shake|"``),
+        the line ``gid="cursor"`` at the frame's angle and a point
+        ``gid="cursor:<curve>"`` on each curve.
+
+    Raises
+    ------
+    ValueError
+        ``what``, ``frames`` or ``path``'s suffix is not one of the above, ``path``'s
+        folder does not exist, or the linkage cannot be assembled anywhere.
+    RuntimeError
+        An ``.mp4`` without ffmpeg installed.
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> from linkage_fmu import plot, presets
+    >>> anim = plot.animate(presets.get("four_bar"), frames=8, what="torque")
+    >>> len(anim), anim.theta_deg.tolist()
+    (8, [0.0, 45.0, 90.0, 135.0, 180.0, 225.0, 270.0, 315.0])
+    >>> anim.draw(2)
+    >>> cursor = next(l for l in anim.figure.axes[1].lines if l.get_gid() == "cursor")
+    >>> float(cursor.get_xdata()[0])
+    90.0
+    """
+    if what not in WHATS:
+        raise ValueError(f"what={what!r}: expected one of {', '.join(WHATS)}")
+    if isinstance(frames, bool) or not isinstance(frames, (int, np.integer)) or frames < 2:
+        raise ValueError(f"frames must be a whole number >= 2, got {frames!r}")
+    if path is not None:
+        _suffix(path)
+        if not Path(path).resolve().parent.is_dir():
+            raise ValueError(f"{path}: there is no folder {Path(path).parent}")
+        _writer(Path(path), fps)  # no ffmpeg: said before the work
+    import matplotlib
+
+    inputs = input_values(mech, omega, alpha, (), named_loads)
+    deg = frame_angles(mech, int(frames), named_loads)
+    lo, hi, full = motion_range(mech, named_loads)
+    turns = round(hi / 360.0) if full else 1  # 0.5 degrees apart over a revolution
+    curve_deg = np.linspace(lo, hi, (N_ANGLES - 1) * turns + 1)
+    frames_, sol = scenes(mech, np.radians(np.concatenate([deg, curve_deg])), inputs,
+                          count=deg.size)
+    frames_ = [s._replace(theta_deg=float(d)) for s, d in zip(frames_, deg)]  # as given
+    curves, unit, title = _curves(mech, what, sol, deg.size)
+    finite_or_fail(mech, np.concatenate([c[deg.size:] for c in curves.values()]), curve_deg,
+                   sol)
+
+    drawn = drawn_points(mech)
+    size = linkage_size([s.pos[p] for s in frames_ for p in drawn
+                  if all(map(math.isfinite, s.pos[p]))], mech.length_scale)
+    largest = max(s.largest for s in frames_)
+    scale = ARROW_FRACTION * size / largest if largest > 0.0 else 1.0
+
+    fig, (link_ax, curve_ax) = pyplot().subplots(1, 2, figsize=figsize, width_ratios=(1.1, 1.0),
+                                                 layout="constrained")
+    fig.suptitle(f"{mech.name}: {inputs_text(mech, inputs)}; forces to scale "
+                 f"{number(scale)} m/N (1 N = {number(1000 * scale, 3)} mm)", fontsize=10)
+    tips = []
+    for s in frames_:  # the view holds every frame
+        tips.append(draw_scene(link_ax, mech, s, scale, size, largest))
+        link_ax.clear()
+    tips = np.concatenate(tips)
+    tips = tips[np.isfinite(tips).all(axis=1)]
+    lo_xy, hi_xy = tips.min(axis=0) - 0.12 * size, tips.max(axis=0) + 0.12 * size
+    lo_xy[1] -= 2.2 * 0.025 * size + 0.12 * size  # the ground hatching, and the scale's band
+
+    cursor = _draw_curves(curve_ax, mech, curves, deg, curve_deg, unit, title)
+    effort = mech.effort.name
+
+    def draw_frame(k: int) -> list:
+        s = frames_[k]
+        link_ax.clear()
+        draw_scene(link_ax, mech, s, scale, size, largest)
+        link_ax.set_xlim(lo_xy[0], hi_xy[0])
+        link_ax.set_ylim(lo_xy[1], hi_xy[1])
+        text = f"θ = {number(deg[k], 1, fixed=True)}°"
+        if s.effort is not None:
+            arm = size if mech.effort.direction is None else 1.0
+            text += (f", {effort} = {number(s.effort, 4, scale=largest * arm)} "
+                     f"{mech.output_info[effort][0]}")
+        link_ax.set_title(text, fontsize=10)
+        cursor(k)
+        return []
+
+    draw_frame(0)
+    fig.canvas.draw()  # the layout once, for every frame: the view stays still
+    with matplotlib.rc_context({"figure.autolayout": False,
+                                "figure.constrained_layout.use": False}):
+        fig.set_layout_engine(None)  # none at all: saving a frame then draws it once
+    anim = LinkageAnimation(fig, frames_, draw_frame, scale, what)
+    if path is not None:
+        anim.save(path, fps=fps, dpi=dpi)
+    return anim
+
+
+def _curves(mech: "Mechanism", what: str, sol, n: int) -> tuple[dict, str, str]:
+    """``({label: values at the frames then at the curve's angles}, unit, title)``."""
+    def get(name):
+        return np.asarray(sol[name], dtype=float)
+
+    if what == "torque":
+        name = mech.effort.name
+        if name not in mech.output_names:
+            raise ValueError(f"{mech.name} has no output of its balancing effort {name}: "
+                             "animate what='forces' or 'shaking'")
+        unit, description = mech.output_info[name]
+        return {name: get(name)}, unit, description
+    if what == "shaking":
+        if not set(SHAKING[:2]) <= set(mech.output_names):
+            raise ValueError(f"{mech.name} has no shaking force outputs "
+                             f"{', '.join(SHAKING[:2])}")
+        x, y = get(SHAKING[0]), get(SHAKING[1])
+        return ({SHAKING[0]: x, SHAKING[1]: y, "|shake|": np.hypot(x, y)}, "N",
+                "shaking force, what the moving links put on the frame")
+    from .parts import force_pairs
+
+    pairs = force_pairs(mech)
+    if not pairs:
+        raise ValueError(f"{mech.name} has no force output with x and y components: "
+                         "animate what='torque'")
+    return ({f"|{p.name}|": np.hypot(get(p.x), get(p.y)) for p in pairs}, "N",
+            "the magnitude of each joint force")
+
+
+def _draw_curves(ax, mech: "Mechanism", curves: dict, deg: np.ndarray, curve_deg: np.ndarray,
+                 unit: str, title: str):
+    """The curves over ``curve_deg`` with a cursor; returns ``cursor(k)``, which moves
+    it to the ``k``-th frame (its angle ``deg[k]``, the values the curves' first
+    ``deg.size`` values)."""
+    n = deg.size
+    if len(curves) == 1:  # the effort: its mean and peak, as plot.torque draws it
+        (name, values), = curves.items()
+        draw_curve(ax, np.radians(curve_deg), curve_deg, values[n:], name, unit)
+    else:
+        for k, (name, values) in enumerate(curves.items()):
+            ax.plot(curve_deg, values[n:], color=f"C{k}", lw=1.4 if name != "|shake|" else 2.0,
+                    label=name, gid=name)
+        degree_axis(ax, curve_deg)
+        ax.set_ylabel(f"[{unit}]")
+    ax.set_title(title, fontsize=10)
+    # below the axes: a legend inside would move as the cursor does ("best")
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=min(len(curves) + 2, 4),
+              fontsize=8, frameon=False)
+    line = ax.axvline(deg[0], color="0.3", lw=1.0, ls=":", gid="cursor")
+    dots = {name: ax.plot([deg[0]], [values[0]], "o", ms=6, mfc="white",
+                          mec=f"C{k}" if len(curves) > 1 else "C0", mew=1.8, zorder=6,
+                          gid=f"cursor:{name}")[0]
+            for k, (name, values) in enumerate(curves.items())}
+
+    def cursor(k: int) -> None:
+        line.set_xdata([deg[k], deg[k]])
+        for name, dot in dots.items():
+            dot.set_data([deg[k]], [curves[name][k]])
+
+    return cursor
