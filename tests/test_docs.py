@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 import linkage_fmu
-from test_readme import PYTHON, ROOT, blocks, run_block
+from test_readme import PYTHON, ROOT, blocks, broken_links, relative_links, run_block
 
 DOCS = ROOT / "docs"
 #: every page of the site, from the project root
@@ -85,6 +85,29 @@ def test_no_page_names_a_source_document_by_its_seed_number():
     example, ...), never "seed 000"."""
     for page in PAGES:
         assert not re.search(r"seed \d{3}", (ROOT / page).read_text(), flags=re.I), page
+
+
+def test_every_link_and_image_resolves_on_github():
+    """Each relative link and image of each page, and of the benchmark pages the site
+    includes, names a file or folder of the project from the page's folder, as GitHub
+    resolves it (docs/hooks.py maps these paths to the site's; no page links to
+    anything mkdocs generates, so none is exempt)."""
+    results = sorted(str(p.relative_to(ROOT))
+                     for p in (ROOT / "benchmarks" / "results").glob("*.md"))
+    broken = {page: broken_links(page) for page in PAGES + results}
+    assert {page: links for page, links in broken.items() if links} == {}
+    assert "../benchmarks/results/results.md" in relative_links("docs/performance.md")
+
+
+def test_the_pages_only_mkdocs_builds_say_so_on_github():
+    """The changelog (a snippet of CHANGELOG.md) and the API reference (directives),
+    empty on GitHub, open with a line naming mkdocs and their source, which the site
+    leaves out (docs/hooks.py)."""
+    for page in ["docs/changelog.md", *(p for p in PAGES if p.startswith("docs/api/"))]:
+        text = (ROOT / page).read_text()
+        (note,) = re.findall(r"^> This page is built by mkdocs \(`mkdocs serve` or `mkdocs "
+                             r"build`\).*$", text, flags=re.M)
+        assert re.search(r"\]\(\.\./(CHANGELOG\.md|\.\./src/linkage_fmu/)", note), page
 
 
 def test_every_page_is_in_the_sites_navigation():

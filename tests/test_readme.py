@@ -19,6 +19,8 @@ ROOT = Path(__file__).parents[1]
 README = (ROOT / "README.md").read_text()
 #: a python block: its text
 PYTHON = re.compile(r"```python\n(.*?)```", flags=re.S)
+#: an inline link or image, ``[text](target)`` or ``![alt](target "title")``: its target
+LINK = re.compile(r"\]\(([^)\s]+)(?:\s+\"[^\"]*\")?\)")
 #: runs a doctest file, exit status 1 if an example fails
 DOCTEST = ("import doctest, sys; failed, _ = doctest.testfile(sys.argv[1], "
            "module_relative=False); sys.exit(failed > 0)")
@@ -28,6 +30,22 @@ def blocks(page: str) -> list[tuple[int, str]]:
     """(line, text) of each python block of ``page`` (a path from the project root)."""
     text = (ROOT / page).read_text()
     return [(text.count("\n", 0, m.start()) + 1, m.group(1)) for m in PYTHON.finditer(text)]
+
+
+def relative_links(page: str) -> list[str]:
+    """The relative targets (their ``#anchor`` aside) of the links and images of
+    ``page`` (a path from the project root), outside its code."""
+    text = re.sub(r"```.*?```", "", (ROOT / page).read_text(), flags=re.S)
+    text = re.sub(r"`[^`\n]*`", "", text)
+    targets = [link.split("#")[0] for link in LINK.findall(text)]
+    return [t for t in targets if t and not re.match(r"^[a-z][a-z0-9+.-]*:|^/", t, flags=re.I)]
+
+
+def broken_links(page: str) -> list[str]:
+    """The relative links and images of ``page`` that name no file or folder of the
+    project, resolved from the page's folder as GitHub resolves them."""
+    folder = (ROOT / page).parent
+    return [link for link in relative_links(page) if not (folder / link).exists()]
 
 
 def run_block(page: str, line: int, block: str, folder: Path) -> None:
@@ -79,14 +97,12 @@ def test_the_readme_has_its_parts():
     assert (ROOT / pictures[1]).is_file()
 
 
-def test_every_link_of_the_readme_is_a_file():
-    """Each relative link of the README names a file of the project (the animation and
-    its page aside: they come with the animation)."""
-    links = re.findall(r"\]\(([^)#:]+)(?:#[^)]*)?\)", README)
+def test_every_link_and_image_of_the_readme_is_a_file():
+    """Each relative link and image of the README names a file of the project."""
+    links = relative_links("README.md")
     assert len(links) >= 15
-    coming = {"docs/four_bar.gif", "docs/guide/animations.md"}
-    missing = [link for link in links if not (ROOT / link).is_file() and link not in coming]
-    assert not missing
+    assert {"docs/four_bar.gif", "docs/guide/animations.md"} <= set(links)
+    assert broken_links("README.md") == []
 
 
 def test_no_source_document_is_named_by_its_seed_number():
