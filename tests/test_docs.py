@@ -139,3 +139,28 @@ def test_the_flywheel_report_shown_is_what_the_command_prints(tmp_path):
                          capture_output=True, text=True)
     assert run.returncode == 0, run.stderr
     assert run.stdout == command.group(2)
+
+
+def test_the_docstrings_roles_become_cross_references():
+    """docs/hooks.py makes a role's code an optional reference (autorefs links it where
+    the site documents the object, else it stays code) to the object Sphinx would find:
+    ``~`` shows the last name; a leading dot or a bare name is looked up from the
+    documented object's module (Mechanism.reduced_inertia's ``.inertia.reduced_inertia``
+    is linkage_fmu.inertia's, which linkage_fmu.mechanism imports); a titled role keeps
+    its title. Unknown names (``float``) keep their text, no link is invented."""
+    spec = importlib.util.spec_from_file_location("hooks", DOCS / "hooks.py")
+    hooks = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(hooks)
+    html = ('<h3 id="linkage_fmu.Mechanism.reduced_inertia" class="doc doc-heading">'
+            "<p>:func:<code>.inertia.reduced_inertia</code>, "
+            ":meth:<code>~linkage_fmu.Mechanism.solve</code>, :func:<code>simulate</code>, "
+            ":meth:<code>Solver.solve &lt;linkage_fmu.solver.Solver.solve&gt;</code>, "
+            ":class:<code>float</code>, <code>.copy()</code></p>")
+    ref = '<autoref identifier="{}" optional><code>{}</code></autoref>'
+    assert hooks.cross_references(html) == (
+        '<h3 id="linkage_fmu.Mechanism.reduced_inertia" class="doc doc-heading"><p>'
+        + ", ".join([ref.format("linkage_fmu.inertia.reduced_inertia", "inertia.reduced_inertia"),
+                     ref.format("linkage_fmu.Mechanism.solve", "solve"),
+                     ref.format("linkage_fmu.mechanism.Mechanism.simulate", "simulate"),
+                     ref.format("linkage_fmu.solver.Solver.solve", "Solver.solve"),
+                     ref.format("float", "float"), "<code>.copy()</code></p>"]))
