@@ -82,9 +82,14 @@ def test_the_joints_page_shows_what_info_prints():
 
 def test_no_page_names_a_source_document_by_its_seed_number():
     """The source documents are named for what they are (the scotch yoke worked
-    example, ...), never "seed 000"."""
-    for page in PAGES:
-        assert not re.search(r"seed \d{3}", (ROOT / page).read_text(), flags=re.I), page
+    example, ..., and "the source documents' way" in the benchmark results), never
+    "seed 000" or "seed way", on the pages and on the benchmark pages the site includes
+    (docs/hooks.py)."""
+    results = sorted((ROOT / "benchmarks" / "results").glob("*.md"))
+    assert len(results) >= 4
+    for page in [ROOT / p for p in PAGES] + results:
+        assert not re.search(r"seed( \d{3}| way|s' way| per angle)", page.read_text(),
+                             flags=re.I), page
 
 
 def test_every_link_and_image_resolves_on_github():
