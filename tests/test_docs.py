@@ -169,3 +169,14 @@ def test_the_docstrings_roles_become_cross_references():
                      ref.format("linkage_fmu.mechanism.Mechanism.simulate", "simulate"),
                      ref.format("linkage_fmu.solver.Solver.solve", "Solver.solve"),
                      ref.format("float", "float"), "<code>.copy()</code></p>"]))
+
+
+def test_the_home_page_table_links_every_guide_page_the_readme_does():
+    """The site's home and the README hold the same table of what the project does: each
+    user-guide page the README's table links, the home page's links too."""
+    def guide_pages(text: str, prefix: str) -> set[str]:
+        rows = [line for line in text.splitlines() if line.startswith("| ")]
+        return {m for row in rows for m in re.findall(rf"\]\({prefix}(guide/[\w-]+\.md)\)", row)}
+    readme = guide_pages((ROOT / "README.md").read_text(), "docs/")
+    assert "guide/animations.md" in readme and len(readme) >= 9
+    assert readme <= guide_pages((DOCS / "index.md").read_text(), "")
