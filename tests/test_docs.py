@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 import linkage_fmu
-from test_readme import PYTHON, ROOT, blocks, broken_links, relative_links, run_block
+from test_readme import ROOT, blocks, broken_links, relative_links, run_block
 
 DOCS = ROOT / "docs"
 #: every page of the site, from the project root
@@ -27,23 +27,61 @@ BLOCKS = [(page, line, text) for page in PAGES for line, text in blocks(page)]
                          ids=[f"{Path(page).stem}-line{n}" for page, n, _ in BLOCKS])
 def test_each_python_block_runs_on_its_own(page, line, block, tmp_path):
     """A doctest block as a doctest, any other as a script. The blocks that build an
-    FMU build the four-bar's native FMU (dist/native/FourBar.fmu), a second's work; the
-    Dask block sweeps 10 designs on a local cluster."""
+    FMU build the four-bar's native FMU (dist/native/FourBar.fmu of the block's copy of
+    the project), a second's work; the Dask block sweeps 10 designs on a local cluster."""
     run_block(page, line, block, tmp_path)
 
 
+def fences(page: str) -> list[tuple[int, str, str]]:
+    """(line, indent, info string) of each code block's opening fence in ``page``."""
+    found, inside = [], False
+    for n, text in enumerate((ROOT / page).read_text().splitlines(), 1):
+        fence = re.match(r"^(\s*)(?:```|~~~)\s*(\S*)", text)
+        if fence and not inside:
+            found.append((n, fence.group(1), fence.group(2)))
+        inside ^= bool(fence)
+    return found
+
+
 def test_every_python_block_is_found():
-    """As many blocks as the pages open with ```python (a block the pattern missed
-    would go untested), on the pages of the user guide and getting started at least."""
-    for page in PAGES:
-        text = (ROOT / page).read_text()
-        assert len(PYTHON.findall(text)) == text.count("```python"), page
+    """Every code block of the README and the pages names its language, and each in
+    Python (``py``, ``python3``, ``pycon``, or indented in a list) opens as the
+    ```` ```python ```` at the start of a line that :func:`test_readme.blocks` finds (a
+    block it missed would go untested); the pages of the user guide and getting started
+    have blocks."""
+    for page in ["README.md", *PAGES]:
+        opened = fences(page)
+        assert [n for n, _, info in opened if not info] == [], page
+        python = [(n, indent, info) for n, indent, info in opened
+                  if re.match(r"(?:py|python3?|pycon|ipython)\b", info, flags=re.I)]
+        assert python == [(n, "", "python") for n, _ in blocks(page)], page
     pages = {page for page, _, _ in BLOCKS}
     for page in ("getting-started.md", "guide/solving.md", "guide/loads.md",
                  "guide/friction.md", "guide/motion.md", "guide/fmus.md", "guide/sweeps.md",
                  "guide/plots.md", "guide/linkages.md", "joints-and-links.md"):
         assert f"docs/{page}" in pages, page
     assert len(BLOCKS) >= 18
+
+
+def test_every_block_that_draws_chooses_its_backend():
+    """A block of the README or the pages that draws with matplotlib (linkage_fmu.plot,
+    pyplot) chooses the file-only backend, ``matplotlib.use("Agg")``, before it imports
+    them: the blocks run without one chosen for them, as a reader's do (a reader with a
+    display would otherwise get windows, or wait on one)."""
+    drawing = 0
+    for page in ["README.md", *PAGES]:
+        for line, block in blocks(page):
+            code = re.sub(r"#[^\n]*", "", block)
+            imports = [m.start() for m in re.finditer(
+                r"^\s*(?:>>> )?(?:from linkage_fmu(?:\.plot)? import [^\n]*\bplot\b|"
+                r"from linkage_fmu\.plot|import matplotlib\.pyplot|from matplotlib import pyplot)",
+                code, flags=re.M)]
+            if not imports:
+                continue
+            drawing += 1
+            chosen = code.find('matplotlib.use("Agg")')
+            assert 0 <= chosen < min(imports), f"{page} line {line}"
+    assert drawing >= 2
 
 
 def test_the_pages_show_the_example_files_as_they_are():
