@@ -184,7 +184,7 @@ def fourbarhinge_four_bar(params: dict, theta: np.ndarray, omega: float, alpha: 
         r = res.reactions
         out[k] = (-r["B"][0], -r["B"][1], -r["C"][0], -r["C"][1], r["D"][0], r["D"][1],
                   -r["A"][0], -r["A"][1], res.actuator_value)
-    # the order of the columns above: the seed's outputs (the shaking ones are not)
+    # the order of the columns above: the source documents' outputs (the shaking ones are not)
     names = [n for n in presets.get("four_bar").output_names if not n.startswith(("shake_", "Mf_", "Ff_"))
              and n not in ("P_loss", "eta")]
     return {name: out[:, i].reshape(theta.shape) for i, name in enumerate(names)}

@@ -8,7 +8,7 @@ Writes to ``build/benchmarks/`` (``--out``: another folder; ``--results``: the
 committed ``benchmarks/results/`` that README quotes, see ``folders.py``):
 ``work_precision.csv`` (every method: seconds per crank angle and its maximum
 relative error against the 40-digit mpmath reference), ``scalar.csv`` (one state
-per call of ``solve`` against the seeds' way, timed in alternating rounds),
+per call of ``solve`` against the source documents' way, timed in alternating rounds),
 ``fmu.csv``, ``c_host.csv``, ``communication.csv``, ``scale.csv``, ``first_calls.csv``,
 ``sweep.csv`` (design sweeps in this process and on Dask), ``sweep_fused.csv`` (a sweep's
 cost per state against the array kernels and memory's floor: ``sweep_timing.py``),
@@ -59,7 +59,7 @@ import kinepy_peer
 import optimize_timing
 import peers
 import press_coupling
-import seed_way
+import source_way
 import six_bar_build
 import sweep_timing
 from linkage_fmu import presets
@@ -75,10 +75,12 @@ PRESETS = {"four_bar": 3.0, "slider_crank": 50.0}  # preset -> load
 OMEGA, ALPHA, N_ANGLES = 10.0, 0.0, 360
 FMU_ROUNDS = 5  # alternating timing rounds of each FMU (see fmu_rows)
 SCALAR_ROUNDS = 40  # alternating timing rounds of the one-state solves (see scalar_rows)
-SCALAR_KINDS = ("seed way", "closed_form scalar", "closed_form scalar, positional")
-SEED = {"four_bar": seed_way.four_bar, "slider_crank": seed_way.slider_crank}
-TARGETS = {"vectorised / seed per angle": 500.0, "scalar / seed per angle": 10.0,
-           "scalar, positional / seed per angle": 10.0,
+#: the source documents' way (benchmarks/source_way.py): its label in the results
+SOURCE = "source documents' way"
+SCALAR_KINDS = (SOURCE, "closed_form scalar", "closed_form scalar, positional")
+SOURCE_WAY = {"four_bar": source_way.four_bar, "slider_crank": source_way.slider_crank}
+TARGETS = {f"vectorised / {SOURCE} per angle": 500.0, f"scalar / {SOURCE} per angle": 10.0,
+           f"scalar, positional / {SOURCE} per angle": 10.0,
            "FMU step / trivial FMU step": 1.1, "max relative error (exact methods)": 1e-12,
            "FMU step / trivial FMU step, median of alternating rounds": 1.3,
            "native FMU step / trivial native FMU step (fmpy)": 1.1,
@@ -118,7 +120,7 @@ def ours(preset: str, load: float, ref: dict, static_ref: dict, big: int) -> lis
     many = np.random.default_rng(0).uniform(0.0, 2 * math.pi, big)
     rows = []
     for method in ("closed_form", "interpreted", "direct"):
-        if method != "closed_form":  # closed_form scalar: scalar_rows, against the seeds
+        if method != "closed_form":  # closed_form scalar: scalar_rows, against the sources
             sols = [mech.solve(float(t), OMEGA, ALPHA, load, method=method) for t in theta]
             got = {n: np.array([s[n] for s in sols]) for n in mech.output_names}
             t = best_time(lambda: [mech.solve(float(x), OMEGA, ALPHA, load, method=method)
@@ -189,20 +191,20 @@ def friction_rows(big: int = 100_000) -> list[dict]:
 
 def scalar_rows(preset: str, load: float, ref: dict, n: int = N_ANGLES,
                 rounds: int = SCALAR_ROUNDS) -> list[dict]:
-    """One state per call at the ``n`` common angles: the seeds' way (kinematics, the 9x9
-    matrix with numpy, ``np.linalg.solve``) and ``mech.solve`` of plain floats, with
-    keywords as a user writes it (``solve(theta, omega=..., alpha=..., load=...)``) and
-    positionally, timed alternately in ``rounds`` rounds (a loaded machine's drift hits
+    """One state per call at the ``n`` common angles: the source documents' way
+    (kinematics, the 9x9 matrix with numpy, ``np.linalg.solve``) and ``mech.solve`` of
+    plain floats, with keywords as a user writes it
+    (``solve(theta, omega=..., alpha=..., load=...)``) and positionally, timed alternately in ``rounds`` rounds (a loaded machine's drift hits
     them alike), the best of each; the compiled kernel hot first. Errors against
     ``ref``, the mpmath reference at those angles."""
     from linkage_fmu.solver import HOT_CALLS
 
     mech = presets.get(preset)
-    p, fn, theta = mech.parameters, SEED[preset], [float(t) for t in angles(n)]
+    p, fn, theta = mech.parameters, SOURCE_WAY[preset], [float(t) for t in angles(n)]
     for k in range(HOT_CALLS + 10):  # hot: the compiled one-state kernel
         mech.solve(theta[k % n], OMEGA, ALPHA, load)
 
-    def seed():
+    def source():
         return [fn(p, t, OMEGA, ALPHA, load) for t in theta]
 
     def keywords():
@@ -211,7 +213,7 @@ def scalar_rows(preset: str, load: float, ref: dict, n: int = N_ANGLES,
     def positional():
         return [mech.solve(t, OMEGA, ALPHA, load) for t in theta]
 
-    kinds = {"seed way": seed, "closed_form scalar": keywords,
+    kinds = {SOURCE: source, "closed_form scalar": keywords,
              "closed_form scalar, positional": positional}
     best = dict.fromkeys(kinds, math.inf)
     for _ in range(rounds):
@@ -220,16 +222,16 @@ def scalar_rows(preset: str, load: float, ref: dict, n: int = N_ANGLES,
             loop()
             best[kind] = min(best[kind], (time.perf_counter() - start) / n)
     # here and for the peers: their outputs only (the shaking force and moment are ours)
-    x = np.array(seed())
+    x = np.array(source())
     got = dict(zip(mech.output_names, x.T))
-    rows = [row(preset, "seed way", "9x9 np.linalg.solve per angle", best["seed way"],
+    rows = [row(preset, SOURCE, "9x9 np.linalg.solve per angle", best[SOURCE],
                 relative_error(got, {k: ref[k] for k in got}).max())]
     for kind, variant in (("closed_form scalar", "solve(theta, omega=, alpha=, load=)"),
                           ("closed_form scalar, positional", "solve(theta, omega, alpha, load)")):
         sols = kinds[kind]()
         got = {k: np.array([s[k] for s in sols]) for k in mech.output_names}
         rows.append(row(preset, kind, variant, best[kind], relative_error(got, ref).max(),
-                        f"seed way / this: {best['seed way'] / best[kind]:.3g} "
+                        f"{SOURCE} / this: {best[SOURCE] / best[kind]:.3g} "
                         f"(alternating rounds, best of {rounds})"))
     return rows
 
@@ -598,7 +600,7 @@ def summary(work, fmu, host, comm, scl, first, sweeps, fused, optima, machine: s
              "## Targets", "", "| preset | measure | measured | target | met |",
              "|---|---|---|---|---|"]
     for preset in PRESETS:
-        seed = get(preset, "seed way")["us_per_angle"]
+        source = get(preset, SOURCE)["us_per_angle"]
         vec = get(preset, "closed_form vectorised")["us_per_angle"]
         sca = get(preset, "closed_form scalar")["us_per_angle"]
         pos = get(preset, "closed_form scalar, positional")["us_per_angle"]
@@ -611,9 +613,9 @@ def summary(work, fmu, host, comm, scl, first, sweeps, fused, optima, machine: s
         exact = max(r["max_rel_error"] for r in work if r["preset"] == preset
                     and r["method"] in ("closed_form scalar", "closed_form vectorised",
                                         "direct scalar", "direct vectorised"))
-        checks = [("vectorised / seed per angle", seed / vec, ">="),
-                  ("scalar / seed per angle", seed / sca, ">="),
-                  ("scalar, positional / seed per angle", seed / pos, ">="),
+        checks = [(f"vectorised / {SOURCE} per angle", source / vec, ">="),
+                  (f"scalar / {SOURCE} per angle", source / sca, ">="),
+                  (f"scalar, positional / {SOURCE} per angle", source / pos, ">="),
                   ("FMU step / trivial FMU step",
                    ours_fmu["fmpy_us_per_step"] / triv["fmpy_us_per_step"], "<="),
                   ("FMU step / trivial FMU step, median of alternating rounds",
@@ -720,7 +722,7 @@ def main(argv=None) -> int:
                         help="fewer states and sizes (a smoke run; results not for publishing)")
     folders.add_options(parser)
     parser.add_argument("--scalar", action="store_true",
-                        help="only one state per call of solve against the seeds' way "
+                        help=f"only one state per call of solve against the {SOURCE} "
                              "(scalar.csv; seconds)")
     parser.add_argument("--states", type=int, default=N_ANGLES,
                         help=f"with --scalar: crank angles (default {N_ANGLES})")
@@ -752,7 +754,7 @@ def main(argv=None) -> int:
         print(f"{preset}: mpmath reference ...", flush=True)
         ref = references(mech, theta, OMEGA, ALPHA, load)
         static_ref = references(mech, theta, 0.0, 0.0, load)
-        print(f"{preset}: ours, seed way, peers ...", flush=True)
+        print(f"{preset}: ours, {SOURCE}, peers ...", flush=True)
         work += ours(preset, load, ref, static_ref, big)
         work += scalar_rows(preset, load, ref)
         work += peer_rows(preset, load, ref)

@@ -31,7 +31,7 @@ def _committed(folders) -> dict:
 def test_a_benchmark_run_writes_to_build_and_leaves_the_committed_results(folders, monkeypatch,
                                                                            tmp_path):
     """run.py --scalar on 4 angles and 1 round, with no folder named: scalar.csv (both
-    presets, the seed way and the two call forms: 6 rows) appears in the default folder
+    presets, the source documents' way and the two call forms: 6 rows) appears in the default folder
     (here moved under tmp_path), and every file of benchmarks/results keeps its bytes and
     its modification time."""
     monkeypatch.setattr(folders, "DEFAULT", tmp_path / "build" / "benchmarks")

@@ -22,7 +22,7 @@ from linkage_fmu import presets
 from linkage_fmu.kinetostatics import closed_form, equilibrium_system
 from linkage_fmu.loads import wrenches
 
-SCOTCH_YOKE_TABLE = Path(__file__).parent / "reference" / "seed000_table.csv"
+SCOTCH_YOKE_TABLE = Path(__file__).parent / "reference" / "scotch_yoke_table.csv"
 # the worked example's column -> (our output, sign): MECHANISMS.md: F12x and F41x are
 # minus the printed
 COLUMNS = {"FR23": ("F23y", 1), "FR4p": ("F4p", 1), "FR4": ("F4", 1), "FR12x": ("F12x", -1),

@@ -262,7 +262,37 @@ class Mechanism:
         return st
 
     def reduced_inertia(self, theta, xp=None) -> tuple:
-        """``(J, dJ)``, the inertia reduced to the crank: :func:`.inertia.reduced_inertia`."""
+        """The moment of inertia of the whole linkage reduced to the crank and its
+        derivative with respect to the crank angle, at the crank angle(s) ``theta``
+        [rad; one angle may be text with a unit, ``"30 deg"``]: the kinetic energy of
+        the moving links is ``J(theta) * omega**2 / 2``, and with no loads the
+        balancing moment is ``J * alpha + dJ / 2 * omega**2``. ``J`` [kg m2] and
+        ``dJ`` [kg m2/rad] are floats for a scalar ``theta`` and arrays of its shape
+        otherwise (NaN where the linkage cannot be assembled); ``xp`` evaluates on
+        another namespace's numbers. The method is
+        :func:`linkage_fmu.inertia.reduced_inertia`, which says how.
+
+        Returns
+        -------
+        J, dJ : float or ndarray
+            The reduced inertia [kg m2] and its derivative ``dJ/dtheta`` [kg m2/rad].
+
+        Examples
+        --------
+        The scotch yoke's block (4 kg) at the end of its 0.1 m crank and its yoke
+        (10 kg, at ``0.1 sin(theta)``) give ``J = (4 + 10 cos(theta)**2) 0.1**2`` and
+        ``dJ = -10 0.1**2 sin(2 theta)``:
+
+        >>> import math
+        >>> from linkage_fmu import presets
+        >>> yoke = presets.get("scotch_yoke")
+        >>> J, dJ = yoke.reduced_inertia([0.0, math.pi / 4])
+        >>> J.round(12).tolist(), dJ.round(12).tolist()
+        ([0.14, 0.09], [0.0, -0.1])
+        >>> J, dJ = yoke.reduced_inertia("30 deg")
+        >>> round(J, 12), round(dJ, 12)
+        (0.115, -0.086602540378)
+        """
         return inertia.reduced_inertia(self, theta, xp)
 
     def simulate(self, tau, t, theta0=None, omega0=None, **options):
@@ -282,7 +312,18 @@ class Mechanism:
         ``plan`` (:class:`~linkage_fmu.solver.Plan`) says which outputs, whether the
         scene is static (``omega = alpha = 0``: no derivative kinematics, no inertia)
         and the method (``direct``: the assembled linear system; otherwise group by
-        group); the effort alone needs no reactions (virtual power).
+        group); the effort alone needs no reactions (virtual power). ``solve`` and
+        ``table`` make the plan (``mech.solver.plan``) and call this; use them.
+
+        Examples
+        --------
+        >>> from linkage_fmu import presets
+        >>> from linkage_fmu.numerics import SCALAR
+        >>> yoke = presets.get("scotch_yoke")
+        >>> plan = yoke.solver.plan(("Mb",), False, "closed_form")
+        >>> out, state = yoke.evaluate(plan, 0.5, 10.0, 0.0, [100.0], SCALAR)
+        >>> out["Mb"] == yoke.solve(0.5, 10.0, 0.0, 100.0)["Mb"]
+        True
         """
         order = 0
         if plan.reactions or plan.effort:
