@@ -319,7 +319,7 @@ def build_parser() -> Parser:
     Examples
     --------
     >>> sorted(subcommands(build_parser()))[:3]
-    ['build', 'check', 'flywheel']
+    ['animate', 'build', 'check']
     """
     parser = Parser(
         prog="linkage-fmu", description="Kinetostatics of crank-driven planar linkages: "
