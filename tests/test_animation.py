@@ -6,13 +6,15 @@ References: the frames' angles are the documented ``360 / frames`` steps (arithm
 the crank's drawn angle is ``atan2`` of its drawn ends, the arrows and the curves are
 ``mech.solve`` at the same angle (1e-9 relative: the array solve against the scalar
 one), the range of a crank that cannot turn is the four-bar's closed-form limit (the
-law of cosines, to 1e-7 deg: the range's ends are found to 1e-9 rad), and the GIF is read
-back with pillow.
+law of cosines, to 1e-7 deg: the range's ends are found to 1e-9 rad), the singular
+positions of a parallelogram four-bar are 0 and 180 deg (its links fold onto the line of
+centres), and the GIF is read back with pillow.
 """
 
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -25,8 +27,15 @@ from PIL import Image  # noqa: E402
 
 from linkage_fmu import plot, presets  # noqa: E402
 from linkage_fmu.cli import main  # noqa: E402
-from linkage_fmu.plot.animation import EDGE_FRACTION, motion_range  # noqa: E402
-from test_plot import arrows_and_arcs, covered, label_boxes, overlaps  # noqa: E402
+from linkage_fmu.plot.animation import COND_BOUND, motion_range  # noqa: E402
+from test_plot import (  # noqa: E402
+    arrows_and_arcs,
+    covered,
+    label_boxes,
+    link_lines,
+    outside,
+    overlaps,
+)
 
 SMALL = dict(figsize=(5.5, 2.4), dpi=30)  # fast where the pixels are not what is tested
 
@@ -171,51 +180,144 @@ def test_an_engine_turns_over_its_cycle_of_two_revolutions():
     np.testing.assert_array_equal(steady.theta_deg, 45.0 * np.arange(8))
 
 
-def test_a_crank_that_cannot_turn_moves_over_its_range():
+def rocker_limit(l_ab, l_ad, reach) -> float:
+    """The crank angle [deg] where the distance from the crank pin B to the rocker's
+    pivot D is ``reach`` (law of cosines)."""
+    return math.degrees(math.acos((l_ab ** 2 + l_ad ** 2 - reach ** 2) / (2 * l_ab * l_ad)))
+
+
+def test_a_crank_that_cannot_turn_goes_out_and_back_over_its_range():
     """The four-bar with a 0.3 m crank assembles while the distance from the crank pin
     B to the rocker's pivot D is at most l_BC + l_CD: for |theta| <= acos((l_AB^2 +
-    l_AD^2 - (l_BC + l_CD)^2) / (2 l_AB l_AD)) (law of cosines), a range across 0. The
-    frames go from one end of it to the other, less EDGE_FRACTION of it at each end
-    (the toggles, where the forces have no bound), evenly, and the crank is drawn at
-    each frame's angle."""
+    l_AD^2 - (l_BC + l_CD)^2) / (2 l_AB l_AD)) (law of cosines), a range across 0. Its
+    forces grow without bound only at the very ends (cond passes COND_BOUND within
+    0.05 deg of them), so the motion is the range less at most 0.05 deg. The frames go
+    from one end to the other and back, a constant step of 2 * (range) / frames
+    degrees (also from the last frame to the first: the loop closes without a jump),
+    and the crank is drawn at each frame's angle; an odd number of frames is refused
+    (no constant step reaches both ends)."""
     mech = presets.get("four_bar", l_AB=0.3)
     p = mech.parameters
-    limit = math.degrees(math.acos((p["l_AB"] ** 2 + p["l_AD"] ** 2 - (p["l_BC"] + p["l_CD"])
-                                    ** 2) / (2 * p["l_AB"] * p["l_AD"])))
-    edge = EDGE_FRACTION * 2 * limit
+    limit = rocker_limit(p["l_AB"], p["l_AD"], p["l_BC"] + p["l_CD"])
     lo, hi, full = motion_range(mech)
     assert not full
-    assert (lo, hi) == pytest.approx((-limit + edge, limit - edge), abs=1e-7)
-    anim = plot.animate(mech, frames=9, what="torque", **SMALL)
-    np.testing.assert_allclose(anim.theta_deg, np.linspace(lo, hi, 9), rtol=0, atol=1e-12)
-    for k in (0, 4, 8):
+    assert -limit < lo < -limit + 0.05 and limit - 0.05 < hi < limit
+    anim = plot.animate(mech, frames=8, what="torque", **SMALL)
+    expected = lo + (hi - lo) * np.array([0, 1, 2, 3, 4, 3, 2, 1]) / 4
+    np.testing.assert_allclose(anim.theta_deg, expected, rtol=0, atol=1e-9)
+    drawn = []
+    for k in range(8):
         anim.draw(k)
-        assert crank_angle(anim, mech) == pytest.approx(anim.theta_deg[k], abs=1e-9)
+        drawn.append(crank_angle(anim, mech))
+    np.testing.assert_allclose(drawn, anim.theta_deg, rtol=0, atol=1e-9)
+    steps = np.abs(np.diff(drawn + drawn[:1]))
+    np.testing.assert_allclose(steps, 2 * (hi - lo) / 8, rtol=0, atol=1e-9)
     x = artist(anim.figure.axes[1], "Mb").get_xdata()
     assert (x[0], x[-1]) == pytest.approx((lo, hi), abs=1e-12)
+    with pytest.raises(ValueError, match="frames must be even for four_bar, whose crank "
+                                         "cannot turn a revolution.*got 9"):
+        plot.animate(mech, frames=9, **SMALL)
 
 
-@pytest.mark.parametrize("name, params, inputs", [
-    ("four_bar", {}, {"load": 2.0}),
-    ("slider_crank", {}, {"omega": 150.0, "load": 300.0}),
-    ("six_bar", {}, {"omega": 10.0}),
-    ("crank_shaper", {}, {}),
-], ids=["four_bar", "slider_crank", "six_bar", "crank_shaper"])
-def test_labels_do_not_overlap_on_the_frames(name, params, inputs):
-    """At sampled frames (the forces to the animation's one scale, the view fixed), no
-    two labels of the linkage overlap as drawn, nor the scale's key, and no label's box
-    meets an arrow or an arc, as test_plot checks the picture; at the figure's 100 dpi
-    and at the 80 dpi a GIF is written at by default."""
-    mech = presets.get(name, **params)
-    anim = plot.animate(mech, frames=12, **inputs)
-    for k, dpi in ((0, 100), (2, 80), (5, 100), (7, 80), (10, 100)):
+def test_the_range_is_trimmed_by_the_forces_not_by_a_fraction():
+    """The reviewer's case l_AB = l_CD = 0.1, l_BC = 0.4000001, l_AD = 0.4: almost a
+    parallelogram, it assembles except within 0.07 deg of 0 (where B to D is below
+    l_BC - l_CD: law of cosines), and its forces grow without bound toward those ends.
+    The motion stops where cond reaches COND_BOUND: inside the assembly range, less
+    than 2 deg from each end (a 2 % trim took 14 deg), cond below the bound at both
+    ends and above it 0.05 deg beyond them."""
+    mech = presets.get("four_bar", l_AB=0.1, l_CD=0.1, l_BC=0.4000001, l_AD=0.4)
+    edge = rocker_limit(0.1, 0.4, 0.4000001 - 0.1)
+    assert 0.05 < edge < 0.1
+    lo, hi, full = motion_range(mech)
+    assert not full
+    assert edge < lo < edge + 2.0 and 360.0 - edge - 2.0 < hi < 360.0 - edge
+    cond = mech.solve(np.radians([lo, hi, lo - 0.05, hi + 0.05]))["cond"]
+    assert cond[0] < COND_BOUND and cond[1] < COND_BOUND
+    assert cond[2] >= COND_BOUND and cond[3] >= COND_BOUND
+
+
+PARALLELOGRAM = ["--set", "l_AB=0.1", "--set", "l_CD=0.1", "--set", "l_BC=0.4", "--set",
+                 "l_AD=0.4"]
+
+
+def test_a_singular_position_inside_the_motion_is_left_out_and_said(tmp_path, capsys):
+    """The parallelogram four-bar (l_AB = l_CD, l_BC = l_AD) turns round but is
+    singular at 0 and 180 deg, where the solve gives forces of 1e99 N with a solved
+    status: those frames draw no force arrows, the arrows' scale is 0.4 of the
+    linkage's extent over the largest force of the other frames (mech.solve), the
+    curve's limits hold the other frames' values (not 1e99), and a UserWarning names
+    the two angles; the command line prints it as one line and writes the file."""
+    mech = presets.get("four_bar", l_AB=0.1, l_CD=0.1, l_BC=0.4, l_AD=0.4)
+    with pytest.warns(UserWarning, match=r"no bound .* at theta = 0, 180 deg"):
+        anim = plot.animate(mech, frames=8, **SMALL)
+    good = [d for d in anim.theta_deg if d % 180.0 != 0.0]
+    assert len(good) == 6
+    sol = mech.solve(np.radians(good))
+    pairs = plot.force_pairs(mech)
+    largest = max(np.max(np.hypot(sol[p.x], sol[p.y])) for p in pairs)
+    assert largest < 1e3
+    points = np.array([[mech.kinematics(math.radians(d), order=0).p[p] for p in "ABCD"]
+                       for d in anim.theta_deg]).reshape(-1, 2)
+    size = np.max(points.max(axis=0) - points.min(axis=0))
+    assert anim.scale == pytest.approx(0.4 * size / largest, rel=1e-9)
+    for k in (0, 4):
+        anim.draw(k)
+        assert np.size(artist(anim.figure.axes[0], "forces").U) == 0
+    anim.draw(1)
+    assert np.size(artist(anim.figure.axes[0], "forces").U) == len(pairs)
+    bottom, top = anim.figure.axes[1].get_ylim()
+    assert largest <= top < 2.0 * largest and bottom <= 0.0
+
+    out = tmp_path / "p.gif"
+    assert main(["animate", "four_bar", *PARALLELOGRAM, "--frames", "8", "-o", str(out)]) == 0
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 2 and err[1] == f"wrote {out} (8 frames)", err
+    assert err[0].startswith("linkage-fmu: warning: four_bar: the forces have no bound")
+    assert "theta = 0, 180 deg" in err[0]
+    assert len(gif_frames(out)) == 8
+
+
+def test_a_zero_load_is_not_drawn():
+    """The four-bar's moment on the rocker is 0 by default: no arc, no head and no
+    "load = 0" label in any frame; given 2 N.m it is drawn with its label."""
+    mech = presets.get("four_bar")
+    anim = plot.animate(mech, frames=4, **SMALL)
+    for k in range(4):
+        anim.draw(k)
+        gids = [a.get_gid() or "" for a in anim.figure.axes[0].get_children()]
+        assert not [g for g in gids if "load" in g], gids
+    anim = plot.animate(mech, frames=4, load=2.0, **SMALL)
+    anim.draw(1)
+    gids = {a.get_gid() for a in anim.figure.axes[0].get_children()}
+    assert {"load:load", "load head:load", "load label:load"} <= gids
+
+
+@pytest.mark.parametrize("name, inputs", [
+    ("four_bar", {}), ("four_bar", {"load": 2.0}),
+    ("slider_crank", {"omega": 150.0, "load": 300.0}),
+    ("six_bar", {}), ("six_bar", {"omega": 10.0}),
+    ("crank_shaper", {}), ("scotch_yoke", {}), ("slotted_lever", {}),
+], ids=["four_bar", "four_bar-load", "slider_crank", "six_bar", "six_bar-omega",
+        "crank_shaper", "scotch_yoke", "slotted_lever"])
+def test_labels_do_not_overlap_on_the_frames(name, inputs):
+    """At every other frame of 36 (the forces to the animation's one scale, the view
+    fixed) at the 80 dpi a GIF is written at by default, and at two frames at the
+    figure's 100 dpi: no two labels of the linkage overlap as drawn, nor the scale's
+    key; no label's box meets an arrow, an arc or a link's line (a bar's line, a
+    plate's edges, with its width), as test_plot checks the picture; and every label
+    lies inside the linkage's axes."""
+    mech = presets.get(name)
+    anim = plot.animate(mech, frames=36, **inputs)
+    for k, dpi in [(k, 80) for k in range(0, 36, 2)] + [(3, 100), (21, 100)]:
         anim.draw(k)
         anim.figure.set_dpi(dpi)
         boxes = label_boxes(anim.figure)
         assert len(boxes) >= len(plot.force_pairs(mech)) + 3
         assert not overlaps(boxes), (k, dpi, overlaps(boxes))
-        marks = arrows_and_arcs(anim.figure)
+        marks = arrows_and_arcs(anim.figure) + link_lines(anim.figure)
         assert not covered(boxes, marks), (k, dpi, covered(boxes, marks))
+        assert not outside(boxes, anim.figure), (k, dpi, outside(boxes, anim.figure))
 
 
 def test_gif_written_by_the_library(tmp_path):
@@ -259,12 +361,29 @@ def test_mp4_with_ffmpeg(tmp_path):  # pragma: no cover - where ffmpeg is instal
     ({"what": "polar"}, "what='polar': expected one of forces, torque, shaking"),
     ({"path": "x.avi"}, "x.avi: an animation is written to a .gif or .mp4 file, not .avi"),
     ({"path": "{tmp}/no/x.gif"}, "{tmp}/no/x.gif: there is no folder {tmp}/no"),
+    ({"dpi": 0}, "dpi must be a finite number > 0, got 0"),
+    ({"dpi": float("nan")}, "dpi must be a finite number > 0, got nan"),
+    ({"dpi": "80"}, "dpi must be a finite number > 0, got '80'"),
+    ({"figsize": (0, 0)}, "figsize must be each of (width, height) in inches, got (0, 0)"),
+    ({"figsize": (5.0, float("inf"))},
+     "figsize must be each of (width, height) in inches, got (5.0, inf)"),
+    ({"figsize": 5.0}, "figsize must be (width, height) in inches, got 5.0"),
 ])
-def test_library_errors(kwargs, message, tmp_path):
-    """Each bad argument: a ValueError naming it and why, before any work."""
-    kwargs = {k: v.format(tmp=tmp_path) if isinstance(v, str) else v for k, v in kwargs.items()}
+def test_library_errors(kwargs, message, tmp_path, monkeypatch):
+    """Each bad argument: a ValueError naming it and why, before any work (the linkage
+    is not solved)."""
+    import linkage_fmu.plot.animation as animation
+
+    kwargs = {k: v.format(tmp=tmp_path) if isinstance(v, str) and k == "path" else v
+              for k, v in kwargs.items()}
     message = message.format(tmp=tmp_path)
-    with pytest.raises(ValueError, match=message.replace(".", r"\.").replace("(", r"\(")):
+
+    def no_work(*args, **kwargs):
+        raise AssertionError("the linkage was solved before the arguments were checked")
+
+    monkeypatch.setattr(animation, "scenes", no_work)
+    monkeypatch.setattr(animation, "frame_angles", no_work)
+    with pytest.raises(ValueError, match=re.escape(message)):
         plot.animate(presets.get("four_bar"), **kwargs)
 
 
@@ -284,3 +403,16 @@ def test_cli_errors(tmp_path, capsys, args, message):
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and message.format(tmp=tmp_path) in err, err
     assert not list(tmp_path.rglob("x.*"))
+
+
+def test_cli_other_runtime_errors_are_not_called_an_output_error(monkeypatch):
+    """Only ffmpeg missing is an ``-o`` error: another RuntimeError inside the work (a
+    bug) is raised as it is, not turned into "linkage-fmu: -o ..." with status 2."""
+    import linkage_fmu.plot.animation as animation
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("the solver broke")
+
+    monkeypatch.setattr(animation, "animate", broken)
+    with pytest.raises(RuntimeError, match="the solver broke"):
+        main(["animate", "four_bar", "-o", "x.gif"])

@@ -439,7 +439,8 @@ def build_parser() -> Parser:
                            "(the shaking force)")
     anim.add_argument("--frames", type=int, default=72,
                       help="frames over the motion (default 72: 5 degrees apart over a "
-                           "revolution)")
+                           "revolution; even where the crank cannot turn and swings out "
+                           "and back)")
     _motion(anim)
     anim.add_argument("--fps", type=float, default=12.0, help="frames a second (default 12)")
     anim.add_argument("--dpi", type=float, default=80.0,
@@ -848,14 +849,14 @@ def _animate(d: Description, args) -> int:
     except ImportError:
         raise UsageError('animations need matplotlib: pip install "linkage_fmu[plot]"') from None
     matplotlib.use("Agg")
-    from .plot.animation import animate
+    from .plot.animation import MissingFFmpegError, animate
 
     mech = d.build(**dict(args.params))
     omega, alpha = speeds(args)
     try:
         anim = animate(mech, args.output, what=args.what, frames=args.frames, omega=omega,
                        alpha=alpha, fps=args.fps, dpi=args.dpi, **loads(args))
-    except RuntimeError as err:  # an MP4 without ffmpeg: the message says how to get it
+    except MissingFFmpegError as err:  # said before the work: the message says how to get it
         raise UsageError(f"-o {err}") from None
     print(f"wrote {args.output} ({len(anim)} frames)", file=sys.stderr)
     return 0

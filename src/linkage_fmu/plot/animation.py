@@ -6,6 +6,7 @@ over the motion with a cursor at the frame's angle; written as a GIF (pillow) or
 from __future__ import annotations
 
 import math
+import warnings
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -15,6 +16,7 @@ from .. import ranges
 from ..flywheel import cycle_revolutions
 from ..outputs import SHAKING
 from ..printing import number
+from ..solver import SOLVED
 from .curves import draw_curve
 from .figures import degree_axis, pyplot
 from .inputs import N_ANGLES, finite_or_fail, input_values, inputs_text
@@ -30,9 +32,14 @@ if TYPE_CHECKING:  # pragma: no cover
 N_FRAMES = 72
 #: what the curve beside the linkage shows
 WHATS = ("forces", "torque", "shaking")
-#: a crank that cannot turn a revolution moves over its range less this fraction of the
-#: range at each end: the ends are toggles, where the forces grow without bound
-EDGE_FRACTION = 0.02
+#: a state's forces are bounded where it is solved and its ``cond`` (the condition
+#: number of the equations the forces solve) is finite and below this. Away from a
+#: singular position cond is of order 1 to 100; it passes 1e4 within about a degree of
+#: a position where the forces grow without bound (at it, they are rounding: 1e99 N)
+COND_BOUND = 1e4
+#: the step [deg] of the grid on which a crank that cannot turn finds the ends of its
+#: motion: the first and last angles of its assembly range with bounded forces
+TRIM_STEP_DEG = 0.01
 #: the files an animation is written to, by suffix
 SUFFIXES = (".gif", ".mp4")
 
@@ -45,7 +52,9 @@ def motion_range(mech: "Mechanism", given=()) -> tuple[float, float, bool]:
     value: a four-stroke engine's 720 deg unless its gas force is given). Otherwise the
     range where the linkage assembles (:func:`linkage_fmu.ranges.assembles`; one that
     runs over 360 deg joined, as from -136 to 136 deg) that holds the start angle (else
-    the longest), less :data:`EDGE_FRACTION` of it at each end.
+    the longest), from the first to the last angle of it where the forces are bounded
+    (:func:`bounded`), on a grid :data:`TRIM_STEP_DEG` apart: its ends are toggles,
+    where the forces grow without bound.
 
     Examples
     --------
@@ -53,7 +62,7 @@ def motion_range(mech: "Mechanism", given=()) -> tuple[float, float, bool]:
     >>> motion_range(presets.get("four_bar"))
     (0.0, 360.0, True)
     >>> [round(v, 2) for v in motion_range(presets.get("four_bar", l_AB=0.3))[:2]]
-    [-130.51, 130.51]
+    [-135.93, 135.93]
     """
     where = ranges.assembles(mech)
     if where == [(0.0, 360.0)]:
@@ -66,26 +75,60 @@ def motion_range(mech: "Mechanism", given=()) -> tuple[float, float, bool]:
     start = math.degrees(mech.start["theta"]) % 360.0
     holding = [(a, b) for a, b in where if a <= start <= b or a <= start - 360.0 <= b]
     lo, hi = max(holding or where, key=lambda r: r[1] - r[0])
-    edge = EDGE_FRACTION * (hi - lo)
-    return lo + edge, hi - edge, False
+    grid = np.linspace(lo, hi, max(int(math.ceil((hi - lo) / TRIM_STEP_DEG)), 2) + 1)
+    ok = np.flatnonzero(bounded(mech, mech.solve(np.radians(grid))))
+    if not ok.size:
+        raise ValueError(f"{mech.name}: its forces have no bound (cond > {COND_BOUND:g}) "
+                         f"anywhere in its range {number(lo, 6)}..{number(hi, 6)} deg: "
+                         "nothing to animate")
+    return float(grid[ok[0]]), float(grid[ok[-1]]), False
+
+
+def bounded(mech: "Mechanism", sol) -> np.ndarray:
+    """Where the array solution ``sol`` has bounded forces: the state solved, and its
+    ``cond`` (where the linkage has it) finite and below :data:`COND_BOUND`.
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets
+    >>> mech = presets.get("four_bar", l_AB=0.1, l_CD=0.1, l_BC=0.4, l_AD=0.4)
+    >>> bounded(mech, mech.solve(np.radians([0.0, 90.0, 180.0]))).tolist()
+    [False, True, False]
+    """
+    ok = np.asarray(sol.status) == SOLVED
+    if "cond" in mech.diagnostic_names:
+        cond = np.asarray(sol["cond"], dtype=float)
+        with np.errstate(invalid="ignore"):
+            ok = ok & np.isfinite(cond) & (cond < COND_BOUND)
+    return np.broadcast_to(ok, np.shape(sol.valid)).copy()
 
 
 def frame_angles(mech: "Mechanism", frames: int, given=()) -> np.ndarray:
     """The crank angle [deg] of each frame: where the crank turns round, a revolution
     (or a cycle of several) ``360 / frames`` (``720 / frames``, ...) degrees apart from
-    0 (360 left out: it is the first frame again, and the animation loops); else
-    ``frames`` angles from the first to the last of :func:`motion_range`.
+    0 (360 left out: it is the first frame again, and the animation loops); else out and
+    back over :func:`motion_range`, ``2 * (last - first) / frames`` degrees apart: from
+    the first angle to the last at frame ``frames / 2`` and back, the first left out at
+    the end (the loop closes; ``frames`` must then be even, so that both ends are
+    frames and every step is the same).
 
     Examples
     --------
     >>> from linkage_fmu import presets
     >>> frame_angles(presets.get("four_bar"), 4).tolist()
     [0.0, 90.0, 180.0, 270.0]
+    >>> frame_angles(presets.get("four_bar", l_AB=0.3), 4).round(2).tolist()
+    [-135.93, 0.0, 135.93, 0.0]
     """
     lo, hi, full = motion_range(mech, given)
     if full:
         return hi * np.arange(frames) / frames
-    return np.linspace(lo, hi, frames)
+    if frames % 2:
+        raise ValueError(f"frames must be even for {mech.name}, whose crank cannot turn a "
+                         f"revolution and goes out and back over {number(lo, 4)}.."
+                         f"{number(hi, 4)} deg, got {frames}")
+    out = np.linspace(lo, hi, frames // 2 + 1)
+    return np.concatenate([out, out[-2:0:-1]])
 
 
 class LinkageAnimation:
@@ -139,6 +182,10 @@ class LinkageAnimation:
         return path
 
 
+class MissingFFmpegError(RuntimeError):
+    """An MP4 asked for where ffmpeg is not installed (raised before any work)."""
+
+
 def _suffix(path) -> str:
     suffix = Path(path).suffix.lower()
     if suffix not in SUFFIXES:
@@ -157,7 +204,7 @@ def _writer(path: Path, fps: float):
     if _suffix(path) == ".gif":
         return animation.PillowWriter(fps=fps)
     if not animation.FFMpegWriter.isAvailable():
-        raise RuntimeError(
+        raise MissingFFmpegError(
             f"{path}: writing an MP4 needs ffmpeg, and there is no "
             f"{rcParams['animation.ffmpeg_path']!r} on the PATH; install it (apt install "
             "ffmpeg, brew install ffmpeg, conda install ffmpeg, or from https://ffmpeg.org), "
@@ -169,16 +216,17 @@ def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int =
             omega=None, alpha=None, fps: float = 12.0, dpi: float = 80.0,
             figsize=(11.0, 4.8), **named_loads) -> LinkageAnimation:
     """The linkage moving over a revolution (or the cycle of several a load's table
-    needs, as a four-stroke engine's; where the crank cannot turn round, over its
-    range: :func:`motion_range`), with its joint forces and loads drawn as
-    :func:`~linkage_fmu.plot.linkage` draws them, and beside it a curve over the motion
+    needs, as a four-stroke engine's; where the crank cannot turn round, out and back
+    over its range: :func:`motion_range`, :func:`frame_angles`), with its joint forces
+    and loads drawn as :func:`~linkage_fmu.plot.linkage` draws them (a load of 0 not
+    drawn at all: nothing to show), and beside it a curve over the motion
     with a cursor at each frame's crank angle; written to ``path`` if given.
 
     Every frame is solved in one array call. The arrows are to one scale for the whole
     motion (the largest force of any frame :data:`ARROW_FRACTION` of the largest extent
     of the linkage over the motion), so that their lengths compare between frames; the
-    view is fixed, and the labels are placed at each frame so that none overlaps
-    another, an arrow, or a joint.
+    view is fixed, and the labels are placed at each frame, inside the linkage's axes,
+    so that none overlaps another, an arrow, an arc, a link's line or a joint.
 
     Parameters
     ----------
@@ -192,7 +240,8 @@ def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int =
         magnitude.
     frames : int
         Frames (>= 2): over a revolution, ``360 / frames`` degrees apart (5 by
-        default); over a cycle of two, ``720 / frames``.
+        default); over a cycle of two, ``720 / frames``; out and back over a range,
+        an even number.
     omega, alpha, **named_loads : float or str, optional
         The crank's speed [rad/s] and acceleration [rad/s2] and the loads by name, as
         for :func:`~linkage_fmu.plot.torque`; the linkage's start values if not given.
@@ -212,8 +261,18 @@ def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int =
     Raises
     ------
     ValueError
-        ``what``, ``frames`` or ``path``'s suffix is not one of the above, ``path``'s
-        folder does not exist, or the linkage cannot be assembled anywhere.
+        ``what``, ``frames`` or ``path``'s suffix is not one of the above (``frames``
+        odd where the crank goes out and back), ``dpi`` or ``figsize`` is not finite and
+        > 0, ``path``'s folder does not exist, or the linkage cannot be assembled
+        anywhere.
+
+    Warns
+    -----
+    UserWarning
+        Frames where the forces have no bound (:func:`bounded`: a singular position
+        inside the motion, as a parallelogram four-bar's at 0 and 180 deg), naming
+        their angles: they draw no force arrows, and the arrows' scale and the curve's
+        limits are made without them (the curve has a gap there).
     RuntimeError
         An ``.mp4`` without ffmpeg installed.
 
@@ -234,6 +293,14 @@ def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int =
         raise ValueError(f"what={what!r}: expected one of {', '.join(WHATS)}")
     if isinstance(frames, bool) or not isinstance(frames, (int, np.integer)) or frames < 2:
         raise ValueError(f"frames must be a whole number >= 2, got {frames!r}")
+    _positive("dpi", dpi)
+    try:
+        width, height = (float(v) for v in figsize)
+    except (TypeError, ValueError):
+        raise ValueError(f"figsize must be (width, height) in inches, got {figsize!r}"
+                         ) from None
+    for value in (width, height):
+        _positive("figsize", value, f"each of (width, height) in inches, got {figsize!r}")
     if path is not None:
         _suffix(path)
         if not Path(path).resolve().parent.is_dir():
@@ -248,10 +315,21 @@ def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int =
     curve_deg = np.linspace(lo, hi, (N_ANGLES - 1) * turns + 1)
     frames_, sol = scenes(mech, np.radians(np.concatenate([deg, curve_deg])), inputs,
                           count=deg.size)
-    frames_ = [s._replace(theta_deg=float(d)) for s, d in zip(frames_, deg)]  # as given
+    ok = bounded(mech, sol)
+    frames_ = [s._replace(theta_deg=float(d), loads=[ld for ld in s.loads if ld.value != 0.0])
+               if good else _unbounded(s._replace(theta_deg=float(d)))
+               for s, d, good in zip(frames_, deg, ok)]  # the angle as given; no zero load
     curves, unit, title = _curves(mech, what, sol, deg.size)
+    curves = {name: np.where(ok, values, np.nan) for name, values in curves.items()}
     finite_or_fail(mech, np.concatenate([c[deg.size:] for c in curves.values()]), curve_deg,
                    sol)
+    if not ok[:deg.size].all():
+        left = ", ".join(number(d, 4) for d in deg[~ok[:deg.size]])
+        warnings.warn(f"{mech.name}: the forces have no bound (singular, or cond > "
+                      f"{COND_BOUND:g}) at theta = {left} deg: those frames draw no force "
+                      "arrows, and the arrows' scale and the curve's limits leave them out",
+                      UserWarning, stacklevel=2)
+    limits = _limits(curves, ok, deg, curve_deg, full)
 
     drawn = drawn_points(mech)
     size = linkage_size([s.pos[p] for s in frames_ for p in drawn
@@ -273,6 +351,8 @@ def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int =
     lo_xy[1] -= 2.2 * 0.025 * size + 0.12 * size  # the ground hatching, and the scale's band
 
     cursor = _draw_curves(curve_ax, mech, curves, deg, curve_deg, unit, title)
+    if limits is not None:
+        curve_ax.set_ylim(*limits)
     effort = mech.effort.name
 
     def draw_frame(k: int) -> list:
@@ -282,7 +362,9 @@ def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int =
         link_ax.set_xlim(lo_xy[0], hi_xy[0])
         link_ax.set_ylim(lo_xy[1], hi_xy[1])
         text = f"θ = {number(deg[k], 1, fixed=True)}°"
-        if s.effort is not None:
+        if not ok[k]:
+            text += ", forces unbounded (a singular position)"
+        elif s.effort is not None:
             arm = size if mech.effort.direction is None else 1.0
             text += (f", {effort} = {number(s.effort, 4, scale=largest * arm)} "
                      f"{mech.output_info[effort][0]}")
@@ -299,6 +381,49 @@ def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int =
     if path is not None:
         anim.save(path, fps=fps, dpi=dpi)
     return anim
+
+
+def _positive(name: str, value, expected: str = "") -> None:
+    """A ValueError naming ``name`` unless ``value`` is a finite number > 0."""
+    try:
+        good = not isinstance(value, bool) and math.isfinite(value) and value > 0
+    except TypeError:
+        good = False
+    if not good:
+        raise ValueError(f"{name} must be {expected or f'a finite number > 0, got {value!r}'}")
+
+
+def _unbounded(scene: Scene) -> Scene:
+    """``scene`` without its forces (NaN: no arrows) and its effort: they have no
+    bound there."""
+    return scene._replace(forces=np.full_like(scene.forces, np.nan), effort=None,
+                          loads=[ld for ld in scene.loads if ld.value != 0.0])
+
+
+def _limits(curves: dict, ok: np.ndarray, deg: np.ndarray, curve_deg: np.ndarray,
+            full: bool) -> tuple[float, float] | None:
+    """The curve axes' y limits where some frames' forces have no bound: the values
+    at the bounded frames and at the curve's angles bounded and more than a frame's
+    step from any unbounded frame, with a margin (None where every frame is bounded:
+    matplotlib's own)."""
+    n = deg.size
+    if ok[:n].all():
+        return None
+    step = (deg[-1] - deg[0]) / max(n - 1, 1) if not full else deg[1] - deg[0]
+    far = np.ones(curve_deg.size, bool)
+    for d in deg[~ok[:n]]:
+        gap = np.abs(curve_deg - d)
+        if full:
+            gap = np.minimum(gap, 360.0 * round((curve_deg[-1] - curve_deg[0]) / 360.0) - gap)
+        far &= gap > abs(step)
+    keep = np.concatenate([ok[:n], ok[n:] & far])
+    values = np.concatenate([np.asarray(v, float)[keep] for v in curves.values()])
+    values = values[np.isfinite(values)]
+    if not values.size:
+        return None
+    a, b = float(values.min()), float(values.max())
+    pad = 0.05 * (b - a) if b > a else 0.05 * max(abs(a), 1.0)
+    return min(a - pad, 0.0) if a >= 0.0 else a - pad, b + pad
 
 
 def _curves(mech: "Mechanism", what: str, sol, n: int) -> tuple[dict, str, str]:

@@ -28,16 +28,17 @@ class LabelPlacer(_Artist):
     depends on the figure): with :func:`place_boxes` in display pixels, in the order
     they were added, kept off each other, the marks (joint circles), the frame points'
     symbols, the scale's key, the arrows (:attr:`quivers`, shaft and head as drawn),
-    the moments' arcs and the guides (:attr:`curves`, :attr:`heads`), and, where it
-    costs at most :attr:`COVER_PT` more distance, off the links' lines too; inside the
-    axes unless that costs :attr:`LEAVE_PT` more. A label farther than
-    :attr:`LEADER_PT` from its anchor gets a thin line to it."""
+    the moments' arcs and the guides (:attr:`curves`, :attr:`heads`) and the links'
+    lines and plates' edges (:attr:`segments`, drawn at most :attr:`LINK_PT` wide);
+    inside the axes unless no spot there is clear (a cost of :attr:`LEAVE_PT` more
+    distance: in practice, never). A label farther than :attr:`LEADER_PT` from its
+    anchor gets a thin line to it."""
 
     GAP_PT = 3.0  # spacing of the rings, and the least gap between labels
     MARK_PT = 5.0  # half the side of the square kept clear about a mark
     LEADER_PT = 16.0
-    COVER_PT = 18.0
-    LEAVE_PT = 60.0
+    LEAVE_PT = 1e5
+    LINK_PT = 3.0  # the widest line a link is drawn with
 
     def __init__(self, ax: "Axes"):
         super().__init__()
@@ -67,7 +68,8 @@ class LabelPlacer(_Artist):
 
     def _taken(self, renderer, px: float) -> np.ndarray:
         """The boxes [display px] labels keep off: the marks, the frame points'
-        symbols, the scale's key, the arrows, the arcs and their heads, the guides."""
+        symbols, the scale's key, the arrows, the arcs and their heads, the guides,
+        the links' lines."""
         to = self.axes.transData.transform
         m = self.MARK_PT * px
         marks = to(self.marks).reshape(-1, 2)
@@ -89,6 +91,7 @@ class LabelPlacer(_Artist):
         for x, y, size in self.heads:
             (hx, hy), h = to((x, y)), size * px
             boxes.append([[hx - h, hy - h, hx + h, hy + h]])
+        boxes.append(self._lines(px))
         return np.concatenate([np.reshape(b, (-1, 4)) for b in boxes])
 
     def _arrows(self, q, px: float) -> np.ndarray:
@@ -113,14 +116,11 @@ class LabelPlacer(_Artist):
         return np.concatenate(boxes)
 
     def _lines(self, px: float) -> np.ndarray:
-        """Small boxes [display px] along the segments, every 2 px."""
+        """Boxes [display px] covering the segments drawn :attr:`LINK_PT` wide."""
         to = self.axes.transData.transform
         boxes = [np.empty((0, 4))]
         for x, y, u, v in self.segments:
-            a, b = to([(x, y), (x + u, y + v)])
-            n = int(min(np.hypot(*(b - a)) / (2.0 * px), 1000)) + 2
-            along = a + np.linspace(0.0, 1.0, n)[:, None] * (b - a)
-            boxes.append(np.c_[along - px, along + px])
+            boxes.append(line_boxes(to([(x, y), (x + u, y + v)]), 0.5 * self.LINK_PT * px, px))
         return np.concatenate(boxes)
 
     def draw(self, renderer):
@@ -143,7 +143,7 @@ class LabelPlacer(_Artist):
                           ann.get_transform().transform(ann.xyann))
         centres, distances = place_boxes(
             anchors, sizes, toward, self._taken(renderer, px), self.axes.bbox.extents,
-            self.GAP_PT * px, self._lines(px), self.COVER_PT * px, self.LEAVE_PT * px)
+            self.GAP_PT * px, leave=self.LEAVE_PT * px)
         for (ann, _, _), at, centre, shift, r in zip(labels, anchors, centres, shifts,
                                                       distances):
             offset = tuple((centre - shift - at) / px)

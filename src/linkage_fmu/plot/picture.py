@@ -150,8 +150,8 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     value); a load of 0 is drawn faint, in its positive sense (a force 0.15 of the
     linkage's size long). The labels are placed when the figure is drawn (their size is
     in points, the linkage's in metres), each as near its point or tip as it can be
-    without covering another label, a joint, a frame point's symbol, the scale, an
-    arrow, an arc or a guide, nor, unless that takes it much farther, a link
+    inside the axes without covering another label, a joint, a frame point's symbol,
+    the scale, an arrow, an arc, a guide, a link's line or a plate's edge
     (:func:`place_boxes`); with a thin line to it if it had to move away.
 
     Parameters

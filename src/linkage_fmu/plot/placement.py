@@ -34,8 +34,10 @@ def place_boxes(anchors, sizes, toward, taken=(), frame=None, gap: float = 1.0,
     ``taken``, it takes the one of least cost: its distance, plus ``cover`` if it comes
     within ``gap`` of one of the boxes ``avoid`` (lines it had better not hide), plus
     ``leave`` if it is not inside ``frame`` (``x0, y0, x1, y1``); of equal costs, the
-    first tried. Any unit of length will do (display pixels in :func:`linkage`); the
-    result depends on nothing else.
+    first tried. Where no ring has a clear spot inside ``frame``, the box goes to the
+    clear spot inside it nearest its anchor on a grid ``gap`` apart, if there is one.
+    Any unit of length will do (display pixels in :func:`linkage`); the result depends
+    on nothing else.
 
     Returns
     -------
@@ -90,10 +92,36 @@ def place_boxes(anchors, sizes, toward, taken=(), frame=None, gap: float = 1.0,
                 if best is None or cost[j] < best_cost:
                     best, best_cost = (spots[j], r), cost[j]
             k += 1
+        if best_cost >= leave and frame is not None:  # no ring had a clear spot inside
+            best = _inside(np.array([ax, ay]), w, h, frame, now, gap) or best
         box, distances[n] = best
         centres[n] = 0.5 * (box[:2] + box[2:])
         boxes.append(box[None, :])
     return centres, distances
+
+
+def _inside(anchor: np.ndarray, w: float, h: float, frame, taken: np.ndarray, gap: float):
+    """``(box, distance)``: of the boxes ``w`` by ``h`` centred on a grid ``gap`` apart
+    over ``frame``, the nearest to ``anchor`` that lies inside it clear of ``taken``
+    (None if there is none): where the rings about the anchor had no such spot."""
+    x0, y0, x1, y1 = frame
+    if not (x1 - x0 > w and y1 - y0 > h):
+        return None
+    xs = np.arange(x0 + 0.5 * w, x1 - 0.5 * w, gap)
+    ys = np.arange(y0 + 0.5 * h, y1 - 0.5 * h, gap)
+    if xs.size * ys.size > 250_000:
+        return None  # a frame that large has clear spots on the rings
+    cx, cy = (c.ravel() for c in np.meshgrid(xs, ys))
+    spots = np.c_[cx - 0.5 * w, cy - 0.5 * h, cx + 0.5 * w, cy + 0.5 * h]
+    dx = np.maximum.reduce([spots[:, 0] - anchor[0], anchor[0] - spots[:, 2], 0 * cx])
+    dy = np.maximum.reduce([spots[:, 1] - anchor[1], anchor[1] - spots[:, 3], 0 * cy])
+    order = np.argsort(np.hypot(dx, dy), kind="stable")
+    for part in np.array_split(order, max(1, order.size // 2000)):
+        clear = part[~_overlapping(spots[part], taken, gap)]
+        if clear.size:
+            j = clear[0]
+            return spots[j], float(np.hypot(dx[j], dy[j]))
+    return None
 
 
 def line_boxes(points: np.ndarray, half: float, step: float) -> np.ndarray:
