@@ -641,3 +641,18 @@ def test_info_prints_the_decomposition_of_a_linkage_drawn_as_joints_and_links(tm
     assert err == (f"linkage-fmu: {bad}: [crank] pivot: the crank pivot B is not on the "
                    "frame: it joins link 1 to 2; the pivot is a revolute joint that only the "
                    "crank lists, or one the frame's entry in [[links]] lists\n")
+
+
+def test_the_commands_that_draw_leave_no_figure_open(tmp_path):
+    """plot and animate run in one process many times (a notebook, a test session): each
+    closes the figure it wrote, so pyplot keeps none of them."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    plt.close("all")
+    assert main(["plot", "four_bar", "--what", "torque", "-o", str(tmp_path / "t.png")]) == 0
+    assert main(["animate", "four_bar", "--frames", "4", "--dpi", "20",
+                 "-o", str(tmp_path / "a.gif")]) == 0
+    assert plt.get_fignums() == []

@@ -826,8 +826,17 @@ def _plot(d: Description, args) -> int:
     if not args.output.endswith((".png", ".svg", ".pdf")):
         raise UsageError(f"-o {args.output}: the file must end in .png, .svg or .pdf")
     fig.savefig(args.output, dpi=120, bbox_inches="tight")
+    _close(fig)
     print(f"wrote {args.output}", file=sys.stderr)
     return 0
+
+
+def _close(fig) -> None:
+    """Let pyplot forget a figure once written: a command run in a long process (a
+    notebook, a test session) keeps no figure it made."""
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
 
 
 def _animate(d: Description, args) -> int:
@@ -858,6 +867,7 @@ def _animate(d: Description, args) -> int:
                        alpha=alpha, fps=args.fps, dpi=args.dpi, **loads(args))
     except MissingFFmpegError as err:  # said before the work: the message says how to get it
         raise UsageError(f"-o {err}") from None
+    _close(anim.figure)
     print(f"wrote {args.output} ({len(anim)} frames)", file=sys.stderr)
     return 0
 
@@ -1003,7 +1013,9 @@ def _optimize(d: Description, args) -> int:
         except ImportError:
             raise UsageError('plots need matplotlib: pip install "linkage_fmu[plot]"') from None
         matplotlib.use("Agg")
-        result.plot().savefig(args.plot, dpi=120, bbox_inches="tight")
+        fig = result.plot()
+        fig.savefig(args.plot, dpi=120, bbox_inches="tight")
+        _close(fig)
         print(f"wrote {args.plot}", file=sys.stderr)
     return status
 
