@@ -16,13 +16,19 @@ from pathlib import Path
 
 from . import presets
 from .descriptions import Description, DescriptionError
-from .errors import AssemblyError, OverflowInputError, SelfLockingError, SingularPositionError
+from .errors import (
+    AssemblyError,
+    NearSingularWarning,
+    OverflowInputError,
+    SelfLockingError,
+    SingularPositionError,
+)
 from .mechanism import Mechanism, Solution
 
 __version__ = "0.1.0"
 __all__ = ["presets", "load", "Description", "DescriptionError", "Mechanism", "Solution",
            "AssemblyError", "SingularPositionError", "OverflowInputError", "SelfLockingError",
-           "__version__"]
+           "NearSingularWarning", "__version__"]
 
 
 def load(path: str | Path, **parameters) -> Mechanism:

@@ -106,3 +106,26 @@ class OverflowInputError(ValueError):
         #: why, as the FMUs say it
         self.reason = Reason("overflow", "an input or a parameter is too large in magnitude")
         super().__init__(f"{mechanism}: {detail}")
+
+
+class NearSingularWarning(UserWarning):
+    """A linkage drawn near a singular or limit position: the group named is drawn where
+    its equations are ill-conditioned (the condition number is said), so the drawing
+    barely fixes which assembly mode it takes, and a slightly different drawing may
+    take another. Draw it farther from the position where its links line up or its
+    crank turns no further.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> from linkage_fmu.groups import Closure
+    >>> g = Closure({"2": ("B", "C"), "3": ("D", "C")},
+    ...             {"B": (0.0, 0.0), "C": (0.3, 1e-6), "D": (0.6, 0.0)}, 0.0, {"B", "D"})
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     g.attach((), {"B": (0.0, 0.0), "D": (0.6, 0.0)})
+    >>> print(caught[0].category.__name__, caught[0].message)
+    NearSingularWarning the group of joints B, C, D is drawn near a singular position: the
+    condition number of its equations there is 3e+05 (above 1000), so the drawing barely fixes
+    its assembly mode; draw it farther from a limit or singular position
+    """

@@ -163,6 +163,121 @@ def loop(tape, xp, x: list, det, memory: tuple, step, fail, reason: Reason,
     return carried[:n]
 
 
+def compare(xp, op: str, a, b):
+    """``a op b`` (``op`` one of lt, le, gt, ge) as a value a loop's body decides with:
+    a bool on floats, an array of them on arrays, :meth:`Tape.compare
+    <linkage_fmu.kernels.trace.Tape.compare>` on traced numbers (no branch).
+
+    Examples
+    --------
+    >>> from linkage_fmu.numerics import SCALAR
+    >>> compare(SCALAR, "lt", 1.0, 2.0)
+    True
+    """
+    tape = tape_of(a, b)
+    if tape is not None:
+        return tape.compare(op, a, b)
+    return _ORDER[op](a, b)
+
+
+def both(xp, a, b):
+    """``a and b`` of two :func:`compare` values, without a branch.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from linkage_fmu.numerics import ARRAY
+    >>> both(ARRAY, np.array([True, True]), np.array([True, False])).tolist()
+    [True, False]
+    """
+    tape = tape_of(a, b)
+    if tape is not None:
+        return tape.apply("min", min, a, b)
+    return a & b
+
+
+def either(xp, a, b):
+    """``a or b`` of two :func:`compare` values, without a branch.
+
+    Examples
+    --------
+    >>> from linkage_fmu.numerics import SCALAR
+    >>> either(SCALAR, False, True)
+    True
+    """
+    tape = tape_of(a, b)
+    if tape is not None:
+        return tape.apply("max", max, a, b)
+    return a | b
+
+
+def select(xp, condition, a, b):
+    """``a`` where ``condition`` (a :func:`compare` value) holds, else ``b``: element by
+    element on arrays, a decision of the kernel on traced numbers (no branch).
+
+    Examples
+    --------
+    >>> from linkage_fmu.numerics import SCALAR
+    >>> select(SCALAR, compare(SCALAR, "gt", 3.0, 2.0), "yes", "no")
+    'yes'
+    """
+    tape = tape_of(condition, a, b)
+    if tape is not None:
+        return tape.select(condition, a, b)
+    if xp.scalar:
+        return a if condition else b
+    return np.where(condition, a, b)
+
+
+def repeat(xp, carried: list, body, minimum: int, maximum: int,
+           tape=None) -> tuple[list, object]:
+    """``carried <- body(carried)[0]`` (``body`` returns the next values and ``again``, a
+    :func:`compare` value) at least ``minimum`` times, then while ``again``, at most
+    ``maximum`` times; returns the last values and whether ``again`` ended it (per state
+    on arrays, whose ended states keep their values; a value of the kernel on traced
+    numbers: one loop, :meth:`Tape.loop <linkage_fmu.kernels.trace.Tape.loop>`, on
+    ``tape`` or that of the carried values). The body decides with :func:`compare`,
+    :func:`both` and :func:`select` only, so that it does the same on every kind of
+    number.
+
+    Examples
+    --------
+    >>> from linkage_fmu.numerics import SCALAR
+    >>> def halve(c):                       # halve until below 1
+    ...     x = 0.5 * c[0]
+    ...     return [x], compare(SCALAR, "ge", x, 1.0)
+    >>> repeat(SCALAR, [10.0], halve, 1, 60)
+    ([0.625], True)
+    >>> repeat(SCALAR, [1e30], halve, 1, 3)
+    ([1.25e+29], False)
+    """
+    tape = tape or tape_of(*carried)
+    if tape is not None:
+        return tape.loop(list(carried), body, minimum, maximum)
+    if xp.scalar:
+        for k in range(maximum):
+            carried, again = body(carried)
+            if k + 1 >= minimum and not again:
+                return carried, True
+        return carried, False
+    done = None
+    for k in range(maximum):
+        new, again = body(carried)
+        carried = new if done is None else [np.where(done, a, b) for a, b in zip(carried, new)]
+        if k + 1 >= minimum:
+            ended = ~np.asarray(again, bool)
+            done = ended if done is None else done | ended
+            if done.all():
+                break
+    if done is None:
+        done = np.zeros(np.shape(carried[0]), bool)
+    return carried, done
+
+
+_ORDER = {"lt": lambda a, b: a < b, "le": lambda a, b: a <= b, "gt": lambda a, b: a > b,
+          "ge": lambda a, b: a >= b}
+
+
 def inverse(xp, x):
     """``1 / x``, and 0 for ``x = 0`` (no comparison: :func:`~.kernels.trace.sign`).
 
@@ -191,6 +306,20 @@ def solve(xp, A: list, b: list) -> tuple[list, list]:
     return x, pivots
 
 
+def solve_signed(xp, A: list, b: list) -> tuple[list, object]:
+    """``A^-1 b`` (:func:`solve`) and the sign of ``det A``, -1.0 or 1.0 (0.0 where a
+    pivot is 0 or NaN), from the pivots and the row swaps, without a branch.
+
+    Examples
+    --------
+    >>> from linkage_fmu.numerics import SCALAR
+    >>> solve_signed(SCALAR, [[0.0, 2.0], [4.0, 1.0]], [2.0, 9.0])
+    ([2.0, 1.0], -1.0)
+    """
+    (x,), _, sign = _eliminate(xp, A, [b], True)
+    return x, sign
+
+
 def solve_many(xp, A: list, B: list) -> tuple[list, list]:
     """``A^-1 b`` for each right-hand side ``b`` of ``B``, by Gaussian elimination with
     partial pivoting, and the magnitudes of the pivots.
@@ -210,14 +339,24 @@ def solve_many(xp, A: list, B: list) -> tuple[list, list]:
     >>> solve_many(SCALAR, [[0.0, 2.0], [4.0, 1.0]], [[1.0, 0.0], [0.0, 1.0]])[0]
     [[-0.125, 0.5], [0.25, 0.0]]
     """
+    X, pivots, _ = _eliminate(xp, A, B, False)
+    return X, pivots
+
+
+def _eliminate(xp, A: list, B: list, signed: bool) -> tuple[list, list, object]:
+    """:func:`solve_many`'s elimination; with ``signed``, also the sign of ``det A``
+    (each swap taken, ``w = 1``, turns it; then the pivots' signs), else None."""
     n = len(A)
     A = [list(row) for row in A]
     B = [list(b) for b in B]
     pivots = []
+    turned = 1.0
     for k in range(n):
         for i in range(k + 1, n):
             w = xp.maximum(xp.sign(xp.abs(A[i][k]) - xp.abs(A[k][k])), 0.0)
             v = 1.0 - w
+            if signed:
+                turned = turned * (1.0 - 2.0 * w)
             for c in range(k, n):
                 A[k][c], A[i][c] = w * A[i][c] + v * A[k][c], w * A[k][c] + v * A[i][c]
             for b in B:
@@ -239,4 +378,9 @@ def solve_many(xp, A: list, B: list) -> tuple[list, list]:
                 v = v - A[i][c] * x[c]
             x[i] = v / A[i][i]
         X.append(x)
-    return X, pivots
+    if not signed:
+        return X, pivots, None
+    sign = turned
+    for k in range(n):
+        sign = sign * xp.sign(A[k][k])
+    return X, pivots, sign

@@ -92,6 +92,9 @@ class KinematicState:
     def root(self, value: Number, condition: Callable[[], str], what: str = "") -> Number:
         """``sqrt(value)``; a negative value is an assembly failure (raise, or NaN + mask).
         ``condition()`` says what failed with its numbers, ``what`` without them."""
+        if _in_loop(value):
+            _check_in_loop(value, "lt", False, Reason("assembly", what))
+            return self.xp.sqrt(self.xp.maximum(value, 0.0))
         if self.xp.scalar:
             fails = value < 0.0
             numerics.label(value, Reason("assembly", what))
@@ -106,6 +109,9 @@ class KinematicState:
 
     def positive(self, value: Number, condition: Callable[[], str], what: str = "") -> Number:
         """``value``, which must be > 0 to assemble (raise, or NaN + mask)."""
+        if _in_loop(value):
+            _check_in_loop(value, "gt", True, Reason("assembly", what))
+            return value
         if self.xp.scalar:
             fails = not value > 0.0
             numerics.label(value, Reason("assembly", what))
@@ -121,6 +127,19 @@ class KinematicState:
     def mark(self, bad: np.ndarray) -> None:
         """Add the states ``bad`` (arrays) to those that cannot be assembled."""
         self.invalid = bad if self.invalid is None else (self.invalid | bad)
+
+
+def _in_loop(value) -> bool:
+    """Whether ``value`` is a traced number computed inside a loop's body (where a
+    check is a failure flag the loop carries, not a branch)."""
+    tape = getattr(value, "tape", None)
+    return tape is not None and tape.scopes[value.index] is not None
+
+
+def _check_in_loop(value, op: str, outcome: bool, reason: Reason) -> None:
+    """Fail the state, with ``reason``, where ``value op 0`` is not ``outcome`` in any
+    run of the loop."""
+    value.tape.check(value.tape.compare(op, value, 0.0), outcome, reason)
 
 
 #: Placeholder body names in joint declarations, resolved by the mechanism.

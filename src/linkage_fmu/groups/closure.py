@@ -10,29 +10,50 @@ drawn one. Its statics is its own linear system, three equations per link.
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Collection, Mapping, Sequence
-from typing import ClassVar
 
 import numpy as np
 
 from .. import newton, numerics
+from ..errors import NearSingularWarning
 from ..kernels.trace import Reason
 from ..numerics import SCALAR
 from .base import OWNER, Field, Group, Joint, KinematicState, LinkJoints, fmt, moment_about, push
 
-#: steps of the continuation from the drawn crank angle to a state's (at most half a turn
-#: away: 11.25 degrees a step). Measured on the class III six-bar of tests/test_closure.py
-#: over 720 angles of a full turn (every step from the line through the last two
-#: solutions): 7 steps are the fewest that keep every state on the drawn assembly mode
-#: (with 5 or 6, some states end on another one, silently); 16 keep a margin over 2, each
-#: step's Newton taking 4.2 iterations on average and 7 at most (the first step, from
-#: the drawn pose itself)
-STEPS = 16
-#: Newton iterations a continuation step always takes (then it tests its last step)
-ITERATIONS = 1
+#: the continuation's longest step, rad: 16 over half a turn. Measured on the class III
+#: six-bar of tests/test_closure.py over 720 angles of a full turn, in fixed steps from
+#: the line through the last two solutions: 7 steps over half a turn are the fewest that
+#: keep every state on the drawn assembly mode; steps this long are taken where the
+#: position is far from a limit or a singular one, shorter ones nearer
+LONGEST = math.pi / 16
+#: the shortest step, as a fraction of the way from the drawn angle to the state's: a
+#: position that needs shorter ones to keep its assembly mode is at a limit (the crank
+#: turns no further) or a singular position, and the state is not reached
+SHORTEST = 2.0 ** -40
+#: steps tried at most, taken and refused: a step is halved where refused and doubled
+#: (up to LONGEST) where taken, so that reaching a state that far from a limit takes
+#: about 4 tries per halving of the distance
+TRIALS = 400
+#: Newton iterations of a step at most (from the line through the last two solutions
+#: they take 2 to 4 where the step is taken)
+CORRECTIONS = 10
+#: a step's Newton has converged when its last iteration moves at most this fraction of
+#: the coordinates' size (the last step, to the state's own angle, converges to
+#: :func:`linkage_fmu.newton.tolerance`)
+SETTLED = 1e-10
+#: a step is taken where its Newton correction is at most this fraction of the
+#: predictor's own move, or where Newton's second iteration moves at most KAPPA times
+#: its first (the correction is then far inside the region where no other assembly
+#: mode lies)
+DRIFT = 0.25
+KAPPA = 0.1
 #: a state is assembled when every distance equation holds to this fraction of its
 #: squared length (Newton leaves about 1e-16; a state it did not reach, about 1 or NaN)
 RESIDUAL = 1e-9
+#: the condition number of the group's equations (each row over its length) in the
+#: drawn pose above which building warns: the drawing barely fixes the assembly mode
+NEAR_SINGULAR = 1e3
 
 
 def _listing(links: Mapping) -> dict:
@@ -94,14 +115,24 @@ class Closure(Group):
     joining two links.
 
     Positions: Newton's method on the distances the pose gives (unknowns: the
-    coordinates of the points it places), from the drawn pose, continued from the
-    drawn angle to the state's by the shorter way in :data:`STEPS` steps; at each
-    intermediate angle the groups before it are placed again (:meth:`attach`), so a
-    state's result depends on nothing but the state. A state the continuation cannot
-    reach (Newton does not converge, or converges off the distances; a singular
-    Jacobian; an intermediate angle at which the linkage cannot be assembled) cannot
-    be assembled. The linear solves pivot without a branch
-    (:func:`linkage_fmu.newton.solve`), so a kernel runs each Newton solve as one loop.
+    coordinates of the points it places), continued from the drawn pose along the
+    crank angle, from the drawn angle to the state's the shorter way round; at each
+    angle the groups before it are placed again (:meth:`attach`), so a state's result
+    depends on nothing but the state. The continuation follows the drawn assembly
+    mode: each step predicts the position from the line through the last two (the
+    first, along the tangent of the drawn pose) and corrects it by Newton; a step is
+    taken only where Newton converges in :data:`CORRECTIONS` iterations, the sign of
+    the Jacobian's determinant is the drawn pose's (it changes where the branch
+    turns back or crosses another) and the correction stays small beside the
+    predictor's move or Newton contracts fast (:data:`DRIFT`, :data:`KAPPA`);
+    refused, it is halved, taken, doubled up to :data:`LONGEST`. A state whose way
+    needs a step shorter than :data:`SHORTEST` of it, or more than :data:`TRIALS`
+    steps, lies past a limit position (the crank turns no further on the drawn mode)
+    or a singular one: it cannot be assembled, and so does one where the groups
+    before it cannot be assembled at an angle on the way. No state is answered on
+    another assembly mode. The whole continuation is one loop of a kernel, each
+    step's Newton a loop inside it, and the linear solves pivot without a branch
+    (:func:`linkage_fmu.newton.solve`).
 
     Examples
     --------
@@ -133,8 +164,6 @@ class Closure(Group):
                               "assembly mode"),
         "theta": Field("angle", "the crank angle at which the pose is drawn"),
     }
-    STEPS: ClassVar[int] = STEPS
-
     def __init__(self, links: Mapping[str, Sequence[str]], pose: Mapping[str, Sequence],
                  theta: float, placed: Collection[str]):
         self.link_joints = {link: tuple(joints) for link, joints in links.items()}
@@ -165,10 +194,13 @@ class Closure(Group):
         self.column = {p: 2 * k for k, p in enumerate(self.places)}
         self.name = f"the group of joints {', '.join(order)}"
         self._cannot_close = f"{self.name} cannot close"
+        self._unreached = f"{self.name} cannot reach the state on its drawn assembly mode"
         #: why its equations are singular, in the words of the kernels' guards
         self.singular = f"{self.name} is at a singular position"
         self.before: tuple = ()
         self.frame_points: dict = {}
+        #: on floats, the drawn pose's tangent and determinant's sign (:meth:`_start`)
+        self._drawn = None
 
     @classmethod
     def from_spec(cls, spec, value):
@@ -257,11 +289,13 @@ class Closure(Group):
     # -- positions ----------------------------------------------------------------------
     def attach(self, before: tuple, frame_points: dict) -> None:
         """Keep the groups ``before`` and the frame points, to place the needed points
-        at the continuation's intermediate angles; on floats, check that the drawn pose
-        has them where those groups place them at the drawn angle (to 1e-9 of the
-        group's largest length)."""
+        at the continuation's angles; on floats, check that the drawn pose has them
+        where those groups place them at the drawn angle (to 1e-9 of the group's
+        largest length), refuse a pose drawn at a singular position (its assembly mode
+        is undefined) and warn where it is drawn near one (:data:`NEAR_SINGULAR`)."""
         self.before, self.frame_points = tuple(before), dict(frame_points)
-        numbers = [self.theta0, *self.lengths, *(v for p in self.needs for v in self.pose[p])]
+        self._drawn = None
+        numbers = [self.theta0, *self.lengths, *(v for xy in self.pose.values() for v in xy)]
         if any(hasattr(v, "traced") for v in numbers):
             return  # checked when built on the parameters' values
         st = KinematicState(float(self.theta0), SCALAR)
@@ -283,23 +317,59 @@ class Closure(Group):
                     f"{self.name}: pose {p} = [{fmt(px)}, {fmt(py)}] is not where the groups "
                     f"before it place {p} at the drawn angle theta = {fmt(self.theta0)} rad, "
                     f"[{fmt(x)}, {fmt(y)}] ({off:.3g} m away)")
+        cond = self.drawn_condition()
+        if not math.isfinite(cond):
+            raise ValueError(f"{self.name}: its pose is drawn at a singular position (its "
+                             "equations have no unique solution there): the drawing does "
+                             "not fix its assembly mode; draw it in another pose")
+        if cond > NEAR_SINGULAR:
+            warnings.warn(f"{self.name} is drawn near a singular position: the condition "
+                          f"number of its equations there is {cond:.3g} (above "
+                          f"{NEAR_SINGULAR:g}), so the drawing barely fixes its assembly "
+                          "mode; draw it farther from a limit or singular position",
+                          NearSingularWarning, stacklevel=2)
+        self._drawn = self._start(SCALAR)
 
-    def _upstream(self, st: KinematicState, angle) -> dict:
-        """The needed points at the crank angle ``angle``: the groups before this one
-        run on a state of their own (its failures are ``st``'s)."""
+    def drawn_condition(self) -> float:
+        """The 2-norm condition number of the group's equations in the drawn pose, each
+        row over its distance: 1 for links at right angles, infinite at a singular
+        position (where the drawing does not fix the assembly mode).
+
+        Examples
+        --------
+        >>> g = Closure({"2": ("B", "C"), "3": ("D", "C")},
+        ...             {"B": (0.0, 0.0), "C": (0.3, 0.3), "D": (0.6, 0.0)}, 0.0, {"B", "D"})
+        >>> round(g.drawn_condition(), 12)
+        1.0
+        """
+        x = [float(v) for p in self.places for v in self.pose[p]]
+        J, _ = self._equations(SCALAR, x, {p: self.pose[p] for p in self.needs})
+        rows = np.array(J, float) / np.array([[L] for L in self.lengths], float)
+        with np.errstate(all="ignore"):
+            cond = float(np.linalg.cond(rows))
+        return cond if math.isfinite(cond) else math.inf
+
+    def _upstream(self, st: KinematicState, angle, order: int = 0) -> KinematicState:
+        """The groups before this one at the crank angle ``angle``, on a state of their
+        own (its failures are ``st``'s), their positions (and with ``order`` 1, their
+        first-order coefficients)."""
         def fail(condition: str, what: str = ""):
             st.on_invalid(f"{self.name} is continued from the drawn angle "
                           f"{fmt(self.theta0)} rad through {fmt(angle)} rad, where "
                           f"{condition}", what)
 
         sub = KinematicState(angle, st.xp, fail)
+        zero = (0.0, 0.0)
         for p, xy in self.frame_points.items():
-            sub.p[p] = xy
+            sub.p[p], sub.d1[p] = xy, zero
         for grp in self.before:
             grp.position(sub)
+        if order:
+            for grp in self.before:
+                grp.first(sub)
         if sub.invalid is not None:
             st.mark(sub.invalid)
-        return {p: sub.p[p] for p in self.needs}
+        return sub
 
     def _equations(self, xp, x: list, known: dict) -> tuple[list, list]:
         """The Jacobian (rows of the distances, columns of the unknowns) and the values
@@ -321,67 +391,169 @@ class Closure(Group):
             J.append(row)
         return J, f
 
-    def _close(self, st: KinematicState, x: list, known: dict, angle) -> list:
-        """One continuation step, to the crank angle ``angle``: Newton from ``x`` on the
-        distances, the needed points at ``known``; then the check that they hold."""
-        xp = st.xp
+    @staticmethod
+    def _solve(xp, J: list, f: list) -> tuple[list, object]:
+        """``J^-1 f`` and the sign of ``det J``; on floats, NaN and 0 where ``J`` is exactly
+        singular (as a kernel's division by 0 gives)."""
+        if xp.scalar:
+            try:
+                return newton.solve_signed(xp, J, f)
+            except ZeroDivisionError:
+                return [math.nan] * len(f), 0.0
+        return newton.solve_signed(xp, J, f)
 
-        def step(x, memory):
+    def _start(self, xp) -> tuple[list, object]:
+        """The drawn pose's tangent ``dX/dtheta`` (of the points it places) and the sign
+        of its Jacobian's determinant: where the continuation starts."""
+        if self._drawn is not None and (xp is SCALAR or not xp.scalar):
+            return self._drawn  # floats: computed once, when attached
+        sub = self._upstream(KinematicState(self.theta0, xp), self.theta0, order=1)
+        x = [v for p in self.places for v in self.pose[p]]
+        J, _ = self._equations(xp, x, {p: self.pose[p] for p in self.needs})
+        zero = (0.0, 0.0)
+        r = []
+        for i, j, _ in self.constraints:
+            (xi, yi), (xj, yj) = self.pose[i], self.pose[j]
+            (ai, bi) = zero if i in self.column else sub.d1[i]
+            (aj, bj) = zero if j in self.column else sub.d1[j]
+            r.append(-((xi - xj) * (ai - aj) + (yi - yj) * (bi - bj)))
+        tangent, sign = self._solve(xp, J, r)
+        tape = newton.tape_of(sign)
+        if tape is not None:  # parameters draw it: the parameter step checks it
+            tape.check(tape.compare("gt", xp.abs(sign), 0.0), True,
+                       Reason("parameter", f"{self.name} is drawn at a singular position"))
+        return tangent, sign
+
+    def _correct(self, xp, x: list, known: dict, tape, tol: float = SETTLED,
+                 maximum: int = CORRECTIONS) -> tuple[list, object, object, object]:
+        """Newton from ``x`` on the distances, the needed points at ``known``, until an
+        iteration moves at most ``tol`` of the coordinates' size, at most ``maximum``
+        iterations, stopped where one moves more than half the one before (it would not
+        converge in time, or it is at rounding): the position, whether it converged,
+        the sign of the Jacobian's determinant there, and whether it contracted fast
+        (its second iteration moved at most :data:`KAPPA` times its first)."""
+        n = len(x)
+        compare, select, both = newton.compare, newton.select, newton.both
+
+        def body(c):
+            x, count, first, second, last = c[:n], c[n + 1], c[n + 2], c[n + 3], c[n + 4]
             J, f = self._equations(xp, x, known)
-            return newton.solve(xp, J, f)[0], None, memory
+            d, sign = self._solve(xp, J, f)
+            x = [a - b for a, b in zip(x, d)]
+            moved, size = sum(xp.abs(b) for b in d), sum(xp.abs(a) for a in x)
+            first = select(xp, compare(xp, "lt", count, 0.5), moved, first)
+            second = select(xp, both(xp, compare(xp, "gt", count, 0.5),
+                                     compare(xp, "lt", count, 1.5)), moved, second)
+            settled = compare(xp, "le", moved, tol * size)
+            contracting = newton.either(xp, compare(xp, "lt", count, 0.5),
+                                        compare(xp, "le", moved, 0.5 * last))
+            return ([*x, sign, count + 1.0, first, second, moved, settled],
+                    both(xp, compare(xp, "gt", moved, tol * size), contracting))
+
+        c, _ = newton.repeat(xp, [*x, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], body, 1, maximum, tape)
+        size = sum(xp.abs(a) for a in c[:n])
+        fast = compare(xp, "le", c[n + 3], KAPPA * c[n + 2] + newton.tolerance(xp) * size)
+        return c[:n], c[n + 5], c[n], fast
+
+    def _continue(self, st: KinematicState, delta) -> tuple[list, object, object]:
+        """The continuation from the drawn pose (fraction 0 of the way) to the drawn
+        angle plus ``delta`` (fraction 1): the position it ends at, the fraction of the
+        way it reached, and the sign of the drawn pose's determinant."""
+        xp, t0, n = st.xp, self.theta0, 2 * len(self.places)
+        tangent, sign0 = self._start(xp)
+        x0 = [v for p in self.places for v in self.pose[p]]
+        v0 = [delta * t for t in tangent]  # d/d(fraction of the way)
+        longest = -xp.maximum(-1.0, -LONGEST / xp.maximum(xp.abs(delta), 1e-300))
+        tape = newton.tape_of(st.theta, delta, *v0, *x0)
+        compare, select, both = newton.compare, newton.select, newton.both
+
+        def body(c):
+            u, h, x, v = c[0], c[1], c[2:2 + n], c[2 + n:]
+            last = compare(xp, "ge", h, 1.0 - u)
+            step = select(xp, last, 1.0 - u, h)
+            reach = select(xp, last, 1.0, u + h)
+            known = self._upstream(st, t0 + delta * reach).p
+            guess = [a + step * b for a, b in zip(x, v)]
+            y, converged, sign, fast = self._correct(
+                xp, guess, {p: known[p] for p in self.needs}, tape)
+            drift = sum(xp.abs(a - b) for a, b in zip(y, guess))
+            ahead = step * sum(xp.abs(b) for b in v)
+            # converged, on the drawn mode, and not far: Newton contracted fast, or its
+            # correction is small beside the predictor's move
+            near = newton.either(xp, fast, compare(xp, "le", drift, DRIFT * ahead))
+            taken = both(xp, both(xp, converged, compare(xp, "gt", sign * sign0, 0.0)), near)
+            u = select(xp, taken, reach, u)
+            x = [select(xp, taken, a, b) for a, b in zip(y, x)]
+            v = [select(xp, taken, (a - b) / step, w) for a, b, w in zip(y, c[2:2 + n], v)]
+            h = select(xp, taken, -xp.maximum(-2.0 * step, -longest), 0.5 * step)
+            return ([u, h, *x, *v], both(xp, compare(xp, "lt", u, 1.0),
+                                          compare(xp, "ge", h, SHORTEST)))
+
+        c, _ = newton.repeat(xp, [0.0, longest, *x0, *v0], body, 1, TRIALS, tape)
+        return c[2:2 + n], c[0], sign0
+
+    def _close(self, st: KinematicState, x: list, known: dict, sign0) -> list:
+        """The last step, at the state's own needed points ``known``: Newton from ``x``
+        (the continuation's end) on the distances to :func:`linkage_fmu.newton.tolerance`,
+        or until it moves no closer (rounding, near a limit position); then the checks
+        that the distances hold and that it is on the drawn assembly mode (the
+        determinant's sign ``sign0``)."""
+        xp = st.xp
+        tape = newton.tape_of(st.theta, *x, *(v for xy in known.values() for v in xy))
+        x, _, sign, _ = self._correct(xp, x, known, tape, newton.tolerance(xp),
+                                      newton.MAX_ITERATIONS)
+        _, f = self._equations(xp, x, known)
+        worst = _largest(xp, [xp.abs(v) / L2 for v, (_, _, L2) in zip(f, self.constraints)])
 
         def condition() -> str:
             return (f"{self._cannot_close}: continued from its drawn pose (at theta = "
                     f"{fmt(self.theta0)} rad), Newton's method reaches no position that "
-                    f"keeps its links' lengths at {fmt(angle)} rad, on its way to theta = "
-                    f"{fmt(st.theta)} rad the shorter way round (a linkage whose crank "
-                    "cannot turn fully reaches only the states on the side of its drawn "
-                    "pose that way: draw it nearer to them)")
+                    f"keeps its links' lengths on its drawn assembly mode at theta = "
+                    f"{fmt(st.theta)} rad")
 
-        def fail(bad=None):
-            if bad is None:
-                st.on_invalid(condition(), self._cannot_close)
-            else:
-                st.mark(bad)
-
-        tape = newton.tape_of(st.theta, *x, *(v for xy in known.values() for v in xy))
-        if tape is not None:
-            x = newton.loop(tape, xp, x, None, (), step, fail,
-                            Reason("assembly", self._cannot_close), ITERATIONS,
-                            newton.MAX_ITERATIONS)
-        elif xp.scalar:
-            try:
-                x = newton.iterate(xp, x, step, fail, minimum=ITERATIONS)
-            except ZeroDivisionError:  # an exactly singular Jacobian
-                fail()
-        else:
-            with np.errstate(all="ignore"):
-                x = newton.iterate(xp, x, step, fail, minimum=ITERATIONS)
-        # converged where the distances hold: NaN (a singular Jacobian, an overflow)
-        # and a stall off them fail here
-        _, f = self._equations(xp, x, known)
-        worst = _largest(xp, [xp.abs(v) / L2 for v, (_, _, L2) in zip(f, self.constraints)])
-        margin = st.positive(RESIDUAL - worst, condition, self._cannot_close)
+        # where the distances hold, on the drawn mode: NaN (a singular Jacobian, an
+        # overflow) fails here too
+        held = st.positive(RESIDUAL - worst, condition, self._cannot_close)
+        mode = st.positive(sign * sign0, condition, self._cannot_close)
         if not xp.scalar:
-            x = [v + 0.0 * margin for v in x]  # NaN where it failed
+            x = [v + 0.0 * held + 0.0 * mode for v in x]
+        return x
+
+    def _reached(self, st: KinematicState, x: list, reached, delta) -> list:
+        """``x``, where the continuation reached the state (``reached``, the fraction of
+        the way, is 1); else the state cannot be assembled (NaN on arrays)."""
+        xp = st.xp
+        tape = newton.tape_of(reached)
+        if tape is not None:
+            tape.check(tape.compare("ge", reached, 1.0), True,
+                       Reason("assembly", self._unreached))
+            return x
+        if xp.scalar:
+            if not reached >= 1.0:
+                at = self.theta0 + delta * reached
+                st.on_invalid(
+                    f"{self._unreached}: continued from its drawn pose (at theta = "
+                    f"{fmt(self.theta0)} rad) towards theta = {fmt(st.theta)} rad the shorter "
+                    f"way round, its drawn assembly mode goes no further than theta = "
+                    f"{fmt(at)} rad, a limit position (the crank turns no further on that "
+                    "mode) or a singular one; a linkage whose crank cannot turn fully "
+                    "reaches only the states on the side of its drawn pose that way: draw "
+                    "it nearer to them", self._unreached)
+            return x
+        bad = ~(reached >= 1.0)
+        if bad.any():
+            st.mark(bad)
+            x = [np.where(bad, np.nan, v) for v in x]
         return x
 
     def position(self, st: KinematicState) -> None:
         xp = st.xp
         t0 = self.theta0
         delta = xp.atan2(xp.sin(st.theta - t0), xp.cos(st.theta - t0))
-        x = [v for p in self.places for v in self.pose[p]]
-        guess = x
-        for k in range(1, self.STEPS + 1):
-            if k < self.STEPS:
-                angle = t0 + delta * (k / self.STEPS)
-                known = self._upstream(st, angle)
-            else:
-                angle, known = st.theta, {p: st.p[p] for p in self.needs}
-            last, x = x, self._close(st, guess, known, angle)
-            # the next step starts from the line through the last two solutions (its
-            # angle is as far on): twice the last, less the one before
-            guess = [2.0 * a - b for a, b in zip(x, last)]
+        with np.errstate(all="ignore"):  # arrays: the states that fail are NaN
+            x, reached, sign0 = self._continue(st, delta)
+            x = self._reached(st, x, reached, delta)
+            x = self._close(st, x, {p: st.p[p] for p in self.needs}, sign0)
         for p, c in self.column.items():
             st.p[p] = (x[c], x[c + 1])
         for link, js in self.link_joints.items():
