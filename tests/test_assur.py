@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pytest
 
+import fmu_cache
 from linkage_fmu.descriptions import Description, DescriptionError
 from linkage_fmu.descriptions.assur import decompose, outline
 from linkage_fmu.descriptions.topology import read
@@ -151,16 +152,23 @@ def test_a_joint_named_as_a_pair_the_decomposition_makes():
         "C_4; name the joint otherwise"]
 
 
-def test_a_drawn_pose_from_which_a_group_cannot_be_assembled():
+def test_a_drawn_pose_the_parameters_move_across_a_toggle_keeps_the_mode_they_draw():
     """C drawn below the line B -> D (h < 0) while the defaults draw it above: the RRR
-    keeps the drawn pose's mode at the defaults, so the pose is not reproduced."""
+    takes the mode the parameters draw (its branch is the sign of the drawn pose), so
+    the drawn pose is reproduced at the drawn angle, to 1e-15 m, and every point is where
+    the same linkage drawn there in numbers puts it, 50 deg on (reference), to 1e-15 m."""
     d = Description.from_toml(COMPOUND, "drawn.toml")
-    with pytest.raises(ValueError) as err:
-        d.build(h=-0.2)
-    assert str(err.value) == (
-        "drawn.toml: [[groups]] #2 (RRR): a drawn pose from which a group cannot be "
-        "assembled: at the drawn crank angle 0 deg it places C at (0.3, 0.2), 0.4 m from "
-        "where C is drawn (0.3, -0.2); the tolerance is 1e-12 m")
+    assert d.groups[1]["branch"] == "sign(0.30000000000000004 * h)"
+    below = d.build(h=-0.2)
+    drawn = below.kinematics(0.0, order=0)
+    assert math.dist(drawn.p["C"], (0.3, -0.2)) <= 1e-15
+    numbers = Description.from_toml(COMPOUND.replace('C = [0.3, "h"]', "C = [0.3, -0.2]"),
+                                    "numbers.toml").build()
+    assert numbers.description.groups[1]["branch"] == -1
+    at, want = below.kinematics(math.radians(50.0), order=0), \
+        numbers.kinematics(math.radians(50.0), order=0)
+    for p in "BCEF":
+        assert math.dist(at.p[p], want.p[p]) <= 1e-15, p
 
 
 def test_a_drawn_pose_at_a_toggle():
@@ -812,3 +820,112 @@ def test_a_parameter_that_turns_a_slot_off_its_lever_is_refused():
                                          r"of the angle between them 0\.\d+; the tolerance "
                                          r"is 1e-12\)$"):
         d.build(e=0.2)
+
+
+# -- a pose drawn at parameters: its assembly mode follows them --------------------------
+POSED = """
+[linkage]
+name = "posed"
+model = "Posed"
+frame = "4"
+
+[parameters]
+cx = { default = 0.30416666666666664, kind = "coordinate", description = "x of C, drawn" }
+cy = { default = 0.28428150247801206, kind = "coordinate", description = "y of C, drawn" }
+
+[joints]
+A = [0, 0]
+B = [0.1, 0]
+C = [CX, CY]
+D = [0.4, 0]
+
+[[links]]
+name = "1"
+joints = ["A", "B"]
+mass = 1.0
+inertia = 0.001
+cg = [0.05, 0]
+
+[[links]]
+name = "2"
+joints = ["B", "C"]
+mass = 2.0
+inertia = 0.02
+cg = [0.2, 0.1]
+
+[[links]]
+name = "3"
+joints = ["C", "D"]
+mass = 1.5
+inertia = 0.012
+cg = [0.35, 0.1]
+
+[crank]
+link = "1"
+pivot = "A"
+
+[[loads]]
+name = "load"
+body = "3"
+kind = "moment"
+start = 3.0
+description = "a torque on the rocker"
+"""
+#: C drawn on the other side of the line B-D, and on it
+MIRRORED, ON_THE_LINE = {"cx": 0.30416666666666664, "cy": -0.28428150247801206}, \
+    {"cx": 0.25, "cy": 0.0}
+
+
+def test_the_assembly_mode_of_a_pose_drawn_at_parameters_follows_them(tmp_path):
+    """A four-bar written as joints and links with its coupler pin C drawn at the
+    parameters (cx, cy), given C on the other side of B-D. Reference: the same four-bar
+    drawn there in numbers (its decomposition gives the dyad branch -1). The library
+    builds it with those parameters, and both FMU flavours, built at the defaults and
+    given them at run time (a fresh host process), answer Mb, F12x and F12y at 8 crank
+    angles equal to the reference's to 1e-12 of the largest, never the default's mode
+    (whose Mb differs by more than 0.1 N.m there). C drawn on the line B-D: the library
+    refuses it, and both FMUs answer exitInitializationMode with Error, saying the dyad
+    B-C-D is drawn at a toggle; no call answers Fatal."""
+    from fmpy import read_model_description
+
+    from test_fmu_protocol import ERROR, OK, raw
+
+    posed = POSED.replace("CX", '"cx"').replace("CY", '"cy"')
+    numbers = POSED.replace("CX", repr(MIRRORED["cx"])).replace("CY", repr(MIRRORED["cy"]))
+    names = ("Mb", "F12x", "F12y")
+    thetas = [float(t) for t in np.radians(np.arange(0.0, 360.0, 45.0))]
+    reference = Description.from_toml(numbers, "numbers.toml").build()
+    want = np.array([[reference.solve(t, 10.0, 0.0)[n] for n in names] for t in thetas])
+    d = Description.from_toml(posed, "posed.toml")
+    default = d.build()
+    assert min(abs(default.solve(t, 10.0, 0.0)["Mb"] - w[0]) for t, w in zip(thetas, want)) > 0.1
+    got = np.array([[d.build(**MIRRORED).solve(t, 10.0, 0.0)[n] for n in names]
+                    for t in thetas])
+    assert np.abs(got - want).max() <= 1e-12 * np.abs(want).max()
+    with pytest.raises(ValueError, match="at a toggle"):
+        d.build(**ON_THE_LINE)
+
+    source = tmp_path / "posed.toml"
+    source.write_text(posed)
+    for flavour in (fmu_cache.build_fmu, fmu_cache.build_native_fmu):
+        fmu = flavour(str(source), tmp_path / flavour.__name__)
+        refs = {v.name: v.valueReference for v in read_model_description(str(fmu)).modelVariables}
+        ops = [["a", "new", "Posed"], ["a", "setup", 0.0, None], ["a", "enter"],
+               ["a", "setReal", [refs["cx"], refs["cy"]], list(MIRRORED.values())],
+               ["a", "exit"]]
+        for k, theta in enumerate(thetas):
+            ops += [["a", "setReal", [refs[n] for n in ("theta", "omega", "alpha", "load")],
+                     [theta, 10.0, 0.0, 3.0]], ["a", "doStep", 0.01 * k, 0.01],
+                    ["a", "getReal", [refs[n] for n in names]]]
+        ops += [["a", "free"], ["b", "new", "Posed"], ["b", "setup", 0.0, None],
+                ["b", "enter"],
+                ["b", "setReal", [refs["cx"], refs["cy"]], list(ON_THE_LINE.values())],
+                ["b", "exit"], ["b", "lastLog"], ["b", "free"]]
+        out = raw(fmu.parent, ops, tmp_path, models=("Posed",))
+        results, exit_b = out["results"], len(ops) - 3
+        assert all(status == OK for status, _ in results[:exit_b]), flavour.__name__
+        values = np.array([results[7 + 3 * k][1] for k in range(len(thetas))])
+        assert np.abs(values - want).max() <= 1e-12 * np.abs(want).max(), flavour.__name__
+        assert results[exit_b][0] == ERROR, flavour.__name__
+        said = results[exit_b + 1][1]
+        assert "the dyad B-C-D is drawn at a toggle (its points in line)" in said, said

@@ -16,7 +16,7 @@ Examples
 Traceback (most recent call last):
 ...
 ValueError: '__import__' is not a function an expression may call; the functions are: abs, acos,
-asin, atan, atan2, cos, degrees, hypot, max, min, radians, sin, sqrt, tan
+asin, atan, atan2, cos, degrees, hypot, max, min, radians, sign, sin, sqrt, tan
 """
 
 from __future__ import annotations

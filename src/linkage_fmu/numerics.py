@@ -65,17 +65,22 @@ cos, sin, tan, asin, acos, atan, atan2, hypot, sqrt, radians, degrees = map(_on_
     math.cos, math.sin, math.tan, math.asin, math.acos, math.atan, math.atan2, math.hypot,
     math.sqrt, math.radians, math.degrees))
 minimum, maximum = _on_traced(min), _on_traced(max)
+#: -1, 0 or 1 as the value is negative, zero or positive (a drawn pose's assembly mode),
+#: an operation of the kernels, not a branch
+signum = _on_traced(sign)
+signum.__doc__ = ":func:`~linkage_fmu.kernels.trace.sign`, also on traced numbers."
 
 
 #: the functions an expression may call, on floats or traced numbers
 FUNCTIONS = {"sqrt": sqrt, "sin": sin, "cos": cos, "tan": tan, "asin": asin, "acos": acos,
              "atan": atan, "atan2": atan2, "hypot": hypot, "radians": radians,
-             "degrees": degrees, "abs": abs, "min": minimum, "max": maximum}
+             "degrees": degrees, "abs": abs, "min": minimum, "max": maximum, "sign": signum}
 #: the same on numpy arrays (element by element)
 ARRAY_FUNCTIONS = {"sqrt": np.sqrt, "sin": np.sin, "cos": np.cos, "tan": np.tan,
                    "asin": np.arcsin, "acos": np.arccos, "atan": np.arctan,
                    "atan2": np.arctan2, "hypot": np.hypot, "radians": np.radians,
-                   "degrees": np.degrees, "abs": np.abs, "min": np.minimum, "max": np.maximum}
+                   "degrees": np.degrees, "abs": np.abs, "min": np.minimum, "max": np.maximum,
+                   "sign": array_sign}
 
 
 def functions(xp) -> dict:

@@ -39,7 +39,7 @@ MP = SimpleNamespace(scalar=True, sqrt=mpmath.sqrt, cos=mpmath.cos, sin=mpmath.s
                                 "atan": mpmath.atan, "atan2": mpmath.atan2,
                                 "hypot": mpmath.hypot, "radians": mpmath.radians,
                                 "degrees": mpmath.degrees, "abs": abs, "min": min,
-                                "max": max})
+                                "max": max, "sign": mpmath.sign})
 
 
 def reference(mech, theta: float, omega: float | None = None, alpha: float | None = None,

@@ -288,12 +288,18 @@ class _Decomposer:
         """The link that slides in a prismatic pair (the one that does not carry it)."""
         return next(n for n in self.t.on(joint) if n != self.t.joints[joint].guide)
 
-    def branch(self, sign_of) -> object:
-        """The assembly mode of the drawn pose: ``sign_of(values)`` at the defaults, and
-        the branch parameters that flip it."""
+    def branch(self, sign_of, text: str) -> object:
+        """The assembly mode of the drawn pose, whose sign the expression ``text`` of the
+        parameters is (``sign_of(values)`` its value): None where it is 0 (a toggle), the
+        expression ``sign(text)`` where a real-valued parameter moves the pose (so that
+        a kernel, an FMU or a sweep that takes parameters takes the mode they draw),
+        else its value at the defaults, times the branch parameters that flip it."""
         s = sign_of(self.values)
         if s == 0.0:
             return None
+        if any(name in self.params and name not in self.branches
+               for name in Expression(text).names):
+            return f"sign({fold(text)})"
         flips = []
         for name in self.branches:
             flipped = dict(self.values, **{name: -self.values[name]})
@@ -395,7 +401,7 @@ class _Decomposer:
             n = lambda s: self.num(s, v)  # noqa: E731
             return ((n(x2) - n(x1)) * (n(cy) - n(y1)) - (n(y2) - n(y1)) * (n(cx) - n(x1)))
 
-        b = self.branch(sign)
+        b = self.branch(sign, f"({x2} - {x1}) * ({cy} - {y1}) - ({y2} - {y1}) * ({cx} - {x1})")
         if b is None:
             raise DecompositionError([f"[joints] {c}: the dyad {e1}-{c}-{e2} (links {l1}, "
                                       f"{l2}) is drawn at a toggle ({e1}, {c}, {e2} in line): "
@@ -421,7 +427,7 @@ class _Decomposer:
             n = lambda s: self.num(s, v)  # noqa: E731
             return (n(bx) - n(ex)) * n(tx) + (n(by) - n(ey)) * n(ty)
 
-        b = self.branch(sign)
+        b = self.branch(sign, f"({bx} - {ex}) * {tx} + ({by} - {ey}) * {ty}")
         if b is None:
             raise DecompositionError([f"[joints] {pin}: the rod {end}{pin} (link {rod}) is "
                                       f"drawn square to the guide {guide}: the slider's "

@@ -74,6 +74,8 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
             raise ValueError(f"{origin}: {said} is not finite")
         if rule == "length" and not x > 0.0:
             raise ValueError(f"{origin}: {said} must be > 0")
+        if rule == "branch" and x == 0.0 and isinstance(source, str):
+            return x  # a mode drawn at a toggle: the group says which (groups.base.mode)
         if rule in ("branch", "sign") and x not in (1.0, -1.0):
             raise ValueError(f"{origin}: {said} must be +1 or -1")
         if rule in ("friction", "distance") and not x >= 0.0:
@@ -107,9 +109,13 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
                 links = {link: tuple(joints) for link, joints in spec[key].items()}
                 return LinkJoints(links, placed & {p for js in links.values() for p in js})
             x = number(f"{where} {key}", spec[key], role)
-            return int(x) if role == "branch" else x
+            # a mode the parameters draw is traced with them (the group checks it)
+            return int(x) if role == "branch" and not hasattr(x, "traced") else x
 
-        groups.append(cls.from_spec(spec, value))
+        try:
+            groups.append(cls.from_spec(spec, value))
+        except ValueError as err:
+            raise ValueError(f"{origin}: {err}") from None
         placed.update(groups[-1].places)
 
     bodies = []

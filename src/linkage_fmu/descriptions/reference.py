@@ -656,7 +656,8 @@ code, and may hold
 - the operators {binary}, the signs {signs}, and parentheses;
 - the constant {constants};
 - calls of the functions {functions} (as Python's `math` and builtins: angles in
-  radians; `degrees` and `radians` convert).
+  radians; `degrees` and `radians` convert; `sign(x)` is -1, 0 or 1 as `x` is negative,
+  zero or positive).
 
 The names it may use depend on where it is:
 

@@ -187,6 +187,31 @@ def fmt(x: Number) -> str:
     return f"{float(x):.6g}" if x.ndim == 0 else f"{float(x.flat[0]):.6g}"
 
 
+def mode(branch, group: str):
+    """A group's assembly mode, +1 or -1: a number, or where the parameters draw it
+    (``sign`` of the drawn pose), traced, checked by the parameter step. 0 is a pose
+    drawn at a toggle of ``group``, where the mode is undefined (ValueError).
+
+    Examples
+    --------
+    >>> mode(-1.0, "the dyad B-C-D")
+    -1
+    >>> mode(0.0, "the dyad B-C-D")
+    Traceback (most recent call last):
+    ...
+    ValueError: the dyad B-C-D is drawn at a toggle (its points in line): its assembly mode is
+    undefined
+    """
+    what = f"{group} is drawn at a toggle (its points in line): its assembly mode is undefined"
+    if not hasattr(branch, "traced"):
+        if branch == 0.0:
+            raise ValueError(what)
+        return int(branch)
+    abs(branch) > 0.0  # noqa: B015 -- an order comparison of parameters: recorded
+    numerics.label(branch, Reason("parameter", what))
+    return branch
+
+
 def angle_and_kappa(xp, sin_gamma, cos_gamma, what: str = ""):
     """``(gamma, kappa)`` from the sine and cosine of a transmission angle: ``gamma`` in
     [0, pi] and ``kappa = (1 + |cos gamma|) / |sin gamma|``, the 2-norm condition number of a

@@ -14,6 +14,7 @@ from .base import (
     angle_and_kappa,
     fmt,
     left_normal,
+    mode,
     moment_about,
     push,
     unit_vector,
@@ -55,7 +56,7 @@ class RRP(Group):
     def __init__(self, link: str, slider: str, E: str, B: str, L: float,
                  guide_point: tuple, gamma: float, branch: int, guide_joint: str):
         self.link, self.slider, self.E, self.B = link, slider, E, B
-        self.L, self.branch = L, int(branch)
+        self.L, self.branch = L, mode(branch, f"the slider at {B}")
         self.q = (guide_point[0], guide_point[1])
         self.t = unit_vector(gamma)
         self.guide_joint = guide_joint

@@ -14,6 +14,7 @@ from .base import (
     KinematicState,
     angle_and_kappa,
     fmt,
+    mode,
     moment_about,
     push,
 )
@@ -53,7 +54,7 @@ class RRR(Group):
                  L1: float, L2: float, branch: int):
         self.link1, self.link2 = link1, link2
         self.E1, self.C, self.E2 = E1, C, E2
-        self.L1, self.L2, self.branch = L1, L2, int(branch)
+        self.L1, self.L2, self.branch = L1, L2, mode(branch, f"the dyad {E1}-{C}-{E2}")
         self.needs = (E1, E2)
         self.places = (C,)
         self.links = (link1, link2)
