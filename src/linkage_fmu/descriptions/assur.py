@@ -757,3 +757,66 @@ def check_pose(mech, drawn: Decomposition, values: dict) -> str:
                     f"({tx:.9g}, {ty:.9g}) (sine of the angle between them {off:.3g}; the "
                     f"tolerance is {SLIDE_TOLERANCE:g})")
     return ""
+
+
+#: the condition number of a dyad drawn as joints and links (its transmission's ``kappa``)
+#: in its drawn pose above which building warns: the drawing barely fixes its mode (as
+#: :data:`linkage_fmu.groups.closure.NEAR_SINGULAR` for a closure)
+NEAR_TOGGLE = 1e3
+
+
+def near_toggles(mech, drawn: Decomposition, values: dict) -> list[str]:
+    """A message for each dyad of ``mech`` whose drawn pose (at the drawn crank angle, its
+    parameters' ``values``) is so near a toggle that the drawing barely fixes its
+    assembly mode: its condition number there (the transmission's ``kappa``) above
+    :data:`NEAR_TOGGLE`. A closure group says so itself, when it is attached.
+
+    Examples
+    --------
+    >>> from linkage_fmu.descriptions import Description
+    >>> d = Description.from_toml('''
+    ... [linkage]
+    ... name = "flat"
+    ... [joints]
+    ... A = [0, 0]
+    ... B = [0.1, 0]
+    ... C = [0.3, 1e-5]
+    ... D = [0.5, 0]
+    ... [[links]]
+    ... name = "1"
+    ... joints = ["A", "B"]
+    ... [[links]]
+    ... name = "2"
+    ... joints = ["B", "C"]
+    ... [[links]]
+    ... name = "3"
+    ... joints = ["C", "D"]
+    ... [crank]
+    ... link = "1"
+    ... pivot = "A"
+    ... ''', "flat.toml")
+    >>> import warnings
+    >>> with warnings.catch_warnings():
+    ...     warnings.simplefilter("ignore")
+    ...     mech = d.build()
+    >>> print(near_toggles(mech, d.drawn, {})[0])
+    [joints] C: the dyad B-C-D is drawn near a toggle: the condition number of its position
+    there is 2e+04 (above 1000), so the drawing barely fixes its assembly mode; draw it farther
+    from where its joints line up
+    """
+    theta = Expression(drawn.theta)(values)
+    st = mech.kinematics(theta, order=0)
+    found = []
+    for grp in mech.groups:
+        if grp.kind not in ("RRR", "RRP"):
+            continue
+        kappa = grp.transmission(st, mech.length_scale)[1]
+        if kappa > NEAR_TOGGLE:
+            what = (f"the dyad {grp.E1}-{grp.C}-{grp.E2}" if grp.kind == "RRR" else
+                    f"the slider at {grp.B} (rod {grp.E}{grp.B})")
+            found.append(f"[joints] {grp.key}: {what} is drawn near a toggle: the condition "
+                         f"number of its position there is {kappa:.3g} (above "
+                         f"{NEAR_TOGGLE:g}), so the drawing barely fixes its assembly mode; "
+                         "draw it farther from where its joints line up")
+    return found
+

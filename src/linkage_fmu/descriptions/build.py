@@ -5,10 +5,12 @@ from __future__ import annotations
 import functools
 import math
 import re
+import warnings
 from pathlib import Path
 
 from .. import numerics
 from ..bodies import Body, Effort
+from ..errors import NearSingularWarning
 from ..expressions import Expression
 from ..friction import Declared, Friction
 from ..groups import Group, LinkJoints
@@ -213,11 +215,13 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
             text = f"{keys[named[1]]}: {named[2]}"
         raise ValueError(f"{origin}: {text}") from None
     if d.drawn is not None and not symbols:  # written as joints and links: where drawn
-        from .assur import check_pose
+        from .assur import check_pose, near_toggles
 
         problem = check_pose(mech, d.drawn, floats)
         if problem:
             raise ValueError(f"{origin}: {problem}")
+        for note in near_toggles(mech, d.drawn, floats):
+            warnings.warn(f"{origin}: {note}", NearSingularWarning, stacklevel=3)
     return mech
 
 
