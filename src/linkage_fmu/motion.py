@@ -424,9 +424,11 @@ class _Direction:
         self.moment = moment_and_slope(self.mech, **named)
 
     def acceleration(self, ti: float, th: float, w: float, tq: float) -> float:
-        """``alpha`` solving ``tq - extra alpha = Mb(th, w, alpha)`` (Newton from 0)."""
+        """``alpha`` solving ``tq - extra alpha = Mb(th, w, alpha)`` (Newton from 0, kept
+        inside the bracket that the residual's signs give)."""
         extra = self.extra
-        a, last = 0.0, math.inf
+        a, last, before = 0.0, math.inf, math.inf
+        lo, hi = -math.inf, math.inf  # the root lies between: the residual's signs
         for _ in range(NEWTON_STEPS):
             try:
                 m, dm = self.moment(th, w, a)
@@ -445,15 +447,32 @@ class _Direction:
                     f"no crank acceleration balances tau = {tq!r} N m: dMb/dalpha + flywheel "
                     f"= {slope!r} kg m2 at alpha = {a!r} rad/s2, omega = {w!r} rad/s "
                     f"(reached at t = {ti:.9g} s)")
-            step = (tq - extra * a - m) / slope
+            residual = tq - extra * a - m  # falls as alpha grows (slope > 0)
+            if residual == 0.0:
+                return a
+            if residual > 0.0:
+                lo = a
+            else:
+                hi = a
+            step = residual / slope
+            bracketed = math.isfinite(lo) and math.isfinite(hi)
+            if bracketed and (not lo < a + step < hi or abs(step) > 0.5 * before):
+                # a step out of the bracket, or steps no longer shrinking (at the floor
+                # of Mb's rounding, or about a kink): bisect it
+                step = 0.5 * (lo + hi) - a
+            before, last = last, abs(step)
             a += step
             size = abs(a) + (abs(tq) + abs(m)) / slope
             # within 4 ulp; or at the floor of rounding (of Mb's own terms, which may
-            # cancel), where the steps no longer shrink as Newton's do
+            # cancel), where the steps no longer shrink as Newton's do; or the bracket
+            # closed to 4 ulp
             if abs(step) <= 4.0 * _EPS * size or (
-                    abs(step) >= 0.5 * last and abs(step) <= ROUNDING * size):
+                    abs(step) >= 0.5 * before and abs(step) <= ROUNDING * size) or (
+                    bracketed and hi - lo <= 4.0 * _EPS * max(abs(lo), abs(hi), size)):
                 return a
-            last = abs(step)
+        if math.isfinite(lo) and math.isfinite(hi):
+            # the residual's sign changes at random within [lo, hi]: Mb's rounding there
+            return 0.5 * (lo + hi)
         raise SelfLockingError(
             self.mech.name, th, f"Newton's method on the crank acceleration does not "
             f"converge in {NEWTON_STEPS} steps (last {a!r} rad/s2, step {step!r}) at omega "
