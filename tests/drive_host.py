@@ -14,6 +14,10 @@ linkage_fmu. Jobs (``job["job"]``), each on the FMU ``job["fmu"]`` with the star
 - ``bad``: calls that are wrong, each with its status and log (co-simulation and model
   exchange instances);
 - ``exchange``: a model-exchange instance's derivatives at given states;
+- ``initial``: in initialisation mode of a co-simulation and a model-exchange instance,
+  the start values ``job["start"]`` set (NaN and infinities too), then ``theta`` and
+  ``omega`` read, and the continuous states (model exchange): each status, the values and
+  the log;
 - ``strings``: the strings ``job["strings"]`` set in initialisation mode, then
   exitInitializationMode: each status and the log;
 - ``steps``: co-simulation steps ``job["steps"]`` (``[tau, h]`` each), each from the last
@@ -247,6 +251,23 @@ def main():
             status = m.call(get_dx, dx, 2)[0]
             out["derivatives"].append([status, [v if v == v else None for v in dx]])
         out["log"] = m.log
+    elif job["job"] == "initial":
+        for kind in ("cs", "me"):
+            d = Drive(unzip, md, exchange=kind == "me")
+            if d.v3:
+                d.s.enterInitializationMode(startTime=0.0)
+            else:
+                d.s.setupExperiment(startTime=0.0)
+                d.s.enterInitializationMode()
+            row = {"set": d.set(job["start"])}
+            row["read"], got = d.get(["theta", "omega"])
+            row["values"] = [None if v != v else v for v in (got or {}).values()]
+            if kind == "me":
+                x = (c_double * 2)()
+                f = d.s.dll.fmi3GetContinuousStates if d.v3 else d.s.dll.fmi2GetContinuousStates
+                row["states"] = f(d.component(), x, 2)
+            row["log"] = d.log
+            out[kind] = row
     print(json.dumps(out))
 
 

@@ -759,3 +759,291 @@ def test_friction_fuzz_and_energy(friction_fmus):
     energy = fmu_fuzz.run_energy(friction_fmus[2], 2000, seed=1)
     assert energy["relative"] <= 2e-5, energy
     assert energy["stuck steps"] > 10 and energy["reversals"] >= 2, energy
+
+
+# -- stops, breakaways and reversals in every importer ------------------------------------
+def test_a_decelerating_crank_stops_and_sticks_in_cosimulation(friction_fmus):
+    """From theta0 = 0.3 at 0.01 rad/s under a tau 90 % of the way up the band (friction
+    of :data:`FRICTION`, the load on the piston) the crank decelerates and stops, and
+    sticks: ``Mechanism.simulate`` (rtol 1e-12) stops it at t_s = 5.9695 ms. Co-simulated
+    at the tolerances 1e-8 and 1e-12 with steps of 1 ms and 10 us, FMI 2.0 and 3.0, every
+    step is OK to 10 ms (before, a stop's substeps shrank towards it until 1000 of them
+    and a Discard); motion is 1 until the step that holds t_s and 0 from the end of it,
+    and theta equals the library's to 1e-9 rad all along."""
+    from linkage_fmu.presets import linkage
+
+    lo, hi = band_at_rest()
+    tau, stop = lo + 0.9 * (hi - lo), 0.01
+    mech = linkage("slider_crank", **FRICTION)
+    for h in (1e-3, 1e-5):
+        t = np.linspace(0.0, stop, round(stop / h) + 1)
+        ref = mech.simulate(tau, t, theta0=0.3, omega0=0.01, load=LOAD, rtol=1e-12,
+                            atol=1e-12)
+        (stuck,) = ref.attrs["switches"]  # it starts moving: the stop alone
+        assert stuck.to == 0 and 5.96e-3 < stuck.time < 5.98e-3, stuck
+        for version in (2, 3):
+            for tol in (1e-8, 1e-12):
+                r = simulate_fmu(str(friction_fmus[version]), stop_time=stop, output_interval=h,
+                                 fmi_type="CoSimulation", output=["theta", "motion"],
+                                 start_values={**FRICTION, "tau": tau, "load": LOAD,
+                                               "theta0": 0.3, "omega0": 0.01,
+                                               "tolerance": tol})
+                assert len(r) == len(t) and r["time"][-1] == pytest.approx(stop), (h, tol)
+                assert np.max(np.abs(r["theta"] - ref["theta"].to_numpy())) <= 1e-9, (h, tol)
+                moving = r["time"] < stuck.time - 1e-12
+                assert np.all(r["motion"][1:][moving[1:]] == 1), (h, tol)
+                assert np.all(r["motion"][r["time"] >= stuck.time + h] == 0), (h, tol)
+
+
+#: The three motions of the four-bar with friction in every pin (mu 0.2, pins of 10 mm,
+#: set at run time where the importer can) from rest at theta0 = 3 rad, every 1 ms; the
+#: band at rest there is [lo, hi] = [-1.90458, -1.70524] N.m:
+#:
+#: - "coast": tau = 0. Gravity swings the crank away at once; it turns round 8 times and
+#:   sticks at 2.1232 s (10 switches, the start among them); 2.5 s.
+#: - "ramp forwards": tau rises from -1.805 N.m (the band's middle) at 2 N.m/s until
+#:   t = 0.05 s and then holds -1.705 N.m: the crank sticks while tau lies in the band,
+#:   breaks away forwards where tau crosses hi (t = 49.8817 ms), creeps 1.2 mrad and
+#:   sticks again (0.668 s); 1 s.
+#: - "ramp backwards": tau falls from -1.805 N.m at 2 N.m/s until 0.05 s, then holds
+#:   -1.905 N.m: breaks away backwards at 49.7876 ms, sticks again at 0.6805 s; 1 s.
+#:
+#: The torque ramps only while the crank sticks, and holds from a communication point on,
+#: so that every importer applies the same torque to a moving crank: fmpy's and fmusim's
+#: CVode set a continuous input only in their root function, so that their right-hand
+#: side holds its value from the last root check, an error of the ramp over a step.
+#: Each entry: (tau at 0, its rate until RAMP_END, stop time).
+FRICTION_MOTIONS = {"coast": (0.0, 0.0, 2.5), "ramp forwards": (-1.805, 2.0, 1.0),
+                    "ramp backwards": (-1.805, -2.0, 1.0)}
+FOUR_BAR_FRICTION = {f"{k}_{p}": (0.2 if k == "mu" else 0.01) for p in "ABCD"
+                     for k in ("mu", "r")}
+MOTION_START = {"theta0": 3.0, "omega0": 0.0}
+RAMP_END, MOTION_H, CS_TOLERANCE = 0.05, 1e-3, 1e-10
+
+
+def motion_inputs(name) -> list:
+    """(time, tau) rows of the motion's torque, linear between them."""
+    tau0, rate, stop = FRICTION_MOTIONS[name]
+    if not rate:
+        return [(0.0, tau0), (stop, tau0)]
+    held = tau0 + rate * RAMP_END
+    return [(0.0, tau0), (RAMP_END, held), (stop, held)]
+
+
+def motion_torque(name, hold=None):
+    """The motion's tau(t, theta, omega) for ``simulate``: as the inputs say, or (``hold``)
+    held over each communication step from its start, as a co-simulation importer sets it."""
+    rows = np.array(motion_inputs(name))
+
+    def tau(t, th, w):
+        if hold:
+            t = hold * math.floor(t / hold + 1e-9)
+        return float(np.interp(t, rows[:, 0], rows[:, 1]))
+    return tau
+
+
+@pytest.fixture(scope="module")
+def motion_references() -> dict:
+    """``Mechanism.simulate`` (rtol = atol = 1e-12) of each of :data:`FRICTION_MOTIONS`
+    every :data:`MOTION_H`, under the torque of model exchange and, held over each step,
+    of co-simulation: theta and the switches' ``to``, computed once per sources
+    (``fmu_cache``)."""
+    import scipy
+
+    from linkage_fmu.presets import linkage
+
+    def compute(folder: Path) -> None:
+        mech = linkage("four_bar", **FOUR_BAR_FRICTION)
+        for k, name in enumerate(FRICTION_MOTIONS):
+            stop = FRICTION_MOTIONS[name][2]
+            t = np.linspace(0.0, stop, round(stop / MOTION_H) + 1)
+            for kind, hold in (("me", None), ("cs", MOTION_H)):
+                run = mech.simulate(motion_torque(name, hold), t, theta0=3.0, omega0=0.0,
+                                    rtol=1e-12, atol=1e-12)
+                np.save(folder / f"{k}-{kind}.npy", run["theta"].to_numpy())
+                np.save(folder / f"{k}-{kind}-to.npy", [s.to for s in run.attrs["switches"]])
+
+    made = fmu_cache.entry("reference-" + fmu_cache.key(
+        "motion_references", inspect.getsource(motion_torque), FRICTION_MOTIONS,
+        FOUR_BAR_FRICTION, RAMP_END, MOTION_H, np.__version__, scipy.__version__), compute)
+    return {(name, kind): (np.load(made / f"{k}-{kind}.npy"),
+                           np.load(made / f"{k}-{kind}-to.npy").tolist())
+            for k, name in enumerate(FRICTION_MOTIONS) for kind in ("me", "cs")}
+
+
+def on_the_grid(time, theta, motion, stop):
+    """theta at each multiple of :data:`MOTION_H` (the last row at it: an importer may
+    record an event's two sides), and the switches: the changes of ``motion`` after t = 0."""
+    k = np.round(np.asarray(time) / MOTION_H)
+    last = {}
+    for i in np.flatnonzero(np.abs(np.asarray(time) - k * MOTION_H) <= 1e-9):
+        last[int(k[i])] = i
+    assert sorted(last) == list(range(round(stop / MOTION_H) + 1)), "rows missing"
+    switches = []
+    for m in np.asarray(motion)[np.asarray(time) > 0]:
+        if not switches or switches[-1] != m:
+            switches.append(int(m))
+    return np.asarray(theta)[[last[j] for j in sorted(last)]], switches
+
+
+def check_motion(references, name, kind, time, theta, motion, tolerance):
+    """The run's theta within ``tolerance`` of the reference at every step and its
+    switches those of the reference, all of them; the largest error."""
+    ref, to = references[(name, kind)]
+    on, switches = on_the_grid(time, theta, motion, FRICTION_MOTIONS[name][2])
+    error = float(np.max(np.abs(on - ref)))
+    assert switches == to, (name, kind, switches, to)
+    assert error <= tolerance, (name, kind, error)
+    return error
+
+
+#: explicit Euler's step in the motions, and its bound on theta's error: first order,
+#: 300 h (measured: 160 h to 170 h in the coast at h = 1e-4, 2e-5 and 1e-5, the ramps'
+#: far less)
+EULER_H, EULER_BOUND = 1e-4, 300.0
+
+
+@pytest.mark.parametrize("version", (2, 3))
+@pytest.mark.parametrize("name", FRICTION_MOTIONS)
+def test_friction_motions_through_fmpy(fmus, motion_references, version, name):
+    """fmpy runs each of :data:`FRICTION_MOTIONS` on the four-bar's drive FMU (built
+    without friction, friction set as start values), FMI 2.0 and 3.0, with every switch
+    of ``Mechanism.simulate``'s (10 of 10 in the coast): co-simulation at the tolerance
+    1e-10 (against the torque held over each step) and model exchange with CVode
+    (rtol 1e-10, its state events) within 1e-7 rad of theta (measured: 8.1e-9 and
+    3.2e-8 rad in the coast), explicit Euler at 0.1 ms within 300 h. Every event
+    indicator recorded, on both sides of every event, is nonzero."""
+    tau0, rate, stop = FRICTION_MOTIONS[name]
+    inputs = np.array(motion_inputs(name), dtype=[("time", float), ("tau", float)])
+    start = {**FOUR_BAR_FRICTION, **MOTION_START}
+    common = dict(stop_time=stop, input=inputs, output=["theta", "motion"])
+    r = simulate_fmu(str(fmus[version]), fmi_type="CoSimulation", output_interval=MOTION_H,
+                     start_values={**start, "tolerance": CS_TOLERANCE}, **common)
+    check_motion(motion_references, name, "cs", r["time"], r["theta"], r["motion"], 1e-7)
+    r = simulate_fmu(str(fmus[version]), fmi_type="ModelExchange", solver="CVode",
+                     relative_tolerance=1e-10, output_interval=MOTION_H, start_values=start,
+                     **{**common, "output": ["theta", "motion", "z_forwards", "z_backwards"]})
+    check_motion(motion_references, name, "me", r["time"], r["theta"], r["motion"], 1e-7)
+    assert np.all(r["z_forwards"] != 0.0) and np.all(r["z_backwards"] != 0.0)
+    r = simulate_fmu(str(fmus[version]), fmi_type="ModelExchange", solver="Euler",
+                     step_size=EULER_H, output_interval=EULER_H, start_values=start, **common)
+    check_motion(motion_references, name, "me", r["time"], r["theta"], r["motion"],
+                 EULER_BOUND * EULER_H)
+
+
+def importer(variable: str, command: str) -> str:
+    """The importer's executable: ``$variable``, else ``command`` on PATH; the test is
+    skipped, saying so, where there is neither."""
+    exe = os.environ.get(variable) or shutil.which(command)
+    if not exe:
+        pytest.skip(f"no {command}: set ${variable} to its executable or put it on PATH")
+    return exe
+
+
+def motion_csv(name, path: Path, extra: dict | None = None) -> Path:
+    """The motion's torque as an importer's input file (and ``extra`` columns)."""
+    extra = extra or {}
+    lines = [",".join(["time", "tau", *extra])]
+    lines += [",".join(repr(float(v)) for v in (t, tau, *extra.values()))
+              for t, tau in motion_inputs(name)]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def read_csv(path: Path) -> dict:
+    import csv
+
+    with open(path) as f:
+        rows = [r for r in csv.reader(f) if r]
+    names = [n.strip().strip('"') for n in rows[0]]
+    data = np.array([[float(x) for x in r] for r in rows[1:]])
+    return {n: data[:, j] for j, n in enumerate(names)}
+
+
+@pytest.mark.parametrize("version", (2, 3))
+def test_friction_motions_through_fmusim(fmus, motion_references, tmp_path, version):
+    """fmusim (Reference-FMUs 0.0.39, ``$FMUSIM`` or ``fmusim`` on PATH) runs each of
+    :data:`FRICTION_MOTIONS` (friction and start as ``--start-value``), FMI 2.0 and 3.0,
+    with every switch: co-simulation at the tolerance 1e-10 and model exchange with CVode
+    (``--tolerance 1e-10``) within 1e-7 rad of theta (measured: 8.1e-9 and 3.2e-8 rad in
+    the coast, 5.7e-8 rad at most in the ramps), its explicit Euler (one step per output
+    interval, 0.1 ms) within 300 h."""
+    exe = importer("FMUSIM", "fmusim")
+    start = [a for k, v in {**FOUR_BAR_FRICTION, **MOTION_START}.items()
+             for a in ("--start-value", k, repr(v))]
+    for name, (_, _, stop) in FRICTION_MOTIONS.items():
+        csv_in = motion_csv(name, tmp_path / "in.csv")
+        for kind, options, h, bound in (
+                ("cs", ["--start-value", "tolerance", repr(CS_TOLERANCE)], MOTION_H, 1e-7),
+                ("me", ["--solver", "cvode", "--tolerance", "1e-10"], MOTION_H, 1e-7),
+                ("me", ["--solver", "euler"], EULER_H, EULER_BOUND * EULER_H)):
+            out = tmp_path / "out.csv"
+            out.unlink(missing_ok=True)
+            run = subprocess.run(
+                [exe, "--interface-type", kind, "--input-file", str(csv_in), "--stop-time",
+                 repr(stop), "--output-interval", repr(h), "--output-variable", "theta",
+                 "--output-variable", "motion", *start, *options, "--output-file", str(out),
+                 str(fmus[version])], capture_output=True, text=True, timeout=300)
+            assert run.returncode == 0 and out.is_file(), (name, kind, run.stdout + run.stderr)
+            r = read_csv(out)
+            check_motion(motion_references, name, kind, r["time"], r["theta"], r["motion"],
+                         bound)
+
+
+@pytest.fixture(scope="module")
+def motion_fmu(tmp_path_factory) -> Path:
+    """The four-bar's drive FMU (FMI 2.0) with the motions' friction and start as its
+    defaults: the FMU Compliance Checker cannot set a fixed parameter (it sets those of
+    its input file at every step)."""
+    from linkage_fmu import presets
+
+    d = presets.preset("four_bar").copy().start(theta=3.0, omega=0.0)
+    return build_native_fmu(d, tmp_path_factory.mktemp("motion"), 2, drive=True,
+                            **FOUR_BAR_FRICTION)
+
+
+def test_friction_motions_through_the_compliance_checker(motion_references, tmp_path,
+                                                          request):
+    """The FMU Compliance Checker (``$FMUCHECK`` or ``fmuCheck.linux64`` on PATH; it reads
+    FMI 1.0 and 2.0 only) runs each of :data:`FRICTION_MOTIONS` with every switch (10 of
+    10 in the coast; before, its model exchange found 1): co-simulation at the FMU's
+    default tolerance, 1e-8 (the Checker sets no parameter), within 1e-5 rad of theta
+    (measured 5.6e-6 rad in the coast), and its model exchange (explicit Euler, 0.1 ms,
+    an event at the step after each indicator changes sign) within 300 h."""
+    exe = importer("FMUCHECK", "fmuCheck.linux64")
+    fmu = request.getfixturevalue("motion_fmu")
+    for name, (_, _, stop) in FRICTION_MOTIONS.items():
+        csv_in = motion_csv(name, tmp_path / "in.csv")
+        for kind, h, bound in (("cs", MOTION_H, 1e-5), ("me", EULER_H, EULER_BOUND * EULER_H)):
+            out, log = tmp_path / "out.csv", tmp_path / "log.txt"
+            out.unlink(missing_ok=True)
+            run = subprocess.run([exe, "-k", kind, "-n", "0", "-h", repr(h), "-s", repr(stop),
+                                  "-i", str(csv_in), "-f", "-l", "3", "-e", str(log), "-o",
+                                  str(out), str(fmu)], capture_output=True, text=True,
+                                 timeout=300)
+            assert run.returncode == 0 and out.stat().st_size, (name, kind, log.read_text())
+            r = read_csv(out)
+            check_motion(motion_references, name, kind, r["time"], r["theta"], r["motion"],
+                         bound)
+
+
+@pytest.mark.parametrize("version", (2, 3))
+def test_a_start_value_that_is_not_finite_reads_with_a_warning(fmus, tmp_path, version):
+    """In initialisation mode, with omega0 (or theta0) set to NaN or an infinity, the
+    reads of theta and omega, and the model exchange's continuous states, answer Warning
+    (before: OK with NaN), the log naming the start parameter; a finite start reads OK."""
+    for start in ({"omega0": math.nan}, {"omega0": math.inf}, {"theta0": -math.inf},
+                  {"omega0": 2.5}):
+        out = host({"job": "initial", "fmu": str(fmus[version]), "start": start}, tmp_path)
+        (name, value), = start.items()
+        for kind in ("cs", "me"):
+            row = out[kind]
+            assert row["set"] == OK, (start, kind)
+            if math.isfinite(value):
+                assert row["read"] == OK and row["values"][name == "omega0"] == value
+                assert row.get("states", OK) == OK
+                continue
+            assert row["read"] == WARNING, (start, kind, row)
+            assert row.get("states", WARNING) == WARNING, (start, kind, row)
+            assert any(status == WARNING and f"it starts at {name} = " in text
+                       for status, text in row["log"]), row["log"]

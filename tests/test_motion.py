@@ -493,3 +493,23 @@ def test_a_massless_linkage_with_friction_needs_a_flywheel():
     alone = yoke.solve(moving["theta"].to_numpy(), moving["omega"].to_numpy(), 0.0,
                        load=100.0, method="direct")["Mb"]  # Mb does not depend on alpha
     np.testing.assert_allclose(moving["alpha"], (1.0 - alone) / 0.5, rtol=1e-12)
+
+
+def test_friction_newton_meets_rounding_where_torque_and_Mb_are_near_0():
+    """The four-bar with friction in every pin (mu 0.05, pins of 10 mm) swinging under
+    gravity, tau = 0, from theta0 = 4.190620850853655 rad at omega0 = -13.006511562027953
+    rad/s, at rtol = atol = 1e-12: the first state's acceleration is -1.68e-3 rad/s2,
+    where Mb's terms cancel and Newton's steps stop at 4e-14 rad/s2 (before, a
+    SelfLockingError "Newton's method ... does not converge"). Reference: the root of the
+    direct solver's Mb with drive -1 (brentq), to 1e-9 rad/s2."""
+    from scipy.optimize import brentq
+
+    friction = {f"{k}_{p}": (0.05 if k == "mu" else 0.01) for p in "ABCD" for k in ("mu", "r")}
+    th, w = 4.190620850853655, -13.006511562027953
+    run = presets.get("four_bar", **friction).simulate(0.0, [0.0, 1e-3], theta0=th, omega0=w,
+                                                       rtol=1e-12, atol=1e-12)
+    back = presets.get("four_bar", drive=-1.0, **friction)
+    root = brentq(lambda a: float(back.solve(th, w, a, method="direct")["Mb"]), -1.0, 1.0,
+                  xtol=1e-15)
+    assert abs(float(run["alpha"].iloc[0]) - root) <= 1e-9, (run["alpha"].iloc[0], root)
+    assert abs(root + 1.68e-3) <= 1e-5

@@ -110,9 +110,14 @@ def simulate(mech, tau, t, theta0=None, omega0=None, rtol: float = 1e-10,
        friction at ``alpha = 0``), the slope ``dM/dalpha + flywheel`` from
        :func:`moment_and_slope`, until a step is within 4 ulp of ``alpha`` (and of the
        residual's rounding, over the slope), or, once the steps stop shrinking by half,
-       within :data:`ROUNDING` of that size (the floor of ``Mb``'s rounding); at most
-       :data:`NEWTON_STEPS` steps, a slope that is not > 0 or no convergence is a
-       ``SelfLockingError``. ``Mb`` depends on
+       within :data:`ROUNDING` of that size (the floor of ``Mb``'s rounding). The steps
+       keep inside the bracket of the root that the residual's signs give (``Mb`` grows
+       with ``alpha``): a step out of it, or one that has not halved after
+       :data:`STALLED_STEPS` steps, bisects it, and a bracket closed to 4 ulp ends the
+       iteration, as do :data:`NEWTON_STEPS` steps with a bracket (its middle is taken:
+       where the torque and ``Mb``'s terms nearly cancel, the residual's sign is
+       rounding within it); a slope that is not > 0, or no bracket and no convergence,
+       is a ``SelfLockingError``. ``Mb`` depends on
        ``omega`` only through ``omega**2`` and the direction, so ``d |omega|`` extends
        the segment's equation smoothly past ``omega = 0`` (the integrator's stages may
        step there) with the friction of direction ``d``. The segment ends where
@@ -294,6 +299,8 @@ def _torque(tau, t: np.ndarray):
 # -- friction ------------------------------------------------------------------------------
 #: Newton steps at most on the crank acceleration of one state (with friction)
 NEWTON_STEPS = 50
+#: Newton steps after which steps that no longer halve bisect the bracket of the root
+STALLED_STEPS = 8
 #: the largest step, relative to alpha's size, that counts as rounding once Newton's
 #: steps stop shrinking (Mb sums terms that may cancel: its rounding can exceed 4 ulp)
 ROUNDING = 1e-11
@@ -424,10 +431,12 @@ class _Direction:
         self.moment = moment_and_slope(self.mech, **named)
 
     def acceleration(self, ti: float, th: float, w: float, tq: float) -> float:
-        """``alpha`` solving ``tq - extra alpha = Mb(th, w, alpha)`` (Newton from 0)."""
+        """``alpha`` solving ``tq - extra alpha = Mb(th, w, alpha)`` (Newton from 0, kept
+        inside the bracket that the residual's signs give)."""
         extra = self.extra
-        a, last = 0.0, math.inf
-        for _ in range(NEWTON_STEPS):
+        a, last, before = 0.0, math.inf, math.inf
+        lo, hi = -math.inf, math.inf  # the root lies between: the residual's signs
+        for n in range(NEWTON_STEPS):
             try:
                 m, dm = self.moment(th, w, a)
             except _STATE_ERRORS as err:
@@ -445,15 +454,33 @@ class _Direction:
                     f"no crank acceleration balances tau = {tq!r} N m: dMb/dalpha + flywheel "
                     f"= {slope!r} kg m2 at alpha = {a!r} rad/s2, omega = {w!r} rad/s "
                     f"(reached at t = {ti:.9g} s)")
-            step = (tq - extra * a - m) / slope
+            residual = tq - extra * a - m  # falls as alpha grows (slope > 0)
+            if residual == 0.0:
+                return a
+            if residual > 0.0:
+                lo = a
+            else:
+                hi = a
+            step = residual / slope
+            bracketed = math.isfinite(lo) and math.isfinite(hi)
+            bisect = bracketed and (not lo < a + step < hi or (
+                n >= STALLED_STEPS and abs(step) > 0.5 * before))
+            if bisect:
+                # a step out of the bracket, or Newton's steps long past shrinking (the
+                # floor of Mb's rounding below the test's, or a kink): bisect it
+                step = 0.5 * (lo + hi) - a
+            before, last = last, abs(step)
             a += step
             size = abs(a) + (abs(tq) + abs(m)) / slope
             # within 4 ulp; or at the floor of rounding (of Mb's own terms, which may
-            # cancel), where the steps no longer shrink as Newton's do
+            # cancel), where Newton's steps no longer shrink; or the bracket closed to 4 ulp
             if abs(step) <= 4.0 * _EPS * size or (
-                    abs(step) >= 0.5 * last and abs(step) <= ROUNDING * size):
+                    not bisect and abs(step) >= 0.5 * before and abs(step) <= ROUNDING * size
+            ) or (bracketed and hi - lo <= 4.0 * _EPS * max(abs(lo), abs(hi), size)):
                 return a
-            last = abs(step)
+        if math.isfinite(lo) and math.isfinite(hi):
+            # the residual's sign changes at random within [lo, hi]: Mb's rounding there
+            return 0.5 * (lo + hi)
         raise SelfLockingError(
             self.mech.name, th, f"Newton's method on the crank acceleration does not "
             f"converge in {NEWTON_STEPS} steps (last {a!r} rad/s2, step {step!r}) at omega "

@@ -247,16 +247,20 @@ static Status moment_and_inertia(const Model *m, const Values *v, const double *
 
 #if DRIVE_FRICTION
 /* The friction band at rest at the angle theta and the loads in `v`: Mb at omega = alpha
- * = 0 with friction opposing a backward (`lo`) and a forward (`hi`) start. */
+ * = 0 with friction opposing a backward (`lo`) and a forward (`hi`) start. Each edge is
+ * computed as acceleration() computes Mb at alpha = 0 (the kernel's two parts), to the
+ * bit: a tau past an edge then has its acceleration that way. */
 static Status friction_band(const Model *m, const Values *v, double theta, double *lo,
                             double *hi, char *why, size_t size) {
-    double u[N_INPUTS + 3], r[RHS_N_Y + 1];
+    double u[N_INPUTS + 3] = {0.0}, f[N_RF + 1], r[RHS_N_Y + 1];
     const int s = m->structure;
     motion_inputs(v, theta, 0.0, 0.0, u);
-    if (refused(RHS_ONE[s](m->rb, u, r), RHS_REASONS[s], LK_DISCARD, why, size))
+    if (refused(RHS_FIX[s](m->rb, u, f), RHS_REASONS[s], LK_DISCARD, why, size) ||
+        refused(RHS_VARY[s](m->rb, f, u, r), RHS_REASONS[s], LK_DISCARD, why, size))
         return LK_DISCARD;
     *lo = r[RHS_MB];
-    if (refused(RHS_ONE[s](m->r, u, r), RHS_REASONS[s], LK_DISCARD, why, size))
+    if (refused(RHS_FIX[s](m->r, u, f), RHS_REASONS[s], LK_DISCARD, why, size) ||
+        refused(RHS_VARY[s](m->r, f, u, r), RHS_REASONS[s], LK_DISCARD, why, size))
         return LK_DISCARD;
     *hi = r[RHS_MB];
     if (!isfinite(*lo) || !isfinite(*hi)) {
@@ -269,7 +273,8 @@ static Status friction_band(const Model *m, const Values *v, double theta, doubl
 
 /* The root alpha of tau = Mb(theta, omega, alpha) with friction (opposing `dir` where omega
  * is 0): secant steps from Eksergian's estimate (the first through Mb at alpha = 0), to
- * rounding, kept inside the bracket of the root its iterates found (Mb grows with alpha;
+ * rounding, kept inside the bracket of the root that alpha = 0 and its iterates found, so
+ * that alpha has the sign of tau - Mb(alpha = 0) (Mb grows with alpha;
  * where a reaction passes through 0 it has a kink, about which the steps alone can cycle:
  * a step out of the bracket bisects it). A secant slope costs one run of the kernel of the
  * motion's part that alpha changes, dMb/dalpha from its forward-mode twin a whole run
@@ -302,6 +307,8 @@ static Status acceleration(const Model *m, const Values *v, const double *x, int
      * = 0 fixed: it starts within a few per cent of the root, where the slope J alone,
      * without friction, would start some ten times farther) */
     double last = 0.0, last_residual = y[RHS_MB] - tau;
+    if (last_residual < 0.0) lo = 0.0;
+    else if (last_residual > 0.0) hi = 0.0;
     du[2] = 1.0;
     for (int n = 0; n < NEWTON_STEPS; n++) {
         u[2] = a;
@@ -357,28 +364,30 @@ static Status acceleration(const Model *m, const Values *v, const double *x, int
 #endif
 
 #if DRIVE_FRICTION
-/* The way a crank at rest at `x` moves off with the band [lo, hi]: 0 (it sticks) while tau
- * lies in the band, else the way tau leaves it, if the acceleration then is that way (tau
- * past an edge by a rounding error may give none, or a rounding error's other way: the
- * crank would stop again at once, and sticks). */
-static int breakaway(const Model *m, const Values *v, const double *x, double lo, double hi) {
+/* The way a crank at rest moves off with the band [lo, hi]: 0 (it sticks) while tau lies
+ * in the band, else the way tau leaves it; its acceleration is then that way (each edge
+ * is acceleration()'s Mb at alpha = 0, and its root keeps that side: where it cannot be
+ * had, the derivatives say why). */
+static int breakaway(const Values *v, double lo, double hi) {
     const double tau = v->real[INPUTS[0]];
-    const int dir = tau > hi ? 1 : tau < lo ? -1 : 0;
-    char why[512];
-    double alpha;
-    if (dir && acceleration(m, v, x, dir, &alpha, why, sizeof why) == LK_OK && !(dir * alpha > 0.0))
-        return 0;
-    return dir; /* where the acceleration cannot be had, the derivatives say why */
+    return tau > hi ? 1 : tau < lo ? -1 : 0;
 }
 #endif
 
-/* How the crank moves at the states `x` with friction: the sign of omega; at rest, in
- * model exchange the discrete state `motion`, in co-simulation the band's decision (0:
- * tau inside it, it sticks; else the way tau leaves it). The band, where computed (at
- * rest), goes to `lo` and `hi`. */
+/* How the crank moves at the states `x` with friction. In model exchange the discrete
+ * state `motion` while it is not 0 (past a stop the crank moves on that way until the
+ * event update stops it: the equation of its motion continues smoothly there, as the
+ * importer's integrator needs), else the sign of omega. In co-simulation the sign of
+ * omega. At rest (omega 0, and in model exchange `motion` 0 too) the band's decision in
+ * co-simulation (0: tau inside it, it sticks; else the way tau leaves it), 0 (stuck) in
+ * model exchange, the band in `lo` and `hi`. */
 static Status motion_of(Instance *in, const Values *v, const double *x, int *dir, double *lo,
                         double *hi, int *has_band, char *why, size_t size) {
     *has_band = 0;
+    if (in->exchange && v->integer[MOTION_VR]) {
+        *dir = v->integer[MOTION_VR];
+        return LK_OK;
+    }
     if (x[1] != 0.0) {
         *dir = x[1] > 0.0 ? 1 : -1;
         return LK_OK;
@@ -387,7 +396,7 @@ static Status motion_of(Instance *in, const Values *v, const double *x, int *dir
     Status s = friction_band((const Model *)in->model, v, x[0], lo, hi, why, size);
     if (s != LK_OK) return s;
     *has_band = 1;
-    *dir = in->exchange ? v->integer[MOTION_VR] : breakaway(in->model, v, x, *lo, *hi);
+    *dir = in->exchange ? 0 : breakaway(v, *lo, *hi);
 #else
     (void)in, (void)v, (void)lo, (void)hi, (void)why, (void)size;
     *dir = 0;
@@ -395,7 +404,16 @@ static Status motion_of(Instance *in, const Values *v, const double *x, int *dir
     return LK_OK;
 }
 
-/* The derivatives of the states with the crank moving `dir` (0: stuck). */
+/* omega of the crank moving `dir` at the speed |omega| (+0 at rest, as the band has it). */
+static double speed_of(int dir, double omega) {
+    return omega == 0.0 ? 0.0 : dir * fabs(omega);
+}
+
+/* The derivatives of the states with the crank moving `dir` (0: stuck). With friction,
+ * the friction opposes `dir` whatever the sign of omega: Mb depends on omega through
+ * omega**2 and the way friction acts only, so the equation of the crank moving `dir` at
+ * the speed |omega| continues smoothly past omega = 0, where the integrator's stages and
+ * the stop's root-finding step (a stop is where omega reaches 0, not a jump of alpha). */
 static Status derivatives_moving(const Model *m, const Values *v, const double *x, int dir,
                                  int live, double *dx, char *why, size_t size) {
     dx[0] = x[1];
@@ -405,7 +423,8 @@ static Status derivatives_moving(const Model *m, const Values *v, const double *
     }
 #if DRIVE_FRICTION
     if (live) {
-        if (acceleration(m, v, x, dir, &dx[1], why, size) != LK_OK) return LK_DISCARD;
+        const double moving[N_STATES] = {x[0], speed_of(dir, x[1])};
+        if (acceleration(m, v, moving, dir, &dx[1], why, size) != LK_OK) return LK_DISCARD;
     } else
 #endif
     {
@@ -423,17 +442,12 @@ static Status derivatives_moving(const Model *m, const Values *v, const double *
     return LK_OK;
 }
 
-static Status backend_derivatives(Instance *in, const Values *v, const double *x, double *dx,
-                                  char *why, size_t size) {
+/* The derivatives at `x` of the crank moving `dir` (co-simulation's integrator: +1 or -1
+ * with friction, whatever the sign of omega within a substep; ignored without it). */
+static Status backend_derivatives(Instance *in, const Values *v, const double *x, int dir,
+                                  double *dx, char *why, size_t size) {
     const Model *m = (const Model *)in->model;
-    const int live = friction_live(m);
-    int dir = 0, has_band;
-    double lo, hi;
-    if (live) {
-        Status s = motion_of(in, v, x, &dir, &lo, &hi, &has_band, why, size);
-        if (s != LK_OK) return s;
-    }
-    return derivatives_moving(m, v, x, dir, live, dx, why, size);
+    return derivatives_moving(m, v, x, dir, friction_live(m), dx, why, size);
 }
 
 /* Every output at the states in `v`: the derivatives, then the kernel of every output at
@@ -452,7 +466,8 @@ static Status drive_evaluate(Instance *in, const Values *v, double *y, char *why
     if (s == LK_OK) s = derivatives_moving(m, v, x, dir, live, dx, why, size);
     if (s != LK_OK) return s;
     const double alpha = dx[1], tau = v->real[INPUTS[0]];
-    motion_inputs(v, x[0], x[1], alpha, u);
+    /* moving `dir`, friction opposes it (past a stop in model exchange too) */
+    motion_inputs(v, x[0], live && dir ? speed_of(dir, x[1]) : x[1], alpha, u);
     double *z = y + KERNEL_OUTPUTS;
     const int st = m->structure;
     const double *q = m->q;
@@ -468,10 +483,22 @@ static Status drive_evaluate(Instance *in, const Values *v, double *y, char *why
     if (live && !dir) z[EFFORT_OUTPUT] = tau;
     y[ALPHA_OUTPUT] = alpha;
     y[DTHETA_OUTPUT] = x[1];
-    /* the event indicators: > 0 where the crank turns, or is pushed past the band, forwards
-     * (EVENTS[0]) and backwards (EVENTS[1]); constant without friction (no switch) */
-    y[EVENTS[0]] = !live ? 1.0 : dir || !has_band ? x[1] : tau - hi;
-    y[EVENTS[1]] = !live ? 1.0 : dir || !has_band ? -x[1] : lo - tau;
+    /* the event indicators, each > 0 where the crank turns, or is pushed past the band,
+     * forwards (EVENTS[0]) and backwards (EVENTS[1]), and never 0 on the side the motion
+     * in force is on (an importer compares each with its last sign): moving `dir`, its
+     * own is dir omega (DBL_MIN at omega = 0: the event update sets omega to dir DBL_MIN
+     * when the crank leaves rest), the other -1; stuck, tau - hi and lo - tau (-DBL_MIN
+     * at an edge, where it still sticks); 1 without friction (no switch). */
+    double ahead = 1.0, behind = 1.0;
+    if (live && dir) {
+        ahead = x[1] != 0.0 ? dir * x[1] : DBL_MIN;
+        behind = -1.0;
+    } else if (live) {
+        ahead = tau - hi != 0.0 ? tau - hi : -DBL_MIN;
+        behind = lo - tau != 0.0 ? lo - tau : -DBL_MIN;
+    }
+    y[EVENTS[0]] = dir < 0 ? behind : ahead;
+    y[EVENTS[1]] = dir < 0 ? ahead : behind;
     return finite_outputs(z, why, size);
 }
 

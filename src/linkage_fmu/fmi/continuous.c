@@ -14,17 +14,23 @@
  *   until the limit is located to the tolerance (the states would change by less than it
  *   before the limit) or to the resolution of the time; the step then ends there:
  *   Discard, the last successful time that of the last good state, whose outputs the
- *   reads give. With friction, wherever omega is 0 (the step's start, a stop located
- *   inside it by the Illinois method) the friction band decides: the crank sticks for
- *   the rest of the step, or moves off the way tau leaves the band.
+ *   reads give. With friction, the crank moving one way is integrated with the friction
+ *   against that way throughout (its equation continues smoothly past omega = 0, so the
+ *   substeps do not shrink towards the stop), and a stop, omega reaching 0, is an event:
+ *   a substep across it is shortened to it by the Illinois method on omega, to the
+ *   tolerance. Wherever omega is 0 (the step's start, a stop) the friction band decides:
+ *   the crank sticks for the rest of the step, or moves off the way tau leaves the band.
  * - Model exchange: the importer integrates; SetTime, SetContinuousStates,
  *   GetContinuousStates, GetDerivatives (Discard, with NaN and a log, where the backend
  *   cannot give them), the nominals (1), the event indicators (the stops and starts),
- *   the event update of the discrete state `motion` (a stop sets omega to 0), and the
- *   modes: after initialisation event mode, continuous-time mode, and back.
+ *   the event update of the discrete state `motion` (a stop sets omega to 0, a start
+ *   from rest to +-DBL_MIN), and the modes: after initialisation event mode,
+ *   continuous-time mode, and back.
  *
- * The backend gives the derivatives: backend_derivatives(in, v, x, dx, why, size), with
- * the inputs and parameters in `v` and the states `x`: LK_OK; LK_DISCARD with `why`.
+ * The backend gives the derivatives: backend_derivatives(in, v, x, dir, dx, why, size),
+ * with the inputs and parameters in `v`, the states `x` and the way `dir` the crank moves
+ * (with friction: +1 or -1, the friction against it whatever the sign of omega): LK_OK;
+ * LK_DISCARD with `why`.
  */
 #include <float.h>
 
@@ -99,10 +105,11 @@ static int located(const double *x, const double *dx, double tol, double span, d
     return 1;
 }
 
-/* One Dormand-Prince substep of `step` from `x`, whose derivatives are in k[0]: the stages
- * k[1..6] and the 5th-order solution `y` (k[6] its derivatives). */
-static Status dp_substep(Instance *in, const char *call, const double *x, double k[7][N_STATES],
-                         double step, double *y, char *why, size_t size) {
+/* One Dormand-Prince substep of `step` from `x`, whose derivatives are in k[0], of the crank
+ * moving `dir`: the stages k[1..6] and the 5th-order solution `y` (k[6] its derivatives). */
+static Status dp_substep(Instance *in, const char *call, const double *x, int dir,
+                         double k[7][N_STATES], double step, double *y, char *why,
+                         size_t size) {
     Status s = LK_OK;
     for (int j = 1; j < 7 && s == LK_OK; j++) {
         for (int i = 0; i < N_STATES; i++) {
@@ -110,7 +117,7 @@ static Status dp_substep(Instance *in, const char *call, const double *x, double
             for (int m = 0; m < j; m++) sum += DP_A[j][m] * k[m][i];
             y[i] = x[i] + step * sum;
         }
-        s = answer(in, call, backend_derivatives(in, &in->values, y, k[j], why, size));
+        s = answer(in, call, backend_derivatives(in, &in->values, y, dir, k[j], why, size));
     }
     return s;
 }
@@ -132,7 +139,7 @@ static Status locate_stop(Instance *in, const char *call, const double *x, const
         if ((b - a) * rate <= tol || b - a <= 4.0 * DBL_EPSILON * fabs(t + b)) break;
         double c = b - gb * (b - a) / (gb - ga);
         if (!(c > a && c < b)) c = 0.5 * (a + b);
-        Status s = dp_substep(in, call, x, k, c, trial, why, size);
+        Status s = dp_substep(in, call, x, dir, k, c, trial, why, size);
         if (s != LK_OK) return s;
         const double gc = dir * trial[1];
         if (gc > 0.0) {
@@ -164,7 +171,7 @@ static Status integrate(Instance *in, const char *call, double t, double h, doub
     double y[N_STATES], e[N_STATES], k[7][N_STATES];
     const double tol = in->values.real[TOLERANCE_VR];
     *stopped = 0;
-    Status s = answer(in, call, backend_derivatives(in, &in->values, x, k[0], why, size));
+    Status s = answer(in, call, backend_derivatives(in, &in->values, x, dir, k[0], why, size));
     if (s != LK_OK) return s;
     double hs = in->substep > 0.0 ? in->substep : first_substep(x, k[0], tol, h - *done);
     double limit = INFINITY; /* a substep from `done` that reached a stage without derivatives */
@@ -186,7 +193,7 @@ static Status integrate(Instance *in, const char *call, double t, double h, doub
         int last = 0;
         if (step >= left) step = left, last = 1;
         if (step >= limit) step = 0.5 * limit, last = 0;
-        s = dp_substep(in, call, x, k, step, y, why, size);
+        s = dp_substep(in, call, x, dir, k, step, y, why, size);
         if (s > LK_DISCARD) return s;
         if (s == LK_DISCARD) { /* past a limit: bisect towards it */
             limit = step;
@@ -378,8 +385,13 @@ static Status lk_get_continuous_states(void *c, const char *call, double x[], si
     if (require(in, call, READABLE) || check_states(in, call, x, n, "nContinuousStates"))
         return LK_ERROR;
     start_states(in);
-    for (int k = 0; k < N_STATES; k++) x[k] = in->values.real[STATES[k]];
-    return LK_OK;
+    Status status = LK_OK;
+    for (int k = 0; k < N_STATES; k++) {
+        x[k] = in->values.real[STATES[k]];
+        const Status s = read_state(in, call, k, x[k]);
+        if (s > status) status = s;
+    }
+    return status;
 }
 
 /* The derivatives of the states: Discard (NaN, with a log) where they cannot be had. */
@@ -429,9 +441,13 @@ static Status lk_get_event_indicators(void *c, const char *call, double z[], siz
 
 /* Model exchange's event update (an event indicator crossed 0, an input changed, the
  * initial one): with friction, a crank that moved `motion` and whose omega reached or
- * crossed 0 stops there (omega set to 0: `*moved`), and at rest the friction band decides
- * `motion` (0: it sticks, else the way tau leaves the band); a moving crank keeps moving
- * the way omega turns. */
+ * crossed 0 stops there (omega set to 0), and at rest the friction band decides `motion`
+ * (0: it sticks, else the way tau leaves the band, its acceleration that way); a moving
+ * crank keeps moving the way omega turns. A crank that leaves rest the way `dir` gets
+ * omega = dir DBL_MIN (a speed no output shows): the indicator of its motion is then > 0
+ * from the start, and an importer that restarts its integrator only where the states
+ * change (valuesOfContinuousStatesChanged, `*moved`) restarts it at every start as at
+ * every stop, its history of the crank at rest left behind. */
 static Status drive_event(Instance *in, const char *call, int *moved) {
     char why[512];
     *moved = 0;
@@ -471,10 +487,11 @@ static Status drive_event(Instance *in, const char *call, int *moved) {
             return say(in, LK_DISCARD, "%s: at rest at t = %s, the friction band cannot be had: "
                        "%s", call, shortest(in->time, at, sizeof at), why);
         }
-        *motion = breakaway((const Model *)in->model, &in->values, x, lo, hi);
-        /* it stopped moving `was`, and would move off that way again: the acceleration
-         * turns back as soon as it moves (friction all but locks it); it stays */
-        if (was && *motion == was) *motion = 0;
+        *motion = breakaway(&in->values, lo, hi);
+        if (*motion) { /* it moves off: see above */
+            in->values.real[STATES[1]] = *motion * DBL_MIN;
+            *moved = 1;
+        }
     }
 #else
     (void)why;

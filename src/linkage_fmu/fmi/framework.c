@@ -504,6 +504,33 @@ static void start_states(Instance *in) {
 #endif
 }
 
+/* A read of the continuous state `k`, `x` its value: LK_OK; LK_WARNING, logged once until
+ * the values change, where it is not a finite number (before initialisation ends it is its
+ * start parameter, which may be set to anything then: that parameter is named), as every
+ * read of a value that is not a number. */
+static Status read_state(Instance *in, const char *call, int k, double x) {
+#if N_STATES > 0
+    if (isfinite(x)) return LK_OK;
+    if (in->reported) return LK_WARNING;
+    char value[32], at[32];
+    const unsigned start = STATE_STARTS[k];
+    if (!(IN(in->machine) & INITIALIZED))
+        say(in, LK_WARNING, "%s: the continuous state %s reads %s: it starts at %s = %s, which "
+            "is not a finite number (exitInitializationMode refuses it)", call,
+            VARIABLES[STATES[k]].name, shortest(x, value, sizeof value), VARIABLES[start].name,
+            shortest(in->values.real[start], at, sizeof at));
+    else
+        say(in, LK_WARNING, "%s: the continuous state %s reads %s at t = %s", call,
+            VARIABLES[STATES[k]].name, shortest(x, value, sizeof value),
+            shortest(in->time, at, sizeof at));
+    in->reported = 1;
+    return LK_WARNING;
+#else
+    (void)in, (void)call, (void)k, (void)x;
+    return LK_OK;
+#endif
+}
+
 /* Compute the outputs if the inputs changed: LK_OK (solved), LK_DISCARD (cannot be
  * solved; `why` says why), LK_ERROR (the parameters are invalid, or the backend failed). */
 static Status evaluate(Instance *in, const char *call) {
@@ -790,6 +817,10 @@ static Status lk_get_real(void *c, const char *call, const ValueReference vr[], 
         if (v->kind == K_STATE) start_states(in);
         if (v->kind != K_OUTPUT) {
             value[i] = in->values.real[vr[i]];
+            if (v->kind == K_STATE) {
+                const Status s = read_state(in, call, v->index, value[i]);
+                if (s > status) status = s;
+            }
             continue;
         }
         Status s = read_outputs(in, call);

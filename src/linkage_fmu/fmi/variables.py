@@ -31,7 +31,7 @@ Examples
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 from ..mechanism import METHODS, MOTION
@@ -213,7 +213,7 @@ def crank_choices(mech) -> dict:
 #: the drive FMU's discrete state: how the crank moves (+1 forwards, -1 backwards, 0 stuck)
 MOTION_STATE = "motion"
 #: the drive FMU's event indicators (model exchange), each > 0 where the crank turns, or is
-#: pushed past the friction band, that way
+#: pushed past the friction band, that way, and never 0 on the side the motion in force is on
 EVENT_INDICATORS = ("z_forwards", "z_backwards")
 
 
@@ -268,7 +268,9 @@ def drive_variables(mech) -> list[Variable]:
                               f"{text} (a continuous state)", None, index=k, state=True))
     table.append(Variable(MOTION_STATE, "Integer", "local", "discrete", "", "",
                           "how the crank moves: +1 forwards (counter-clockwise), -1 backwards, "
-                          "0 stuck (at rest, tau inside the friction band); a discrete state",
+                          "0 stuck (at rest, tau inside the friction band: Mb is tau, the other "
+                          "outputs those at rest with friction at its limit at the band's edge "
+                          "on tau's side of its middle); a discrete state",
                           None, index=n + 3, allowed=(1, 0, -1), rule="+1, 0 or -1",
                           discrete=True))
     unit, display, text = _MOTION_INFO["alpha"]
@@ -277,16 +279,22 @@ def drive_variables(mech) -> list[Variable]:
                           "while the crank sticks", None, moved, index=0, derivative="omega"))
     names = mech.output_names + mech.diagnostic_names
     for k, name in enumerate(names, 1):
-        table.append(_output(mech, name, moved, k))
+        v = _output(mech, name, moved, k)
+        if name == mech.effort.name:  # the drive's: what the linkage takes from the crank
+            v = replace(v, description=f"{v.description}: equal to tau, while the "
+                                    "crank moves and while it sticks (the linkage holds it)")
+        table.append(v)
     table.append(Variable("der(theta)", "Real", "local", "continuous", "rad/s", "",
                           "derivative of theta: omega", None, ("omega",), index=len(names) + 1,
                           derivative="theta"))
     for k, (name, way) in enumerate(zip(EVENT_INDICATORS, ("forwards", "backwards"))):
         sign = "" if way == "forwards" else "-"
+        other = "backwards" if way == "forwards" else "forwards"
         edge = "Mb(drive = +1) at rest" if way == "forwards" else "Mb(drive = -1) at rest"
-        text = (f"event indicator: {sign}omega while the crank turns, and while it sticks "
+        text = (f"event indicator: {sign}omega while the crank turns {way} (DBL_MIN as it "
+                f"leaves rest), -1 while it turns {other}, and while it sticks "
                 f"{'tau - ' + edge if way == 'forwards' else edge + ' - tau'} (> 0: it breaks "
-                f"away {way}); 1 without friction")
+                f"away {way}; -DBL_MIN at the edge); 1 without friction")
         table.append(Variable(name, "Real", "local", "continuous", "", "", text, None,
                               moved, index=len(names) + 2 + k, event=True))
     return table
