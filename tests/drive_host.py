@@ -206,11 +206,16 @@ def main():
         answers["read nan"] = [got[0], [None if v != v else v for v in got[1].values()]]
         d.set({"tau": 0.1})
         answers["step fine"] = d.step(0.0, 0.01)[0]
-        answers["step h 0"] = d.step(0.01, 0.0)[0]
+        answers["tolerance tuned"] = d.set({"tolerance": 1e-10})
+        answers["tolerance tuned 0"] = d.set({"tolerance": 0.0})
+        answers["step tuned"] = d.step(0.01, 0.01)[0]
+        answers["tolerance read"] = d.get(["tolerance"])[1]["tolerance"]
+        answers["step h 0"] = d.step(0.02, 0.0)[0]
         m = Drive(unzip, md, exchange=True, name="exchange")
         m.initialise({})
         x = (c_double * 3)()
         answers["enter continuous"] = m.call(m.s.enterContinuousTimeMode)[0]
+        answers["tolerance in continuous time"] = m.set({"tolerance": 1e-10})
         answers["set states n=3"] = m.call(m.s.setContinuousStates, x, 3)[0]
         x[0], x[1] = math.nan, 1.0
         answers["set states nan"] = m.call(m.s.setContinuousStates, x, 2)[0]

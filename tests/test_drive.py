@@ -336,15 +336,19 @@ def test_states_round_trip(fmus, tmp_path, version):
 
 @pytest.mark.parametrize("version", (2, 3))
 def test_bad_calls_are_errors_never_fatal(fmus, tmp_path, version):
-    """Setting a state as a variable, a tolerance of 0, a step of 0, a DoStep in model
-    exchange, SetContinuousStates with 3 values or a NaN, GetDerivatives with 1, a time
-    of inf: Error, with a log naming the call; tau = NaN makes the step Discard and the
-    outputs NaN with a Warning (the state keeps its value); the instance goes on."""
+    """Setting a state as a variable, a tolerance of 0 (at initialisation, or tuned
+    between steps: it keeps its value), a step of 0, a DoStep in model exchange, the
+    tolerance in continuous-time mode, SetContinuousStates with 3 values or a NaN,
+    GetDerivatives with 1, a time of inf: Error, with a log naming the call; tau = NaN
+    makes the step Discard and the outputs NaN with a Warning (the state keeps its
+    value); the tolerance tuned between steps holds; the instance goes on."""
     out = host({"job": "bad", "fmu": str(fmus[version]), "start": {}}, tmp_path)
     a = out["answers"]
     assert a == {"set state theta": ERROR, "tolerance 0": ERROR, "tolerance back": OK,
                  "tau nan": OK, "step nan": DISCARD, "read nan": [WARNING, [None, 0.0]],
-                 "step fine": OK, "step h 0": ERROR, "enter continuous": OK,
+                 "step fine": OK, "tolerance tuned": OK, "tolerance tuned 0": ERROR,
+                 "step tuned": OK, "tolerance read": 1e-10, "step h 0": ERROR,
+                 "enter continuous": OK, "tolerance in continuous time": ERROR,
                  "set states n=3": ERROR, "set states nan": ERROR, "derivatives n=1": ERROR,
                  "do step in model exchange": ERROR, "set time inf": ERROR,
                  "set states fine": OK, "derivatives fine": OK}
@@ -940,11 +944,14 @@ def importer(variable: str, command: str) -> str:
     return exe
 
 
-def motion_csv(name, path: Path, extra: dict | None = None) -> Path:
-    """The motion's torque as an importer's input file (and ``extra`` columns)."""
-    extra = extra or {}
-    lines = [",".join(["time", "tau", *extra])]
-    lines += [",".join(repr(float(v)) for v in (t, tau, *extra.values()))
+def motion_csv(name, path: Path, before: dict | None = None) -> Path:
+    """The motion's torque as an importer's input file, after the columns ``before``: the
+    FMU Compliance Checker reads a parameter's column right only before the inputs'
+    (measured with tolerance, tau and load in each of the six orders: with tolerance
+    after an input it set tolerance to another column's value)."""
+    before = before or {}
+    lines = [",".join(["time", *before, "tau"])]
+    lines += [",".join(repr(float(v)) for v in (t, *before.values(), tau))
               for t, tau in motion_inputs(name)]
     path.write_text("\n".join(lines) + "\n")
     return path
@@ -993,8 +1000,8 @@ def test_friction_motions_through_fmusim(fmus, motion_references, tmp_path, vers
 @pytest.fixture(scope="module")
 def motion_fmu(tmp_path_factory) -> Path:
     """The four-bar's drive FMU (FMI 2.0) with the motions' friction and start as its
-    defaults: the FMU Compliance Checker cannot set a fixed parameter (it sets those of
-    its input file at every step)."""
+    defaults: the FMU Compliance Checker sets the variables of its input file at every
+    step, where a fixed parameter cannot be set (the tolerance is tunable)."""
     from linkage_fmu import presets
 
     d = presets.preset("four_bar").copy().start(theta=3.0, omega=0.0)
@@ -1006,15 +1013,17 @@ def test_friction_motions_through_the_compliance_checker(motion_references, tmp_
                                                           request):
     """The FMU Compliance Checker (``$FMUCHECK`` or ``fmuCheck.linux64`` on PATH; it reads
     FMI 1.0 and 2.0 only) runs each of :data:`FRICTION_MOTIONS` with every switch (10 of
-    10 in the coast; before, its model exchange found 1): co-simulation at the FMU's
-    default tolerance, 1e-8 (the Checker sets no parameter), within 1e-5 rad of theta
-    (measured 5.6e-6 rad in the coast), and its model exchange (explicit Euler, 0.1 ms,
-    an event at the step after each indicator changes sign) within 300 h."""
+    10 in the coast; before, its model exchange found 1): co-simulation at the tolerance
+    1e-10 (a column of its input file: the Checker sets it at every step, which the
+    tunable ``tolerance`` takes) within 1e-7 rad of theta, and its model exchange
+    (explicit Euler, 0.1 ms, an event at the step after each indicator changes sign)
+    within 300 h."""
     exe = importer("FMUCHECK", "fmuCheck.linux64")
     fmu = request.getfixturevalue("motion_fmu")
     for name, (_, _, stop) in FRICTION_MOTIONS.items():
-        csv_in = motion_csv(name, tmp_path / "in.csv")
-        for kind, h, bound in (("cs", MOTION_H, 1e-5), ("me", EULER_H, EULER_BOUND * EULER_H)):
+        for kind, h, bound in (("cs", MOTION_H, 1e-7), ("me", EULER_H, EULER_BOUND * EULER_H)):
+            csv_in = motion_csv(name, tmp_path / "in.csv",
+                                {"tolerance": CS_TOLERANCE} if kind == "cs" else None)
             out, log = tmp_path / "out.csv", tmp_path / "log.txt"
             out.unlink(missing_ok=True)
             run = subprocess.run([exe, "-k", kind, "-n", "0", "-h", repr(h), "-s", repr(stop),

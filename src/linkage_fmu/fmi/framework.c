@@ -237,7 +237,12 @@ static Status check_settable(const Instance *in, const char *call, const ValueRe
                              size_t nvr, const char *exit_call) {
     for (size_t i = 0; i < nvr; i++) {
         const Variable *v = &VARIABLES[vr[i]];
-        if (v->kind == K_INPUT || v->kind == K_TUNABLE) continue;
+        if (v->kind == K_INPUT || (v->kind == K_TUNABLE && in->machine != S_CONTINUOUS))
+            continue;
+        if (v->kind == K_TUNABLE)
+            return say(in, LK_ERROR, "%s: '%s' (value reference %u) is a tunable parameter: "
+                       "model exchange sets it in event mode, not in continuous-time mode",
+                       call, v->name, (unsigned)vr[i]);
         if (v->kind == K_FIXED && (in->machine == S_INSTANTIATED || in->machine == S_INIT))
             continue;
         if (v->kind == K_STATE)
@@ -924,6 +929,13 @@ static Status lk_set_real(void *c, const char *call, const char *exit_call,
     if (require(in, call, WRITABLE) || check_refs(in, call, vr, nvr, value, T_REAL, TYPE_NAMES[T_REAL]) ||
         check_settable(in, call, vr, nvr, exit_call))
         return LK_ERROR;
+    if (IN(in->machine) & INITIALIZED) { /* a tunable parameter: checked before it is taken */
+        char why[512];
+        for (size_t i = 0; i < nvr; i++)
+            if (VARIABLES[vr[i]].kind == K_TUNABLE &&
+                unfit_real(&VARIABLES[vr[i]], value[i], why, sizeof why)[0])
+                return say(in, LK_ERROR, "%s: %s; it keeps its value", call, why);
+    }
     for (size_t i = 0; i < nvr; i++) {
         double *stored = &in->values.real[vr[i]];
         /* a change: a different value, or a NaN (whose bits may differ) */

@@ -257,9 +257,10 @@ def drive_variables(mech) -> list[Variable]:
         unit, display, text = _MOTION_INFO[name]
         table.append(Variable(f"{name}0", "Real", "parameter", "fixed", unit, display,
                               f"{text} at the start", float(mech.start[name]), index=n + k))
-    table.append(Variable("tolerance", "Real", "parameter", "fixed", "1", "",
+    table.append(Variable("tolerance", "Real", "parameter", "tunable", "1", "",
                           "the co-simulation integrator's tolerance, relative and absolute, "
-                          "on theta [rad] and omega [rad/s]", TOLERANCE, index=n + 2,
+                          "on theta [rad] and omega [rad/s]; tunable: it may be set between "
+                          "steps too, and holds from the next", TOLERANCE, index=n + 2,
                           rule="> 0", minimum=FINEST, maximum=0.1))
     moved = ("theta", "omega", "tau") + tuple(load.name for load in mech.input_loads)
     for k, name in enumerate(("theta", "omega")):

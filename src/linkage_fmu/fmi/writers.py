@@ -91,7 +91,9 @@ def _kind(v: Variable) -> str:
         return "DISCRETE"
     if v.derivative or v.event:  # computed, whatever its causality
         return "OUTPUT"
-    return {"input": "INPUT", "output": "OUTPUT", "parameter": "FIXED"}.get(v.causality, "OTHER")
+    if v.causality == "parameter":
+        return "TUNABLE" if v.variability == "tunable" else "FIXED"
+    return {"input": "INPUT", "output": "OUTPUT"}.get(v.causality, "OTHER")
 
 
 def model_name(mech, drive: bool = False) -> str:
