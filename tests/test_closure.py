@@ -21,6 +21,7 @@ import pytest
 
 import arclength
 import fmu_cache
+import triads
 from linkage_fmu import AssemblyError, Description, NearSingularWarning, newton, presets
 from linkage_fmu.descriptions.description import DescriptionError
 from linkage_fmu.groups import Closure, closure
@@ -422,184 +423,44 @@ def test_a_drawn_angle_the_groups_before_cannot_reach_is_refused():
         d.build()
 
 
-# -- the assembly mode it follows, at the edges -----------------------------------------
-#: the drawn coordinates of the triad six-bar of tests/arclength.py, as parameters: one
-#: kernel, and one FMU, for every design
-COORDINATES = ("r", "th0", "cx", "cy", "dx", "dy", "ex", "ey", "fx", "fy", "gx", "gy")
-#: the states compared are static, under gravity and a torque on the plate
-GRAVITY, TORQUE = 9.81, 5.0
-#: link -> (the joint its centre of mass is at, its mass in kg): at rest the balancing
-#: moment is ``g sum(m dy/dtheta) - T dphi5/dtheta`` (virtual work)
-MASSES = {"3": ("E", 0.5), "4": ("F", 0.4), "6": ("G", 0.3), "5": ("E", 1.2)}
-#: the documented reach of the continuation: a state on the drawn assembly mode farther
-#: than this from a limit position (rad of the crank angle) is solved
-REACH = 1e-9
-
-
-def triad(design: arclength.Design) -> Description:
-    """The triad six-bar in group form, every drawn coordinate a parameter (its defaults
-    ``design``'s)."""
-    value = coordinates(design)
-    d = Description("triad", model="Triad", frame="0", gravity=GRAVITY)
-    for name in COORDINATES:
-        kind = {"r": "length", "th0": "angle"}.get(name, "coordinate")
-        d.parameter(name, value[name], kind, f"the drawn pose's {name}")
-    d = (d.point("A", 0, 0).point("C", "cx", "cy").point("D", "dx", "dy")
-         .group("crank", link="1", pivot="A", tip="B", length="r")
-         .group("closure", links=LINKS,
-                pose={"B": ["r * cos(th0)", "r * sin(th0)"], "C": ["cx", "cy"],
-                      "D": ["dx", "dy"], "E": ["ex", "ey"], "F": ["fx", "fy"],
-                      "G": ["gx", "gy"]}, theta="th0")
-         .body("1", mass=0.0, inertia=0.0, cg={"from": "A"}))
-    for link, (at, mass) in MASSES.items():
-        d.body(link, mass=mass, inertia=0.0, cg={"from": at})
-    return (d.load("T", body="5", kind="moment", description="a torque on the plate")
-            .effort("Mb", body="1").output("effort", name="Mb"))
-
-
-def coordinates(design: arclength.Design) -> dict:
-    return dict(zip(COORDINATES, map(float, (design.r, design.theta0, *design.C, *design.D,
-                                             *design.pose["E"], *design.pose["F"],
-                                             *design.pose["G"]))))
-
-
-def _random_design(rng) -> tuple:
-    """A triad six-bar drawn at a random crank angle: a plate of three points around a
-    random centre, one rod from the crank tip, two from frame pivots, each of random
-    length and direction (the reference's :class:`~arclength.Branch` of it too)."""
-    while True:
-        r, theta0 = rng.uniform(0.03, 0.08), rng.uniform(-math.pi, math.pi)
-        B = r * np.array([math.cos(theta0), math.sin(theta0)])
-        centre, size, turn = rng.uniform([-0.1, 0.15], [0.1, 0.3]), rng.uniform(0.04, 0.1), \
-            rng.uniform(0.0, 2 * math.pi)
-        plate = [centre + size * np.array([math.cos(a), math.sin(a)]) for a in
-                 turn + 2 * math.pi * np.arange(3) / 3 + rng.uniform(-0.4, 0.4, 3)]
-        rods = [rng.uniform(0.12, 0.3) * np.array([math.cos(a), math.sin(a)])
-                for a in rng.uniform(0.0, 2 * math.pi, 2)]
-        if np.linalg.norm(B - plate[0]) < 0.05:
-            continue
-        design = arclength.Design(r, theta0, tuple(plate[1] + rods[0]),
-                                  tuple(plate[2] + rods[1]),
-                                  dict(zip("EFG", map(tuple, plate))))
-        try:
-            return design, arclength.Branch(design)
-        except RuntimeError:  # the reference cannot follow it: another
-            continue
-
-
-def _near_a_limit(rng) -> tuple:
-    """A random design whose crank cannot turn fully, drawn again within 1e-7 to 1e-3
-    rad of one of its limit positions, on either assembly mode that meets there."""
-    while True:
-        design, branch = _random_design(rng)
-        limits = [(way, at) for way, at in zip((1.0, -1.0), branch.limits) if at is not None]
-        if not limits:
-            continue
-        way, at = limits[rng.integers(len(limits))]
-        eps = 10.0 ** rng.uniform(-7.0, -3.0)
-        x = branch.at(at - way * eps) if rng.uniform() < 0.5 else branch.beyond(way, eps)
-        drawn = arclength.Design(design.r, at - way * eps, design.C, design.D,
-                                 {"E": tuple(x[0:2]), "F": tuple(x[2:4]), "G": tuple(x[4:6])})
-        try:
-            return drawn, arclength.Branch(drawn)
-        except RuntimeError:
-            continue
-
-
-def _states(rng, design, branch, n: int = 25) -> list:
-    """``n`` crank angles: 13 anywhere, then up to 6 within 1e-11 to 1e-3 rad of each limit
-    (both sides), the rest within 1e-3 rad of the drawn angle; none half a turn away
-    (where the shorter way round is undefined)."""
-    thetas = list(rng.uniform(-math.pi, math.pi, 13))
-    for at in branch.limits:
-        if at is not None:
-            side = np.where(rng.uniform(size=6) < 0.5, -1.0, 1.0)
-            thetas += list(at + side * 10.0 ** rng.uniform(-11.0, -3.0, 6))
-    thetas += list(design.theta0 + rng.uniform(-1e-3, 1e-3, n))
-    return [float(t) for t in thetas[:n] if abs(branch.delta(t)) < math.pi - 1e-6]
-
-
+# -- the assembly mode it follows, at the edges (tests/triads.py) -------------------------
 @pytest.fixture(scope="module")
 def designs() -> list:
-    """160 random designs, every other one drawn near a limit position, each with 25
-    states: ``(design, branch, thetas)``."""
-    rng = np.random.default_rng(20261202)
-    out = []
-    for k in range(160):
-        design, branch = (_near_a_limit if k % 2 else _random_design)(rng)
-        out.append((design, branch, _states(rng, design, branch)))
-    return out
-
-
-def reference_outputs(branch, theta: float) -> tuple[float, float]:
-    """``(Mb, gamma_E)`` at rest from the reference's position and its rates: virtual
-    work, and the angle at E between E -> B and E -> F."""
-    x = branch.at(theta)
-    rate = branch.rates(theta, x)
-    P = {"E": x[0:2], "F": x[2:4], "G": x[4:6]}
-    dP = {"E": rate[0:2], "F": rate[2:4], "G": rate[4:6]}
-    u, du = P["F"] - P["E"], dP["F"] - dP["E"]
-    turn = (u[0] * du[1] - u[1] * du[0]) / (u @ u)
-    Mb = GRAVITY * sum(m * dP[at][1] for at, m in MASSES.values()) - TORQUE * turn
-    a = branch.d.B(theta) - P["E"]
-    return Mb, math.atan2(abs(a[0] * u[1] - a[1] * u[0]), a @ u)
+    """160 random triad six-bars, every other one drawn near a limit position, each with
+    25 states: ``(design, branch, thetas)``."""
+    return triads.designs(160)
 
 
 @pytest.fixture(scope="module")
 def triad_kernel(designs):
     """The compiled static kernel of the triad with its coordinates as parameters
     (skips without a C compiler)."""
-    kernel = triad(designs[0][0]).build().kernel(static=True)
+    kernel = triads.triad(designs[0][0]).build().kernel(static=True)
     if not kernel.compile():
         pytest.skip("no C compiler: the compiled kernel is what is compared here")
     return kernel
 
 
-def _kernel_at(kernel, design):
-    """The compiled kernel and the Python one at ``design``'s coordinates: each returns
-    the outputs' tuple, or the code of the guard that fails (:attr:`Kernel.reasons`)."""
-    from linkage_fmu.kernels import compiled
-
-    frozen = kernel.prepare(*coordinates(design).values())
-    assert frozen is not None, kernel.parameter_problem(*coordinates(design).values())
-    return (compiled.scalar_kernel(kernel._module, frozen, kernel.checked),
-            kernel.make(*frozen))
-
-
 def test_no_state_is_answered_on_another_assembly_mode(designs, triad_kernel):
     """160 random triad six-bars (every other one drawn within 1e-3 rad of a limit
     position, on either mode that meets there), 25 static states each, against the
-    reference pseudo-arclength continuation of the whole linkage (tests/arclength.py).
-    A state the drawn mode reaches farther than 1e-9 rad from a limit is solved: its
-    transmission angle at E within 1e-9 rad of the reference's (the position), its Mb
-    within 1e-6 of max(1, |Mb|) N.m, and near a limit, where Mb grows without bound and
-    both solves lose digits, within 1e-13 over the distance to it more; a state past a
-    limit is refused, for a reason of kind 'assembly' (the Python kernel by the same
-    guard); nearer than 1e-9 rad, either. Counted: reached, refused and near states are
-    each a large share."""
-    iMb, igamma = triad_kernel.index["Mb"], triad_kernel.index["gamma_E"]
+    reference pseudo-arclength continuation of the whole linkage (tests/arclength.py),
+    by :func:`triads.judge`: a state the drawn mode reaches farther than 1e-9 rad from a
+    limit is solved, its transmission angle at E within 1e-9 rad of the reference's and
+    its Mb within 1e-6 of max(1, |Mb|) N.m (more near a limit, where Mb grows without
+    bound); a state past a limit is refused for a reason of kind 'assembly', the Python
+    kernel by the same guard as the compiled one (once per design); nearer than 1e-9
+    rad, either. Reached, refused and near states are each a large share."""
     counts = {"reached": 0, "past": 0, "near": 0}
-    for k, (design, branch, thetas) in enumerate(designs):
-        fast, slow = _kernel_at(triad_kernel, design)
-        reasons = 0
+    for design, branch, thetas in designs:
+        checked = False
         for theta in thetas:
-            margin, r = branch.margin(theta), fast(theta, 0.0, 0.0, TORQUE)
-            where = f"design {k} at theta = {theta!r} ({margin:.3g} rad short of a limit)"
-            if margin > REACH:
-                counts["reached"] += 1
-                assert type(r) is tuple, f"{where}: refused"
-                Mb, gamma = reference_outputs(branch, theta)
-                assert abs(r[igamma] - gamma) <= 1e-9, where
-                assert abs(r[iMb] - Mb) <= (1e-6 + 1e-13 / margin) * max(1.0, abs(Mb)), where
-            elif margin < -REACH:
-                counts["past"] += 1
-                assert type(r) is int, f"{where}: answered past the limit"
-                assert triad_kernel.reasons[r - 1].kind == "assembly", where
-                if reasons < 1:  # the Python kernel refuses it by the same guard
-                    assert slow(theta, 0.0, 0.0, TORQUE) == r, where
-                    reasons += 1
-            else:
-                counts["near"] += 1
+            kind, r = triads.judge(triad_kernel, design, branch, theta)
+            counts[kind] += 1
+            if kind == "past" and not checked:
+                _, slow = triads.kernel_at(triad_kernel, design)
+                assert slow(theta, 0.0, 0.0, triads.TORQUE) == r, (design, theta)
+                checked = True
     assert counts["reached"] > 1500 and counts["past"] > 1000 and counts["near"] > 50, counts
 
 
@@ -607,7 +468,7 @@ def _built(design: arclength.Design):
     """The triad drawn as ``design``, built on its numbers (near a limit it warns)."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", NearSingularWarning)
-        return triad(design).build()
+        return triads.triad(design).build()
 
 
 def test_the_formulas_on_floats_and_arrays_decide_as_the_kernel(designs, triad_kernel):
@@ -629,11 +490,11 @@ def test_the_formulas_on_floats_and_arrays_decide_as_the_kernel(designs, triad_k
             with pytest.raises(AssemblyError, match="cannot reach the state on its drawn"):
                 mech.kinematics(theta, order=0)
         if k < 4:
-            fast, _ = _kernel_at(triad_kernel, design)
-            sol = mech.solve(np.array(thetas), 0.0, 0.0, TORQUE, method="interpreted")
+            fast, _ = triads.kernel_at(triad_kernel, design)
+            sol = mech.solve(np.array(thetas), 0.0, 0.0, triads.TORQUE, method="interpreted")
             for i, theta in enumerate(thetas):
-                r = fast(theta, 0.0, 0.0, TORQUE)
-                if abs(branch.margin(theta)) > REACH:
+                r = fast(theta, 0.0, 0.0, triads.TORQUE)
+                if abs(branch.margin(theta)) > triads.REACH:
                     assert bool(sol.valid[i]) == (type(r) is tuple), (k, theta)
                 if sol.valid[i] and type(r) is tuple:
                     assert abs(sol["gamma_E"][i] - r[igamma]) <= 1e-9, (k, theta)
@@ -644,45 +505,38 @@ def test_the_native_fmu_follows_the_drawn_mode(designs, triad_kernel, tmp_path):
     designs (4 drawn near a limit), 25 steps each (200 states), in a fresh host process
     (tests/fmu_raw_host.py): doStep answers OK with Mb and gamma_E equal to the compiled
     kernel's to 1e-12 of max(1, |value|) where the library solves the state, Discard where
-    it refuses it; no call answers Error or Fatal."""
-    from test_fmu_protocol import DISCARD, ERROR, OK, raw, variables
+    it refuses it; no call answers Error or Fatal (tests/triads.py runs every state of
+    any number of designs, with fuzzed inputs)."""
+    from fmpy import read_model_description
+
+    from test_fmu_protocol import DISCARD, ERROR, OK, raw
 
     source = tmp_path / "triad.toml"
-    source.write_text(triad(designs[0][0]).to_toml())
-    dist = fmu_cache.build_native_fmu(str(source), tmp_path / "dist").parent
-    refs = variables(dist, "Triad")
-    reads = [refs[n][0] for n in ("Mb", "gamma_E")]
-    ops, expected = [], []
-    for k, (design, _, thetas) in enumerate(designs[:8]):
-        name = f"design{k}"
-        ops += [[name, "new", "Triad"], [name, "setup", 0.0, None], [name, "enter"],
-                [name, "setReal", [refs[n][0] for n in COORDINATES],
-                 list(coordinates(design).values())], [name, "exit"]]
-        fast, _ = _kernel_at(triad_kernel, design)
-        for i, theta in enumerate(thetas):
-            ops += [[name, "setReal", [refs[n][0] for n in ("theta", "omega", "alpha", "T")],
-                     [theta, 0.0, 0.0, TORQUE]], [name, "doStep", 0.01 * i, 0.01],
-                    [name, "getReal", reads]]
-            r = fast(theta, 0.0, 0.0, TORQUE)
-            expected.append((k, theta, None if type(r) is not tuple else
-                             (r[triad_kernel.index["Mb"]], r[triad_kernel.index["gamma_E"]])))
-        ops.append([name, "free"])
-    out = raw(dist, ops, tmp_path, models=("Triad",))
+    source.write_text(triads.triad(designs[0][0]).to_toml())
+    fmu = fmu_cache.build_native_fmu(str(source), tmp_path / "dist")
+    refs = {v.name: v.valueReference for v in read_model_description(str(fmu)).modelVariables}
+    runs = [(design, thetas) for design, _, thetas in designs[:8]]
+    ops = triads.fmu_ops(refs, runs)
+    out = raw(fmu.parent, ops, tmp_path, models=("Triad",))
     statuses = [status for status, _ in out["results"]]
     assert ERROR not in statuses
-    steps = [i for i, op in enumerate(ops) if op[1] == "doStep"]
-    assert len(steps) == len(expected) == 200
+    steps = iter(i for i, op in enumerate(ops) if op[1] == "doStep")
     counts = {OK: 0, DISCARD: 0}
-    for i, (k, theta, want) in zip(steps, expected):
-        status, (_, values) = statuses[i], out["results"][i + 1]
-        counts[status] = counts.get(status, 0) + 1
-        if want is None:
-            assert status == DISCARD, (k, theta)
-        else:
-            assert status == OK, (k, theta)
-            for got, value in zip(values, want):
-                assert abs(got - value) <= 1e-12 * max(1.0, abs(value)), (k, theta)
-    assert counts[OK] > 50 and counts[DISCARD] > 20, counts
+    for design, thetas in runs:
+        fast, _ = triads.kernel_at(triad_kernel, design)
+        for theta in thetas:
+            i = next(steps)
+            status, values = statuses[i], out["results"][i + 1][1]
+            counts[status] = counts.get(status, 0) + 1
+            r = fast(theta, 0.0, 0.0, triads.TORQUE)
+            if type(r) is not tuple:
+                assert status == DISCARD, (design, theta)
+                continue
+            assert status == OK, (design, theta)
+            for got, name in zip(values, ("Mb", "gamma_E")):
+                want = r[triad_kernel.index[name]]
+                assert abs(got - want) <= 1e-12 * max(1.0, abs(want)), (design, theta, name)
+    assert sum(counts.values()) == 200 and counts[OK] > 50 and counts[DISCARD] > 20, counts
 
 
 def test_a_pose_drawn_near_a_limit_warns_and_one_at_a_singular_position_is_refused(designs):
@@ -696,13 +550,12 @@ def test_a_pose_drawn_near_a_limit_warns_and_one_at_a_singular_position_is_refus
                              if any(at is not None for at in item[1].limits))
     way, at = next((w, a) for w, a in zip((1.0, -1.0), branch.limits) if a is not None)
     x = branch.at(at - way * 1e-7)
-    near = arclength.Design(design.r, at - way * 1e-7, design.C, design.D,
-                            {"E": tuple(x[0:2]), "F": tuple(x[2:4]), "G": tuple(x[4:6])})
+    near = triads.redrawn(design, at - way * 1e-7, x)
     scaled = arclength.Branch(near)._J(np.array([near.theta0 * near.r, *x]))[:, 1:]
     scaled /= np.array([[L] for L in near.lengths.values()])
     cond = np.linalg.cond(scaled)
     with pytest.warns(NearSingularWarning) as caught:
-        triad(near).build()
+        triads.triad(near).build()
     message = str(caught[0].message)
     assert message.startswith("the group of joints B, E, C, F, D, G is drawn near a singular "
                               "position: the condition number of its equations there is ")
