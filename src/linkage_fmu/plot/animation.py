@@ -285,7 +285,8 @@ def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int =
     >>> len(anim), anim.theta_deg.tolist()
     (8, [0.0, 45.0, 90.0, 135.0, 180.0, 225.0, 270.0, 315.0])
     >>> anim.draw(2)
-    >>> cursor = next(l for l in anim.figure.axes[1].lines if l.get_gid() == "cursor")
+    >>> cursor = next(line for line in anim.figure.axes[1].lines
+    ...               if line.get_gid() == "cursor")
     >>> float(cursor.get_xdata()[0])
     90.0
     """
