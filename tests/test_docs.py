@@ -338,3 +338,44 @@ def test_every_code_line_of_the_site_fits_its_column():
     assert {f".md-typeset .language-{language} pre > code" for language in WRAPPED} == {
         s.strip() for s in rule.group(1).split(",")}
 
+
+def test_the_api_reference_says_what_a_mechanism_holds_and_takes():
+    """What the API page of Mechanism shows, read as mkdocstrings reads it (griffe, numpy
+    style): its name lists and parameters are properties with a description and an
+    example (not an attribute shown as the code that sets it); solve and table list
+    their parameters, return value and errors; kinematics says what its state holds
+    (p, d1, d2, u, w1, w2) and how the centre-of-mass points are named (``S2``,
+    ``Scrank``); the page documents the state. The examples run as doctests."""
+    spec = importlib.util.spec_from_file_location("hooks", DOCS / "hooks.py")
+    hooks = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(hooks)
+    mech = hooks.lookup("linkage_fmu.Mechanism")
+
+    def sections(name: str) -> dict:
+        member = mech.members[name]
+        parsed = member.docstring.parse("numpy") if member.docstring else []
+        return {s.kind.value: s for s in parsed}
+
+    for name in ("output_names", "diagnostic_names", "input_names", "parameters"):
+        member = mech.members[name]
+        assert member.is_attribute and "property" in member.labels, name
+        found = sections(name)
+        assert len(found["text"].value) > 200 and "examples" in found, name
+    for name in ("solve", "table", "kinematics"):
+        found = sections(name)
+        assert {"parameters", "returns", "raises", "examples"} <= set(found), name
+        documented = [p.name for p in found["parameters"].value]
+        signature = [p.name for p in mech.members[name].parameters if p.name != "self"]
+        assert [n for s in documented for n in s.split(", ")] == [
+            ("*" if p == "loads" else "**" if p == "named_loads" else "") + p
+            for p in signature], name
+    kinematics = mech.members["kinematics"].docstring.value
+    for field in ("st.p[point]", "st.d1[point]", "st.d2[point]", "st.u[link]",
+                  "st.w1[link]", "st.w2[link]", "``S<link>``", "``Scrank``", "mech.cg"):
+        assert field in kinematics, field
+    page = (DOCS / "api" / "mechanism.md").read_text()
+    assert "::: linkage_fmu.groups.KinematicState" in page
+    listed = re.search(r"::: linkage_fmu\.Mechanism\n    options:\n      members:\n"
+                       r"((?:        - \w+\n)+)", page).group(1).split()
+    assert {"output_names", "diagnostic_names", "input_names", "parameters", "solve",
+            "table", "kinematics"} <= set(listed)
