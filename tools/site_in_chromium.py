@@ -76,9 +76,11 @@ RESULTS = """(async () => {
   await new Promise(r => setTimeout(r, 300));
   return {
     meta: document.querySelector(".md-search-result__meta").textContent,
-    pages: [...document.querySelectorAll(".md-search-result__item > .md-search-result__link")]
-      .map(a => ({href: a.getAttribute("href"),
-                  title: a.querySelector("h1, h2").textContent.trim()}))
+    pages: [...document.querySelectorAll(".md-search-result__item")].map(item => ({
+      href: item.querySelector("a").getAttribute("href").split("?")[0],
+      title: item.querySelector("h1, h2").textContent.trim(),
+      sections: [...item.querySelectorAll("a h2")].map(h => h.textContent.trim())
+    }))
   };
 })()"""
 
@@ -211,7 +213,9 @@ def search(browser: Browser, base: str, queries: list[str]) -> int:
         found = browser.evaluate(RESULTS)
         print(f"{query!r}: {found['meta']}")
         for rank, page in enumerate(found["pages"], 1):
-            print(f"  {rank}. {page['title']}  ({page['href']})")
+            sections = "; ".join(page["sections"][:3])
+            print(f"  {rank}. {page['title']}  ({page['href'].removeprefix(base)})"
+                  + (f": {sections}" if sections else ""))
     return 0
 
 
