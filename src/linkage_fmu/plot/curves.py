@@ -162,10 +162,12 @@ def draw_curve(ax: "Axes", rad: np.ndarray, deg: np.ndarray, values: np.ndarray,
                label=f"mean {rounded(mean, max(abs(values[i]), scale))} {unit}", gid="mean")
     ax.plot([deg[i]], [values[i]], "o", color="C3", ms=7,
             label=f"peak |{name}| {number(abs(values[i]), scale=scale)} {unit}", gid="peak")
+    # beside the peak on the side with room: to its left in the right half of the axes
+    left = deg[i] > (float(np.nanmin(deg)) + float(np.nanmax(deg))) / 2.0
     ax.annotate(f"{number(values[i], scale=scale)} {unit}\n"
                 f"at θ = {number(deg[i], 1, fixed=True)}°",
-                (deg[i], values[i]), xytext=(12, -14 if values[i] > 0 else 14),
-                textcoords="offset points",
+                (deg[i], values[i]), xytext=(-12 if left else 12, -14 if values[i] > 0 else 14),
+                textcoords="offset points", ha="right" if left else "left",
                 va="top" if values[i] > 0 else "bottom", fontsize=9, gid="peak label")
     ax.axhline(0.0, color="0.6", lw=0.8, zorder=0, gid="zero")
     degree_axis(ax, deg)
