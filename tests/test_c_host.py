@@ -109,6 +109,7 @@ def readme_environment() -> dict[str, str]:
     page = (ROOT / "docs" / "guide" / "fmus.md").read_text()
     block = next(b for b in re.findall(r"```sh\n(.*?)```", page, flags=re.S)
                  if "LD_PRELOAD" in b)
+    block = block.replace("\\\n", "")  # a line continued inside quotes, as bash joins it
     env = {}
     for name, command in re.findall(r"^export (\w+)=\$\((.*)\)$", block, flags=re.M):
         command = re.sub(r"^(python3|\.venv/bin/python) ", f"{sys.executable} ", command)

@@ -218,3 +218,194 @@ def test_the_home_page_table_links_every_guide_page_the_readme_does():
     readme = guide_pages((ROOT / "README.md").read_text(), "docs/")
     assert "guide/animations.md" in readme and len(readme) >= 9
     assert readme <= guide_pages((DOCS / "index.md").read_text(), "")
+
+
+#: the most characters of a line a code block of the site shows whole: at a 1280 px
+#: window (and at 1265, a classic scrollbar's less) the theme's content column leaves a
+#: code block 656 px inside its padding, 80 characters of its 13.6 px code font where
+#: that font is the widest of those the theme names, DejaVu Sans Mono (0.602 em, the
+#: monospace Debian falls back to; Roboto Mono, 0.600 em, fits the same). Measured in
+#: headless Chromium, each block's scrollWidth against its clientWidth and a run of 100
+#: zeros in the block's font: ``python tools/site_in_chromium.py widths``.
+CODE_WIDTH = 80
+#: the blocks the site wraps at the column's edge (docs/stylesheets/code.css) rather
+#: than scroll: program output, and description files, whose inline tables cannot be
+#: broken across lines; every other block's lines are the lines a reader copies
+WRAPPED = ("text", "toml")
+#: a TOML line that cannot be broken: one key's inline table, no comment after it
+INLINE_TABLE = re.compile(r"^[\w.\"-]+\s*=\s*\{.*\}$")
+
+
+def code_blocks(page: Path) -> list[tuple[int, str, list[str]]]:
+    """(line, language, its lines less the fence's indent) of each fenced code block of
+    ``page``; a block that names no language is text, as the site takes it."""
+    found, fence = [], None
+    for n, text in enumerate(page.read_text(encoding="utf-8").splitlines(), 1):
+        opening = re.match(r"^(\s*)(```|~~~)\s*([\w+-]*)", text)
+        if fence is None and opening:
+            fence = opening.group(1)
+            found.append((n, opening.group(3) or "text", []))
+        elif fence is not None and re.match(r"^\s*(```|~~~)\s*$", text):
+            fence = None
+        elif fence is not None:
+            found[-1][2].append(text[len(fence):] if text.startswith(fence) else text)
+    return found
+
+
+def too_wide(language: str, lines: list[str]) -> list[str]:
+    """The lines of a block in ``language`` that the site would not show whole."""
+    if language == "text":
+        return []
+    return [line for line in lines if len(line) > CODE_WIDTH and not (
+        language == "toml" and INLINE_TABLE.match(line.strip()))]
+
+
+def documented_examples() -> dict[str, list[str]]:
+    """Each object the API pages show (their ``:::`` directives, the members they list,
+    else every public member) -> the lines of its docstring's examples."""
+    spec = importlib.util.spec_from_file_location("hooks", DOCS / "hooks.py")
+    hooks = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(hooks)
+    found: dict[str, list[str]] = {}
+
+    def visit(obj, members=None):
+        obj = obj.final_target if obj.is_alias else obj
+        if obj.path in found:
+            return
+        found[obj.path] = [line for section in (obj.docstring.parse("numpy")
+                                                if obj.docstring else [])
+                           if section.kind.value == "examples"
+                           for kind, text in section.value if kind.value == "examples"
+                           for line in text.splitlines()]
+        for name, member in obj.members.items():  # a module's imports are not shown
+            if (members is None and not name.startswith("_") and not member.is_alias) or \
+                    name in (members or ()):
+                try:
+                    visit(member)
+                except Exception:  # noqa: BLE001 -- an import griffe cannot follow
+                    continue
+
+    for page in sorted((DOCS / "api").glob("*.md")):
+        text = page.read_text(encoding="utf-8")
+        for match in re.finditer(r"^::: ([\w.]+)\n((?:    .*\n)*)", text, flags=re.M):
+            options = match.group(2)
+            members = re.findall(r"^\s+- (\w+)$", options, flags=re.M) or [
+                m.strip() for m in re.findall(r"members: \[(.*)\]", options)[0].split(",")
+            ] if "members:" in options else None
+            visit(hooks.lookup(match.group(1)), members)
+    return found
+
+
+def test_the_check_of_code_widths_finds_what_the_site_cuts(tmp_path):
+    """The exact cases the site cut at 1280 px: the second install command on one line
+    (89 characters, cut after ``.venv/bin/python -m``), a TOML comment run past the
+    edge; not an inline table, nor output, which the site wraps."""
+    page = tmp_path / "page.md"
+    page.write_text('```sh\npython3 -m venv .venv && .venv/bin/pip install -e ".[test]" && '
+                    ".venv/bin/python -m pytest\n```\n\n```toml\n"
+                    'A = [0, 0]                  # x and y: numbers in m, with units ("120 mm"),'
+                    ' or expressions\nl = { default = 0.1, kind = "length", description = '
+                    '"a length whose description is long" }\n```\n\n  ```text\n  '
+                    + "x" * 200 + "\n  ```\n")
+    blocks = code_blocks(page)
+    assert [(n, language) for n, language, _ in blocks] == [(1, "sh"), (5, "toml"),
+                                                            (10, "text")]
+    assert [len(line) for _, language, lines in blocks
+            for line in too_wide(language, lines)] == [89, 90]
+    assert blocks[2][2] == ["x" * 200]
+
+
+def test_every_code_line_of_the_site_fits_its_column():
+    """Every line of every fenced code block of every page (docs/, the benchmark pages
+    the site includes) and of every docstring example the API pages show is at most
+    :data:`CODE_WIDTH` characters, but those the site wraps (:data:`WRAPPED`); the site
+    takes the stylesheet that wraps them, with each block's language as its class."""
+    pages = [ROOT / p for p in PAGES] + sorted((ROOT / "benchmarks" / "results").glob("*.md"))
+    wide = {f"{page.relative_to(ROOT)}:{n}": too_wide(language, lines)
+            for page in pages for n, language, lines in code_blocks(page)}
+    assert {where: lines for where, lines in wide.items() if lines} == {}
+    examples = documented_examples()
+    assert {"linkage_fmu.mechanism.Mechanism.solve", "linkage_fmu.plot.animation.animate",
+            "linkage_fmu.optimize.optimize"} <= set(examples)
+    wide = {path: [line for line in lines if len(line) > CODE_WIDTH]
+            for path, lines in examples.items()}
+    assert {path: lines for path, lines in wide.items() if lines} == {}
+    config = (ROOT / "mkdocs.yml").read_text()
+    assert "extra_css:\n  - stylesheets/code.css\n" in config
+    assert "pygments_lang_class: true" in config
+    css = re.sub(r"/\*.*?\*/", "", (DOCS / "stylesheets" / "code.css").read_text(), flags=re.S)
+    rule = re.search(r"([^{}]+)\{([^}]*white-space:\s*pre-wrap[^}]*)\}", css)
+    assert {f".md-typeset .language-{language} pre > code" for language in WRAPPED} == {
+        s.strip() for s in rule.group(1).split(",")}
+
+
+def test_the_api_reference_says_what_a_mechanism_holds_and_takes():
+    """What the API page of Mechanism shows, read as mkdocstrings reads it (griffe, numpy
+    style): its name lists and parameters are properties with a description and an
+    example (not an attribute shown as the code that sets it); solve and table list
+    their parameters, return value and errors; kinematics says what its state holds
+    (p, d1, d2, u, w1, w2) and how the centre-of-mass points are named (``S2``,
+    ``Scrank``); the page documents the state. The examples run as doctests."""
+    spec = importlib.util.spec_from_file_location("hooks", DOCS / "hooks.py")
+    hooks = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(hooks)
+    mech = hooks.lookup("linkage_fmu.Mechanism")
+
+    def sections(name: str) -> dict:
+        member = mech.members[name]
+        parsed = member.docstring.parse("numpy") if member.docstring else []
+        return {s.kind.value: s for s in parsed}
+
+    for name in ("output_names", "diagnostic_names", "input_names", "parameters"):
+        member = mech.members[name]
+        assert member.is_attribute and "property" in member.labels, name
+        found = sections(name)
+        assert len(found["text"].value) > 200 and "examples" in found, name
+    for name in ("solve", "table", "kinematics"):
+        found = sections(name)
+        assert {"parameters", "returns", "raises", "examples"} <= set(found), name
+        documented = [p.name for p in found["parameters"].value]
+        signature = [p.name for p in mech.members[name].parameters if p.name != "self"]
+        assert [n for s in documented for n in s.split(", ")] == [
+            ("*" if p == "loads" else "**" if p == "named_loads" else "") + p
+            for p in signature], name
+    kinematics = mech.members["kinematics"].docstring.value
+    for field in ("st.p[point]", "st.d1[point]", "st.d2[point]", "st.u[link]",
+                  "st.w1[link]", "st.w2[link]", "``S<link>``", "``Scrank``", "mech.cg"):
+        assert field in kinematics, field
+    page = (DOCS / "api" / "mechanism.md").read_text()
+    assert "::: linkage_fmu.groups.KinematicState" in page
+    listed = re.search(r"::: linkage_fmu\.Mechanism\n    options:\n      members:\n"
+                       r"((?:        - \w+\n)+)", page).group(1).split()
+    assert {"output_names", "diagnostic_names", "input_names", "parameters", "solve",
+            "table", "kinematics"} <= set(listed)
+
+
+def test_the_sites_search_finds_the_friction_guide_first():
+    """The facts that rank the Friction guide first in the theme's search for "friction"
+    and for "self-locking" (measured in headless Chromium with the theme's own search,
+    ``python tools/site_in_chromium.py search friction self-locking``: 1st for both,
+    where it was 4th and not found): the page's search boost (3: 1.5 left it 2nd, below
+    the benchmark results' headings), its title holding "friction", and a heading
+    holding "self-locking" split by the search's separator into the same terms as the
+    query (the index has one entry per heading, titles boosted; a query must find all
+    its terms in one entry). No other page is boosted, nor names "self-locking" in a
+    heading."""
+    import yaml
+
+    text = (DOCS / "guide" / "friction.md").read_text()
+    front, page = re.fullmatch(r"---\n(.*?)\n---\n(.*)", text, flags=re.S).groups()
+    assert yaml.safe_load(front) == {"search": {"boost": 3}}
+    config = (ROOT / "mkdocs.yml").read_text()
+    (separator,) = re.findall(r"^  - search:\n      separator: '(.+)'$", config, flags=re.M)
+    terms = {t.lower() for t in re.split(separator, "self-locking")}
+    assert terms == {"self", "locking"}
+    headings = re.findall(r"^#+ (.+)$", page, flags=re.M)
+    assert "friction" in re.split(separator, headings[0].lower())
+    assert any(terms <= set(re.split(separator + r"|[,.:;()]", h.lower()))
+               for h in headings[1:]), headings
+    for other in PAGES:
+        if other != "docs/guide/friction.md":
+            text = (ROOT / other).read_text()
+            assert not text.startswith("---\n"), other
+            assert not re.search(r"^#+ .*self-locking", text, flags=re.M | re.I), other

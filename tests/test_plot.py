@@ -137,6 +137,24 @@ def test_torque_mean_is_printed_against_the_curve_scale():
     assert lines["mean"][0].get_label() == "mean 0.315 N.m"
 
 
+@pytest.mark.parametrize("name, inputs, side", [
+    ("four_bar", {"omega": 10.0, "load": 3.0}, "left"),  # its peak at 312 deg
+    ("slider_crank", {"omega": 100.0, "load": 500.0}, "right")])
+def test_torque_peak_label_stays_inside_its_axes(name, inputs, side):
+    """The peak's label is on the side of the peak with room, towards the middle of the
+    axes (to the left of a peak in their right half), and its box inside the axes."""
+    fig = plot.torque(presets.get(name), **inputs)
+    ax = fig.axes[0]
+    (label,) = [t for t in ax.texts if t.get_gid() == "peak label"]
+    (peak,) = [line for line in ax.lines if line.get_gid() == "peak"]
+    fig.canvas.draw()
+    box = label.get_window_extent(fig.canvas.get_renderer())
+    x, _ = ax.transData.transform((peak.get_xdata()[0], peak.get_ydata()[0]))
+    assert (box.x1 < x) if side == "left" else (box.x0 > x)
+    x0, y0, x1, y1 = ax.bbox.extents
+    assert x0 <= box.x0 and box.x1 <= x1 and y0 <= box.y0 and box.y1 <= y1
+
+
 def test_rounded_cuts_below_the_scale_only():
     assert plot.rounded(-3.16e-16, 5.0) == "0"
     assert plot.rounded(4.9e-12, 5.0) == "0"  # 1e-12 of the scale

@@ -41,32 +41,41 @@ from .solver import frame
 EPILOG = """examples:
   linkage-fmu info four_bar
   linkage-fmu table scotch_yoke --omega 10 --load 400
-  linkage-fmu table my_linkage.toml --theta 0:360:15 --deg --F_P 80 --T4 120 --csv
+  linkage-fmu table examples/coupler_four_bar.toml --theta 0:360:15 --deg \\
+      --F_P 80 --T4 120 --csv
   linkage-fmu table four_bar --theta 0:360:0.001 --deg -o revolution.parquet
-  linkage-fmu sweep four_bar --grid l_AB=0.05:0.15:0.01 --grid l_BC=0.3,0.35 --omega 10 \\
-      -o designs.csv
-  linkage-fmu sweep four_bar --samples designs.csv --scheduler local
-  linkage-fmu optimize four_bar --vary l_BC=0.3:0.45 --vary l_CD=0.25:0.4 --minimize Mb_peak \\
-      --subject-to "gamma_C_min_deg >= 45" --subject-to valid --seed 1 --plot convergence.png
+  linkage-fmu sweep four_bar --grid l_AB=0.05:0.15:0.01 --grid l_BC=0.3,0.35 \\
+      --omega 10 -o designs.csv
+  linkage-fmu sweep four_bar --samples examples/four_bar_designs.csv \\
+      --scheduler local
+  linkage-fmu optimize four_bar --vary l_BC=0.3:0.45 --vary l_CD=0.25:0.4 \\
+      --minimize Mb_peak --subject-to "gamma_C_min_deg >= 45" \\
+      --subject-to valid --seed 1 --plot convergence.png
   linkage-fmu plot four_bar --what torque --omega 10 -o torque.png
   linkage-fmu plot four_bar --what polar F21 -o F21.svg
   linkage-fmu plot six_bar --what linkage --theta-deg 60 -o six_bar.png
   linkage-fmu plot four_bar --what gamma --set l_AB=0.3 -o gamma.png
   linkage-fmu plot examples/engine.toml --what speed --Cs 0.02 -o speed.png
-  linkage-fmu plot slider_crank --what loss --set mu_guide=0.1 --omega 10 --load 100 -o loss.png
+  linkage-fmu plot slider_crank --what loss --set mu_guide=0.1 --omega 10 \\
+      --load 100 -o loss.png
   linkage-fmu animate four_bar -o four_bar.gif
-  linkage-fmu animate four_bar --set l_AB=0.3 --what torque --frames 36 -o rocker.gif
-  linkage-fmu animate slider_crank --what shaking --omega 200 --frames 36 -o engine.gif
-  linkage-fmu simulate four_bar --tau 2 --t-end 1 --theta0 "30 deg" --omega0 5 --n 11
-  linkage-fmu simulate slider_crank --set mu_guide=0.1 --tau 0.5 --t-end 1 --omega0 0 --load 20
+  linkage-fmu animate four_bar --set l_AB=0.3 --what torque --frames 36 \\
+      -o rocker.gif
+  linkage-fmu animate slider_crank --what shaking --omega 200 --frames 36 \\
+      -o engine.gif
+  linkage-fmu simulate four_bar --tau 2 --t-end 1 --theta0 "30 deg" \\
+      --omega0 5 --n 11
+  linkage-fmu simulate slider_crank --set mu_guide=0.1 --tau 0.5 --t-end 1 \\
+      --omega0 0 --load 20
   linkage-fmu flywheel examples/engine.toml --omega-mean "3000 rpm" --Cs 0.02
-  linkage-fmu flywheel slider_crank --set mu_guide=0.1 --omega-mean 100 --Cs 0.02 --load 200
-  linkage-fmu build four_bar --set l_AB=0.12 --out dist
-  linkage-fmu build --native my_linkage.toml --out dist/native
-  linkage-fmu build --native --fmi 3 four_bar
+  linkage-fmu flywheel slider_crank --set mu_guide=0.1 --omega-mean 100 \\
+      --Cs 0.02 --load 200
+  linkage-fmu build four_bar --set l_AB=0.12 --out dist  # dist/FourBar.fmu
+  linkage-fmu build --native examples/coupler_four_bar.toml --out dist/native
+  linkage-fmu build --native --fmi 3 four_bar       # dist/native3/FourBar.fmu
   linkage-fmu build --native --fmi 3 --platforms all four_bar
   linkage-fmu build --native --platforms x86_64-linux,x86_64-windows four_bar
-  linkage-fmu build --native --drive four_bar        (dist/native/FourBarDrive.fmu)
+  linkage-fmu build --native --drive four_bar   # dist/native/FourBarDrive.fmu
   linkage-fmu check dist/FourBar.fmu
 """
 

@@ -89,8 +89,48 @@ def _arguments(parser: Parser) -> list[str]:
     return rows
 
 
-def _usage(parser: Parser) -> str:
-    return " ".join(parser.format_usage().removeprefix("usage: ").split())
+#: the longest line of a code block the site shows whole (tests/test_docs.py)
+WIDTH = 80
+
+
+def _usage(parser: Parser, width: int = WIDTH) -> str:
+    """``parser``'s usage as ``--help`` prints it, its commands' choices ``COMMAND`` (the
+    table of commands follows it), in lines of at most ``width`` characters, each after
+    the first under the first argument.
+
+    Examples
+    --------
+    >>> print(_usage(build_parser().commands["simulate"], 60))
+    linkage-fmu simulate [-h] [--set NAME=VALUE] --tau VALUE
+                         --t-end VALUE [--n N] [--theta0 VALUE]
+                         [--omega0 VALUE] [--flywheel VALUE]
+                         [--outputs OUTPUTS [OUTPUTS ...]] [--csv]
+                         [-o OUTPUT] linkage
+    >>> _usage(build_parser())
+    'linkage-fmu [-h] [--version] COMMAND ...'
+    """
+    text = " ".join(parser.format_usage().removeprefix("usage: ").split())
+    if parser.commands:
+        text = text.replace("{" + ",".join(parser.commands) + "}", "COMMAND")
+    words, depth = [""], 0  # split at the spaces outside brackets
+    for char in text:
+        if char == " " and depth == 0:
+            words.append("")
+            continue
+        depth += (char in "[({") - (char in "])}")
+        words[-1] += char
+    for k in range(len(words) - 1, 0, -1):  # a required option with its value
+        if words[k - 1].startswith("-") and not words[k].startswith(("-", "[")):
+            words[k - 1:k + 1] = [words[k - 1] + " " + words[k]]
+    prog = len(parser.prog.split())
+    lines = [" ".join(words[:prog])]
+    indent = " " * (len(lines[0]) + 1)
+    for word in words[prog:]:
+        if len(lines[-1]) + 1 + len(word) > width and lines[-1].strip():
+            lines.append(indent + word)
+        else:
+            lines[-1] += " " + word
+    return "\n".join(lines)
 
 
 def markdown(parser: Parser | None = None) -> str:

@@ -62,7 +62,7 @@ class SelfLockingError(ValueError):
     Examples
     --------
     >>> from linkage_fmu import presets, SelfLockingError
-    >>> mech = presets.get("slider_crank", mu_guide=5.0)  # a load against the piston:
+    >>> mech = presets.get("slider_crank", mu_guide=5.0)  # a load on the piston:
     >>> try:
     ...     mech.solve(1.2, omega=10.0, load=-50.0)
     ... except SelfLockingError as err:

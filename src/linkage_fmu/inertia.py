@@ -55,7 +55,7 @@ def reduced_inertia(mech, theta, xp=None) -> tuple:
     >>> from linkage_fmu import presets
     >>> yoke = presets.get("scotch_yoke")   # block 4 kg at the pin, yoke 10 kg
     >>> J, dJ = yoke.reduced_inertia(math.pi / 4)   # (4 + 10 cos^2) * 0.1^2
-    >>> round(J, 12), round(dJ, 12)                 # dJ = -10 * 0.1^2 * sin(2 theta)
+    >>> round(J, 12), round(dJ, 12)           # dJ = -10 * 0.1^2 * sin(2 theta)
     (0.09, -0.1)
     >>> yoke.reduced_inertia([0.0, math.pi / 2])[0].round(12)
     array([0.14, 0.04])

@@ -101,7 +101,7 @@ class Mechanism:
         self.bodies = tuple(bodies)
         self.effort = effort
         self.loads = tuple(loads)
-        self.parameters = dict(parameters or {})
+        self._parameters = dict(parameters or {})
         self.description = description
         self.rebuild = rebuild
         for grp in groups:
@@ -163,8 +163,7 @@ class Mechanism:
         #: the loads that are inputs (the others are computed over the cycle)
         self.input_loads = tuple(load for load in self.loads if not load.computed)
         self.computed_loads = tuple(load for load in self.loads if load.computed)
-        #: the inputs of :meth:`solve`: theta, omega, alpha, then each input load by name
-        self.input_names = MOTION + tuple(load.name for load in self.input_loads)
+        self._input_names = MOTION + tuple(load.name for load in self.input_loads)
         # the input loads by name -> position, and their start values (the lean path)
         self._load_position = {load.name: k for k, load in enumerate(self.input_loads)}
         self._start = {**dict.fromkeys(MOTION, 0.0), **{ld.name: ld.start for ld in self.loads},
@@ -183,11 +182,12 @@ class Mechanism:
         #: output name -> (unit, description), diagnostics included
         self.output_info = {o.name: (o.unit, o.description) for o in outputs}
         self.effort_outputs = frozenset(o.name for o in outputs if isinstance(o, EffortOutput))
-        self.output_names = tuple(o.name for o in outputs)
+        self._output_names = tuple(o.name for o in outputs)
         #: the outputs that may be NaN at a state that has outputs (eta: no power enters)
         self.partial_outputs = frozenset(o.name for o in outputs
                                          if not getattr(o, "finite", True))
-        self.diagnostic_names = tuple(f"gamma_{d.key}" for d in self.dyads) + diagnostics.NAMES
+        self._diagnostic_names = tuple(f"gamma_{d.key}" for d in self.dyads) + \
+            diagnostics.NAMES
         _check_names(name, {"input": self.input_names, "parameter": tuple(self.parameters),
                             "output": self.output_names,
                             "diagnostic output": self.diagnostic_names})
@@ -201,6 +201,107 @@ class Mechanism:
         #: solves it: plans, kernels, methods (:class:`~linkage_fmu.solver.Solver`)
         self.solver = Solver(self)
         self._hot = self.solver.hot  # the lean path of solve: [static, moving]
+
+    @property
+    def output_names(self) -> tuple[str, ...]:
+        """The names of its outputs, in the order :meth:`solve` returns them: each joint
+        force's components (``F21x`` is the x component of the force of link 2 on link
+        1, ``F4`` a force normal to a slide), the balancing effort (``Mb``, a moment on
+        the crank, unless the description names another effort), the outputs the
+        description declares, the friction outputs (each joint's friction moment
+        ``Mf_<joint>`` or force ``Ff_<slide>``, ``P_loss``, ``eta``), and last the
+        shaking force and moment of the moving links on the frame (``shake_x``,
+        ``shake_y``, ``shake_M``). :attr:`diagnostic_names` follow them in a solution;
+        ``output_info[name]`` is each one's ``(unit, description)``.
+
+        Examples
+        --------
+        >>> from linkage_fmu import presets
+        >>> yoke = presets.get("scotch_yoke")
+        >>> yoke.output_names[:8]
+        ('F12x', 'F12y', 'F23y', 'F4', 'F4p', 'F41x', 'F41y', 'Mb')
+        >>> yoke.output_names[-3:]
+        ('shake_x', 'shake_y', 'shake_M')
+        >>> yoke.output_info["F12x"]
+        ('N', 'force of link 1 on link 2, x component')
+        >>> sol = yoke.solve(0.5, omega=10.0, load=400.0)
+        >>> list(sol) == list(yoke.output_names + yoke.diagnostic_names)
+        True
+        """
+        return self._output_names
+
+    @property
+    def diagnostic_names(self) -> tuple[str, ...]:
+        """The names of the diagnostics :meth:`solve` returns after the outputs: the
+        transmission angle ``gamma_<joint>`` of each dyad at its middle joint [rad]
+        (0 or pi at a toggle), ``cond``, the estimated condition number of the
+        outputs (their relative rounding error is about ``cond * 1e-16``; inf:
+        singular), ``J_red``, the inertia reduced to the crank [kg m2], and
+        ``dJ_red``, its derivative with respect to ``theta`` [kg m2/rad].
+
+        Examples
+        --------
+        >>> from linkage_fmu import presets
+        >>> mech = presets.get("four_bar")
+        >>> mech.diagnostic_names
+        ('gamma_C', 'cond', 'J_red', 'dJ_red')
+        >>> sol = mech.solve(0.5, omega=10.0)
+
+        ``gamma_C`` is the angle BCD between the coupler BC (0.35 m) and the rocker CD
+        (0.3 m), by the law of cosines from the distance BD (the crank is 0.1 m, D is
+        0.4 m from A along x):
+
+        >>> import math
+        >>> BD2 = (0.1 * math.cos(0.5) - 0.4) ** 2 + (0.1 * math.sin(0.5)) ** 2
+        >>> BCD = math.acos((0.35**2 + 0.3**2 - BD2) / (2 * 0.35 * 0.3))
+        >>> bool(abs(sol["gamma_C"] - BCD) < 1e-12), mech.output_info["gamma_C"][0]
+        (True, 'rad')
+        """
+        return self._diagnostic_names
+
+    @property
+    def input_names(self) -> tuple[str, ...]:
+        """The inputs of :meth:`solve`, in the order it takes them positionally:
+        ``theta`` [rad], ``omega`` [rad/s] and ``alpha`` [rad/s2] of the crank, then
+        each input load by name (a preset's one load is ``load``); a load given over
+        the cycle in the description (a value or a table) is computed, not an input.
+        ``input_units[name]`` is each one's unit, :attr:`start` its value where none is
+        given.
+
+        Examples
+        --------
+        >>> import linkage_fmu
+        >>> mech = linkage_fmu.load("examples/coupler_four_bar.toml")
+        >>> mech.input_names
+        ('theta', 'omega', 'alpha', 'F_P', 'T4')
+        >>> mech.input_units["F_P"], mech.input_units["T4"]
+        ('N', 'N.m')
+        >>> a = mech.solve(0.6, 25.0, -40.0, 80.0, 120.0)  # positionally
+        >>> b = mech.solve(0.6, omega=25.0, alpha=-40.0, F_P=80.0, T4=120.0)
+        >>> a["Mb"] == b["Mb"]
+        True
+        """
+        return self._input_names
+
+    @property
+    def parameters(self) -> dict:
+        """Parameter name -> the value it was built with, in SI (lengths in m, angles in
+        rad, masses in kg, inertias in kg m2), a branch or choice as its value: the
+        description's defaults with the values given to :func:`linkage_fmu.load` or
+        :func:`linkage_fmu.presets.get` in their place. Empty for a linkage built
+        without a description. Building again with others:
+        ``linkage_fmu.presets.get(name, **{**mech.parameters, "l_AB": 0.12})``.
+
+        Examples
+        --------
+        >>> from linkage_fmu import presets
+        >>> mech = presets.get("four_bar", l_AB="120 mm")
+        >>> mech.parameters["l_AB"], mech.parameters["l_BC"]
+        (0.12, 0.35)
+        >>> list(mech.parameters)[:4]
+        ['l_AB', 'l_BC', 'l_CD', 'l_AD']
+        """
+        return self._parameters
 
     @property
     def start(self) -> MappingProxyType:
@@ -224,15 +325,69 @@ class Mechanism:
 
     # -- kinematics -------------------------------------------------------------
     def kinematics(self, theta, order: int = 2, xp=None) -> KinematicState:
-        """Positions (``order=0``), plus first (1) and second (2) derivative coefficients,
-        on floats or arrays (checked: finite), or on the numbers of the namespace ``xp``
-        (:data:`~linkage_fmu.numerics.SCALAR`, :data:`linkage_fmu.precise.MP`, ...).
+        """The position of every point and link at the crank angle(s) ``theta``, and
+        their first and second derivatives with respect to ``theta``.
+
+        The points are named as the description names them: the frame's points, the
+        joints and points the groups place, and each link's centre of mass ``S<link>``
+        (``S2`` for link ``2``, ``Scrank`` for a link named ``crank``) where it is off
+        the link's point ``ref``; where it is on it, the centre of mass is that point.
+        ``mech.cg`` maps each moving link to its centre of mass's point.
+
+        Parameters
+        ----------
+        theta : float or array_like
+            Crank angle(s) [rad], finite.
+        order : {0, 1, 2}
+            Positions only (0), with the first derivatives (1), and the second (2).
+        xp : namespace, optional
+            The numbers to compute on (:data:`~linkage_fmu.numerics.SCALAR`,
+            :data:`~linkage_fmu.numerics.ARRAY`, :data:`linkage_fmu.precise.MP`);
+            default floats for one angle, numpy arrays for many.
+
+        Returns
+        -------
+        KinematicState
+            ``st.p[point]``, ``st.d1[point]``, ``st.d2[point]``: the point's position
+            ``(x, y)`` [m] and its derivatives ``(dx/dtheta, dy/dtheta)`` [m/rad] and
+            ``(d2x/dtheta2, d2y/dtheta2)`` [m/rad2]; ``st.u[link]``, ``st.w1[link]``,
+            ``st.w2[link]``: the link's direction ``(cos phi, sin phi)`` and
+            ``dphi/dtheta``, ``d2phi/dtheta2``. At crank speed ``omega`` and
+            acceleration ``alpha``, a point's velocity is ``d1 omega``
+            (``st.velocity(point, omega)``), its acceleration ``d2 omega**2 + d1
+            alpha`` (``st.acceleration(point, omega, alpha)``), a link's angular
+            speed ``w1 omega``. For arrays, ``st.invalid`` marks the angles the
+            linkage cannot be assembled at (NaN there).
+
+        Raises
+        ------
+        AssemblyError
+            One angle the linkage cannot be assembled at.
+        ValueError
+            An angle that is not a finite number.
 
         Examples
         --------
+        The four-bar (crank AB 0.1 m, coupler BC 0.35 m, rocker CD 0.3 m, D 0.4 m
+        from A along x), its coupler's centre of mass ``S2`` 0.175 m from B along BC:
+
+        >>> import math
         >>> from linkage_fmu import presets
-        >>> st = presets.get("four_bar").kinematics(0.0, order=1)
-        >>> [round(v, 6) for v in st.p["C"]]
+        >>> mech = presets.get("four_bar")
+        >>> st = mech.kinematics(0.5)
+        >>> sorted(st.p), mech.cg
+        (['A', 'B', 'C', 'D', 'S2', 'S3'], {'1': 'A', '2': 'S2', '3': 'S3'})
+        >>> [round(v, 6) for v in st.p["B"]] == [round(0.1 * math.cos(0.5), 6),
+        ...                                      round(0.1 * math.sin(0.5), 6)]
+        True
+        >>> (B, C), S2 = (st.p["B"], st.p["C"]), st.p["S2"]
+        >>> [round(s - (b + c) / 2, 12) for s, b, c in zip(S2, B, C)]  # mid BC
+        [0.0, 0.0]
+        >>> [round(v, 6) for v in st.velocity("B", 10.0)]  # B turns at 1 m/s
+        [-0.479426, 0.877583]
+        >>> round(st.w1["1"], 12), [round(v, 6) for v in st.u["1"]]
+        (1.0, [0.877583, 0.479426])
+        >>> [round(v, 6) for v in mech.kinematics(0.0, order=0).p["C"]]
         [0.304167, 0.284282]
         """
         if xp is None:
@@ -404,9 +559,54 @@ class Mechanism:
     # -- solving (the solver's public interface, here for convenience) -----------
     def solve(self, theta, omega=None, alpha=None, *loads, method: str = "closed_form",
               outputs: Iterable[str] | None = None, **named_loads) -> Solution:
-        """Joint reactions, balancing effort and diagnostics at one or many states:
-        :meth:`Solver.solve <linkage_fmu.solver.Solver.solve>`. An input not given takes
-        its start value (:attr:`start`).
+        """Joint reactions, balancing effort and diagnostics at one or many states
+        (:meth:`Solver.solve <linkage_fmu.solver.Solver.solve>`).
+
+        Parameters
+        ----------
+        theta : float, str or array_like
+            Crank angle [rad]; one angle may be text with a unit (``"30 deg"``).
+        omega, alpha : float, str or array_like, optional
+            Crank speed [rad/s] and acceleration [rad/s2] (``"1800 rpm"``); default the
+            start values (:attr:`start`).
+        *loads : float, str or array_like
+            Each input load's magnitude [N or N.m], in :attr:`input_names` order.
+        method : {'closed_form', 'direct', 'interpreted'}
+            ``closed_form`` (default): group by group from the last group back to the
+            crank, one state by its compiled kernel; ``direct``: the assembled linear
+            system of the whole linkage (the reference); ``interpreted``: the closed
+            form's formulas step by step (a second reference).
+        outputs : iterable of str, optional
+            The names wanted, of :attr:`output_names` and :attr:`diagnostic_names`
+            (default all); asking for the balancing effort alone skips the reactions.
+        **named_loads : float, str or array_like
+            The input loads by name (a preset's one load is ``load``), or a load given
+            over the cycle by name, which replaces what it computes. A load not given
+            takes its start value.
+
+        Returns
+        -------
+        Solution
+            Output name -> value, the outputs then the diagnostics: floats for one
+            state; for arrays an :class:`~linkage_fmu.solver.ArraySolution` of the
+            inputs' broadcast shape, NaN at a state without outputs, whose ``valid``
+            and ``status`` say which and why.
+
+        Raises
+        ------
+        AssemblyError
+            One state the linkage cannot be assembled at.
+        SingularPositionError
+            One state at which the equations are singular (a toggle, a dead centre).
+        SelfLockingError
+            One state that friction locks: no finite effort moves the linkage.
+        OverflowInputError
+            One state of finite inputs whose outputs overflow.
+        ValueError
+            An unknown method or output, an input that is not a finite number (or an
+            unknown unit), or inputs that do not broadcast to one shape.
+        TypeError
+            An unknown input name, a load given twice, or too many loads.
 
         Examples
         --------
@@ -480,8 +680,48 @@ class Mechanism:
 
     def table(self, theta, omega=None, alpha=None, *loads, method: str = "closed_form",
               outputs: Iterable[str] | None = None, **named_loads):
-        """:meth:`solve` over ``theta`` as a pandas DataFrame, one column per output:
-        :meth:`Solver.table <linkage_fmu.solver.Solver.table>`."""
+        """:meth:`solve` over the crank angles ``theta`` as a pandas DataFrame, one
+        column per output (:meth:`Solver.table <linkage_fmu.solver.Solver.table>`).
+
+        Parameters
+        ----------
+        theta : float or array_like
+            Crank angle(s) [rad], the table's index (named ``theta``).
+        omega, alpha, *loads, method, outputs, **named_loads
+            As for :meth:`solve`; each broadcasts against ``theta``.
+
+        Returns
+        -------
+        pandas.DataFrame
+            One row per angle, one column per output wanted (the outputs, then the
+            diagnostics); a row the linkage has no outputs at (it cannot be assembled
+            there, a singular or locked position) is NaN.
+
+        Raises
+        ------
+        ValueError, TypeError
+            As :meth:`solve` for the inputs; a state without outputs raises nothing
+            (its row is NaN).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from linkage_fmu import presets
+        >>> yoke = presets.get("scotch_yoke")
+        >>> df = yoke.table(np.radians([0.0, 60.0]), omega=10.0, load=400.0,
+        ...                 outputs=["Mb", "F23y"])
+        >>> df.round(4)
+                      Mb      F23y
+        theta
+        0.000000  40.0000  400.0000
+        1.047198  15.6699  313.3975
+
+        A crank too long to turn a revolution: the rows it cannot reach are NaN.
+
+        >>> rocker = presets.get("four_bar", l_AB=0.3)
+        >>> rocker.table([0.0, 3.0], omega=10.0, outputs=["Mb"])["Mb"].isna().tolist()
+        [False, True]
+        """
         return self.solver.table(theta, omega, alpha, *loads, method=method, outputs=outputs,
                                  **named_loads)
 

@@ -153,11 +153,12 @@ def simulate(mech, tau, t, theta0=None, omega0=None, rtol: float = 1e-10,
     >>> import numpy as np
     >>> from linkage_fmu import presets
     >>> yoke = presets.get("scotch_yoke")      # J = (4 + 10 cos^2 theta) * 0.1^2
-    >>> run = yoke.simulate(2.0, np.linspace(0.0, 0.5, 6), theta0=0.0, omega0=1.0, load=0.0)
+    >>> run = yoke.simulate(2.0, np.linspace(0.0, 0.5, 6), theta0=0.0, omega0=1.0,
+    ...                     load=0.0)
     >>> list(run.columns[:4]), run.index.name
     (['theta', 'omega', 'alpha', 'tau'], 'time')
     >>> a0 = float(run["alpha"].iloc[0])        # 2 / J(0), dJ(0) = 0: no speed term
-    >>> round(a0, 12), round(float(run["Mb"].iloc[-1]), 9)        # Mb along it is tau
+    >>> round(a0, 12), round(float(run["Mb"].iloc[-1]), 9)  # Mb along it is tau
     (14.285714285714, 2.0)
 
     With friction: the slider-crank at 1 rad, its load pushing the piston, holds from
@@ -170,8 +171,8 @@ def simulate(mech, tau, t, theta0=None, omega0=None, rtol: float = 1e-10,
     >>> held = press.simulate(-0.8, [0.0, 0.1], theta0=1.0, omega0=0.0, load=20.0)
     >>> held["stuck"].tolist(), held["theta"].tolist(), held["Mb"].tolist()
     ([True, True], [1.0, 1.0], [-0.8, -0.8])
-    >>> ramp = press.simulate(lambda t, th, w: -0.8 + t, [0.0, 0.1, 0.2], theta0=1.0,
-    ...                       omega0=0.0, load=20.0)
+    >>> ramp = press.simulate(lambda t, th, w: -0.8 + t, [0.0, 0.1, 0.2],
+    ...                       theta0=1.0, omega0=0.0, load=20.0)
     >>> start, away = ramp.attrs["switches"]
     >>> start, away.to, round(away.time, 12), ramp["stuck"].tolist()
     (Switch(time=0.0, theta=1.0, to=0), 1, 0.089321752569, [True, False, False])
@@ -359,7 +360,7 @@ def moment_and_slope(mech, **loads) -> Callable[[float, float, float], tuple]:
     >>> Mb, slope = f(0.7, 10.0, 3.0)
     >>> Mb == mech.solve(0.7, 10.0, 3.0, outputs=("Mb",), load=50.0)["Mb"]
     True
-    >>> J = mech.reduced_inertia(0.7)[0]          # friction adds to the frictionless J
+    >>> J = mech.reduced_inertia(0.7)[0]  # friction adds to the frictionless J
     >>> bool(abs(slope - J) < 0.2 * J), round(slope, 6) != round(J, 6)
     (True, True)
     """

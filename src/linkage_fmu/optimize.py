@@ -13,13 +13,15 @@ Examples
 --------
 >>> from linkage_fmu.optimize import optimize
 >>> vary = {"l_BC": (0.30, 0.45), "l_CD": (0.25, 0.40)}
->>> coarse = optimize("four_bar", vary, "Mb_peak", ["gamma_C_min_deg >= 45", "valid"],
-...                   omega=10.0, method="grid", budget=16, polish=False)
+>>> limits = ["gamma_C_min_deg >= 45", "valid"]
+>>> coarse = optimize("four_bar", vary, "Mb_peak", limits, omega=10.0,
+...                   method="grid", budget=16, polish=False)
 >>> coarse.design, coarse.evaluations                 # the best of a 4 x 4 grid
 ({'l_BC': 0.4, 'l_CD': 0.3}, 16)
->>> best = optimize("four_bar", vary, "Mb_peak", ["gamma_C_min_deg >= 45", "valid"],
-...                 omega=10.0, method="grid", budget=16)   # and a polish from there
->>> round(best.value, 3), round(float(best.summary["gamma_C_min_deg"]), 3)  # on the bound
+>>> best = optimize("four_bar", vary, "Mb_peak", limits, omega=10.0,
+...                 method="grid", budget=16)         # and a polish from there
+>>> # on the bound
+>>> round(best.value, 3), round(float(best.summary["gamma_C_min_deg"]), 3)
 (2.376, 45.0)
 """
 
@@ -81,7 +83,8 @@ class Constraint:
     Examples
     --------
     >>> c = Constraint("gamma_C_min_deg", ">=", 40.0)
-    >>> str(c), c.satisfied(pd.DataFrame({"gamma_C_min_deg": [39.0, 40.0, np.nan]})).tolist()
+    >>> table = pd.DataFrame({"gamma_C_min_deg": [39.0, 40.0, np.nan]})
+    >>> str(c), c.satisfied(table).tolist()
     ('gamma_C_min_deg >= 40', [False, True, False])
     """
 
@@ -137,13 +140,15 @@ def parse_constraint(spec: str | Constraint | tuple) -> Constraint:
     Constraint(name='gamma_C_min_deg', op='>=', value=40.0)
     >>> parse_constraint(" valid ")
     Constraint(name='valid', op=None, value=None)
-    >>> str(parse_constraint("eta_min >= 0.85")), str(parse_constraint("Mb_mean <= -0.0"))
-    ('eta_min >= 0.85', 'Mb_mean <= 0')
+    >>> str(parse_constraint("eta_min >= 0.85"))
+    'eta_min >= 0.85'
+    >>> str(parse_constraint("Mb_mean <= -0.0"))
+    'Mb_mean <= 0'
     >>> parse_constraint("F21_peak == 500")
     Traceback (most recent call last):
     ...
-    ValueError: constraint 'F21_peak == 500': expected NAME OP VALUE with OP one of <=, >=, <, > (as
-    in 'gamma_C_min_deg >= 40'), or 'valid'
+    ValueError: constraint 'F21_peak == 500': expected NAME OP VALUE with OP one of
+    <=, >=, <, > (as in 'gamma_C_min_deg >= 40'), or 'valid'
     """
     if isinstance(spec, Constraint):
         return spec
@@ -324,8 +329,8 @@ def optimize(source, vary: Mapping[str, tuple], minimize: str,
 
     Examples
     --------
-    >>> res = optimize("four_bar", {"l_AB": (0.05, 0.15)}, "Mb_peak", ["gamma_C_min_deg >= 40"],
-    ...                omega=10.0, maxiter=5, seed=1)
+    >>> res = optimize("four_bar", {"l_AB": (0.05, 0.15)}, "Mb_peak",
+    ...                ["gamma_C_min_deg >= 40"], omega=10.0, maxiter=5, seed=1)
     >>> res.history.columns.tolist()
     ['generation', 'stage', 'evaluations', 'feasible', 'best']
     >>> res.history["stage"].tolist()[-2:]

@@ -73,7 +73,8 @@ def reference(mech, theta: float, omega: float | None = None, alpha: float | Non
     --------
     >>> import math
     >>> from linkage_fmu import presets
-    >>> ref = reference(presets.get("scotch_yoke"), math.radians(60), 10.0, 0.0, 400.0)
+    >>> ref = reference(presets.get("scotch_yoke"), math.radians(60), 10.0, 0.0,
+    ...                 400.0)
     >>> # the values the scotch yoke worked example quotes
     >>> round(float(ref["Mb"]), 4), round(float(ref["F23y"]), 4)
     (15.6699, 313.3975)
@@ -120,7 +121,8 @@ def relative_error(values, ref) -> np.ndarray:
     >>> relative_error({"a": np.array([1.0, 2.0]), "b": np.array([0.0, 1e-3])},
     ...                {"a": np.array([1.0, 2.0]), "b": np.array([1e-16, 1e-3])})
     array([1.e-16, 0.e+00])
-    >>> relative_error({"a": 2.0, "eta": float("nan")}, {"a": 2.0, "eta": float("nan")})
+    >>> relative_error({"a": 2.0, "eta": float("nan")},
+    ...                {"a": 2.0, "eta": float("nan")})
     np.float64(0.0)
     """
     errors, sizes = [], []

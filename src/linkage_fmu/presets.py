@@ -8,17 +8,18 @@ Examples
 --------
 >>> from linkage_fmu import presets
 >>> presets.names()
-('scotch_yoke', 'four_bar', 'six_bar', 'slider_crank', 'slotted_lever', 'crank_shaper')
+('scotch_yoke', 'four_bar', 'six_bar', 'slider_crank', 'slotted_lever',
+'crank_shaper')
 >>> mech = presets.get("four_bar", l_AB=0.12)
 >>> mech.output_names
-('F21x', 'F21y', 'F32x', 'F32y', 'F43x', 'F43y', 'F14x', 'F14y', 'Mb', 'Mf_A', 'Mf_B', 'Mf_C',
-'Mf_D', 'P_loss', 'eta', 'shake_x', 'shake_y', 'shake_M')
+('F21x', 'F21y', 'F32x', 'F32y', 'F43x', 'F43y', 'F14x', 'F14y', 'Mb', 'Mf_A',
+'Mf_B', 'Mf_C', 'Mf_D', 'P_loss', 'eta', 'shake_x', 'shake_y', 'shake_M')
 >>> presets.get("four_bar", l_ab=0.12)
 Traceback (most recent call last):
 ...
-TypeError: four_bar has no parameter 'l_ab'; its parameters are: l_AB, l_BC, l_CD, l_AD, m1, J1,
-l_AS1, beta1, m2, J_S2, l_BS2, beta2, m3, J_S3, l_DS3, beta3, g, branch, mu_A, r_A, mu_B, r_B, mu_C,
-r_C, mu_D, r_D, drive
+TypeError: four_bar has no parameter 'l_ab'; its parameters are: l_AB, l_BC,
+l_CD, l_AD, m1, J1, l_AS1, beta1, m2, J_S2, l_BS2, beta2, m3, J_S3, l_DS3,
+beta3, g, branch, mu_A, r_A, mu_B, r_B, mu_C, r_C, mu_D, r_D, drive
 """
 
 from __future__ import annotations

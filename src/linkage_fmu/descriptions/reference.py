@@ -65,7 +65,7 @@ body = "2"
 kind = "force"
 at = "P"
 direction = [-1, 0]
-fixed_in = "link"  # along -x of link 2's own frame: against the direction B -> C
+fixed_in = "link"  # along -x of link 2's own frame: against B -> C
 table = [[0, 1.0], [90, 6.0], [180, 2.0], [270, 1.0]]  # [theta_deg, bar]
 period_deg = 360
 table_unit = "bar"
@@ -308,18 +308,20 @@ frame = "0"                 # the frame's name (default "0")
 [parameters]
 l_AB = {{ default = 0.1, kind = "length", description = "crank length AB" }}
 
-[joints]                    # every joint where it is drawn: one pose of the linkage
+# every joint where it is drawn, one pose of the linkage: numbers in m, with
+# units, or expressions of the parameters and of the drawn coordinates x_J, y_J
+[joints]
 A = [0, 0]
-B = ["l_AB", 0]             # numbers in m, with units, or expressions of the parameters
-C = ["300 mm", "y_B + 0.2"] # ... and of the drawn coordinates x_J, y_J of the joints
+B = ["l_AB", 0]
+C = ["300 mm", "y_B + 0.2"]
 D = [0.4, 0]
 # a prismatic pair: P = {{ at = [x, y], slide = [dx, dy], guide = "L" }}
 
-[[links]]                   # the frame's entry (optional): the joints on the frame
+[[links]]                   # the frame's entry (optional): its joints
 name = "0"
 joints = ["A", "D"]
 
-[[links]]                   # each moving link: its joints, mass, inertia, cg where drawn
+[[links]]                   # a moving link: joints, mass, inertia, cg as drawn
 name = "1"
 joints = ["A", "B"]
 mass = 0.5

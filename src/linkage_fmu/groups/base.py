@@ -39,19 +39,22 @@ Vec = tuple  # (x, y) of floats or arrays
 
 
 class KinematicState:
-    """Positions and derivative coefficients of every point and link at one or many states.
+    """Positions and derivative coefficients of every point and link at one or many states
+    (:meth:`linkage_fmu.Mechanism.kinematics` names the points and shows them).
 
     Attributes
     ----------
     theta : float or ndarray
-        Crank angle(s).
+        Crank angle(s) [rad].
     xp : namespace
         :data:`~linkage_fmu.numerics.SCALAR`, :data:`~linkage_fmu.numerics.ARRAY` or
         :data:`linkage_fmu.precise.MP`.
     p, d1, d2 : dict
-        Point name -> ``(x, y)``, ``(x', y')``, ``(x'', y'')``.
+        Point name -> ``(x, y)`` [m], ``(x', y')`` [m/rad], ``(x'', y'')`` [m/rad2]: the
+        position and its first and second derivatives with respect to ``theta``.
     u, w1, w2 : dict
-        Link name -> unit direction ``(cos phi, sin phi)``, ``phi'``, ``phi''``.
+        Link name -> unit direction ``(cos phi, sin phi)``, ``phi'``, ``phi''`` (the
+        derivatives of the link's angle ``phi`` with respect to ``theta``).
     invalid : ndarray of bool or None
         For arrays, the states that could not be assembled.
     locked : ndarray of bool or None

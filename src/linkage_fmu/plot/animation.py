@@ -285,7 +285,8 @@ def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int =
     >>> len(anim), anim.theta_deg.tolist()
     (8, [0.0, 45.0, 90.0, 135.0, 180.0, 225.0, 270.0, 315.0])
     >>> anim.draw(2)
-    >>> cursor = next(l for l in anim.figure.axes[1].lines if l.get_gid() == "cursor")
+    >>> cursor = next(line for line in anim.figure.axes[1].lines
+    ...               if line.get_gid() == "cursor")
     >>> float(cursor.get_xdata()[0])
     90.0
     """
@@ -347,8 +348,8 @@ def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int =
         link_ax.clear()
     tips = np.concatenate(tips)
     tips = tips[np.isfinite(tips).all(axis=1)]
-    lo_xy, hi_xy = tips.min(axis=0) - 0.12 * size, tips.max(axis=0) + 0.12 * size
-    lo_xy[1] -= 2.2 * 0.025 * size + 0.12 * size  # the ground hatching, and the scale's band
+    lo_xy, hi_xy = tips.min(axis=0) - VIEW_MARGIN * size, tips.max(axis=0) + VIEW_MARGIN * size
+    lo_xy[1] -= (2.2 * 0.025 + VIEW_MARGIN) * size  # the ground's hatching, the scale's band
 
     cursor = _draw_curves(curve_ax, mech, curves, deg, curve_deg, unit, title)
     if limits is not None:
@@ -373,7 +374,14 @@ def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int =
         return []
 
     draw_frame(0)
-    fig.canvas.draw()  # the layout once, for every frame: the view stays still
+    fig.canvas.draw()  # the layout, once for every frame: the view stays still
+    view = lo_xy, hi_xy
+    for _ in range(2):  # the panels' widths to the view, the view to its panel's shape
+        _share_width(link_ax, curve_ax, (hi_xy[0] - lo_xy[0]) / (hi_xy[1] - lo_xy[1]))
+        fig.canvas.draw()
+        lo_xy, hi_xy = _filling(link_ax, *view)
+        draw_frame(0)
+        fig.canvas.draw()
     with matplotlib.rc_context({"figure.autolayout": False,
                                 "figure.constrained_layout.use": False}):
         fig.set_layout_engine(None)  # none at all: saving a frame then draws it once
@@ -381,6 +389,40 @@ def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int =
     if path is not None:
         anim.save(path, fps=fps, dpi=dpi)
     return anim
+
+
+#: the linkage's axes, as a fraction of the width of both axes, at least and at most
+LINKAGE_WIDTH = (0.3, 0.6)
+#: the view's margin beyond the points and arrows of every frame, as a fraction of the
+#: linkage's size (and as much again below, beside the scale's key)
+VIEW_MARGIN = 0.06
+
+
+def _filling(ax, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The view ``lo``..``hi`` [m] widened about its middle, along x or y, to the shape
+    of the axes ``ax`` as laid out, so that the linkage, to equal scales, fills them."""
+    box = ax.get_position(original=True)
+    width, height = ax.figure.get_size_inches()
+    shape = box.width * width / (box.height * height)
+    middle, half = (lo + hi) / 2.0, (hi - lo) / 2.0
+    if half[0] / half[1] < shape:
+        half[0] = half[1] * shape
+    else:
+        half[1] = half[0] / shape
+    return middle - half, middle + half
+
+
+def _share_width(link_ax, curve_ax, aspect: float) -> None:
+    """The width of the axes, as laid out, shared between the linkage's and the
+    curve's so that the linkage, to equal scales, fills the height of its axes: their
+    width the view's ``aspect`` (width / height) times their height, within
+    :data:`LINKAGE_WIDTH` of the two."""
+    link, curve = (ax.get_position(original=True) for ax in (link_ax, curve_ax))
+    width, height = link_ax.figure.get_size_inches()
+    both = link.width + curve.width
+    wanted = aspect * link.height * height / width
+    wanted = min(max(wanted, LINKAGE_WIDTH[0] * both), LINKAGE_WIDTH[1] * both)
+    link_ax.get_subplotspec().get_gridspec().set_width_ratios([wanted, both - wanted])
 
 
 def _positive(name: str, value, expected: str = "") -> None:
@@ -471,9 +513,9 @@ def _draw_curves(ax, mech: "Mechanism", curves: dict, deg: np.ndarray, curve_deg
         degree_axis(ax, curve_deg)
         ax.set_ylabel(f"[{unit}]")
     ax.set_title(title, fontsize=10)
-    # below the axes: a legend inside would move as the cursor does ("best")
-    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=min(len(curves) + 2, 4),
-              fontsize=8, frameon=False)
+    # beside the axes: a legend inside would move as the cursor does ("best"), and one
+    # below would take from the height the linkage's panel has too
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
     line = ax.axvline(deg[0], color="0.3", lw=1.0, ls=":", gid="cursor")
     dots = {name: ax.plot([deg[0]], [values[0]], "o", ms=6, mfc="white",
                           mec=f"C{k}" if len(curves) > 1 else "C0", mew=1.8, zorder=6,

@@ -129,7 +129,7 @@ def torque(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads,
     >>> x, y = ax.lines[0].get_data()
     >>> len(x), float(x[0]), float(x[-1])
     (721, 0.0, 360.0)
-    >>> abs(float(ax.lines[1].get_ydata()[0])) < 1e-12  # mean Mb: no net work per turn
+    >>> abs(float(ax.lines[1].get_ydata()[0])) < 1e-12  # mean Mb: no work a turn
     True
     >>> ax.texts[0].get_text()                          # the peak
     '-18.92 N.m\\nat θ = 111.0°'
@@ -162,10 +162,12 @@ def draw_curve(ax: "Axes", rad: np.ndarray, deg: np.ndarray, values: np.ndarray,
                label=f"mean {rounded(mean, max(abs(values[i]), scale))} {unit}", gid="mean")
     ax.plot([deg[i]], [values[i]], "o", color="C3", ms=7,
             label=f"peak |{name}| {number(abs(values[i]), scale=scale)} {unit}", gid="peak")
+    # beside the peak on the side with room: to its left in the right half of the axes
+    left = deg[i] > (float(np.nanmin(deg)) + float(np.nanmax(deg))) / 2.0
     ax.annotate(f"{number(values[i], scale=scale)} {unit}\n"
                 f"at θ = {number(deg[i], 1, fixed=True)}°",
-                (deg[i], values[i]), xytext=(12, -14 if values[i] > 0 else 14),
-                textcoords="offset points",
+                (deg[i], values[i]), xytext=(-12 if left else 12, -14 if values[i] > 0 else 14),
+                textcoords="offset points", ha="right" if left else "left",
                 va="top" if values[i] > 0 else "bottom", fontsize=9, gid="peak label")
     ax.axhline(0.0, color="0.6", lw=0.8, zorder=0, gid="zero")
     degree_axis(ax, deg)
@@ -213,7 +215,8 @@ def polar(mech: "Mechanism", force: str | None = None, theta=None, omega=None, a
     >>> plot.polar(presets.get("four_bar"), "F99")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    ValueError: four_bar has no force pair 'F99'; its force pairs are: F21 (F21x, F21y), ...
+    ValueError: four_bar has no force pair 'F99'; its force pairs are: F21 (F21x,
+    F21y), ...
     """
     pair = find_pair(mech, force)
     rad, deg = crank_angles(theta, theta_deg)
@@ -307,7 +310,8 @@ def shaking(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     ['shake_M', 'mean', 'peak', 'zero']
     >>> sol = mech.solve(np.radians(np.linspace(0, 360, 721)), omega=10.0)
     >>> x, y = force.lines[2].get_data()
-    >>> bool(np.array_equal(x, sol["shake_x"]) and np.array_equal(y, sol["shake_y"]))
+    >>> bool(np.array_equal(x, sol["shake_x"])
+    ...      and np.array_equal(y, sol["shake_y"]))
     True
     """
     if ax is not None:

@@ -202,7 +202,8 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     >>> sol = mech.solve(np.radians(30.0), omega=10.0, load=5.0)
     >>> bool(np.isclose(quiver.U[0], 1e-3 * sol["F21x"]))  # F21 at B, in m
     True
-    >>> [t.get_text() for t in ax.texts if t.get_gid() == "load label:load"]  # on the rocker
+    >>> [t.get_text() for t in ax.texts  # on the rocker
+    ...  if t.get_gid() == "load label:load"]
     ['load = 5 N.m']
     """
     rad, deg = crank_angles(theta, theta_deg, scalar=True)

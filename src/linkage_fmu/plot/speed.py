@@ -79,7 +79,7 @@ def speed(mech: "Mechanism", omega=None, *loads, Cs=None, flywheel=None,
     >>> [line.get_gid() for line in ax.lines]
     ['omega', 'mean', 'band', 'band', 'max', 'min']
     >>> x, y = ax.lines[0].get_data()
-    >>> float(x[0]), round(float(x[-1]), 6), len(x)    # the motion's angles: one turn
+    >>> float(x[0]), round(float(x[-1]), 6), len(x)  # the motion's angles: a turn
     (0.0, 360.0, 721)
     >>> ax.lines[1].get_label()
     'mean 10 rad/s (95.49 rpm)'

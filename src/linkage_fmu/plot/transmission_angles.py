@@ -43,7 +43,7 @@ def toggles(mech: "Mechanism", name: str, theta: np.ndarray, gamma: np.ndarray,
     Examples
     --------
     >>> from linkage_fmu import presets
-    >>> mech = presets.get("slider_crank", l_OA=0.2, l_AB=0.15)   # the rod cannot reach
+    >>> mech = presets.get("slider_crank", l_OA=0.2, l_AB=0.15)  # too short a rod
     >>> t = np.radians(np.linspace(0, 360, 73))
     >>> sol = mech.solve(t, outputs=("gamma_B",))
     >>> [round(float(np.degrees(a)), 4)
@@ -120,8 +120,10 @@ def transmission(mech: "Mechanism", theta=None, *, theta_deg=None,
     >>> import matplotlib
     >>> matplotlib.use("Agg")
     >>> from linkage_fmu import plot, presets
-    >>> fig = plot.transmission(presets.get("four_bar", l_AB=0.3))  # |BD| reaches BC + CD
-    >>> lines = {line.get_gid(): line for line in fig.axes[0].lines}  # the last of each gid
+    >>> # |BD| reaches BC + CD
+    >>> fig = plot.transmission(presets.get("four_bar", l_AB=0.3))
+    >>> # the last line of each gid
+    >>> lines = {line.get_gid(): line for line in fig.axes[0].lines}
     >>> sorted(lines)
     ['gamma_C', 'min:gamma_C', 'toggle:gamma_C']
     >>> [round(float(line.get_xdata()[0]), 3) for line in fig.axes[0].lines
