@@ -504,8 +504,9 @@ def test_the_native_fmu_follows_the_drawn_mode(designs, triad_kernel, tmp_path):
     """The native FMU of the triad with its coordinates as parameters, set at each of 8
     designs (4 drawn near a limit), 25 steps each (200 states), in a fresh host process
     (tests/fmu_raw_host.py): doStep answers OK with Mb and gamma_E equal to the compiled
-    kernel's to 1e-12 of max(1, |value|) where the library solves the state, Discard where
-    it refuses it; no call answers Error or Fatal (tests/triads.py runs every state of
+    kernel's (:func:`triads.close`: to 1e-12 of max(1, |value|), and 1e-15 of its
+    condition number more) where the library solves the state, Discard where it refuses
+    it; no call answers Error or Fatal (tests/triads.py runs every state of
     any number of designs, with fuzzed inputs)."""
     from fmpy import read_model_description
 
@@ -533,10 +534,38 @@ def test_the_native_fmu_follows_the_drawn_mode(designs, triad_kernel, tmp_path):
                 assert status == DISCARD, (design, theta)
                 continue
             assert status == OK, (design, theta)
-            for got, name in zip(values, ("Mb", "gamma_E")):
-                want = r[triad_kernel.index[name]]
-                assert abs(got - want) <= 1e-12 * max(1.0, abs(want)), (design, theta, name)
+            assert triads.close(values, r, triad_kernel), (design, theta, values)
     assert sum(counts.values()) == 200 and counts[OK] > 50 and counts[DISCARD] > 20, counts
+
+
+def test_the_pythonfmu_fmu_follows_the_drawn_mode(designs, triad_kernel, tmp_path):
+    """The pythonfmu FMU of the same triad at two designs (one drawn near a limit), 25
+    steps each, as the native one: OK with the kernel's Mb and gamma_E where the library
+    solves the state, Discard where it refuses it, no Error or Fatal."""
+    from fmpy import read_model_description
+
+    from test_fmu_protocol import DISCARD, ERROR, OK, raw
+
+    source = tmp_path / "triad.toml"
+    source.write_text(triads.triad(designs[0][0]).to_toml())
+    fmu = fmu_cache.build_fmu(str(source), tmp_path / "dist")
+    refs = {v.name: v.valueReference for v in read_model_description(str(fmu)).modelVariables}
+    runs = [(design, thetas) for design, _, thetas in designs[2:4]]
+    ops = triads.fmu_ops(refs, runs)
+    out = raw(fmu.parent, ops, tmp_path, models=("Triad",))
+    statuses = [status for status, _ in out["results"]]
+    assert ERROR not in statuses
+    steps = iter(i for i, op in enumerate(ops) if op[1] == "doStep")
+    for design, thetas in runs:
+        fast, _ = triads.kernel_at(triad_kernel, design)
+        for theta in thetas:
+            i = next(steps)
+            r = fast(theta, 0.0, 0.0, triads.TORQUE)
+            if type(r) is not tuple:
+                assert statuses[i] == DISCARD, (design, theta)
+            else:
+                assert statuses[i] == OK, (design, theta)
+                assert triads.close(out["results"][i + 1][1], r, triad_kernel), (design, theta)
 
 
 def test_a_pose_drawn_near_a_limit_warns_and_one_at_a_singular_position_is_refused(designs):
