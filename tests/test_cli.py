@@ -8,6 +8,7 @@ from contextlib import redirect_stderr, redirect_stdout
 
 import numpy as np
 import pandas as pd
+import pytest
 
 from linkage_fmu.cli import main
 
@@ -492,6 +493,10 @@ def bad_inputs(tmp_path) -> list:
         (["table", "four_bar", "--omega", "1 furlong"], "--omega = '1 furlong' must be an "
                                                         "angular speed"),
         (["check", f"{t}/none.fmu", "--steps", "0"], "--steps must be >= 1, got 0"),
+        (["animate", "four_bar", "--dpi", "1e9", "-o", f"{t}/a.gif"],
+         "--dpi 1e+09 draws frames of 1.1e+10 x 4.8e+09 pixels; a frame is less than 65536 "
+         "pixels a side (matplotlib's and a GIF's limit): dpi 5957 at most for 11 x 4.8 "
+         "inches"),
     ]
 
 
@@ -656,3 +661,44 @@ def test_the_commands_that_draw_leave_no_figure_open(tmp_path):
     assert main(["animate", "four_bar", "--frames", "4", "--dpi", "20",
                  "-o", str(tmp_path / "a.gif")]) == 0
     assert plt.get_fignums() == []
+
+
+def test_sweep_and_optimize_without_a_compiler_run_on_numpy(monkeypatch):
+    """CC names no compiler (the package's way of choosing one): sweep and optimize,
+    which ended in a RuntimeError's traceback, run on numpy (status 0), their only line
+    on stderr the library's warning that says so. The sweep's table is the one the
+    compiled kernels give (to 1e-12 relative); the design optimize returns has the
+    Mb_peak it prints, by the compiled sweep of that design."""
+    import re
+
+    from linkage_fmu import sweep as module
+    from linkage_fmu.kernels import compiled
+
+    sweep = ["sweep", "four_bar", "--grid", "l_AB=0.08,0.1", "--grid", "m2=1,3", "--n", "36",
+             "--omega", "10"]
+    status, reference, _ = run(sweep)
+    assert status == 0
+    module._structure.cache_clear()
+    compiled._no_compiler_warning.cache_clear()
+    monkeypatch.setenv("CC", "no-such-c-compiler")
+    try:
+        status, out, err = run(sweep)
+        assert status == 0 and err.count("\n") == 1, err
+        assert err.startswith("linkage-fmu: warning: no C compiler found")
+        status, printed, err = run(["optimize", "four_bar", "--vary", "l_BC=0.3:0.45",
+                                    "--minimize", "Mb_peak", "--maxiter", "2", "--seed", "1",
+                                    "--n", "36", "--no-polish"])
+        assert status == 0 and err == "", err  # the warning is said once a process
+    finally:
+        monkeypatch.undo()
+        module._structure.cache_clear()
+        compiled._no_compiler_warning.cache_clear()
+    got, want = (pd.read_csv(io.StringIO(text)) for text in (out, reference))
+    assert list(got.columns) == list(want.columns) and len(got) == 4
+    numbers = want.select_dtypes("number").columns
+    np.testing.assert_allclose(got[numbers], want[numbers], rtol=1e-12, atol=1e-300)
+    best = float(re.search(r"l_BC = (\S+)", printed)[1])
+    peak = float(re.search(r"Mb_peak = (\S+)", printed)[1])
+    status, check, _ = run(["sweep", "four_bar", "--grid", f"l_BC={best!r}", "--n", "36"])
+    assert status == 0
+    assert pd.read_csv(io.StringIO(check))["Mb_peak"].iloc[0] == pytest.approx(peak, rel=1e-9)

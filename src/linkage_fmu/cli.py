@@ -858,7 +858,12 @@ def _animate(d: Description, args) -> int:
     except ImportError:
         raise UsageError('animations need matplotlib: pip install "linkage_fmu[plot]"') from None
     matplotlib.use("Agg")
-    from .plot.animation import MissingFFmpegError, animate
+    from .plot.animation import MissingFFmpegError, animate, frame_pixels
+
+    try:
+        frame_pixels(args.dpi)
+    except ValueError as err:  # said before the work
+        raise UsageError(f"--{err}") from None
 
     mech = d.build(**dict(args.params))
     omega, alpha = speeds(args)
