@@ -407,7 +407,7 @@ solves is taken off, trying the links two by two in the order of `[[links]]`:
 | --- | --- | --- |
 | `RRR` | two links pinned together | each pinned to a placed joint |
 | `RRP` | a rod and a slider pinned together | the rod pinned to a placed joint, the slider on a frame guide (listed by the slider only) |
-| `RPR` | a block and a lever sliding in one another | each pinned to a placed joint; the guide's line through the block's pin passes through the lever's pin (the lever carries the guide) |
+| `RPR` | a block and a lever sliding in one another | each pinned to a placed joint; the guide's line through the block's pin passes through the lever's pin (the lever carries the guide; see below) |
 | `RPP` | a block and a yoke sliding in one another | the block pinned to a placed joint, the yoke on a frame guide |
 
 A link's other joints and its `points` become `point` groups on it, once it is placed
@@ -417,6 +417,14 @@ What no dyad resolves is the smallest connected set of the links left that the p
 with mobility 0, solved as one `closure` group (its pairs revolute: a group of more than
 two links with a prismatic pair, or a dyad with one that the table above does not list,
 is refused as a group the decomposition cannot solve).
+
+An `RPR` lever's guide runs from its pin through the block's, as its own geometry makes
+it: a `slide` drawn within {assur.SLIDE_TOLERANCE:g} of that line (the sine of the angle
+between them: a direction typed to six significant digits) is taken for it, and the
+slide is checked against it at every parameter set. One further off is refused, naming
+the distance by which it misses the lever's pin; written as the pins' difference
+(`slide = ["x_A - x_O3", "y_A - y_O3"]` for a block's pin A and a lever's pin O3) it
+passes through it exactly.
 
 Every length, angle, guide point and position in a link's own frame is an expression of
 the drawn coordinates, so it follows the parameters. The assembly modes (`branch`) are
