@@ -923,3 +923,106 @@ def test_a_slot_that_misses_the_pivot_says_by_how_much():
         'slide = ["x_A - x_O3", "y_A - y_O3"] for a slot exactly through it']
     assert f"{sine:.3g}" == "3.25e-05"
 
+
+# -- outputs: a file's [[outputs]] add to the defaults ------------------------------------
+#: a Stephenson III six-bar: the four-bar A-B-C-D (crank 1, ternary coupler 2 = B, C, E,
+#: rocker 3), and the dyad E-F-G (links 4, 5) from the coupler to the frame at G
+STEPHENSON = """
+[linkage]
+name = "stephenson3"
+model = "Stephenson3"
+
+[joints]
+A = [0, 0]
+B = [0.1, 0]
+C = [0.3, 0.25]
+D = [0.4, 0]
+E = [0.2, 0.35]
+F = [0.45, 0.5]
+G = [0.6, 0.2]
+
+[[links]]
+name = "1"
+joints = ["A", "B"]
+mass = 0.5
+inertia = 0.001
+cg = [0.05, 0]
+
+[[links]]
+name = "2"
+joints = ["B", "C", "E"]
+mass = 1.5
+inertia = 0.01
+cg = [0.2, 0.2]
+
+[[links]]
+name = "3"
+joints = ["C", "D"]
+mass = 0.8
+inertia = 0.006
+cg = [0.35, 0.125]
+
+[[links]]
+name = "4"
+joints = ["E", "F"]
+mass = 0.6
+inertia = 0.004
+cg = [0.325, 0.425]
+
+[[links]]
+name = "5"
+joints = ["F", "G"]
+mass = 0.7
+inertia = 0.005
+cg = [0.525, 0.35]
+
+[crank]
+link = "1"
+pivot = "A"
+"""
+F12 = '\n[[outputs]]\nkind = "force"\nname = "F12"\nby = "1"\non = "2"\nmagnitude = true\n'
+DEFAULTS = ["F01", "F12", "F23", "F03", "F24", "F45", "F05"]
+
+
+def test_an_output_table_adds_to_the_default_outputs(tmp_path):
+    """The Stephenson III plus one ``[[outputs]]`` table, F12 with its magnitude: Mb and
+    every pair's force are still reported (one table dropped them all: ``solve()["Mb"]``
+    was a KeyError, and ``info`` listed F12x, F12y, F12_abs only), the table's outputs
+    first, then the pairs' forces it does not report, then the effort; Mb and every force
+    are those of the file without the table (bit for bit), F12_abs is hypot(F12x, F12y).
+    ``linkage-fmu info`` lists them."""
+    from linkage_fmu.cli import main
+
+    plain = Description.from_toml(STEPHENSON, "plain.toml").build()
+    assert plain.output_names[:-3] == tuple(f"{n}{a}" for n in DEFAULTS for a in "xy") + ("Mb",)
+    more = Description.from_toml(STEPHENSON + F12, "more.toml").build()
+    assert more.output_names[:-3] == ("F12x", "F12y", "F12_abs") + tuple(
+        f"{n}{a}" for n in DEFAULTS if n != "F12" for a in "xy") + ("Mb",)
+    state = (0.7, 12.0, 3.0)
+    got, want = more.solve(*state), plain.solve(*state)
+    for name in plain.output_names:
+        assert got[name] == want[name], name
+    assert got["F12_abs"] == math.hypot(got["F12x"], got["F12y"])
+    path = tmp_path / "stephenson3.toml"
+    path.write_text(STEPHENSON + F12)
+    import contextlib
+    import io
+
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        assert main(["info", str(path)]) == 0
+    listed = [line.split()[0] for line in out.getvalue().split("outputs:\n")[1].splitlines()]
+    assert listed[:4] == ["F12x", "F12y", "F12_abs", "F01x"] and "Mb" in listed
+
+
+def test_default_outputs_false_keeps_the_files_outputs_and_the_effort():
+    """``[linkage] default_outputs = false``: the file's one table, F12 and its
+    magnitude, and Mb, which every linkage reports (the same number as with the
+    defaults)."""
+    text = STEPHENSON.replace('model = "Stephenson3"\n',
+                              'model = "Stephenson3"\ndefault_outputs = false\n') + F12
+    mech = Description.from_toml(text, "only.toml").build()
+    assert mech.output_names == ("F12x", "F12y", "F12_abs", "Mb", "shake_x", "shake_y",
+                                 "shake_M")
+    plain = Description.from_toml(STEPHENSON, "plain.toml").build()
+    assert mech.solve(0.7, 12.0)["Mb"] == plain.solve(0.7, 12.0)["Mb"]

@@ -449,3 +449,31 @@ def test_a_parameter_named_as_an_output_is_refused():
     with pytest.raises(ValueError, match=r"^four\.toml: the name 'gamma_C' is both a "
                                          r"parameter and a diagnostic output$"):
         Description.from_toml(clash, "four.toml").build()
+
+
+def test_the_effort_is_reported_where_no_output_names_it():
+    """The coupler four-bar without its ``[[outputs]] kind = "effort"`` table still
+    reports Mb (after its other outputs), the same number as with the table: every
+    linkage reports its balancing effort (one table more used to drop it)."""
+    text = EXAMPLE.read_text()
+    assert text.count('[[outputs]]\nkind = "effort"\nname = "Mb"\n') == 1
+    without = Description.from_toml(
+        text.replace('[[outputs]]\nkind = "effort"\nname = "Mb"\n', ""), "no_mb.toml").build()
+    full = Description.from_toml(text, "full.toml").build()
+    assert without.output_names == full.output_names
+    assert without.output_info["Mb"] == full.output_info["Mb"]
+    assert without.solve(0.7, 20.0)["Mb"] == full.solve(0.7, 20.0)["Mb"]
+
+
+@pytest.mark.parametrize("value, message", [
+    ("false", "[linkage] default_outputs: a description written as groups has no default "
+              "outputs: its [[outputs]] tables are its outputs (and each effort); the key is "
+              "for one written as joints and links"),
+    ('"no"', "[linkage] default_outputs: 'no' must be true or false"),
+])
+def test_default_outputs_is_true_or_false_and_for_joints_and_links(value, message):
+    text = EXAMPLE.read_text().replace('frame = "0"\n',
+                                       f'frame = "0"\ndefault_outputs = {value}\n', 1)
+    with pytest.raises(DescriptionError) as info:
+        Description.from_toml(text, "keys.toml")
+    assert info.value.problems == [message]

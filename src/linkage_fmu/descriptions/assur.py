@@ -688,28 +688,54 @@ def output_name(by: str, on: str) -> str:
     return f"F{by}{on}" if len(by) == len(on) == 1 else f"F{by}_{on}"
 
 
-def default_outputs(pairs: list, efforts: dict) -> list[dict]:
-    """The [[outputs]] of a joints-and-links linkage that gives none: the force of each
-    pair, as the action of the body placed first on the other (one output per two
-    bodies), then each effort.
+def default_outputs(pairs: list, efforts: dict, declared: list = ()) -> list[dict]:
+    """The [[outputs]] a joints-and-links linkage has besides those it ``declared`` (its
+    [[outputs]] tables): the force of each pair, as the action of the body placed first
+    on the other (one output per two bodies), then each effort; a pair whose reaction a
+    declared output reports (a force between its two bodies, the normal or couple of a
+    prismatic pair between them, an expression of the pair's ``N_J``, ``M_J``, ``Fx_J``
+    or ``Fy_J``) and an effort a declared output names are left out.
 
     Examples
     --------
-    >>> for o in default_outputs([("A", "0", "1"), ("B", "1", "slider"),
-    ...                           ("guide", "0", "slider")], {None: {"name": "Mb"}}):
+    >>> pairs = [("A", "0", "1"), ("B", "1", "slider"), ("guide", "0", "slider")]
+    >>> for o in default_outputs(pairs, {None: {"name": "Mb"}}):
     ...     print(o)
     {'kind': 'force', 'name': 'F01', 'by': '0', 'on': '1'}
     {'kind': 'force', 'name': 'F1_slider', 'by': '1', 'on': 'slider'}
     {'kind': 'force', 'name': 'F0_slider', 'by': '0', 'on': 'slider'}
     {'kind': 'effort', 'name': 'Mb'}
+    >>> [o["name"] for o in default_outputs(pairs, {None: {"name": "Mb"}},
+    ...                                     [{"kind": "force", "name": "F10", "by": "1",
+    ...                                       "on": "0", "magnitude": True},
+    ...                                      {"kind": "normal", "name": "N", "joint": "guide"}])]
+    ['F1_slider', 'Mb']
     """
-    out, seen = [], set()
+    bodies = {name: frozenset((a, b)) for name, a, b in pairs}
+    seen, named = set(), set()
+    for spec in declared:
+        kind = spec.get("kind")
+        if kind == "force":
+            seen.add(frozenset((spec.get("by"), spec.get("on"))))
+        elif kind in ("normal", "couple") and spec.get("joint") in bodies:
+            seen.add(bodies[spec["joint"]])
+        elif kind == "expression":
+            try:
+                used = Expression(spec.get("expression", "")).names
+            except ValueError:  # the checker says why
+                used = ()
+            seen.update(bodies[n.split("_", 1)[1]] for n in used
+                        if n.split("_", 1)[0] in ("N", "M", "Fx", "Fy")
+                        and n.split("_", 1)[-1] in bodies)
+        elif kind == "effort":
+            named.add(spec.get("name"))
+    out = []
     for _, a, b in pairs:
         if frozenset((a, b)) not in seen:
             seen.add(frozenset((a, b)))
             out.append({"kind": "force", "name": output_name(a, b), "by": a, "on": b})
     names = dict.fromkeys(s["name"] for s in efforts.values() if isinstance(s, dict))
-    out += [{"kind": "effort", "name": n} for n in names]
+    out += [{"kind": "effort", "name": n} for n in names if n not in named]
     return out
 
 

@@ -187,6 +187,12 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
         else:
             outputs.append(Derived(name, spec["expression"], spec.get("unit", "N"), text))
         keys.update((o.name, f"[[outputs]] #{k + 1} ({name})") for o in outputs[first:])
+    for name in dict.fromkeys(e["name"] for e in d.efforts.values()):  # always reported
+        if name not in keys:
+            unit = "N.m" if _is_moment(d, name) else "N"
+            outputs.append(EffortOutput(name, unit, "balancing moment on the driver link, "
+                                        "counter-clockwise positive" if unit == "N.m" else
+                                        "balancing force"))
     declared = _friction(d, number, friction)
 
     def rebuild(traced: dict) -> Mechanism:

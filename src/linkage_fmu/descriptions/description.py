@@ -104,6 +104,10 @@ LINKAGE_KEYS = {
                "parameter g)",
     "drive": "the crank's drive direction, +1 (counter-clockwise, default) or -1: where "
              "the crank stands, friction opposes the motion it would start this way",
+    "default_outputs": "written as joints and links: true (default) to report, besides "
+                       "its [[outputs]], the force of each pair they do not report and "
+                       "each effort; false for its [[outputs]] only (and each effort, "
+                       "which every linkage reports)",
 }
 #: key of a [friction.J] table -> what it is
 FRICTION_KEYS = {
@@ -406,6 +410,13 @@ class Description:
                 model=str(head.get("model", "")), frame=str(head.get("frame", "0")),
                 gravity=head.get("gravity", 0.0), drive=head.get("drive", 1.0), source=source)
         problems += _read_tables(d, data)
+        defaults = head.get("default_outputs", True)
+        if not isinstance(defaults, bool):
+            problems.append(f"[linkage] default_outputs: {defaults!r} must be true or false")
+        elif "default_outputs" in head and not set(JOINT_TABLES) & set(data):
+            problems.append("[linkage] default_outputs: a description written as groups has "
+                            "no default outputs: its [[outputs]] tables are its outputs (and "
+                            "each effort); the key is for one written as joints and links")
         if set(JOINT_TABLES) & set(data):
             drawn = _read_joints_form(d, data)
             if drawn:  # the group form it makes is incomplete: its checks would mislead
@@ -565,8 +576,9 @@ def _as_links(d: Description, problems: list[str]) -> list[str]:
 
 def _read_joints_form(d: Description, data: dict) -> list[str]:
     """Read the joints-and-links tables of ``data`` into ``d``'s group form: its points,
-    groups and bodies, and where none are given its outputs (a force per pair, the
-    effort), its effort (a moment ``Mb`` on the crank) and its model (its name)."""
+    groups and bodies, after its [[outputs]] the default ones (a force per pair they do
+    not report, each effort; none with ``default_outputs = false``), and where none are
+    given its effort (a moment ``Mb`` on the crank) and its model (its name)."""
     from ..parameters import resolve
     from . import assur, topology
 
@@ -608,8 +620,8 @@ def _read_joints_form(d: Description, data: dict) -> list[str]:
         d.efforts[None] = {"name": "Mb", "body": t.crank}
     if "theta" not in data.get("inputs", {}):  # it starts where it is drawn
         d.inputs["theta"] = dec.theta
-    if "outputs" not in data:
-        d.outputs.extend(assur.default_outputs(dec.pairs, d.efforts))
+    if data.get("linkage", {}).get("default_outputs", True) is not False:
+        d.outputs.extend(assur.default_outputs(dec.pairs, d.efforts, d.outputs))
     return []
 
 

@@ -455,10 +455,14 @@ the pair's name, and a load's `value` may use its `x_J`, `y_J`.
 
 ### What is made when it is not given
 
-- `[[outputs]]`: for each two bodies joined by a pair, the force of the body placed
-  first (the frame first of all) on the other, `kind = "force"`, named `F<by><on>`
-  (`F<by>_<on>` when a name is longer than one character), as listed by
-  `linkage-fmu info`; then each effort;
+- `[[outputs]]`: after the file's own `[[outputs]]` tables, for each two bodies joined
+  by a pair whose reaction none of them reports (as a force between the two bodies, the
+  normal force or couple of their prismatic pair, or an expression of its `N_J`, `M_J`,
+  `Fx_J`, `Fy_J`), the force of the body placed first (the frame first of all) on the
+  other, `kind = "force"`, named `F<by><on>` (`F<by>_<on>` when a name is longer than
+  one character), as listed by `linkage-fmu info`; then each effort they do not name.
+  `[linkage] default_outputs = false` keeps the file's tables only (and each effort,
+  which every linkage reports: see `[[outputs]]`);
 - `[effort]`: a moment named `Mb` on the crank;
 - `[inputs] theta`: the drawn crank angle (the linkage starts where it is drawn);
 - `[linkage] model`: the name.
@@ -533,7 +537,12 @@ def _outputs(mech: Mechanism) -> str:
     kinds = [(f"`{kind}`", _cell(spec.OUTPUT_KINDS.get(kind, ""))) for kind in spec.OUTPUT_KEYS]
     out = [f"""## `[[outputs]]`
 
-One table per output, `kind = "..."` and its keys. The kinds:
+One table per output, `kind = "..."` and its keys. Every linkage reports its balancing
+effort: an `[effort]` that no table of kind `effort` names is reported after the
+tables, as one would (a linkage written as joints and links also reports the force of
+each of its pairs the tables do not report, unless `[linkage] default_outputs = false`:
+see Joints and links). An output is computed in SI: its `unit` is one of the package's
+units (`"N"`, `"N.m"`, ...; see Unit names), and an effort's is that of the effort. The kinds:
 
 {_table(("kind", "reports"), kinds)}"""]
     for kind, keys in spec.OUTPUT_KEYS.items():
