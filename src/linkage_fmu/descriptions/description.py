@@ -62,6 +62,7 @@ from ..expressions import Expression, check_units
 from ..groups import OWNER, Field, Group, LinkJoints
 from ..outputs import SHAKING
 from ..parameters import KINDS, Parameter
+from ..units import unit_problem
 
 INPUT_NAMES = ("theta", "omega", "alpha")
 #: the tables of a description written as joints and links (:mod:`.topology`), which
@@ -98,7 +99,8 @@ TABLES: dict[str, tuple[str, str]] = {
 LINKAGE_KEYS = {
     "name": "name of the linkage in messages (default: the file's name without .toml)",
     "title": "one line saying what it is",
-    "model": "model identifier of its FMUs, a C identifier (required)",
+    "model": "model identifier of its FMUs, a C identifier (required; written as joints "
+             "and links, a file without it takes its name where that is a C identifier)",
     "frame": "name of the frame body in output names (default \"0\")",
     "gravity": "gravitational acceleration along -y, m/s2 (default 0; usually the "
                "parameter g)",
@@ -614,7 +616,7 @@ def _read_joints_form(d: Description, data: dict) -> list[str]:
         return err.problems
     d.points, d.groups, d.bodies = dec.points, dec.groups, dec.bodies
     d.drawn = dec
-    if not d.model and _is_identifier(d.name):
+    if "model" not in data.get("linkage", {}) and _is_identifier(d.name):
         d.model = d.name
     if not d.efforts:
         d.efforts[None] = {"name": "Mb", "body": t.crank}
@@ -819,8 +821,16 @@ class _Checker:
 
     # -- the tables -------------------------------------------------------------------
     def linkage(self) -> None:
-        if not _is_identifier(self.d.model):
-            self.found.append(f"[linkage] model: {self.d.model!r} must be a C identifier (the "
+        model = self.d.model
+        if not model:
+            self.found.append(
+                "[linkage] model: missing or empty: the model identifier of the linkage's "
+                "FMUs is required, a C identifier such as \"FourBar\" (letters, digits and _, "
+                "not a digit first)" + ("; written as joints and links, a file without the "
+                                        "key takes its name where that is one"
+                                        if self.d.drawn is not None else ""))
+        elif not _is_identifier(model):
+            self.found.append(f"[linkage] model: {model!r} must be a C identifier (the "
                               "FMU's model identifier)")
         self.expr("[linkage] gravity", self.d.gravity, unit="m/s2")
         self.expr("[linkage] drive", self.d.drive)
@@ -1230,13 +1240,30 @@ class _Checker:
     def effort_output(self, where: str, name: str, spec: dict) -> list:
         if name not in self.effort_names():
             self.found.append(f"{where} name: {name!r} is not the name of an [effort]")
+        elif "unit" in spec and not self.unit(f"{where} unit", spec["unit"]):
+            kinds = {"N" if "direction" in e else "N.m" for e in self.d.efforts.values()
+                     if isinstance(e, dict) and e.get("name") == name}
+            if spec["unit"] not in kinds:
+                what = "a force" if kinds == {"N"} else "a moment"
+                self.found.append(f"{where} unit: {spec['unit']!r}: {name} is {what}, in "
+                                  f"{' or '.join(sorted(kinds))}")
         return [name]
 
     def expression_output(self, where: str, name: str, spec: dict) -> list:
         joint_vars = {f"{v}_{j}" for j in self.joints for v in ("N", "M", "Fx", "Fy")}
         self.expr(f"{where} expression", spec.get("expression", ""),
                   set(self.d.parameters) | joint_vars | self.effort_names())
+        if "unit" in spec:
+            self.unit(f"{where} unit", spec["unit"])
         return [name]
+
+    def unit(self, where: str, unit: Any) -> str:
+        """An output's unit, which must be one of the package's (the output is computed
+        in SI); the problem found ('' if none)."""
+        problem = unit_problem(unit, where)
+        if problem:
+            self.found.append(problem)
+        return problem
 
 
 def _key(key: str) -> str:
