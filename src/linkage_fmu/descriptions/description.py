@@ -561,6 +561,15 @@ class Description:
 
 
 # -- reading the tables --------------------------------------------------------------
+def body_table(d: Description, link: str) -> str:
+    """How messages name the table of ``link``'s mass and inertia: ``[bodies.L]``, or
+    where ``d`` is written as joints and links its ``[[links]] #k (L)``."""
+    if d.drawn is None or link not in d.drawn.links:
+        return f"[bodies.{link}]"
+    number = d.drawn.tables.get(link, d.drawn.links.index(link) + 1)
+    return f"[[links]] #{number} ({link})"
+
+
 def _as_links(d: Description, problems: list[str]) -> list[str]:
     """The problems, those of a link's mass or inertia named as its [[links]] table
     gives them where the description is written as joints and links."""
@@ -568,10 +577,9 @@ def _as_links(d: Description, problems: list[str]) -> list[str]:
         return problems
     out = []
     for p in problems:
-        for k, link in enumerate(d.drawn.links):
-            number = d.drawn.tables.get(link, k + 1)
+        for link in d.drawn.links:
             for key in ("mass", "inertia"):
-                p = p.replace(f"[bodies.{link}] {key}", f"[[links]] #{number} ({link}) {key}")
+                p = p.replace(f"[bodies.{link}] {key}", f"{body_table(d, link)} {key}")
         out.append(p)
     return out
 
@@ -768,6 +776,8 @@ class _Checker:
         self.taken = set(INPUT_NAMES) | set(d.parameters) | set(SHAKING) | {"cond"}
         #: name -> (value, unit) of each parameter, to check the units of expressions
         self.measures: dict[str, tuple] = {}
+        #: name -> default value of each parameter that has a valid one
+        self.values: dict[str, Any] = {}
         #: what is allowed but probably not meant (a plain angle above 2 pi)
         self.notes: list[str] = []
 
@@ -809,6 +819,17 @@ class _Checker:
         elif unit == "rad" and _finite(value) and abs(value) > 2.0 * math.pi:
             self.notes.append(f"{where} = {value!r} is taken in radians ({math.degrees(value):g}"
                               f" deg); write \"{value!r} deg\" for degrees")
+
+    def not_negative(self, where: str, value: Any, unit: str) -> None:
+        """A value that must be >= 0 (a mass, an inertia), at the parameters' defaults;
+        one that cannot be evaluated there is said by the other checks."""
+        try:
+            x = Expression(value)(self.values)
+        except (ValueError, TypeError, ZeroDivisionError, OverflowError):
+            return
+        if not (math.isfinite(x) and x >= 0.0):
+            said = f"{value!r}" + (f" = {x!r}" if isinstance(value, str) else "")
+            self.found.append(f"{where}: {said} must be a finite number >= 0 ({unit})")
 
     def vector(self, where: str, value: Any, unit: str = "") -> bool:
         """``[x, y]`` of expressions (of ``unit``); False if it is not a pair."""
@@ -857,6 +878,7 @@ class _Checker:
             except (TypeError, ValueError) as err:
                 self.found.append(f"{where}: default: {err}")
                 continue
+            self.values[name] = value
             if spec.unit:
                 self.measures[name] = (float(value), spec.unit)
 
@@ -1066,8 +1088,9 @@ class _Checker:
         if link not in self.links:
             self.found.append(f"{where}: no group adds a link {link!r}: a body without a link")
             return
-        self.expr(f"{where} mass", spec["mass"], unit="kg")
-        self.expr(f"{where} inertia", spec["inertia"], unit="kg.m2")
+        for key, unit in (("mass", "kg"), ("inertia", "kg.m2")):
+            self.expr(f"{where} {key}", spec[key], unit=unit)
+            self.not_negative(f"{where} {key}", spec[key], unit)
         cg = spec["cg"]
         if not isinstance(cg, dict) or "from" not in cg:
             self.found.append(f"{where} cg: needs {{ from = POINT, along = ..., across = ... }}")
