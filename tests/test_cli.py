@@ -702,3 +702,73 @@ def test_sweep_and_optimize_without_a_compiler_run_on_numpy(monkeypatch):
     status, check, _ = run(["sweep", "four_bar", "--grid", f"l_BC={best!r}", "--n", "36"])
     assert status == 0
     assert pd.read_csv(io.StringIO(check))["Mb_peak"].iloc[0] == pytest.approx(peak, rel=1e-9)
+
+
+@pytest.mark.parametrize("flavour, tolerance", [("pythonfmu", 1e-9), ("native", 1e-12)])
+def test_check_says_ok_or_failed_and_against_what(flavour, tolerance, tmp_path):
+    """``linkage-fmu check FMU`` prints one line (it printed a bare JSON dict): the
+    verdict, the largest error and its output, what it is against and the flavour's
+    tolerance, fmpy's validation; ``--json`` prints the same figures as one object, with
+    the tolerance and ``passed``. The same FMU whose bundled description has another
+    coupler mass (2 to 2.5 kg: the reference is the description, the binary another
+    linkage) fails: ``FAILED``, exit status 1."""
+    import json
+    import zipfile
+
+    import fmu_cache
+
+    build = fmu_cache.build_native_fmu if flavour == "native" else fmu_cache.build_fmu
+    fmu = build("four_bar", tmp_path)
+    status, out, _ = run(["check", "--json", str(fmu)])
+    result = json.loads(out)
+    assert status == 0 and result["passed"] and result["tolerance"] == tolerance
+    assert result["max_rel_error"] <= tolerance and result["validate"] == []
+    status, out, _ = run(["check", str(fmu)])
+    assert status == 0 and out == (
+        f"{fmu}: ok: the outputs of FourBar are within {result['max_rel_error']:.2g} "
+        f"({result['worst_output']}) of the direct solver's over 360 steps, relative to "
+        f"each output's largest (the tolerance {tolerance:g}); fmpy validate: no problems\n")
+    heavier = tmp_path / "heavier" / "FourBar.fmu"
+    heavier.parent.mkdir()
+    with zipfile.ZipFile(fmu) as source, zipfile.ZipFile(heavier, "w") as copy:
+        for item in source.infolist():
+            data = source.read(item)
+            if item.filename == "resources/FourBar.toml":
+                text = data.decode()
+                assert text.count("m2 = { default = 2.0,") == 1
+                data = text.replace("m2 = { default = 2.0,", "m2 = { default = 2.5,").encode()
+            copy.writestr(item, data)
+    status, out, _ = run(["check", str(heavier)])
+    assert status == 1 and out.startswith(f"{heavier}: FAILED: the outputs of FourBar are "
+                                          "within ")
+    assert f"(the tolerance {tolerance:g}); fmpy validate: no problems\n" in out
+    status, out, _ = run(["check", "--json", str(heavier)])
+    assert status == 1 and json.loads(out)["passed"] is False
+
+
+def test_check_of_an_fmu_that_cannot_be_instantiated_is_one_line(tmp_path):
+    """A pythonfmu FMU built from another linkage_fmu than the one this process imported
+    (its slave's fingerprint of the package it bundles differs) refuses to be
+    instantiated in it: ``check`` says so in one line, with what the FMU logged, and
+    exits 1 (fmpy's plain Exception was a traceback)."""
+    import re
+    import zipfile
+
+    import fmu_cache
+
+    fmu = fmu_cache.build_fmu("four_bar", tmp_path)
+    other = tmp_path / "other" / "FourBar.fmu"
+    other.parent.mkdir()
+    with zipfile.ZipFile(fmu) as source, zipfile.ZipFile(other, "w") as copy:
+        for item in source.infolist():
+            data = source.read(item)
+            if re.fullmatch(r"resources/linkage_fmu_FourBar_\w+\.py", item.filename):
+                data, n = re.subn(rb"FINGERPRINT = '[0-9a-f]+'", b"FINGERPRINT = '" +
+                                  b"0" * 64 + b"'", data)
+                assert n == 1
+            copy.writestr(item, data)
+    status, out, err = run(["check", str(other)])
+    assert (status, out) == (1, "") and err.count("\n") == 1, err
+    assert err.startswith(f"linkage-fmu: {other}: the check failed: the FMU cannot be "
+                          "instantiated: ")
+    assert "fingerprint" in err
