@@ -10,8 +10,9 @@ threads; ``fused=False`` keeps every output of every state of a chunk of designs
 array kernel) and summarises them with numpy, the reference. Designs go in chunks, each
 one task solving thousands of states: in this process, or on a Dask cluster
 (``pip install "linkage_fmu[sweep]"``) for more cores or machines than this one.
-Where there is no C compiler, each design is built and solved on numpy (the same table,
-to rounding; some ten times slower per state, said once by a warning).
+Where there is no C compiler, each design is built and solved on numpy, after one
+warning: the same table, to rounding, tens of times slower (the four-bar's 22 designs
+over 360 angles: 0.31 s, against 0.005 s with the compiled kernels).
 
 Each design's row holds its parameter values and:
 
