@@ -134,7 +134,7 @@ def dist(tmp_path_factory) -> Path:
     script = _build_script()
     for source in (*presets.names(), *map(str, script.EXAMPLES)):
         fmu_cache.build_fmu(source, out)
-        fmu_cache.build_native_fmu(source, out / script.FLAVOURS["native"][0])
+        fmu_cache.build_native_fmu(source, out / script.FLAVOURS["native"])
     for preset in presets.names():
         write_crosscheck(out, presets.get(preset), steps=90)
     return out

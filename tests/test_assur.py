@@ -180,7 +180,10 @@ def test_a_drawn_pose_at_a_toggle():
 
 def test_a_group_the_decomposition_cannot_solve_slides():
     """A block on the crank pin sliding in a slot of a lever that does not pass through
-    the lever's pivot: no dyad of the library, and only dyads slide."""
+    the lever's pivot: no dyad of the library (an RPR's slot passes through its lever's
+    pivot), said with the distance by which it misses it (0.4 m: the slot along x through
+    B = (0.1, 0), the pivot C = (0, -0.4)), the sine (0.4 / |BC| = 0.970) against the
+    tolerance, and how to write the slot through it exactly."""
     text = HEAD + """
 [joints]
 A = [0, 0]
@@ -205,9 +208,11 @@ link = "1"
 pivot = "A"
 """
     assert problems(text) == [
-        "[[links]]: a group the decomposition cannot solve: links 2, 3, with the prismatic "
-        "pair(s) s, form a dyad that no dyad of the library is (an RRP's slider and an "
-        "RPP's yoke slide on a frame guide, an RPR's slot passes through its lever's pivot)"]
+        "[joints] s slide: [1, 0] through the pin B misses the pivot C of the lever 3 by "
+        "0.4 m (the sine of the angle between the slide and the line B-C is 0.97; the "
+        "tolerance is 1e-06): a block in the slot of a turning lever (an RPR dyad) slides "
+        'on a line through the lever\'s pivot; write slide = ["x_B - x_C", "y_B - y_C"] '
+        "for a slot exactly through it"]
 
 
 def test_a_group_the_decomposition_cannot_solve_none_left_is_held():
@@ -818,9 +823,217 @@ def test_a_parameter_that_turns_a_slot_off_its_lever_is_refused():
                                          r"drawn crank angle 0 deg the pair slides along "
                                          r"\(.*\), not along its drawn slide \(.*\) \(sine "
                                          r"of the angle between them 0\.\d+; the tolerance "
-                                         r"is 1e-12\)$"):
+                                         r"is 1e-06\)$"):
         d.build(e=0.2)
 
+
+# -- a Whitworth quick-return written as joints and links, its numbers typed as a drawing
+# tool shows them (six digits) -----------------------------------------------------------
+#: crank 2 = O2-A (0.2 m, drawn at 60 deg), block 4 on A sliding in the slot of lever 3
+#: (pivot O3 = (0, -0.1), below O2: the lever turns fully), rod 5 = C-D, ram 6 at D on a
+#: horizontal frame guide; the slot's direction is O3 -> A = (0.1, 0.1 + 0.1 sqrt(3)) /
+#: 0.29093 = (0.34372377, 0.93907080), typed (0.343724, 0.939071)
+WHITWORTH = """
+[linkage]
+name = "whitworth"
+model = "Whitworth"
+
+[joints]
+O2 = [0, 0]
+A = [0.1, 0.173205]
+O3 = [0, -0.1]
+slot = { at = [0.1, 0.173205], slide = [0.343724, 0.939071], guide = "3" }
+C = [-0.085931, -0.334768]
+D = [0.312555, -0.3]
+guide = { at = [0.312555, -0.3], slide = [1, 0] }
+
+[[links]]
+name = "0"
+joints = ["O2", "O3"]
+
+[[links]]
+name = "2"
+joints = ["O2", "A"]
+mass = 1.0
+inertia = 0.004
+cg = [0.05, 0.0866]
+
+[[links]]
+name = "4"
+joints = ["A", "slot"]
+mass = 0.3
+inertia = 0.0002
+cg = [0.1, 0.173205]
+
+[[links]]
+name = "3"
+joints = ["O3", "slot", "C"]
+mass = 3.0
+inertia = 0.05
+cg = [0, -0.1]
+
+[[links]]
+name = "5"
+joints = ["C", "D"]
+mass = 1.5
+inertia = 0.02
+cg = [0.113312, -0.317384]
+
+[[links]]
+name = "6"
+joints = ["D", "guide"]
+mass = 8.0
+cg = [0.312555, -0.3]
+
+[crank]
+link = "2"
+pivot = "O2"
+"""
+TYPED = "slide = [0.343724, 0.939071]"
+
+
+def test_a_slot_typed_to_six_digits_is_its_levers_line():
+    """The slot typed to six digits misses the lever's pivot by a sine of 5.3e-8 (1.5e-8 m
+    at |O3 A| = 0.29 m), under the tolerance of 1e-6: it is an RPR dyad (it was refused
+    as "no dyad of the library"), and the linkage is the one whose slot is written
+    through the pivot exactly, ``["x_A - x_O3", "y_A - y_O3"]``: the same Mb at every
+    angle of a revolution, bit for bit, and the same angles where the rod cannot reach
+    the ram's guide (the RPR's slot runs along its lever)."""
+    a = (0.1, 0.173205 + 0.1)
+    sine = abs(a[0] * 0.939071 - a[1] * 0.343724) / math.hypot(*a) / math.hypot(0.343724,
+                                                                               0.939071)
+    assert 5e-8 < sine < 6e-8
+    typed = Description.from_toml(WHITWORTH, "whitworth.toml")
+    exact = Description.from_toml(
+        WHITWORTH.replace(TYPED, 'slide = ["x_A - x_O3", "y_A - y_O3"]'), "exact.toml")
+    assert [g["type"] for g in typed.groups][:3] == ["crank", "RPR", "point"]
+    theta = np.linspace(0.0, 2.0 * math.pi, 72, endpoint=False)
+    got, want = typed.build().solve(theta, 10.0), exact.build().solve(theta, 10.0)
+    # the rod reaches the ram's guide over most of the turn, not with C at its top
+    np.testing.assert_array_equal(got.valid, want.valid)
+    assert 60 <= np.sum(got.valid) < 72
+    np.testing.assert_array_equal(got["Mb"], want["Mb"])
+
+
+def test_a_slot_that_misses_the_pivot_says_by_how_much():
+    """The slot typed to four digits, (0.3437, 0.9391), misses the pivot O3 by a sine of
+    3.25e-5 (computed here from the typed numbers), above the tolerance: refused with
+    the distance (|O3 A| times the sine), the sine, the tolerance and how to write the
+    slot through the pivot exactly, where it said only "no dyad of the library"."""
+    a = (0.1, 0.173205 + 0.1)
+    d = (0.3437, 0.9391)
+    sine = abs(a[0] * d[1] - a[1] * d[0]) / math.hypot(*a) / math.hypot(*d)
+    assert problems(WHITWORTH.replace(TYPED, "slide = [0.3437, 0.9391]")) == [
+        f"[joints] slot slide: [0.3437, 0.9391] through the pin A misses the pivot O3 of the "
+        f"lever 3 by {sine * math.hypot(*a):.3g} m (the sine of the angle between the slide "
+        f"and the line A-O3 is {sine:.3g}; the tolerance is 1e-06): a block in the slot of a "
+        'turning lever (an RPR dyad) slides on a line through the lever\'s pivot; write '
+        'slide = ["x_A - x_O3", "y_A - y_O3"] for a slot exactly through it']
+    assert f"{sine:.3g}" == "3.25e-05"
+
+
+# -- outputs: a file's [[outputs]] add to the defaults ------------------------------------
+#: a Stephenson III six-bar: the four-bar A-B-C-D (crank 1, ternary coupler 2 = B, C, E,
+#: rocker 3), and the dyad E-F-G (links 4, 5) from the coupler to the frame at G
+STEPHENSON = """
+[linkage]
+name = "stephenson3"
+model = "Stephenson3"
+
+[joints]
+A = [0, 0]
+B = [0.1, 0]
+C = [0.3, 0.25]
+D = [0.4, 0]
+E = [0.2, 0.35]
+F = [0.45, 0.5]
+G = [0.6, 0.2]
+
+[[links]]
+name = "1"
+joints = ["A", "B"]
+mass = 0.5
+inertia = 0.001
+cg = [0.05, 0]
+
+[[links]]
+name = "2"
+joints = ["B", "C", "E"]
+mass = 1.5
+inertia = 0.01
+cg = [0.2, 0.2]
+
+[[links]]
+name = "3"
+joints = ["C", "D"]
+mass = 0.8
+inertia = 0.006
+cg = [0.35, 0.125]
+
+[[links]]
+name = "4"
+joints = ["E", "F"]
+mass = 0.6
+inertia = 0.004
+cg = [0.325, 0.425]
+
+[[links]]
+name = "5"
+joints = ["F", "G"]
+mass = 0.7
+inertia = 0.005
+cg = [0.525, 0.35]
+
+[crank]
+link = "1"
+pivot = "A"
+"""
+F12 = '\n[[outputs]]\nkind = "force"\nname = "F12"\nby = "1"\non = "2"\nmagnitude = true\n'
+DEFAULTS = ["F01", "F12", "F23", "F03", "F24", "F45", "F05"]
+
+
+def test_an_output_table_adds_to_the_default_outputs(tmp_path):
+    """The Stephenson III plus one ``[[outputs]]`` table, F12 with its magnitude: Mb and
+    every pair's force are still reported (one table dropped them all: ``solve()["Mb"]``
+    was a KeyError, and ``info`` listed F12x, F12y, F12_abs only), the table's outputs
+    first, then the pairs' forces it does not report, then the effort; Mb and every force
+    are those of the file without the table (bit for bit), F12_abs is hypot(F12x, F12y).
+    ``linkage-fmu info`` lists them."""
+    from linkage_fmu.cli import main
+
+    plain = Description.from_toml(STEPHENSON, "plain.toml").build()
+    assert plain.output_names[:-3] == tuple(f"{n}{a}" for n in DEFAULTS for a in "xy") + ("Mb",)
+    more = Description.from_toml(STEPHENSON + F12, "more.toml").build()
+    assert more.output_names[:-3] == ("F12x", "F12y", "F12_abs") + tuple(
+        f"{n}{a}" for n in DEFAULTS if n != "F12" for a in "xy") + ("Mb",)
+    state = (0.7, 12.0, 3.0)
+    got, want = more.solve(*state), plain.solve(*state)
+    for name in plain.output_names:
+        assert got[name] == want[name], name
+    assert got["F12_abs"] == math.hypot(got["F12x"], got["F12y"])
+    path = tmp_path / "stephenson3.toml"
+    path.write_text(STEPHENSON + F12)
+    import contextlib
+    import io
+
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        assert main(["info", str(path)]) == 0
+    listed = [line.split()[0] for line in out.getvalue().split("outputs:\n")[1].splitlines()]
+    assert listed[:4] == ["F12x", "F12y", "F12_abs", "F01x"] and "Mb" in listed
+
+
+def test_default_outputs_false_keeps_the_files_outputs_and_the_effort():
+    """``[linkage] default_outputs = false``: the file's one table, F12 and its
+    magnitude, and Mb, which every linkage reports (the same number as with the
+    defaults)."""
+    text = STEPHENSON.replace('model = "Stephenson3"\n',
+                              'model = "Stephenson3"\ndefault_outputs = false\n') + F12
+    mech = Description.from_toml(text, "only.toml").build()
+    assert mech.output_names == ("F12x", "F12y", "F12_abs", "Mb", "shake_x", "shake_y",
+                                 "shake_M")
+    plain = Description.from_toml(STEPHENSON, "plain.toml").build()
+    assert mech.solve(0.7, 12.0)["Mb"] == plain.solve(0.7, 12.0)["Mb"]
 
 # -- a pose drawn at parameters: its assembly mode follows them --------------------------
 POSED = """

@@ -1,6 +1,7 @@
 """The C compilers (``linkage_fmu.ccompiler``): a compilation fails on a non-zero exit
-status or a missing library, never on warnings alone, which are passed on (with zig and
-no system compiler, every warning used to fail the build "with exit status 0")."""
+status or a missing library, never on warnings alone (with zig and no system compiler,
+every warning used to fail the build "with exit status 0"); a compiler's output is shown
+where it fails, and only logged where it succeeds."""
 
 from __future__ import annotations
 
@@ -13,7 +14,6 @@ import pytest
 
 from linkage_fmu.ccompiler import (
     CompilerError,
-    CompilerWarning,
     compile_shared,
     find_cross_compiler,
 )
@@ -38,15 +38,22 @@ def fake_compiler(tmp_path: Path, status: int, writes: bool) -> Path:
     return script
 
 
-def test_a_warning_is_passed_on_not_a_failure(tmp_path, monkeypatch):
-    """Exit 0 with a library written: the library, and the compiler's words as a
-    CompilerWarning."""
+def test_a_warning_is_logged_not_shown_and_not_a_failure(tmp_path, monkeypatch, capfd,
+                                                         caplog):
+    """Exit 0 with a library written: the library; the compiler's words go to the logger
+    ``linkage_fmu.ccompiler`` at INFO, and nothing is written to stderr nor warned."""
+    import warnings
+
     monkeypatch.setenv("CC", str(fake_compiler(tmp_path, 0, True)))
     source = tmp_path / "k.c"
     source.write_text(WARNS)
-    with pytest.warns(CompilerWarning, match="unused variable spare"):
+    with warnings.catch_warnings(), caplog.at_level("INFO", logger="linkage_fmu.ccompiler"):
+        warnings.simplefilter("error")
         out = compile_shared([source], tmp_path / "k.so")
     assert out.read_bytes() == b"library"
+    assert capfd.readouterr().err == ""
+    (record,) = caplog.records
+    assert record.levelname == "INFO" and "unused variable spare" in record.getMessage()
 
 
 @pytest.mark.parametrize("status, writes, message", [
@@ -66,7 +73,7 @@ def test_a_failure_is_an_error_with_the_compilers_output(tmp_path, monkeypatch, 
 @pytest.mark.skipif(find_cross_compiler() is None, reason="zig's C compiler not installed")
 @pytest.mark.skipif(sys.platform != "linux" or ctypes.sizeof(ctypes.c_void_p) != 8,
                     reason="loads the library built for x86_64-linux")
-def test_zig_builds_a_source_that_warns(tmp_path):
+def test_zig_builds_a_source_that_warns(tmp_path, caplog):
     """zig's compiler (the path taken without a system compiler) warns on WARNS and
     builds it: the library loads and twice(21, 0) is 42."""
     import platform
@@ -75,7 +82,8 @@ def test_zig_builds_a_source_that_warns(tmp_path):
         pytest.skip("loads the library built for x86_64-linux")
     source = tmp_path / "k.c"
     source.write_text(WARNS)
-    with pytest.warns(CompilerWarning, match="unused"):
+    with caplog.at_level("INFO", logger="linkage_fmu.ccompiler"):
         out = compile_shared([source], tmp_path / "k.so", flags=("-O2", "-fPIC"),
                              target="x86_64-linux-gnu")
     assert ctypes.CDLL(str(out)).twice(21, 0) == 42
+    assert any("unused" in r.getMessage() for r in caplog.records)

@@ -8,6 +8,7 @@ from contextlib import redirect_stderr, redirect_stdout
 
 import numpy as np
 import pandas as pd
+import pytest
 
 from linkage_fmu.cli import main
 
@@ -492,6 +493,10 @@ def bad_inputs(tmp_path) -> list:
         (["table", "four_bar", "--omega", "1 furlong"], "--omega = '1 furlong' must be an "
                                                         "angular speed"),
         (["check", f"{t}/none.fmu", "--steps", "0"], "--steps must be >= 1, got 0"),
+        (["animate", "four_bar", "--dpi", "1e9", "-o", f"{t}/a.gif"],
+         "--dpi 1e+09 draws frames of 1.1e+10 x 4.8e+09 pixels; a frame is less than 65536 "
+         "pixels a side (matplotlib's and a GIF's limit): dpi 5957 at most for 11 x 4.8 "
+         "inches"),
     ]
 
 
@@ -655,3 +660,120 @@ def test_the_commands_that_draw_leave_no_figure_open(tmp_path):
     assert main(["animate", "four_bar", "--frames", "4", "--dpi", "20",
                  "-o", str(tmp_path / "a.gif")]) == 0
     assert plt.get_fignums() == []
+
+
+def test_sweep_and_optimize_without_a_compiler_run_on_numpy(monkeypatch):
+    """CC names no compiler (the package's way of choosing one): sweep and optimize,
+    which ended in a RuntimeError's traceback, run on numpy (status 0), their only line
+    on stderr the library's warning that says so. The sweep's table is the one the
+    compiled kernels give (to 1e-12 relative); the design optimize returns has the
+    Mb_peak it prints, by the compiled sweep of that design."""
+    import re
+
+    from linkage_fmu import sweep as module
+    from linkage_fmu.kernels import compiled
+
+    sweep = ["sweep", "four_bar", "--grid", "l_AB=0.08,0.1", "--grid", "m2=1,3", "--n", "36",
+             "--omega", "10"]
+    status, reference, _ = run(sweep)
+    assert status == 0
+    module._structure.cache_clear()
+    compiled._no_compiler_warning.cache_clear()
+    monkeypatch.setenv("CC", "no-such-c-compiler")
+    try:
+        status, out, err = run(sweep)
+        assert status == 0 and err.count("\n") == 1, err
+        assert err.startswith("linkage-fmu: warning: no C compiler found")
+        status, printed, err = run(["optimize", "four_bar", "--vary", "l_BC=0.3:0.45",
+                                    "--minimize", "Mb_peak", "--maxiter", "2", "--seed", "1",
+                                    "--n", "36", "--no-polish"])
+        assert status == 0 and err == "", err  # the warning is said once a process
+    finally:
+        monkeypatch.undo()
+        module._structure.cache_clear()
+        compiled._no_compiler_warning.cache_clear()
+    got, want = (pd.read_csv(io.StringIO(text)) for text in (out, reference))
+    assert list(got.columns) == list(want.columns) and len(got) == 4
+    numbers = want.select_dtypes("number").columns
+    np.testing.assert_allclose(got[numbers], want[numbers], rtol=1e-12, atol=1e-300)
+    best = float(re.search(r"l_BC = (\S+)", printed)[1])
+    peak = float(re.search(r"Mb_peak = (\S+)", printed)[1])
+    status, check, _ = run(["sweep", "four_bar", "--grid", f"l_BC={best!r}", "--n", "36"])
+    assert status == 0
+    assert pd.read_csv(io.StringIO(check))["Mb_peak"].iloc[0] == pytest.approx(peak, rel=1e-9)
+
+
+@pytest.mark.parametrize("flavour, tolerance", [("pythonfmu", 1e-9), ("native", 1e-12)])
+def test_check_says_ok_or_failed_and_against_what(flavour, tolerance, tmp_path):
+    """``linkage-fmu check FMU`` prints one line (it printed a bare JSON dict): the
+    verdict, the largest error and its output, what it is against and the flavour's
+    tolerance, fmpy's validation; ``--json`` prints the same figures as one object, with
+    the tolerance and ``passed``. The same FMU whose bundled description has another
+    coupler mass (2 to 2.5 kg: the reference is the description, the binary another
+    linkage) fails: ``FAILED``, exit status 1."""
+    import json
+    import zipfile
+
+    import fmu_cache
+
+    build = fmu_cache.build_native_fmu if flavour == "native" else fmu_cache.build_fmu
+    fmu = build("four_bar", tmp_path)
+    status, out, _ = run(["check", "--json", str(fmu)])
+    result = json.loads(out)
+    assert status == 0 and result["passed"] and result["tolerance"] == tolerance
+    assert result["max_rel_error"] <= tolerance and result["validate"] == []
+    status, out, _ = run(["check", str(fmu)])
+    assert status == 0 and out == (
+        f"{fmu}: ok: the outputs of FourBar are within {result['max_rel_error']:.2g} "
+        f"({result['worst_output']}) of the direct solver's over 360 steps, relative to "
+        f"each output's largest (the tolerance {tolerance:g}); fmpy validate: no problems\n")
+    heavier = tmp_path / "heavier" / "FourBar.fmu"
+    heavier.parent.mkdir()
+    with zipfile.ZipFile(fmu) as source, zipfile.ZipFile(heavier, "w") as copy:
+        for item in source.infolist():
+            data = source.read(item)
+            if item.filename == "resources/FourBar.toml":
+                text = data.decode()
+                assert text.count("m2 = { default = 2.0,") == 1
+                data = text.replace("m2 = { default = 2.0,", "m2 = { default = 2.5,").encode()
+            copy.writestr(item, data)
+    status, out, _ = run(["check", str(heavier)])
+    assert status == 1 and out.startswith(f"{heavier}: FAILED: the outputs of FourBar are "
+                                          "within ")
+    assert f"(the tolerance {tolerance:g}); fmpy validate: no problems\n" in out
+    status, out, _ = run(["check", "--json", str(heavier)])
+    assert status == 1 and json.loads(out)["passed"] is False
+
+
+def test_check_of_an_fmu_that_cannot_be_instantiated_is_one_line(tmp_path):
+    """A pythonfmu FMU built from another linkage_fmu than the one this process imported
+    (its slave's fingerprint of the package it bundles differs) refuses to be
+    instantiated in it: ``check`` says so in one line, with what the FMU logged, and
+    exits 1 (fmpy's plain Exception was a traceback)."""
+    import re
+    import zipfile
+
+    import fmu_cache
+
+    fmu = fmu_cache.build_fmu("four_bar", tmp_path)
+    other = tmp_path / "other" / "FourBar.fmu"
+    other.parent.mkdir()
+    with zipfile.ZipFile(fmu) as source, zipfile.ZipFile(other, "w") as copy:
+        for item in source.infolist():
+            data = source.read(item)
+            if re.fullmatch(r"resources/linkage_fmu_FourBar_\w+\.py", item.filename):
+                data, n = re.subn(rb"FINGERPRINT = '[0-9a-f]+'", b"FINGERPRINT = '" +
+                                  b"0" * 64 + b"'", data)
+                assert n == 1
+            copy.writestr(item, data)
+    import subprocess
+    import sys
+
+    # in a new process: one that ran this FMU's slave keeps it imported
+    done = subprocess.run([sys.executable, "-m", "linkage_fmu", "check", str(other)],
+                          capture_output=True, text=True, timeout=300, cwd=tmp_path)
+    status, out, err = done.returncode, done.stdout, done.stderr
+    assert (status, out) == (1, "") and err.count("\n") == 1, err
+    assert err.startswith(f"linkage-fmu: {other}: the check failed: the FMU cannot be "
+                          "instantiated: ")
+    assert "fingerprint" in err

@@ -449,3 +449,88 @@ def test_a_parameter_named_as_an_output_is_refused():
     with pytest.raises(ValueError, match=r"^four\.toml: the name 'gamma_C' is both a "
                                          r"parameter and a diagnostic output$"):
         Description.from_toml(clash, "four.toml").build()
+
+
+def test_an_empty_or_missing_model_is_refused():
+    """The reference says the model identifier is required, a C identifier: ``model =
+    ""`` and a file without the key are refused, naming the file and the key; a file
+    written as joints and links without the key takes its name, as the reference says,
+    and ``model = ""`` there is refused too (it was taken for the name)."""
+    text = EXAMPLE.read_text()
+    missing = ("[linkage] model: missing or empty: the model identifier of the linkage's "
+               'FMUs is required, a C identifier such as "FourBar" (letters, digits and _, '
+               "not a digit first)")
+    for source in (text.replace('model = "CouplerFourBar"', 'model = ""'),
+                   text.replace('model = "CouplerFourBar"\n', "")):
+        with pytest.raises(DescriptionError) as info:
+            Description.from_toml(source, "coupler.toml")
+        assert str(info.value) == f"coupler.toml: {missing}"
+    drawn = (Path(__file__).parents[1] / "examples" / "joints" / "four_bar.toml").read_text()
+    assert 'model = "FourBar"\n' in drawn
+    assert Description.from_toml(drawn.replace('model = "FourBar"\n', ""),
+                                 "drawn.toml").model == "four_bar"
+    with pytest.raises(DescriptionError) as info:
+        Description.from_toml(drawn.replace('model = "FourBar"', 'model = ""'), "drawn.toml")
+    assert info.value.problems == [
+        missing + "; written as joints and links, a file without the key takes its name "
+                  "where that is one"]
+
+
+@pytest.mark.parametrize("kind, unit, message", [
+    ("expression", "ZZ", "'ZZ' is not a unit (pint knows no 'ZZ'); the units of an output "
+                         "are m, rad, rad/s, rad/s2, kg, kg.m2, kg/m, m/s2, N, N.m, 1, s, Pa, "
+                         "m2, J, W"),
+    ("expression", "kN", "'kN' is not SI, and the output is computed in SI: write 'N'"),
+    ("effort", "ZZ", "'ZZ' is not a unit (pint knows no 'ZZ'); the units of an output "
+                     "are m, rad, rad/s, rad/s2, kg, kg.m2, kg/m, m/s2, N, N.m, 1, s, Pa, "
+                     "m2, J, W"),
+    ("effort", "N", "'N': Mb is a moment, in N.m"),
+])
+def test_an_output_unit_is_one_the_package_computes_in(kind, unit, message):
+    """An output's ``unit`` that pint does not know (``"ZZ"``, taken before and written
+    into the FMU), that is not SI (the output is computed in SI: ``"kN"`` would label
+    newtons as kilonewtons), or an effort's that is not its effort's, is refused, naming
+    the file, the output's table and the key; ``"N"`` for an expression and ``"N.m"``
+    for the moment Mb are taken."""
+    text = EXAMPLE.read_text()
+    extra = ('\n[[outputs]]\nkind = "expression"\nname = "Q"\nexpression = "2 * Mb"\n'
+             f'unit = "{unit}"\n' if kind == "expression" else None)
+    source = (text + extra if extra else
+              text.replace('kind = "effort"\nname = "Mb"\n',
+                           f'kind = "effort"\nname = "Mb"\nunit = "{unit}"\n'))
+    where = "[[outputs]] #5 (Q)" if kind == "expression" else "[[outputs]] #4 (Mb)"
+    with pytest.raises(DescriptionError) as info:
+        Description.from_toml(source, "units.toml")
+    assert str(info.value) == f"units.toml: {where} unit: {message}"
+    good = (text + extra.replace(unit, "N.m") if extra else
+            text.replace('kind = "effort"\nname = "Mb"\n', 'kind = "effort"\nname = "Mb"\n'
+                                                           'unit = "N.m"\n'))
+    assert Description.from_toml(good, "units.toml").build().output_info["Mb"][0] == "N.m"
+
+
+def test_the_effort_is_reported_where_no_output_names_it():
+    """The coupler four-bar without its ``[[outputs]] kind = "effort"`` table still
+    reports Mb (after its other outputs), the same number as with the table: every
+    linkage reports its balancing effort (one table more used to drop it)."""
+    text = EXAMPLE.read_text()
+    assert text.count('[[outputs]]\nkind = "effort"\nname = "Mb"\n') == 1
+    without = Description.from_toml(
+        text.replace('[[outputs]]\nkind = "effort"\nname = "Mb"\n', ""), "no_mb.toml").build()
+    full = Description.from_toml(text, "full.toml").build()
+    assert without.output_names == full.output_names
+    assert without.output_info["Mb"] == full.output_info["Mb"]
+    assert without.solve(0.7, 20.0)["Mb"] == full.solve(0.7, 20.0)["Mb"]
+
+
+@pytest.mark.parametrize("value, message", [
+    ("false", "[linkage] default_outputs: a description written as groups has no default "
+              "outputs: its [[outputs]] tables are its outputs (and each effort); the key is "
+              "for one written as joints and links"),
+    ('"no"', "[linkage] default_outputs: 'no' must be true or false"),
+])
+def test_default_outputs_is_true_or_false_and_for_joints_and_links(value, message):
+    text = EXAMPLE.read_text().replace('frame = "0"\n',
+                                       f'frame = "0"\ndefault_outputs = {value}\n', 1)
+    with pytest.raises(DescriptionError) as info:
+        Description.from_toml(text, "keys.toml")
+    assert info.value.problems == [message]

@@ -412,7 +412,7 @@ def test_check_compares_the_drive_with_simulate(fmus, tmp_path, capsys):
     import json
 
     for version in (2, 3):
-        assert main(["check", str(fmus[version])]) == 0
+        assert main(["check", "--json", str(fmus[version])]) == 0
         result = json.loads(capsys.readouterr().out)
         assert result["model"] == "FourBarDrive" and result["steps"] == 360
         assert result["motion_error"] <= 1e-6 and result["max_rel_error"] <= 1e-9, result
@@ -425,9 +425,9 @@ def test_check_compares_the_drive_with_simulate(fmus, tmp_path, capsys):
                 assert text.count("m2 = { default = 2.0,") == 1
                 data = text.replace("m2 = { default = 2.0,", "m2 = { default = 2.5,").encode()
             copy.writestr(item, data)
-    assert main(["check", str(heavier)]) == 1
+    assert main(["check", "--json", str(heavier)]) == 1
     assert json.loads(capsys.readouterr().out)["motion_error"] > 1e-4
-    assert main(["check", str(fmus["limit2"])]) == 0
+    assert main(["check", "--json", str(fmus["limit2"])]) == 0
     captured = capsys.readouterr()
     result = json.loads(captured.out)
     (stop, _), = result["unsolved_deg"]

@@ -39,7 +39,7 @@ def test_the_example_fmu_passes_the_check(name, flavour, tmp_path, capsys):
     none where the FMU and the direct solver disagree on whether there is a solution,
     and the largest error within the flavour's tolerance."""
     fmu = BUILD[flavour](str(EXAMPLES / f"{name}.toml"), tmp_path)
-    assert main(["check", str(fmu)]) == 0
+    assert main(["check", "--json", str(fmu)]) == 0
     result = json.loads(capsys.readouterr().out.splitlines()[-1])
     assert result["validate"] == [] and result["steps"] == 360, result
     assert result["unsolved_deg"] == [] and result["mismatched"] == 0, result

@@ -243,7 +243,7 @@ def test_a_description_file_builds_an_fmu_that_passes_the_check(tmp_path):
               if v.causality == "input"}
     assert inputs == {"theta": "rad", "omega": "rad/s", "alpha": "rad/s2", "F_P": "N",
                       "T4": "N.m"}
-    check = subprocess.run([sys.executable, "-m", "linkage_fmu", "check", str(fmu)],
+    check = subprocess.run([sys.executable, "-m", "linkage_fmu", "check", "--json", str(fmu)],
                            cwd=tmp_path, capture_output=True, text=True, timeout=300)
     assert check.returncode == 0, check.stdout + check.stderr
     result = json.loads(check.stdout.splitlines()[-1])
@@ -274,7 +274,7 @@ def test_the_engine_fmus_carry_their_pressure_table(dist, tmp_path, flavour):
             # the spline once, and its derivative once (for the directional derivatives)
             assert model_c.count("static double lk_table_") == 2
             assert model_c.count("_d(double theta) {") == 1
-    check = subprocess.run([sys.executable, "-m", "linkage_fmu", "check", str(fmu)],
+    check = subprocess.run([sys.executable, "-m", "linkage_fmu", "check", "--json", str(fmu)],
                            cwd=tmp_path, capture_output=True, text=True, timeout=300)
     assert check.returncode == 0, check.stdout + check.stderr
     result = json.loads(check.stdout.splitlines()[-1])

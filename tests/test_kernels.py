@@ -681,3 +681,51 @@ def test_a_kernel_split_at_an_input_is_the_one_state_kernel(tmp_path):
             assert abs(one[1] - s["J_red"]) <= 1e-12 * s["J_red"]
             checked += 1
     assert checked >= 40
+
+
+#: what a user's first solves compile: the slider-crank with friction in its guide (its
+#: kernels have loops), over a revolution at rest (the static plan reads neither omega
+#: nor alpha: its array C declared a pointer to each that no lane read, and gcc warned
+#: "unused variable" on stderr) and moving, at one state (hot: the extension module),
+#: its directional derivatives and a sweep's summaries
+FIRST_USE = """
+import numpy as np
+from linkage_fmu import presets
+from linkage_fmu.solver import HOT_CALLS
+
+mech = presets.get("slider_crank", mu_guide=0.1, mu_A=0.05, r_A=0.01)
+theta = np.linspace(0.0, 2.0 * np.pi, 360)
+assert np.asarray(mech.solve(theta, 0.0, 0.0, 50.0).valid).all()
+assert np.asarray(mech.solve(theta, 10.0, 0.0, 50.0).valid).all()
+for k in range(HOT_CALLS + 10):
+    mech.solve(0.1 * k, 10.0, 0.0, 50.0)
+kernel = mech.kernel()
+assert kernel.compiled and kernel.tangent() is not None
+assert kernel.summary([("peak", ("Mb",))]) is not None
+"""
+
+
+def test_first_use_with_an_empty_kernel_cache_prints_nothing(tmp_path):
+    """With an empty kernel cache (LINKAGE_FMU_CACHE a new folder) a process compiles
+    its kernels on first use and says nothing: its stderr is empty, and the cache holds
+    the five libraries it compiled (two array kernels, at rest and moving; the one-state
+    module, tangent, summary). It runs with logging at INFO, where a successful
+    compile's output goes (not shown by default: tests/test_ccompiler.py), so an empty
+    stderr also says that the generated C compiles without a warning, rather than
+    having its warnings hidden."""
+    import subprocess
+    import sys
+
+    from linkage_fmu.ccompiler import find_compiler
+
+    if find_compiler() is None:
+        pytest.skip("no C compiler")
+    cache = tmp_path / "cache"
+    head = "import logging; logging.basicConfig(level=logging.INFO)\n"
+    run = subprocess.run([sys.executable, "-c", head + FIRST_USE], capture_output=True,
+                         text=True, timeout=600,
+                         env={**__import__("os").environ, "LINKAGE_FMU_CACHE": str(cache)})
+    assert run.returncode == 0, run.stderr
+    assert run.stderr == "" and run.stdout == ""
+    assert len(list(cache.glob("kernel-*.so"))) == 4
+    assert len(list(cache.glob("_linkage_kernel_*"))) == 1

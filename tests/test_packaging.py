@@ -109,6 +109,6 @@ def test_the_installed_wheel_builds_fmus_that_pass_the_check(wheel, tmp_path):
         _run([command, "build", *options, "four_bar", "--out", out], cwd=work, env=env)
         fmu = out / "FourBar.fmu"
         assert fmu.is_file(), flavour
-        checked = _run([command, "check", fmu], cwd=work, env=env)
+        checked = _run([command, "check", "--json", fmu], cwd=work, env=env)
         result = json.loads(checked.stdout.splitlines()[-1])
         assert result["model"] == "FourBar" and result["mismatched"] == 0, result

@@ -25,6 +25,7 @@ sys.path.insert(0, str(EXAMPLE))
 
 import motor  # noqa: E402
 import press  # noqa: E402
+import run  # noqa: E402
 
 #: the press at work: the crank at speed, the ram 34 deg into its working stroke
 AT_WORK = {"theta0": math.pi / 2 + 0.6, "omega0": 6.0}
@@ -35,10 +36,10 @@ def fmus(tmp_path_factory) -> Path:
     return press.build(tmp_path_factory.mktemp("press"))
 
 
-@pytest.mark.parametrize("module", [motor, press], ids=["motor", "press"])
+@pytest.mark.parametrize("module", [motor, press, run], ids=["motor", "press", "run"])
 def test_the_examples_in_the_docstrings(module):
-    """The examples of ``motor.py`` and ``press.py`` hold (they are outside the package,
-    which pytest's doctest collection covers)."""
+    """The examples of ``motor.py``, ``press.py`` and ``run.py`` hold (they are outside
+    the package, which pytest's doctest collection covers)."""
     failed, tried = doctest.testmod(module, optionflags=doctest.ELLIPSIS)
     assert tried > 0 and failed == 0
 
@@ -180,3 +181,52 @@ def test_the_coupling_error_is_first_order(fmus):
     assert expected["E_loss"] > 10.0
     for name in ("tau_rms", "E_motor", "E_loss"):
         assert got[name] == pytest.approx(expected[name], rel=1e-3), name
+
+
+@pytest.mark.parametrize("argv, line", [
+    (["--t-end", "0"], "--t-end 0: must be a number of seconds > 0"),
+    (["--t-end", "-1"], "--t-end -1: must be a number of seconds > 0"),
+    (["--step", "2", "--t-end", "1"], "--step 2 is longer than --t-end 1: the run is a whole "
+                                      "number of steps"),
+    (["--step", "1e300", "--t-end", "1e300"], "--step 1e+300: libcosim's clock counts int64 "
+                                              "nanoseconds: at most 9.22337e+09 s"),
+    (["--step", "0.3", "--t-end", "1"], "--t-end 1 is not a whole number of steps of 0.3 s "
+                                        "(3.33333): the run would end at 0.9 s"),
+    (["--step", "1.5e-10"], "--step 1.5e-10: libcosim steps in whole nanoseconds: the step "
+                            "must be a whole number of them"),
+    (["--tolerance", "-1"], "--tolerance -1: must be a number > 0"),
+    (["--t-end", "0.5", "--step", "1e-3"],
+     "--t-end 0.5: the motion holds no whole revolution from one top dead centre to the "
+     "next: run it longer (from rest, the first whole stroke ends at t = 2.72 s)"),
+])
+def test_a_run_it_cannot_make_is_one_line(argv, line, tmp_path, capsys):
+    """Options the example cannot run with (no time, a step longer than the run or one
+    libcosim's nanosecond clock cannot count, a run of no whole stroke) end it with
+    status 2 and one line naming the option and why, before any FMU is built (they
+    ended in tracebacks: an IndexError, an OverflowError, the stroke's ValueError)."""
+    status = run.main([*argv, "--no-plots", "--out", str(tmp_path / "out")])
+    err = capsys.readouterr().err
+    assert status == 2 and err == f"press: {line}\n"
+    assert not (tmp_path / "out").exists()
+
+
+def test_the_readmes_second_command_runs(tmp_path):
+    """``python examples/press/run.py --step 1e-4 --no-plots`` (the README's second
+    command; here with its FMUs in a folder of the test's) exits 0: the tolerance
+    follows the step (1.5 x 1e-4), where a tolerance of 1e-6 failed it with status 1.
+    The coupling error it prints is first order in the step: between 0.5 and 1.5 times
+    it (README: 0.9 times, from rest over 3 s)."""
+    pytest.importorskip("libcosimpy", reason="libcosimpy (the Open Simulation Platform's "
+                                             "libcosim) is not installed")
+    import re
+    import subprocess
+
+    done = subprocess.run([sys.executable, str(EXAMPLE / "run.py"), "--step", "1e-4",
+                           "--no-plots", "--out", str(tmp_path)], capture_output=True,
+                          text=True, timeout=600)
+    assert done.returncode == 0, done.stdout + done.stderr
+    error = float(re.search(r"coupling error \(max \|omega - simulate's\| / max \|omega\|\): "
+                            r"(\S+)", done.stdout)[1])
+    assert 0.5e-4 <= error <= 1.5e-4
+    assert done.stdout.splitlines()[-1] == ("press: the coupling error is within the "
+                                            "tolerance 0.00015")

@@ -286,3 +286,43 @@ def test_no_designs_and_no_angles():
     assert table.empty and list(table.columns)[:1] == ["l_AB"]
     with pytest.raises(ValueError, match="theta must hold at least one crank angle"):
         sweep(presets.get("four_bar"), {"l_AB": [0.1]}, [], 10.0)
+
+
+
+def forget_kernels():
+    """Empty the per-process caches of the sweep's structures and of the warning that
+    there is no compiler."""
+    from linkage_fmu import sweep as module
+    from linkage_fmu.kernels import compiled
+
+    module._structure.cache_clear()
+    compiled._no_compiler_warning.cache_clear()
+
+
+def test_without_a_compiler_a_sweep_solves_each_design_on_numpy(monkeypatch):
+    """Without a C compiler (CC names none: how the package chooses one,
+    ``ccompiler.find_compiler``) a sweep, which raised a RuntimeError, builds and solves
+    each design on numpy, after the library's one warning: its table has the compiled
+    sweep's rows and columns, each design's summaries those of its own direct solve
+    (check_rows, 1e-12), friction's locked angles counted apart, a design the parameters
+    refuse refused with its reason, as the compiled sweep does."""
+    base = dict(m1=0.0, J1=0.0, m2=0.0, J2=0.0, m3=0.0, g=0.0, l_AB=0.2)
+    designs = grid(mu_guide=[0.0, 0.6], l_OA=[0.18, 0.25, -1.0]).assign(**base)
+    compiled_table = sweep("slider_crank", designs, THETA, 5.0, 0.0, 250.0)
+    forget_kernels()
+    monkeypatch.setenv("CC", "no-such-c-compiler")
+    try:
+        with pytest.warns(RuntimeWarning, match="no C compiler found"):
+            table = sweep("slider_crank", designs, THETA, 5.0, 0.0, 250.0)
+    finally:
+        monkeypatch.undo()
+        forget_kernels()
+    assert list(table.columns) == list(compiled_table.columns)
+    check_rows("slider_crank", table, 5.0, 250.0)
+    for name in ("locked", "unassembled"):  # NaN in the refused design's row
+        np.testing.assert_array_equal(table[name].to_numpy(float),
+                                      compiled_table[name].to_numpy(float))
+    assert table["locked"].max() > 0 and table["unassembled"].max() > 0
+    refused = table["l_OA"] == -1.0
+    assert table.loc[refused, "problem"].str.contains("l_OA must be > 0").all()
+    assert table["problem"].tolist() == compiled_table["problem"].tolist()

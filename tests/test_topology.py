@@ -205,3 +205,50 @@ def test_a_frame_joint_that_joins_nothing():
     assert problems(text) == [
         "[[links]] #1 (0) joints: E is on the frame only: no moving link lists it, so it "
         "joins nothing"]
+
+
+def test_one_bad_joint_is_one_problem_not_one_per_expression_that_uses_it():
+    """A joint given in kg (``D = ["200 kg", 0]``) is reported once: the centres of mass
+    drawn at the joints (``x_C``, ``x_D``, ...) are not also reported as using unknown
+    names (each did: ``unknown name 'x_B'``, for every joint), a link listing D is not
+    told D is no joint, and a problem of its own elsewhere (a cg using a name that is
+    nothing) is still reported."""
+    text = FOUR_BAR.replace("D = [0.4, 0]", 'D = ["200 kg", 0]').replace(
+        "cg = [0.2, 0.1]", 'cg = ["(x_B + x_C) / 2", "(y_B + y_C) / 2"]')
+    text = text.replace('joints = ["C", "D"]', 'joints = ["C", "D"]\ncg = ["x_D", "y_D"]')
+    assert problems(text) == ["[joints] D x = '200 kg' must be a length (m), but it is a "
+                              "mass (kg)"]
+    text = text.replace('joints = ["A", "B"]', 'joints = ["A", "B"]\ncg = ["q", 0]')
+    assert problems(text) == [
+        "[joints] D x = '200 kg' must be a length (m), but it is a mass (kg)",
+        "[[links]] #1 (1) cg x = 'q': unknown name 'q' in 'q'"]
+
+
+def test_a_loop_of_drawn_positions_is_one_problem():
+    """C drawn from D and D from C: the loop is said once, at its first joint, and the
+    centre of mass drawn at C (``x_C``) is not reported as using an unknown name."""
+    text = FOUR_BAR.replace("C = [0.3, 0.2]", 'C = ["x_D - 0.1", 0.2]').replace(
+        "D = [0.4, 0]", 'D = ["x_C + 0.1", 0]').replace(
+        "cg = [0.2, 0.1]", 'cg = ["(x_B + x_C) / 2", "(y_B + y_C) / 2"]')
+    assert problems(text) == ["[joints] C x: the drawn position of C uses itself (C -> D -> C)"]
+
+
+@pytest.mark.parametrize("key, value, unit", [("inertia", "-0.006", "kg.m2"),
+                                              ("mass", "-0.8", "kg")])
+def test_a_negative_mass_or_inertia_names_its_links_table(key, value, unit):
+    """A negative inertia or mass of a link is a DescriptionError (it was a plain
+    ValueError) naming the link's own table, ``[[links]] #4 (3)`` with the frame's entry
+    first (it named ``[bodies.3]``, a table the file does not have); a parameter that
+    makes it negative at build time is a ValueError naming the same table."""
+    framed = FOUR_BAR.replace('[[links]]\nname = "1"',
+                              '[[links]]\nname = "0"\njoints = ["A", "D"]\n\n[[links]]\n'
+                              'name = "1"', 1)
+    text = framed.replace('joints = ["C", "D"]', f'joints = ["C", "D"]\n{key} = {value}')
+    assert problems(text) == [f"[[links]] #4 (3) {key}: {value} must be a finite number >= 0 "
+                              f"({unit})"]
+    text = framed.replace('joints = ["C", "D"]', f'joints = ["C", "D"]\n{key} = "l * 10 - 0.5"')
+    d = Description.from_toml(text, "drawn.toml")  # >= 0 at l = 0.1, not at l = 0.02
+    with pytest.raises(ValueError, match=rf"^drawn\.toml: \[\[links\]\] #4 \(3\): {key} of "
+                                         r"body '3' must be a finite number >= 0, got "
+                                         r"-0\.3\d*$"):
+        d.build(l=0.02)

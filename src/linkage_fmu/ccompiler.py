@@ -1,6 +1,12 @@
 """The C compilers: the system's, and zig's for other platforms (the ``cross`` extra);
 asked to build shared libraries.
 
+A compilation's output is shown only where it fails (in the :class:`CompilerError`'s
+message). What a compiler says while it succeeds (its warnings) goes to the logger
+``linkage_fmu.ccompiler`` at level INFO, which Python shows only where logging is set up
+to (``logging.basicConfig(level=logging.INFO)``): a kernel compiled on first use, or an
+FMU built, prints nothing of the compiler's.
+
 Examples
 --------
 >>> import shutil
@@ -15,11 +21,11 @@ True
 from __future__ import annotations
 
 import importlib.util
+import logging
 import os
 import shutil
 import subprocess
 import sys
-import warnings
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -27,12 +33,12 @@ from pathlib import Path
 CANDIDATES = ("cc", "gcc", "clang")
 
 
+#: where a successful compilation's output (the compiler's warnings) goes
+LOG = logging.getLogger(__name__)
+
+
 class CompilerError(RuntimeError):
     """No C compiler, or a compilation failed (the message holds its output)."""
-
-
-class CompilerWarning(UserWarning):
-    """A compilation that succeeded with warnings (the message holds them)."""
 
 
 def find_compiler() -> str | None:
@@ -117,11 +123,10 @@ def compile_shared(sources: Sequence[Path], output: Path, include: Sequence[Path
         No compiler, or the compiler failed: a non-zero exit status, or no ``output``
         (its output is in the message).
 
-    Warns
+    Notes
     -----
-    CompilerWarning
-        The compiler succeeded and wrote to its error stream (warnings: the library is
-        built; they are passed on, not taken for a failure).
+    A compiler that succeeds and writes to its error stream (warnings) has built the
+    library: what it wrote is logged to :data:`LOG` at level INFO, not shown.
     """
     if target is None:
         compiler = [require_compiler(f"building {output.name}"), "-fPIC"]
@@ -139,6 +144,6 @@ def compile_shared(sources: Sequence[Path], output: Path, include: Sequence[Path
         raise CompilerError(f"{' '.join(command)}\nexited with status 0 but wrote no "
                             f"{output.name}:\n{run.stderr}")
     if run.stderr.strip():
-        warnings.warn(f"{output.name} was built, with warnings from the compiler:\n"
-                      f"{run.stderr.strip()}", CompilerWarning, stacklevel=2)
+        LOG.info("%s was built, with warnings from the compiler:\n%s", output.name,
+                 run.stderr.strip())
     return output

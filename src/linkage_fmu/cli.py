@@ -515,10 +515,15 @@ def build_parser() -> Parser:
 
     check = sub.add_parser("check", help="run an FMU with fmpy against the direct solver "
                                          "(a drive FMU: its motion against simulate, its "
-                                         "outputs against the direct solver at its states)")
+                                         "outputs against the direct solver at its states), "
+                                         "and say whether it passes and against what "
+                                         "tolerance (exit status 1 if not)")
     check.add_argument("fmu", help="an FMU built by linkage-fmu build")
     check.add_argument("--steps", type=int, default=360,
                        help="steps per revolution of the run (default 360)")
+    check.add_argument("--json", action="store_true",
+                       help="print the outcome as one JSON object (its figures, the "
+                            "tolerance, fmpy's validation and passed) instead of a line")
 
     reference = sub.add_parser("reference", help="the reference of the description file "
                                                  "format, made from the code (Markdown)")
@@ -645,11 +650,15 @@ def _check(args) -> int:
         print(f"linkage-fmu: {result.model} assembles over part of the revolution: the FMU "
               f"discarded the steps at theta = {ranges.text(result.unsolved_deg, digits=4)}, "
               "where the linkage cannot be solved; the others were checked", file=sys.stderr)
-    if result.mismatched and result.motion_error is None:
-        print(f"linkage-fmu: at {result.mismatched} steps the FMU and the direct solver "
-              "disagree on whether there is a solution", file=sys.stderr)
-    print(json.dumps({**result.__dict__, "validate": problems}))
-    return 0 if result.passed() and not problems else 1
+    passed = result.passed() and not problems
+    if args.json:
+        print(json.dumps({**result.__dict__, "validate": problems, "passed": passed}))
+    else:
+        verdict = result.verdict()
+        if problems and result.passed():
+            verdict = "FAILED" + verdict.removeprefix("ok")
+        print(f"{args.fmu}: {verdict}; fmpy validate: {'; '.join(problems) or 'no problems'}")
+    return 0 if passed else 1
 
 
 def _reference(args) -> int:
@@ -867,7 +876,12 @@ def _animate(d: Description, args) -> int:
     except ImportError:
         raise UsageError('animations need matplotlib: pip install "linkage_fmu[plot]"') from None
     matplotlib.use("Agg")
-    from .plot.animation import MissingFFmpegError, animate
+    from .plot.animation import MissingFFmpegError, animate, frame_pixels
+
+    try:
+        frame_pixels(args.dpi)
+    except ValueError as err:  # said before the work
+        raise UsageError(f"--{err}") from None
 
     mech = d.build(**dict(args.params))
     omega, alpha = speeds(args)

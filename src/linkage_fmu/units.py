@@ -189,3 +189,39 @@ def to_si(text, unit: str, where: str) -> float:
     if cut != len(match.group(2)):
         raise ValueError(f"{where} = {text!r}: {match.group(2)!r} is not a unit")
     return check(q, unit, where, text)
+
+
+def unit_problem(unit, where: str) -> str:
+    """What is wrong with ``unit`` as the unit of a value the package computes (an
+    output: it is in SI), naming ``where``; '' for one of the package's units
+    (:data:`PINT`).
+
+    Examples
+    --------
+    >>> unit_problem("N.m", "[[outputs]] #2 (Q) unit")
+    ''
+    >>> unit_problem("kN", "[[outputs]] #2 (Q) unit")
+    "[[outputs]] #2 (Q) unit: 'kN' is not SI, and the output is computed in SI: write 'N'"
+    >>> print(unit_problem("ZZ", "[[outputs]] #2 (Q) unit"))  # doctest: +ELLIPSIS
+    [[outputs]] #2 (Q) unit: 'ZZ' is not a unit (pint knows no 'ZZ'); the units of an output
+    are m, rad, ...
+    """
+    if unit in PINT:
+        return ""
+    known = ", ".join(PINT)
+    if not isinstance(unit, str) or not unit.strip():
+        return f"{where}: {unit!r} is not a unit; the units of an output are {known}"
+    import pint
+
+    try:
+        dimensionality = registry().parse_units(unit).dimensionality
+    except (pint.errors.PintError, ValueError, TypeError, AttributeError, AssertionError):
+        return (f"{where}: {unit!r} is not a unit (pint knows no {unit!r}); the units of an "
+                f"output are {known}")
+    same = [u for u in PINT if dimension(u) == dimensionality]
+    if not same:
+        return f"{where}: {unit!r} is not one of the units of an output: {known}"
+    factor = registry().Quantity(1.0, unit).to(PINT[same[0]]).magnitude
+    if abs(factor - 1.0) <= 1e-15:
+        return f"{where}: {unit!r} is written {same[0]!r} here"
+    return f"{where}: {unit!r} is not SI, and the output is computed in SI: write {same[0]!r}"

@@ -53,9 +53,11 @@ from dataclasses import dataclass, field
 from ..expressions import Expression
 from .topology import Topology, inline
 
-#: how far a pivot may be from a slot's line, relative to the distance pin-pivot, for
-#: the slot to pass through it (an RPR group)
-_THROUGH = 1e-9
+#: the largest sine of the angle between a prismatic pair's drawn slide and the guide its
+#: group makes: an RPR's slot runs from its lever's pivot through the block's pin, and a
+#: slide drawn within this of that line is taken for it (a direction typed to six
+#: significant digits is within it); the others follow their drawn slide exactly
+SLIDE_TOLERANCE = 1e-6
 
 
 class DecompositionError(ValueError):
@@ -186,6 +188,7 @@ class _Decomposer:
         self.first: dict = {}  # placed point -> the link to attach further links to
         self.pair_names: set = set()
         self.frame_ = {}  # link -> (from point, direction (ux, uy) expressions)
+        self.missed: dict = {}  # slot -> why its dyad is no RPR (the slot misses the pivot)
 
     # -- expressions of the drawn pose -------------------------------------------------
     def xy(self, joint: str) -> tuple:
@@ -453,9 +456,20 @@ class _Decomposer:
         (px, py), (cx, cy), (tx, ty) = self.xy(pin), self.xy(pivot), self.slide(slot)
         n = self.num
         ax, ay, dx, dy = n(cx) - n(px), n(cy) - n(py), n(tx), n(ty)
-        if abs(ax * dy - ay * dx) > _THROUGH * math.hypot(ax, ay) * math.hypot(dx, dy) or (
-                ax == 0.0 and ay == 0.0):
-            return False  # the slot does not pass through the lever's pivot: no RPR
+        if ax == 0.0 and ay == 0.0:
+            return False
+        sine = abs(ax * dy - ay * dx) / (math.hypot(ax, ay) * math.hypot(dx, dy))
+        if not sine <= SLIDE_TOLERANCE:  # the slot does not pass through the lever's pivot
+            drawn = ", ".join(map(repr, self.t.joints[slot].slide))
+            self.missed[slot] = (
+                f"[joints] {slot} slide: [{drawn}] through the pin {pin} misses the pivot "
+                f"{pivot} of the lever {lever} by {sine * math.hypot(ax, ay):.3g} m (the sine "
+                f"of the angle between the slide and the line {pin}-{pivot} is {sine:.3g}; "
+                f"the tolerance is {SLIDE_TOLERANCE:g}): a block in the slot of a turning "
+                "lever (an RPR dyad) slides on a line through the lever's pivot; write "
+                f"slide = [\"x_{pin} - x_{pivot}\", \"y_{pin} - y_{pivot}\"] for a slot "
+                "exactly through it")
+            return False
         p, c = self.attach(pin, block), self.attach(pivot, lever)
         self.group({"type": "RPR", "block": block, "lever": lever, "pin": p, "pivot": c,
                     "slide": slot}, {})
@@ -544,6 +558,9 @@ class _Decomposer:
     def _emit_closure(self, subset: tuple) -> bool:
         t = self.t
         sliding = [j for n in subset for j in t.links[n].joints if t.joints[j].prismatic]
+        missed = [self.missed[j] for j in dict.fromkeys(sliding) if j in self.missed]
+        if missed and len(subset) == 2:
+            raise DecompositionError(missed)
         if sliding:
             what = ("a dyad that no dyad of the library is (an RRP's slider and an RPP's "
                     "yoke slide on a frame guide, an RPR's slot passes through its lever's "
@@ -677,33 +694,57 @@ def output_name(by: str, on: str) -> str:
     return f"F{by}{on}" if len(by) == len(on) == 1 else f"F{by}_{on}"
 
 
-def default_outputs(pairs: list, efforts: dict) -> list[dict]:
-    """The [[outputs]] of a joints-and-links linkage that gives none: the force of each
-    pair, as the action of the body placed first on the other (one output per two
-    bodies), then each effort.
+def default_outputs(pairs: list, efforts: dict, declared: list = ()) -> list[dict]:
+    """The [[outputs]] a joints-and-links linkage has besides those it ``declared`` (its
+    [[outputs]] tables): the force of each pair, as the action of the body placed first
+    on the other (one output per two bodies), then each effort; a pair whose reaction a
+    declared output reports (a force between its two bodies, the normal or couple of a
+    prismatic pair between them, an expression of the pair's ``N_J``, ``M_J``, ``Fx_J``
+    or ``Fy_J``) and an effort a declared output names are left out.
 
     Examples
     --------
-    >>> for o in default_outputs([("A", "0", "1"), ("B", "1", "slider"),
-    ...                           ("guide", "0", "slider")], {None: {"name": "Mb"}}):
+    >>> pairs = [("A", "0", "1"), ("B", "1", "slider"), ("guide", "0", "slider")]
+    >>> for o in default_outputs(pairs, {None: {"name": "Mb"}}):
     ...     print(o)
     {'kind': 'force', 'name': 'F01', 'by': '0', 'on': '1'}
     {'kind': 'force', 'name': 'F1_slider', 'by': '1', 'on': 'slider'}
     {'kind': 'force', 'name': 'F0_slider', 'by': '0', 'on': 'slider'}
     {'kind': 'effort', 'name': 'Mb'}
+    >>> [o["name"] for o in default_outputs(pairs, {None: {"name": "Mb"}},
+    ...                                     [{"kind": "force", "name": "F10", "by": "1",
+    ...                                       "on": "0", "magnitude": True},
+    ...                                      {"kind": "normal", "name": "N", "joint": "guide"}])]
+    ['F1_slider', 'Mb']
     """
-    out, seen = [], set()
+    bodies = {name: frozenset((a, b)) for name, a, b in pairs}
+    seen, named = set(), set()
+    for spec in declared:
+        kind = spec.get("kind")
+        if kind == "force":
+            seen.add(frozenset((spec.get("by"), spec.get("on"))))
+        elif kind in ("normal", "couple") and spec.get("joint") in bodies:
+            seen.add(bodies[spec["joint"]])
+        elif kind == "expression":
+            try:
+                used = Expression(spec.get("expression", "")).names
+            except ValueError:  # the checker says why
+                used = ()
+            seen.update(bodies[n.split("_", 1)[1]] for n in used
+                        if n.split("_", 1)[0] in ("N", "M", "Fx", "Fy")
+                        and n.split("_", 1)[-1] in bodies)
+        elif kind == "effort":
+            named.add(spec.get("name"))
+    out = []
     for _, a, b in pairs:
         if frozenset((a, b)) not in seen:
             seen.add(frozenset((a, b)))
             out.append({"kind": "force", "name": output_name(a, b), "by": a, "on": b})
     names = dict.fromkeys(s["name"] for s in efforts.values() if isinstance(s, dict))
-    out += [{"kind": "effort", "name": n} for n in names]
+    out += [{"kind": "effort", "name": n} for n in names if n not in named]
     return out
 
 
-#: the largest sine of the angle between a prismatic pair's drawn slide and its guide
-SLIDE_TOLERANCE = 1e-12
 #: how far from its drawn position the linkage may place a joint at the drawn crank angle
 POSE_TOLERANCE = 1e-12
 

@@ -20,6 +20,7 @@ from ..mechanism import Mechanism
 from ..outputs import Couple, Derived, EffortOutput, Force, Magnitude, Normal
 from ..parameters import resolve
 from ..tables import PeriodicTable
+from .description import body_table
 
 
 def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -> Mechanism:
@@ -130,8 +131,8 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
                                                                       spec["inertia"])
         try:
             bodies.append(Body(link, mass, inertia, cg["from"], **place))
-        except ValueError as err:
-            raise ValueError(f"{origin}: {where}: {err}") from None
+        except ValueError as err:  # written as joints and links: its [[links]] table
+            raise ValueError(f"{origin}: {body_table(d, link)}: {err}") from None
 
     loads = []
     for spec in d.loads:
@@ -195,6 +196,12 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
         else:
             outputs.append(Derived(name, spec["expression"], spec.get("unit", "N"), text))
         keys.update((o.name, f"[[outputs]] #{k + 1} ({name})") for o in outputs[first:])
+    for name in dict.fromkeys(e["name"] for e in d.efforts.values()):  # always reported
+        if name not in keys:
+            unit = "N.m" if _is_moment(d, name) else "N"
+            outputs.append(EffortOutput(name, unit, "balancing moment on the driver link, "
+                                        "counter-clockwise positive" if unit == "N.m" else
+                                        "balancing force"))
     declared = _friction(d, number, friction)
 
     def rebuild(traced: dict) -> Mechanism:

@@ -62,6 +62,7 @@ from ..expressions import Expression, check_units
 from ..groups import OWNER, Field, Group, LinkJoints
 from ..outputs import SHAKING
 from ..parameters import KINDS, Parameter
+from ..units import unit_problem
 
 INPUT_NAMES = ("theta", "omega", "alpha")
 #: the tables of a description written as joints and links (:mod:`.topology`), which
@@ -98,12 +99,17 @@ TABLES: dict[str, tuple[str, str]] = {
 LINKAGE_KEYS = {
     "name": "name of the linkage in messages (default: the file's name without .toml)",
     "title": "one line saying what it is",
-    "model": "model identifier of its FMUs, a C identifier (required)",
+    "model": "model identifier of its FMUs, a C identifier (required; written as joints "
+             "and links, a file without it takes its name where that is a C identifier)",
     "frame": "name of the frame body in output names (default \"0\")",
     "gravity": "gravitational acceleration along -y, m/s2 (default 0; usually the "
                "parameter g)",
     "drive": "the crank's drive direction, +1 (counter-clockwise, default) or -1: where "
              "the crank stands, friction opposes the motion it would start this way",
+    "default_outputs": "written as joints and links: true (default) to report, besides "
+                       "its [[outputs]], the force of each pair they do not report and "
+                       "each effort; false for its [[outputs]] only (and each effort, "
+                       "which every linkage reports)",
 }
 #: key of a [friction.J] table -> what it is
 FRICTION_KEYS = {
@@ -406,6 +412,13 @@ class Description:
                 model=str(head.get("model", "")), frame=str(head.get("frame", "0")),
                 gravity=head.get("gravity", 0.0), drive=head.get("drive", 1.0), source=source)
         problems += _read_tables(d, data)
+        defaults = head.get("default_outputs", True)
+        if not isinstance(defaults, bool):
+            problems.append(f"[linkage] default_outputs: {defaults!r} must be true or false")
+        elif "default_outputs" in head and not set(JOINT_TABLES) & set(data):
+            problems.append("[linkage] default_outputs: a description written as groups has "
+                            "no default outputs: its [[outputs]] tables are its outputs (and "
+                            "each effort); the key is for one written as joints and links")
         if set(JOINT_TABLES) & set(data):
             drawn = _read_joints_form(d, data)
             if drawn:  # the group form it makes is incomplete: its checks would mislead
@@ -548,6 +561,15 @@ class Description:
 
 
 # -- reading the tables --------------------------------------------------------------
+def body_table(d: Description, link: str) -> str:
+    """How messages name the table of ``link``'s mass and inertia: ``[bodies.L]``, or
+    where ``d`` is written as joints and links its ``[[links]] #k (L)``."""
+    if d.drawn is None or link not in d.drawn.links:
+        return f"[bodies.{link}]"
+    number = d.drawn.tables.get(link, d.drawn.links.index(link) + 1)
+    return f"[[links]] #{number} ({link})"
+
+
 def _as_links(d: Description, problems: list[str]) -> list[str]:
     """The problems, those of a link's mass or inertia named as its [[links]] table
     gives them where the description is written as joints and links."""
@@ -555,18 +577,18 @@ def _as_links(d: Description, problems: list[str]) -> list[str]:
         return problems
     out = []
     for p in problems:
-        for k, link in enumerate(d.drawn.links):
-            number = d.drawn.tables.get(link, k + 1)
+        for link in d.drawn.links:
             for key in ("mass", "inertia"):
-                p = p.replace(f"[bodies.{link}] {key}", f"[[links]] #{number} ({link}) {key}")
+                p = p.replace(f"[bodies.{link}] {key}", f"{body_table(d, link)} {key}")
         out.append(p)
     return out
 
 
 def _read_joints_form(d: Description, data: dict) -> list[str]:
     """Read the joints-and-links tables of ``data`` into ``d``'s group form: its points,
-    groups and bodies, and where none are given its outputs (a force per pair, the
-    effort), its effort (a moment ``Mb`` on the crank) and its model (its name)."""
+    groups and bodies, after its [[outputs]] the default ones (a force per pair they do
+    not report, each effort; none with ``default_outputs = false``), and where none are
+    given its effort (a moment ``Mb`` on the crank) and its model (its name)."""
     from ..parameters import resolve
     from . import assur, topology
 
@@ -602,14 +624,14 @@ def _read_joints_form(d: Description, data: dict) -> list[str]:
         return err.problems
     d.points, d.groups, d.bodies = dec.points, dec.groups, dec.bodies
     d.drawn = dec
-    if not d.model and _is_identifier(d.name):
+    if "model" not in data.get("linkage", {}) and _is_identifier(d.name):
         d.model = d.name
     if not d.efforts:
         d.efforts[None] = {"name": "Mb", "body": t.crank}
     if "theta" not in data.get("inputs", {}):  # it starts where it is drawn
         d.inputs["theta"] = dec.theta
-    if "outputs" not in data:
-        d.outputs.extend(assur.default_outputs(dec.pairs, d.efforts))
+    if data.get("linkage", {}).get("default_outputs", True) is not False:
+        d.outputs.extend(assur.default_outputs(dec.pairs, d.efforts, d.outputs))
     return []
 
 
@@ -754,6 +776,8 @@ class _Checker:
         self.taken = set(INPUT_NAMES) | set(d.parameters) | set(SHAKING) | {"cond"}
         #: name -> (value, unit) of each parameter, to check the units of expressions
         self.measures: dict[str, tuple] = {}
+        #: name -> default value of each parameter that has a valid one
+        self.values: dict[str, Any] = {}
         #: what is allowed but probably not meant (a plain angle above 2 pi)
         self.notes: list[str] = []
 
@@ -796,6 +820,17 @@ class _Checker:
             self.notes.append(f"{where} = {value!r} is taken in radians ({math.degrees(value):g}"
                               f" deg); write \"{value!r} deg\" for degrees")
 
+    def not_negative(self, where: str, value: Any, unit: str) -> None:
+        """A value that must be >= 0 (a mass, an inertia), at the parameters' defaults;
+        one that cannot be evaluated there is said by the other checks."""
+        try:
+            x = Expression(value)(self.values)
+        except (ValueError, TypeError, ZeroDivisionError, OverflowError):
+            return
+        if not (math.isfinite(x) and x >= 0.0):
+            said = f"{value!r}" + (f" = {x!r}" if isinstance(value, str) else "")
+            self.found.append(f"{where}: {said} must be a finite number >= 0 ({unit})")
+
     def vector(self, where: str, value: Any, unit: str = "") -> bool:
         """``[x, y]`` of expressions (of ``unit``); False if it is not a pair."""
         if not (isinstance(value, (list, tuple)) and len(value) == 2):
@@ -807,8 +842,16 @@ class _Checker:
 
     # -- the tables -------------------------------------------------------------------
     def linkage(self) -> None:
-        if not _is_identifier(self.d.model):
-            self.found.append(f"[linkage] model: {self.d.model!r} must be a C identifier (the "
+        model = self.d.model
+        if not model:
+            self.found.append(
+                "[linkage] model: missing or empty: the model identifier of the linkage's "
+                "FMUs is required, a C identifier such as \"FourBar\" (letters, digits and _, "
+                "not a digit first)" + ("; written as joints and links, a file without the "
+                                        "key takes its name where that is one"
+                                        if self.d.drawn is not None else ""))
+        elif not _is_identifier(model):
+            self.found.append(f"[linkage] model: {model!r} must be a C identifier (the "
                               "FMU's model identifier)")
         self.expr("[linkage] gravity", self.d.gravity, unit="m/s2")
         self.expr("[linkage] drive", self.d.drive)
@@ -835,6 +878,7 @@ class _Checker:
             except (TypeError, ValueError) as err:
                 self.found.append(f"{where}: default: {err}")
                 continue
+            self.values[name] = value
             if spec.unit:
                 self.measures[name] = (float(value), spec.unit)
 
@@ -1044,8 +1088,9 @@ class _Checker:
         if link not in self.links:
             self.found.append(f"{where}: no group adds a link {link!r}: a body without a link")
             return
-        self.expr(f"{where} mass", spec["mass"], unit="kg")
-        self.expr(f"{where} inertia", spec["inertia"], unit="kg.m2")
+        for key, unit in (("mass", "kg"), ("inertia", "kg.m2")):
+            self.expr(f"{where} {key}", spec[key], unit=unit)
+            self.not_negative(f"{where} {key}", spec[key], unit)
         cg = spec["cg"]
         if not isinstance(cg, dict) or "from" not in cg:
             self.found.append(f"{where} cg: needs {{ from = POINT, along = ..., across = ... }}")
@@ -1218,13 +1263,30 @@ class _Checker:
     def effort_output(self, where: str, name: str, spec: dict) -> list:
         if name not in self.effort_names():
             self.found.append(f"{where} name: {name!r} is not the name of an [effort]")
+        elif "unit" in spec and not self.unit(f"{where} unit", spec["unit"]):
+            kinds = {"N" if "direction" in e else "N.m" for e in self.d.efforts.values()
+                     if isinstance(e, dict) and e.get("name") == name}
+            if spec["unit"] not in kinds:
+                what = "a force" if kinds == {"N"} else "a moment"
+                self.found.append(f"{where} unit: {spec['unit']!r}: {name} is {what}, in "
+                                  f"{' or '.join(sorted(kinds))}")
         return [name]
 
     def expression_output(self, where: str, name: str, spec: dict) -> list:
         joint_vars = {f"{v}_{j}" for j in self.joints for v in ("N", "M", "Fx", "Fy")}
         self.expr(f"{where} expression", spec.get("expression", ""),
                   set(self.d.parameters) | joint_vars | self.effort_names())
+        if "unit" in spec:
+            self.unit(f"{where} unit", spec["unit"])
         return [name]
+
+    def unit(self, where: str, unit: Any) -> str:
+        """An output's unit, which must be one of the package's (the output is computed
+        in SI); the problem found ('' if none)."""
+        problem = unit_problem(unit, where)
+        if problem:
+            self.found.append(problem)
+        return problem
 
 
 def _key(key: str) -> str:

@@ -409,7 +409,7 @@ solves is taken off, trying the links two by two in the order of `[[links]]`:
 | --- | --- | --- |
 | `RRR` | two links pinned together | each pinned to a placed joint |
 | `RRP` | a rod and a slider pinned together | the rod pinned to a placed joint, the slider on a frame guide (listed by the slider only) |
-| `RPR` | a block and a lever sliding in one another | each pinned to a placed joint; the guide's line through the block's pin passes through the lever's pin (the lever carries the guide) |
+| `RPR` | a block and a lever sliding in one another | each pinned to a placed joint; the guide's line through the block's pin passes through the lever's pin (the lever carries the guide; see below) |
 | `RPP` | a block and a yoke sliding in one another | the block pinned to a placed joint, the yoke on a frame guide |
 
 A link's other joints and its `points` become `point` groups on it, once it is placed
@@ -419,6 +419,14 @@ What no dyad resolves is the smallest connected set of the links left that the p
 with mobility 0, solved as one `closure` group (its pairs revolute: a group of more than
 two links with a prismatic pair, or a dyad with one that the table above does not list,
 is refused as a group the decomposition cannot solve).
+
+An `RPR` lever's guide runs from its pin through the block's, as its own geometry makes
+it: a `slide` drawn within {assur.SLIDE_TOLERANCE:g} of that line (the sine of the angle
+between them: a direction typed to six significant digits) is taken for it, and the
+slide is checked against it at every parameter set. One further off is refused, naming
+the distance by which it misses the lever's pin; written as the pins' difference
+(`slide = ["x_A - x_O3", "y_A - y_O3"]` for a block's pin A and a lever's pin O3) it
+passes through it exactly.
 
 Every length, angle, guide point and position in a link's own frame is an expression of
 the drawn coordinates, so it follows the parameters. The assembly modes (`branch`) are
@@ -449,10 +457,14 @@ the pair's name, and a load's `value` may use its `x_J`, `y_J`.
 
 ### What is made when it is not given
 
-- `[[outputs]]`: for each two bodies joined by a pair, the force of the body placed
-  first (the frame first of all) on the other, `kind = "force"`, named `F<by><on>`
-  (`F<by>_<on>` when a name is longer than one character), as listed by
-  `linkage-fmu info`; then each effort;
+- `[[outputs]]`: after the file's own `[[outputs]]` tables, for each two bodies joined
+  by a pair whose reaction none of them reports (as a force between the two bodies, the
+  normal force or couple of their prismatic pair, or an expression of its `N_J`, `M_J`,
+  `Fx_J`, `Fy_J`), the force of the body placed first (the frame first of all) on the
+  other, `kind = "force"`, named `F<by><on>` (`F<by>_<on>` when a name is longer than
+  one character), as listed by `linkage-fmu info`; then each effort they do not name.
+  `[linkage] default_outputs = false` keeps the file's tables only (and each effort,
+  which every linkage reports: see `[[outputs]]`);
 - `[effort]`: a moment named `Mb` on the crank;
 - `[inputs] theta`: the drawn crank angle (the linkage starts where it is drawn);
 - `[linkage] model`: the name.
@@ -527,7 +539,12 @@ def _outputs(mech: Mechanism) -> str:
     kinds = [(f"`{kind}`", _cell(spec.OUTPUT_KINDS.get(kind, ""))) for kind in spec.OUTPUT_KEYS]
     out = [f"""## `[[outputs]]`
 
-One table per output, `kind = "..."` and its keys. The kinds:
+One table per output, `kind = "..."` and its keys. Every linkage reports its balancing
+effort: an `[effort]` that no table of kind `effort` names is reported after the
+tables, as one would (a linkage written as joints and links also reports the force of
+each of its pairs the tables do not report, unless `[linkage] default_outputs = false`:
+see Joints and links). An output is computed in SI: its `unit` is one of the package's
+units (`"N"`, `"N.m"`, ...; see Unit names), and an effort's is that of the effort. The kinds:
 
 {_table(("kind", "reports"), kinds)}"""]
     for kind, keys in spec.OUTPUT_KEYS.items():

@@ -161,9 +161,18 @@ class Topology:
         return 3 * len(self.links) - 2 * self.pair_count()
 
 
+class CycleError(ValueError):
+    """A drawn position that uses itself; ``cycle`` holds the joints around the loop."""
+
+    def __init__(self, message: str, cycle: tuple):
+        super().__init__(message)
+        self.cycle = cycle
+
+
 def inline(source: Any, joints: dict, parameters: set, seen: tuple = ()) -> Any:
     """``source`` with every ``x_J``/``y_J`` of a joint J (not a parameter) replaced by
-    the expression of J's drawn coordinate, recursively; a ValueError for a loop.
+    the expression of J's drawn coordinate, recursively; a :class:`CycleError` (a
+    ValueError) for a loop.
 
     Examples
     --------
@@ -178,8 +187,9 @@ def inline(source: Any, joints: dict, parameters: set, seen: tuple = ()) -> Any:
         if m[0] in parameters or name not in joints:
             return m[0]
         if name in seen:
-            raise ValueError(f"the drawn position of {name} uses itself "
-                             f"({' -> '.join(seen + (name,))})")
+            loop = seen[seen.index(name):]
+            raise CycleError(f"the drawn position of {name} uses itself "
+                             f"({' -> '.join(seen + (name,))})", loop)
         value = joints[name].at["xy".index(axis)]
         return f"({inline(value, joints, parameters, seen + (name,))})"
 
@@ -205,10 +215,11 @@ def read(data: dict, values: dict, frame: str = "0", measures: dict | None = Non
     """
     found: list[str] = []
     units = {} if measures is None else measures
-    joints = _joints(data.get("joints", {}), values, found, units)
+    joints, broken = _joints(data.get("joints", {}), values, found, units)
     ground: dict = {}  # the frame's entry: "where" (its table) and "joints"
-    links = _links(data.get("links", []), joints, values, frame, found, units, ground)
-    if joints is None or links is None:
+    links = _links(data.get("links", []), joints, broken, values, frame, found, units,
+                   ground)
+    if joints is None or broken or links is None:
         return None, found
     on = {j: tuple(n for n, link in links.items() if j in link.joints) for j in joints}
     on_frame = frozenset(ground.get("joints", ()))
@@ -249,10 +260,15 @@ def read(data: dict, values: dict, frame: str = "0", measures: dict | None = Non
 
 
 def _vector(where: str, value: Any, found: list, values: dict, joints: dict | None = None,
-            of: tuple = (), measures: dict | None = None) -> tuple | None:
+            of: tuple = (), measures: dict | None = None, broken: tuple = (),
+            cycles: set | None = None) -> tuple | None:
     """``[x, y]`` of numbers or expressions, each evaluable over ``values`` (and the
     drawn coordinates of ``joints``; ``of`` the joint whose position it is), with any
-    unit taken in SI (checked to be a length, with ``measures``)."""
+    unit taken in SI (checked to be a length, with ``measures``). One that uses the
+    coordinates of a joint of ``broken`` (a joint whose own position has a problem,
+    reported) is not evaluated, and None with no problem of its own; a loop of drawn
+    positions is reported once, for the first of its joints (``cycles``: the loops
+    reported so far)."""
     if not (isinstance(value, (list, tuple)) and len(value) == 2):
         found.append(f"{where}: must be [x, y], got {value!r}")
         return None
@@ -273,9 +289,14 @@ def _vector(where: str, value: Any, found: list, values: dict, joints: dict | No
         if joints is not None:
             try:
                 e = Expression(inline(v, joints, set(values), of))
-            except ValueError as err:  # a drawn position that uses itself
-                found.append(f"{where} {axis}: {err}")
+            except CycleError as err:  # a drawn position that uses itself
+                if cycles is None or frozenset(err.cycle) not in cycles:
+                    found.append(f"{where} {axis}: {err}")
+                if cycles is not None:
+                    cycles.add(frozenset(err.cycle))
                 return None
+            if any(n[:2] in ("x_", "y_") and n[2:] in broken for n in e.names):
+                return None  # the cause is that joint's, reported
         try:
             x = e(values)
         except (ValueError, ZeroDivisionError, OverflowError, TypeError) as err:
@@ -297,11 +318,14 @@ def _in_si(value: Any) -> Any:
         return value
 
 
-def _joints(table: Any, values: dict, found: list, measures: dict) -> dict | None:
+def _joints(table: Any, values: dict, found: list, measures: dict
+            ) -> tuple[dict | None, tuple]:
+    """The joints of ``[joints]`` whose positions are read, and the names of those whose
+    are not (their problems in ``found``); None for the joints where the table is none."""
     if not isinstance(table, dict) or not table:
         found.append("[joints]: must be a table of JOINT = [x, y] (or { at, slide }), "
                      "one per joint")
-        return None
+        return None, ()
     raw = {}
     for name, spec in table.items():
         where = f"[joints] {name}"
@@ -325,14 +349,14 @@ def _joints(table: Any, values: dict, found: list, measures: dict) -> dict | Non
     # the drawn positions may use the joints' coordinates: check them once all are known
     stand_in = {n: Joint(n, tuple(map(_in_si, at)) if isinstance(at, list) and len(at) == 2
                          else (0, 0)) for n, (at, _, _) in raw.items()}
-    joints = {}
+    joints, cycles = {}, set()
     for name, (at, slide, guide) in raw.items():
         where = f"[joints] {name}" + (" at" if slide is not None else "")
-        xy = _vector(where, at, found, values, stand_in, (name,), measures)
+        xy = _vector(where, at, found, values, stand_in, (name,), measures, cycles=cycles)
         direction = None
         if slide is not None:
             direction = _vector(f"[joints] {name} slide", slide, found, values, stand_in,
-                                (name,))
+                                (name,), cycles=cycles)
             if direction is not None:
                 dx, dy = (Expression(inline(v, stand_in, set(values)))(values) for v in direction)
                 if math.hypot(dx, dy) == 0.0:
@@ -340,7 +364,7 @@ def _joints(table: Any, values: dict, found: list, measures: dict) -> dict | Non
                                  "direction of the guide must not be zero")
         if xy is not None and (slide is None or direction is not None):
             joints[name] = Joint(name, xy, direction, guide)
-    return joints if len(joints) == len(raw) else None
+    return joints, tuple(n for n in raw if n not in joints)
 
 
 def _frame_entry(where: str, spec: dict, joints: dict | None, found: list,
@@ -378,8 +402,13 @@ def _unknown_joints(where: str, listed: list, joints: dict, found: list) -> bool
     return bool(unknown)
 
 
-def _links(table: Any, joints: dict | None, values: dict, frame: str, found: list,
-           measures: dict, ground: dict) -> dict | None:
+def _links(table: Any, joints: dict | None, broken: tuple, values: dict, frame: str,
+           found: list, measures: dict, ground: dict) -> dict | None:
+    """The moving links of ``[[links]]`` (the frame's entry read into ``ground``), None
+    where one cannot be read; an expression that uses a joint of ``broken`` (one whose
+    position could not be read, said) is not evaluated, and its link not read."""
+    # every joint's name, those whose positions could not be read too, in their order
+    names = None if joints is None else {**dict.fromkeys(broken), **joints}
     if not isinstance(table, list) or not table:
         found.append("[[links]]: must be a list of tables, one per moving link")
         return None
@@ -393,7 +422,7 @@ def _links(table: Any, joints: dict | None, values: dict, frame: str, found: lis
         name = spec.get("name")
         where += f" ({name})"
         if name == frame:
-            _frame_entry(where, spec, joints, found, ground)
+            _frame_entry(where, spec, names, found, ground)
             continue
         unknown = set(spec) - set(LINK_KEYS)
         if unknown:
@@ -415,12 +444,12 @@ def _links(table: Any, joints: dict | None, values: dict, frame: str, found: lis
                          f"{', '.join(listed) or 'none'}); a link carries two joints or more")
         if len(set(listed)) != len(listed):
             found.append(f"{where} joints: a joint is listed twice")
-        if joints is not None and _unknown_joints(where, listed, joints, found):
+        if names is not None and _unknown_joints(where, listed, names, found):
             ok = False
         cg = listed[0] if listed else None
         if "cg" in spec:
             cg = _vector(f"{where} cg", spec["cg"], found, values, joints or {}, (),
-                         measures)
+                         measures, broken)
             ok = ok and cg is not None
         elif joints is not None and cg in joints:
             cg = joints[cg].at
@@ -432,7 +461,7 @@ def _links(table: Any, joints: dict | None, values: dict, frame: str, found: lis
         for point, xy in table.items():
             if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", point):
                 found.append(f"{where} points: {point!r}: a point's name must be an identifier")
-            elif joints is not None and point in joints:
+            elif names is not None and point in names:
                 found.append(f"{where} points: {point!r} is a joint; a point of a link joins "
                              "nothing")
             elif point in taken:
@@ -440,7 +469,7 @@ def _links(table: Any, joints: dict | None, values: dict, frame: str, found: lis
                              f"{taken[point]}")
             else:
                 points[point] = _vector(f"{where} points {point}", xy, found, values,
-                                        joints or {}, (), measures)
+                                        joints or {}, (), measures, broken)
                 taken[point] = name
                 ok = ok and points[point] is not None
         links[name] = Link(name, tuple(listed), spec.get("mass", 0.0), spec.get("inertia", 0.0),

@@ -101,7 +101,7 @@ def compile_for(target: Platform, sources: list[Path], output: Path, fmi_version
     CompilerError
         No compiler (zig's for another platform: the message names the ``cross`` extra),
         the compiler failed, or the library is not as it must be (a compiler's warnings
-        are passed on as a :class:`~linkage_fmu.ccompiler.CompilerWarning`).
+        are logged, not shown: :func:`~linkage_fmu.ccompiler.compile_shared`).
 
     Examples
     --------

@@ -132,6 +132,11 @@ def step_fmu(fmu: str | Path, inputs: np.ndarray, start_values: dict | None = No
         every output of the FMU).
     messages : list of str
         What the FMU logged with status Warning or worse.
+
+    Raises
+    ------
+    RuntimeError
+        The FMU cannot be instantiated (what it logged, or fmpy's message).
     """
     from fmpy import extract, instantiate_fmu, read_model_description
     from fmpy.fmi1 import FMICallException
@@ -153,7 +158,15 @@ def step_fmu(fmu: str | Path, inputs: np.ndarray, start_values: dict | None = No
 
     unzipped = extract(str(fmu))
     fmi3 = md.fmiVersion.startswith("3")
-    slave = instantiate_fmu(unzipped, md, "CoSimulation", debug_logging=True, logger=logger)
+    try:
+        slave = instantiate_fmu(unzipped, md, "CoSimulation", debug_logging=True,
+                                logger=logger)
+    except Exception as err:  # noqa: BLE001 -- fmpy's own, a plain Exception, for NULL
+        shutil.rmtree(unzipped, ignore_errors=True)
+        if not fmi3:
+            _default_logger()
+        said = " ".join("; ".join(messages).split())  # one line
+        raise RuntimeError(f"the FMU cannot be instantiated: {said or err}") from None
     try:
         if fmi3:
             slave.enterInitializationMode(startTime=float(t[0]))

@@ -756,6 +756,7 @@ def _looped_block(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
         f"    const size_t m = n - j0 < {LOOP_LANES} ? n - j0 : {LOOP_LANES};",
         f"    int badb[{LOOP_LANES}] = {{0}};",
         *(f"    const double *restrict xb{k} = xs{k} + j0;" for k in range(n_inputs)),
+        *(f"    (void)xb{k};" for k in range(n_inputs)),  # an input no lane reads
         *emit(tree, "    ", None),
         "    #pragma omp simd",
         "    for (size_t j = 0; j < m; j++) {",

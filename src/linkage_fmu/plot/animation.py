@@ -42,6 +42,36 @@ COND_BOUND = 1e4
 TRIM_STEP_DEG = 0.01
 #: the files an animation is written to, by suffix
 SUFFIXES = (".gif", ".mp4")
+#: the figure's size in inches (width, height), unless ``animate`` is given another
+FIGSIZE = (11.0, 4.8)
+#: a frame's width and height in pixels are below this: matplotlib's renderer (Agg) and a
+#: GIF (16-bit sizes) draw no larger
+MAX_PIXELS = 2 ** 16
+
+
+def frame_pixels(dpi: float, figsize=FIGSIZE) -> tuple[int, int]:
+    """The size (width, height) in pixels of a frame of ``figsize`` inches at ``dpi``
+    pixels an inch; a ValueError naming ``dpi`` where a side would reach
+    :data:`MAX_PIXELS`.
+
+    Examples
+    --------
+    >>> frame_pixels(80.0)
+    (880, 384)
+    >>> frame_pixels(1e9)
+    Traceback (most recent call last):
+    ...
+    ValueError: dpi 1e+09 draws frames of 1.1e+10 x 4.8e+09 pixels; a frame is less than
+    65536 pixels a side (matplotlib's and a GIF's limit): dpi 5957 at most for 11 x 4.8 inches
+    """
+    width, height = (float(v) * dpi for v in figsize)
+    if not max(width, height) < MAX_PIXELS:
+        most = math.floor((MAX_PIXELS - 1) / max(float(v) for v in figsize))
+        raise ValueError(f"dpi {dpi:g} draws frames of {width:.4g} x {height:.4g} pixels; a "
+                         f"frame is less than {MAX_PIXELS} pixels a side (matplotlib's and a "
+                         f"GIF's limit): dpi {most} at most for {figsize[0]:g} x "
+                         f"{figsize[1]:g} inches")
+    return round(width), round(height)
 
 
 def motion_range(mech: "Mechanism", given=()) -> tuple[float, float, bool]:
@@ -214,7 +244,7 @@ def _writer(path: Path, fps: float):
 
 def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int = N_FRAMES,
             omega=None, alpha=None, fps: float = 12.0, dpi: float = 80.0,
-            figsize=(11.0, 4.8), **named_loads) -> LinkageAnimation:
+            figsize=FIGSIZE, **named_loads) -> LinkageAnimation:
     """The linkage moving over a revolution (or the cycle of several a load's table
     needs, as a four-stroke engine's; where the crank cannot turn round, out and back
     over its range: :func:`motion_range`, :func:`frame_angles`), with its joint forces
@@ -263,8 +293,8 @@ def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int =
     ValueError
         ``what``, ``frames`` or ``path``'s suffix is not one of the above (``frames``
         odd where the crank goes out and back), ``dpi`` or ``figsize`` is not finite and
-        > 0, ``path``'s folder does not exist, or the linkage cannot be assembled
-        anywhere.
+        > 0 or makes a frame too large to draw (:func:`frame_pixels`), ``path``'s folder
+        does not exist, or the linkage cannot be assembled anywhere.
 
     Warns
     -----
@@ -302,6 +332,7 @@ def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int =
                          ) from None
     for value in (width, height):
         _positive("figsize", value, f"each of (width, height) in inches, got {figsize!r}")
+    frame_pixels(dpi, (width, height))
     if path is not None:
         _suffix(path)
         if not Path(path).resolve().parent.is_dir():
