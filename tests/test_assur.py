@@ -805,7 +805,8 @@ def test_a_parameter_that_turns_a_slot_off_its_lever_is_refused():
     """The slotted lever's slot, drawn through the lever's pivot C, makes an RPR group,
     whose slot runs along its lever: a parameter ``e`` that tilts the drawn slide would
     be dropped, so a build where it is not 0 is refused, naming the pair; at e = 0 it
-    builds."""
+    builds. Where the parameters are a kernel's arguments (an FMU's, set at run time; a
+    sweep's), its parameter step refuses e = 0.2 too, naming the pair, and takes e = 0."""
     from pathlib import Path
 
     text = (Path(__file__).resolve().parents[1] / "examples" / "joints"
@@ -825,6 +826,14 @@ def test_a_parameter_that_turns_a_slot_off_its_lever_is_refused():
                                          r"of the angle between them 0\.\d+; the tolerance "
                                          r"is 1e-06\)$"):
         d.build(e=0.2)
+    kernel = d.build().kernel()
+    values = {name: d.build().parameters[name] for name in kernel.parameters}
+    assert "e" in values and kernel.parameter_problem(*values.values()) is None
+    values["e"] = 0.2
+    assert kernel.parameter_problem(*values.values()) == (
+        "the parameter set is invalid: [joints] slot slide: the parameters turn the slide "
+        "off the line B-C through the lever's pivot (the sine of the angle between them "
+        "above 1e-06): the slot of a turning lever runs through its pivot")
 
 
 # -- a Whitworth quick-return written as joints and links, its numbers typed as a drawing

@@ -91,6 +91,11 @@ class Decomposition:
     slides : dict
         Prismatic pair -> (dx, dy): its drawn direction of sliding, to check that the
         groups' guides follow it at every parameter set (:func:`check_pose`).
+    checks : list of (str, str)
+        ``(what, expression)``: an expression of the parameters that must stay at most
+        :data:`SLIDE_TOLERANCE` where the parameters are a kernel's arguments (an FMU's
+        set at run time, a sweep's), and what it is otherwise: the sine of a turning
+        lever's slot off the line through its pivot, where the parameters move it.
     """
 
     points: dict = field(default_factory=dict)
@@ -100,6 +105,7 @@ class Decomposition:
     pose: dict = field(default_factory=dict)
     theta: object = 0.0
     links: tuple = ()
+    checks: list = field(default_factory=list)
     tables: dict = field(default_factory=dict)
     slides: dict = field(default_factory=dict)
 
@@ -470,6 +476,14 @@ class _Decomposer:
                 f"slide = [\"x_{pin} - x_{pivot}\", \"y_{pin} - y_{pivot}\"] for a slot "
                 "exactly through it")
             return False
+        off = (f"abs(({cx} - {px}) * {ty} - ({cy} - {py}) * {tx}) / "
+               f"(hypot({cx} - {px}, {cy} - {py}) * hypot({tx}, {ty}))")
+        if any(name in self.params for name in Expression(off).names):
+            self.out.checks.append((
+                f"[joints] {slot} slide: the parameters turn the slide off the line "
+                f"{pin}-{pivot} through the lever's pivot (the sine of the angle between "
+                f"them above {SLIDE_TOLERANCE:g}): the slot of a turning lever runs "
+                "through its pivot", fold(off)))
         p, c = self.attach(pin, block), self.attach(pivot, lever)
         self.group({"type": "RPR", "block": block, "lever": lever, "pin": p, "pivot": c,
                     "slide": slot}, {})

@@ -221,6 +221,13 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
         if named and named[1] in keys:
             text = f"{keys[named[1]]}: {named[2]}"
         raise ValueError(f"{origin}: {text}") from None
+    if d.drawn is not None and symbols:  # the parameter step refuses what the pose check does
+        from .assur import SLIDE_TOLERANCE
+
+        for what, off in d.drawn.checks:
+            x = number(what, off)
+            x <= SLIDE_TOLERANCE  # noqa: B015 -- an order comparison of parameters: recorded
+            numerics.label(x, Reason("parameter", what))
     if d.drawn is not None and not symbols:  # written as joints and links: where drawn
         from .assur import check_pose, near_toggles
 
