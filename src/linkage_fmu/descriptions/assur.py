@@ -181,6 +181,22 @@ def _folded(node: ast.expr) -> ast.expr:
     return rebuilt
 
 
+def body_table(drawn: Decomposition | None, link: str) -> str:
+    """How messages name the table of ``link``'s mass and inertia: ``[bodies.L]``, or in
+    a linkage written as joints and links (``drawn``, its decomposition) its
+    ``[[links]] #k (L)``.
+
+    Examples
+    --------
+    >>> body_table(None, "3"), body_table(Decomposition(links=("2", "3")), "3")
+    ('[bodies.3]', '[[links]] #2 (3)')
+    """
+    if drawn is None or link not in drawn.links:
+        return f"[bodies.{link}]"
+    number = drawn.tables.get(link, drawn.links.index(link) + 1)
+    return f"[[links]] #{number} ({link})"
+
+
 class _Decomposer:
     """One decomposition (see :func:`decompose`): what is placed so far, and the tables
     made from it."""

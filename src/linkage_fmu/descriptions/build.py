@@ -20,7 +20,7 @@ from ..mechanism import Mechanism
 from ..outputs import Couple, Derived, EffortOutput, Force, Magnitude, Normal
 from ..parameters import resolve
 from ..tables import PeriodicTable
-from .description import body_table
+from .assur import body_table
 
 
 def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -> Mechanism:
@@ -132,7 +132,7 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
         try:
             bodies.append(Body(link, mass, inertia, cg["from"], **place))
         except ValueError as err:  # written as joints and links: its [[links]] table
-            raise ValueError(f"{origin}: {body_table(d, link)}: {err}") from None
+            raise ValueError(f"{origin}: {body_table(d.drawn, link)}: {err}") from None
 
     loads = []
     for spec in d.loads:

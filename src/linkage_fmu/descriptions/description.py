@@ -561,25 +561,18 @@ class Description:
 
 
 # -- reading the tables --------------------------------------------------------------
-def body_table(d: Description, link: str) -> str:
-    """How messages name the table of ``link``'s mass and inertia: ``[bodies.L]``, or
-    where ``d`` is written as joints and links its ``[[links]] #k (L)``."""
-    if d.drawn is None or link not in d.drawn.links:
-        return f"[bodies.{link}]"
-    number = d.drawn.tables.get(link, d.drawn.links.index(link) + 1)
-    return f"[[links]] #{number} ({link})"
-
-
 def _as_links(d: Description, problems: list[str]) -> list[str]:
     """The problems, those of a link's mass or inertia named as its [[links]] table
     gives them where the description is written as joints and links."""
     if d.drawn is None:
         return problems
+    from .assur import body_table
+
     out = []
     for p in problems:
         for link in d.drawn.links:
             for key in ("mass", "inertia"):
-                p = p.replace(f"[bodies.{link}] {key}", f"{body_table(d, link)} {key}")
+                p = p.replace(f"[bodies.{link}] {key}", f"{body_table(d.drawn, link)} {key}")
         out.append(p)
     return out
 
