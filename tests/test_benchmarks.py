@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 import csv
 import importlib
+import importlib.util
 from pathlib import Path
 
 import pytest
@@ -35,7 +36,10 @@ def test_a_benchmark_run_writes_to_build_and_leaves_the_committed_results(folder
     (here moved under tmp_path), and every file of benchmarks/results keeps its bytes and
     its modification time."""
     monkeypatch.setattr(folders, "DEFAULT", tmp_path / "build" / "benchmarks")
-    run = importlib.import_module("run")
+    # by its path: another test's module named run (the press example's) may be imported
+    spec = importlib.util.spec_from_file_location("benchmarks_run", BENCHMARKS / "run.py")
+    run = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(run)
     before = _committed(folders)
     assert run.main(["--scalar", "--states", "4", "--rounds", "1"]) == 0
     with open(tmp_path / "build" / "benchmarks" / "scalar.csv", newline="") as f:
