@@ -74,7 +74,7 @@ def crank_angle(anim, mech) -> float:
 
 
 def test_cli_default_writes_72_differing_frames(tmp_path, capsys):
-    """The issue's "done when": ``linkage-fmu animate four_bar -o four_bar.gif`` writes
+    """``linkage-fmu animate four_bar -o four_bar.gif`` writes
     at least 36 frames (72 by default, read back with pillow; small pixels here), each
     different from the one before (pillow would merge equal ones, and they are
     compared here pixel by pixel), and says what it wrote."""

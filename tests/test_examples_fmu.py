@@ -1,5 +1,5 @@
 """The joints-and-links examples (examples/jansen.toml, klann.toml, triad_six_bar.toml) as
-FMUs of both flavours, pythonfmu and native (issue 31's third "done when").
+FMUs of both flavours, pythonfmu and native, each checked against the direct solver.
 
 ``linkage-fmu check`` is the test of each FMU: ``fmpy validate`` finds nothing, and a
 revolution through fmpy with the speed and the loads varying equals the direct solver

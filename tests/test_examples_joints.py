@@ -6,7 +6,7 @@ through a whole turn of the crank by continuation in 1 deg steps and comes back 
 itself (one assembly mode, no lock), and that its forces obey virtual power and the
 momentum balance. Then the library, reading the same file, must give the reference's
 ``Mb`` and shaking force to 1e-9 at angles within 30 deg of the drawn one, with
-omega 10 rad/s, alpha 5 rad/s^2 and g 9.81 (issue 31's first "done when").
+omega 10 rad/s, alpha 5 rad/s^2 and g 9.81.
 """
 
 from __future__ import annotations

@@ -415,8 +415,8 @@ def test_a_parameter_whose_arithmetic_overflows_is_the_librarys_error():
 
 
 def test_a_singular_matrix_in_the_direct_method_is_the_librarys_error():
-    """The slider-crank with l_AB = 1e308 by the direct method (the issue saw
-    numpy.linalg.LinAlgError escape): the library's SingularPositionError for every
+    """The slider-crank with l_AB = 1e308 by the direct method (where
+    numpy.linalg.LinAlgError escaped): the library's SingularPositionError for every
     method, saying what both FMU flavours log. A LinAlgError from inside the direct
     method (an exactly singular Jacobian of the friction's Newton steps: mocked here, as
     no coefficient of friction up to the largest taken makes one) is the library's

@@ -22,7 +22,7 @@ from linkage_fmu import Description, presets
 
 DATA = Path(__file__).resolve().parent / "data"
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
-TOL = 1e-9  # N.m and N: the figure
+TOL = 1e-9  # N.m and N
 OMEGA, ALPHA, G = 10.0, 5.0, 9.81
 OFFSETS = np.radians(np.linspace(-30.0, 30.0, 13))
 #: case -> (the file, its loads, {(joint, joint): the group form's length})

@@ -155,7 +155,7 @@ def flavours(dist, native_dist, dist3, native3) -> dict:
                          ids=[m for m, _, _ in OVERFLOWING])
 def test_a_parameter_set_that_overflows_is_a_discard_in_both_flavours(model, params, omega,
                                                                      flavours, tmp_path):
-    """The issue's parameter sets: the pythonfmu FMUs answered the four-bar's with Error
+    """Parameter sets that overflow: the pythonfmu FMUs answered the four-bar's with Error
     and the Python exception's text (OverflowError), and both flavours read ScotchYoke's
     dJ_red = NaN and SlottedLever's -inf under OK. Now every flavour answers as the native
     FMU did: the parameters are taken (OK), every read Warning with every output NaN,
