@@ -107,3 +107,31 @@ def test_the_bounds_declared_are_the_validators(source, flavour, drive, fmi_vers
     if drive:
         assert declared["tolerance"] == (1e-14, 0.1)
         assert declared["motion"] == (-1, 1)
+
+
+@pytest.mark.parametrize("fmi_version", [2, 3])
+def test_every_unit_an_output_may_have_is_defined_in_the_model_description(fmi_version,
+                                                                              tmp_path):
+    """An output may be in each unit of :data:`linkage_fmu.units.PINT` (an energy in J, a
+    pressure in Pa, an area in m2, a time in s): the four-bar with one such output of each
+    writes a modelDescription that declares every unit a variable uses, and fmpy reads it
+    (validating it) without a problem."""
+    from fmpy import read_model_description
+
+    from linkage_fmu import units
+
+    d = presets.preset("four_bar").copy()
+    extra = {"J": "E_x", "Pa": "p_x", "m2": "a_x", "s": "t_x"}
+    for unit, name in extra.items():
+        d.output("expression", name=name, expression="Fx_B", unit=unit,
+                 description=f"a value in {unit}")
+    mech = d._changed().build()
+    xml = model_description(mech, "native", fmi_version, "{guid}")
+    root = ET.fromstring(xml)
+    declared = {u.get("name") for u in root.iter("Unit")}
+    used = {v.get("unit") for v in root.iter() if v.get("unit")}
+    assert set(extra) <= used <= declared and set(units.PINT) <= declared
+    (tmp_path / "modelDescription.xml").write_bytes(xml)
+    md = read_model_description(str(tmp_path / "modelDescription.xml"))
+    assert {v.name: v.unit for v in md.modelVariables if v.name in extra.values()} == {
+        name: unit for unit, name in extra.items()}

@@ -45,7 +45,8 @@ from .variables import (
 )
 
 TEMPLATES = Path(__file__).with_name("templates")
-#: unit -> (SI base-unit exponents, display units as (name, factor))
+#: unit -> (SI base-unit exponents, display units as (name, factor)): every unit a value
+#: may have (:data:`linkage_fmu.units.PINT`), and the reduced inertia's derivative
 RAD2DEG = 57.29577951308232
 UNITS = {
     "rad": ({"rad": 1}, [("deg", RAD2DEG)]),
@@ -60,6 +61,10 @@ UNITS = {
     "N": ({"kg": 1, "m": 1, "s": -2}, []),
     "N.m": ({"kg": 1, "m": 2, "s": -2}, []),
     "W": ({"kg": 1, "m": 2, "s": -3}, []),
+    "J": ({"kg": 1, "m": 2, "s": -2}, []),
+    "Pa": ({"kg": 1, "m": -1, "s": -2}, []),
+    "m2": ({"m": 2}, []),
+    "s": ({"s": 1}, []),
     "1": ({}, []),
 }
 LOG_CATEGORIES = ("logStatusWarning", "logStatusDiscard", "logStatusError", "logStatusFatal",
@@ -215,8 +220,7 @@ def model_description(mech, flavour: str, fmi_version: int, guid: str,
                      if v.derivative == s.name],
         tool=_TOOLS[flavour].format(version=__version__, pythonfmu=pythonfmu.__version__),
         now=datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%dT%H:%M:%SZ"),
-        sources=sources, units=UNITS.items() if fmi_version == 2 else
-        {**UNITS, "s": ({"s": 1}, [])}.items(), categories=LOG_CATEGORIES, stop=_stop(mech),
+        sources=sources, units=UNITS.items(), categories=LOG_CATEGORIES, stop=_stop(mech),
         step=drive_step(_stop(mech)) if drive else _stop(mech) / 360.0,
         tolerance=TOLERANCE if drive else None,
         variables=list(enumerate(table)), depends=depends, initial=initial).encode("utf-8")
