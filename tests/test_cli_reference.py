@@ -177,9 +177,12 @@ def test_every_example_is_a_command_that_works_when_pasted(text, monkeypatch):
         "\n".join(line.strip() if k == 0 else "    " + line.strip()
                   for k, line in enumerate(c.strip().splitlines()))
         for c in shown["linkage-fmu"]]
+    # every command that shows examples shows the main help's: each is checked once
+    assert all(commands in ([], shown["linkage-fmu"]) for commands in shown.values()
+               if commands is not shown["docs/cli.md"])
     problems = {}
-    for where, commands in shown.items():
-        for command in commands:
+    for where in ("linkage-fmu", "docs/cli.md"):
+        for command in shown[where]:
             said = bash_syntax_error(command) or refused_by_the_parser(command)
             if said:
                 problems.setdefault(where, []).append((command, said))
