@@ -296,7 +296,8 @@ def fmu_rows(built: dict, trivial: dict, steps: int) -> tuple[list[dict], list[d
     work, fmu = [], []
     for preset, flavour in ((p, f) for p in PRESETS for f in ("pythonfmu", "native")):
         ours_path = built[flavour][preset]
-        check = subprocess.run([sys.executable, "-m", "linkage_fmu.cli", "check", str(ours_path)],
+        check = subprocess.run([sys.executable, "-m", "linkage_fmu.cli", "check", "--json",
+                                str(ours_path)],
                                capture_output=True, text=True, cwd=tempfile.gettempdir())
         if not check.stdout.strip():
             raise RuntimeError(f"linkage-fmu check {ours_path} failed: {check.stderr[-3000:]}")
