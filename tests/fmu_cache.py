@@ -191,3 +191,20 @@ def build_native_fmu(source, out, fmi_version: int = 2, platforms=None, drive: b
 def build_fmu(source, out, fmi_version: int = 2, **parameters) -> Path:
     """``linkage_fmu.fmi.build_fmu(source, out, ...)``, built once (see the module)."""
     return _cached_build("pythonfmu", source, out, fmi_version=fmi_version, **parameters)
+
+
+def heavier_coupler(fmu: Path, out: Path) -> Path:
+    """A copy of the four-bar's ``fmu`` at ``out`` whose description (its resource
+    ``FourBar.toml``) makes the coupler's mass 2.5 kg where the FMU was built with 2.0:
+    an FMU that its check against the library must fail."""
+    import zipfile
+
+    with zipfile.ZipFile(fmu) as source, zipfile.ZipFile(out, "w") as copy:
+        for item in source.infolist():
+            data = source.read(item)
+            if item.filename == "resources/FourBar.toml":
+                text = data.decode()
+                assert text.count("m2 = { default = 2.0,") == 1
+                data = text.replace("m2 = { default = 2.0,", "m2 = { default = 2.5,").encode()
+            copy.writestr(item, data)
+    return Path(out)

@@ -408,15 +408,7 @@ class Closure(Group):
         if self._drawn is not None and (xp is SCALAR or not xp.scalar):
             return self._drawn  # floats: computed once, when attached
         sub = self._upstream(KinematicState(self.theta0, xp), self.theta0, order=1)
-        x = [v for p in self.places for v in self.pose[p]]
-        J, _ = self._equations(xp, x, {p: self.pose[p] for p in self.needs})
-        zero = (0.0, 0.0)
-        r = []
-        for i, j, _ in self.constraints:
-            (xi, yi), (xj, yj) = self.pose[i], self.pose[j]
-            (ai, bi) = zero if i in self.column else sub.d1[i]
-            (aj, bj) = zero if j in self.column else sub.d1[j]
-            r.append(-((xi - xj) * (ai - aj) + (yi - yj) * (bi - bj)))
+        J, r = self._rate_equations(xp, self.pose, sub.d1, None)
         tangent, sign = self._solve(xp, J, r)
         tape = newton.tape_of(sign)
         if tape is not None:  # parameters draw it: the parameter step checks it
@@ -566,13 +558,21 @@ class Closure(Group):
         """Solve ``J X = r`` for the derivative coefficients of the points it places
         into ``d`` (``st.d1`` or ``st.d2``): ``r`` from the needed points' own, and for
         the second order the terms ``|Pi' - Pj'|^2`` (``quadratic``: ``st.d1``)."""
-        xp = st.xp
-        x = [v for p in self.places for v in st.p[p]]
-        J, _ = self._equations(xp, x, {p: st.p[p] for p in self.needs})
+        J, r = self._rate_equations(st.xp, st.p, d, quadratic)
+        X, _ = newton.solve(st.xp, J, r)
+        for p, c in self.column.items():
+            d[p] = (X[c], X[c + 1])
+
+    def _rate_equations(self, xp, points: dict, d: dict, quadratic: dict | None):
+        """``(J, r)`` of the derivative coefficients of the points it places, at the
+        positions ``points``: ``r`` from the needed points' coefficients in ``d``, and for
+        the second order the terms ``|Pi' - Pj'|^2`` (``quadratic``: the first's)."""
+        x = [v for p in self.places for v in points[p]]
+        J, _ = self._equations(xp, x, {p: points[p] for p in self.needs})
         zero = (0.0, 0.0)
         r = []
         for i, j, _ in self.constraints:
-            (xi, yi), (xj, yj) = st.p[i], st.p[j]
+            (xi, yi), (xj, yj) = points[i], points[j]
             (ai, bi) = zero if i in self.column else d[i]
             (aj, bj) = zero if j in self.column else d[j]
             v = -((xi - xj) * (ai - aj) + (yi - yj) * (bi - bj))
@@ -580,9 +580,7 @@ class Closure(Group):
                 (vi, wi), (vj, wj) = quadratic[i], quadratic[j]
                 v = v - ((vi - vj) * (vi - vj) + (wi - wj) * (wi - wj))
             r.append(v)
-        X, _ = newton.solve(xp, J, r)
-        for p, c in self.column.items():
-            d[p] = (X[c], X[c + 1])
+        return J, r
 
     def _turn(self, st: KinematicState, d: dict, w: dict) -> None:
         """``phi'`` (or ``phi''``) of each link from its first two joints' ``d``."""
