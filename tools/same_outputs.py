@@ -26,7 +26,8 @@ proves both files evaluated the same states.
 
 * Linkages: the 15 variants of ``tests/conftest.py`` (``VARIANTS``, copied here as of
   the baseline), ``four_bar`` with ``l_AB=0.3`` (assembles only over part of a
-  revolution) and ``examples/coupler_four_bar.toml`` (through ``linkage_fmu.load``).
+  revolution), every preset with friction in every pair (``FRICTION``) and every
+  example file, ``examples/joints/`` too (through ``linkage_fmu.load``).
 * Methods ``closed_form``, ``interpreted``, ``direct``; plans (``outputs=``) ``all``
   (None), ``effort`` (the balancing effort alone), ``subset`` (the first two outputs),
   ``diagnostics``; motions ``moving`` (omega in [-30, 30], alpha in [-100, 100], loads
@@ -98,7 +99,6 @@ import numpy as np
 
 SEED = 2026
 ROOT = Path(__file__).resolve().parents[1]
-EXAMPLE = ROOT / "examples" / "coupler_four_bar.toml"
 #: tests/conftest.py VARIANTS at the baseline: every preset and every six-bar driver
 VARIANTS: list[tuple[str, dict]] = [
     ("scotch_yoke", {}),
@@ -118,8 +118,31 @@ VARIANTS: list[tuple[str, dict]] = [
     ("crank_shaper", {"branch": -1, "l_AB": 0.2, "h_E": 0.35, "g": 0.0}),
 ]
 #: every linkage of the record: the variants, a crank too long to turn, the example file
-LINKAGES: list[tuple[str, dict]] = VARIANTS + [("four_bar", {"l_AB": 0.3}),
-                                                (str(EXAMPLE), {})]
+#: every preset with friction in every pair (pins of radius 0.01 m)
+FRICTION: list[tuple[str, dict]] = [
+    ("scotch_yoke", {"mu_A": 0.1, "r_A": 0.01, "mu_B": 0.1, "r_B": 0.01, "mu_slot": 0.08,
+                     "mu_guide": 0.12}),
+    ("four_bar", {"mu_A": 0.1, "r_A": 0.01, "mu_B": 0.1, "r_B": 0.01, "mu_C": 0.1,
+                  "r_C": 0.01, "mu_D": 0.1, "r_D": 0.01}),
+    ("slider_crank", {"mu_O": 0.1, "r_O": 0.01, "mu_A": 0.1, "r_A": 0.01, "mu_B": 0.1,
+                      "r_B": 0.01, "mu_guide": 0.1}),
+    ("six_bar", {"driver": "OA", "mu_O": 0.1, "r_O": 0.01, "mu_A": 0.1, "r_A": 0.01,
+                 "mu_B": 0.1, "r_B": 0.01, "mu_O1": 0.1, "r_O1": 0.01, "mu_K": 0.1,
+                 "r_K": 0.01, "mu_D": 0.1, "r_D": 0.01, "mu_guide": 0.1}),
+    ("slotted_lever", {"mu_A": 0.1, "r_A": 0.01, "mu_B": 0.1, "r_B": 0.01, "mu_slot": 0.1,
+                       "mu_C": 0.1, "r_C": 0.01}),
+    ("crank_shaper", {"mu_A": 0.1, "r_A": 0.01, "mu_B": 0.1, "r_B": 0.01, "mu_slot": 0.1,
+                      "mu_C": 0.1, "r_C": 0.01, "mu_D": 0.1, "r_D": 0.01, "mu_E": 0.1,
+                      "r_E": 0.01, "mu_guide": 0.1}),
+]
+#: every example file (the joints-and-links form of each preset among them)
+EXAMPLES: list[tuple[str, dict]] = [
+    (str(path), {}) for path in sorted(ROOT.glob("examples/*.toml"))
+    + sorted(ROOT.glob("examples/joints/*.toml"))]
+#: every linkage of the record: the variants, a crank too long to turn, friction, the
+#: example files
+LINKAGES: list[tuple[str, dict]] = (VARIANTS + [("four_bar", {"l_AB": 0.3})] + FRICTION
+                                    + EXAMPLES)
 METHODS = ("closed_form", "interpreted", "direct")
 PLANS = ("all", "effort", "subset", "diagnostics")
 MOTIONS = ("moving", "static")
@@ -177,7 +200,8 @@ def special_states(n_loads: int) -> np.ndarray:
 # -- the linkages ---------------------------------------------------------------------
 def linkage_label(source: str, parameters: dict) -> str:
     """``name|parameters`` of a linkage in the keys."""
-    name = Path(source).stem if source.endswith(".toml") else source
+    name = (Path(source).resolve().relative_to(ROOT).with_suffix("").as_posix()
+            if source.endswith(".toml") else source)
     params = ",".join(f"{k}={v}" for k, v in parameters.items()) or "defaults"
     return f"{name}|{params}"
 
