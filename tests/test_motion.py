@@ -16,6 +16,8 @@ import math
 import numpy as np
 import pytest
 
+from conftest import IDS as VARIANT_IDS
+from conftest import VARIANTS
 from linkage_fmu import AssemblyError, SelfLockingError, presets
 
 #: linkages that turn fully, their effort a moment on the crank (the six-bar's other
@@ -412,12 +414,11 @@ def test_moment_and_slope_is_the_kernel_s_Mb_and_a_derivative_by_alpha():
                                       rel=1e-7)
 
 
-def test_without_a_compiler_the_slope_is_a_difference_and_the_motion_the_same(monkeypatch,
-                                                                            tmp_path):
-    """No C compiler: moment_and_slope gives solve's Mb and a forward difference of it
-    (1e-6 relative: against the tangent's slope, measured 8.5e-9), and simulate's Newton
-    still converges: the motion equals the one with the tangent to 1e-9 rad (measured
-    3.2e-11: alpha agrees to rounding, the integrator's steps then differ a little)."""
+def test_without_a_compiler_the_slope_is_the_tangent_and_the_motion_the_same(monkeypatch,
+                                                                           tmp_path):
+    """No C compiler: moment_and_slope gives solve's Mb and the slope of the Python
+    forward mode, the compiled tangent's floats, and the motion is the one with the
+    compiled tangent (the same floats of Mb and slope: the same Newton steps)."""
     import warnings
 
     from linkage_fmu.kernels import compiled
@@ -437,9 +438,8 @@ def test_without_a_compiler_the_slope_is_a_difference_and_the_motion_the_same(mo
         Mb, slope = moment_and_slope(mech, **loads)(0.7, 12.0, 3.0)
         run = mech.simulate(2.0, t, theta0=0.3, omega0=10.0, **loads)
     assert Mb == mech.solve(0.7, 12.0, 3.0, outputs=("Mb",), **loads)["Mb"]
-    assert Mb == pytest.approx(exact[0], rel=1e-14)
-    assert slope == pytest.approx(exact[1], rel=1e-6)
-    np.testing.assert_allclose(run["theta"], with_tangent["theta"], rtol=0, atol=1e-9)
+    assert (Mb, slope) == exact
+    np.testing.assert_array_equal(run["theta"], with_tangent["theta"])
     assert not list(tmp_path.iterdir())  # nothing compiled
 
 
@@ -513,3 +513,115 @@ def test_friction_newton_meets_rounding_where_torque_and_Mb_are_near_0():
                   xtol=1e-15)
     assert abs(float(run["alpha"].iloc[0]) - root) <= 1e-9, (run["alpha"].iloc[0], root)
     assert abs(root + 1.68e-3) <= 1e-5
+
+
+def _with_friction_everywhere(name: str, params: dict) -> dict:
+    """``params`` with Coulomb friction in every pair of the preset (mu 0.15, pins of
+    0.02 of its length scale)."""
+    d = presets.preset(name)
+    scale = presets.get(name, **params).length_scale
+    out = {**params, **{spec["mu"]: 0.15 for spec in d.friction.values()}}
+    out.update({spec["radius"]: 0.02 * scale for spec in d.friction.values()
+                if "radius" in spec})
+    return out
+
+
+def _states(kernel, n_loads: int, rng) -> list:
+    """States of the kernel (theta, omega, alpha, loads): random ones (omega and alpha
+    0 or tiny among them: friction's direction decided by drive, or by rounding), and
+    states within 1e-3 .. 1e-12 rad of the edges of the angles where it assembles (near
+    singular: the reactions grow without bound there)."""
+    loads = [float(v) for v in rng.normal(0.0, 30.0, n_loads)]
+    out = []
+    for _ in range(40):
+        omega = float(rng.choice([0.0, 1e-12, -3e-9, rng.normal(0.0, 20.0)]))
+        alpha = float(rng.choice([0.0, rng.normal(0.0, 300.0)]))
+        out.append([float(rng.uniform(-7.0, 7.0)), omega, alpha, *loads])
+    def takes(theta):
+        try:
+            return kernel(theta, 4.0, 10.0, *loads) is not None
+        except ArithmeticError:  # Python's division by 0 at the edge: C's inf
+            return False
+
+    grid = np.linspace(0.0, 2 * math.pi, 721)
+    ok = [takes(th) for th in grid]
+    for a, b, oa, ob in zip(grid, grid[1:], ok, ok[1:]):
+        if oa == ob:
+            continue
+        inside, outside = (a, b) if oa else (b, a)
+        for _ in range(60):
+            mid = 0.5 * (inside + outside)
+            if not takes(mid):
+                outside = mid
+            else:
+                inside = mid
+        side = 1.0 if inside > outside else -1.0
+        out += [[inside + side * h, w, 10.0, *loads] for h in (0.0, 1e-12, 1e-9, 1e-6, 1e-3)
+                for w in (4.0, 0.0)]
+    return out
+
+
+#: every variant of the presets, and a four-bar whose crank is too long to turn (the
+#: edges of its range: near singular)
+EDGES = [*VARIANTS, ("four_bar", {"l_AB": 0.3})]
+
+
+@pytest.mark.parametrize("name,params", EDGES, ids=[*VARIANT_IDS, "four_bar-l_AB=0.3"])
+def test_without_a_compiler_moment_and_slope_is_the_compiled_tangent(monkeypatch, tmp_path,
+                                                                     name, params):
+    """Friction in every pair: without a C compiler, moment_and_slope gives the compiled
+    kernel's Mb and slope (the Python forward mode of the same tape, the same operations
+    in the same order), to 1e-14 relative (absolute of the slopes' scale where a slope
+    is near 0; measured: the same floats), at random states and at states near the
+    edges of the linkage's range; and the Python tangent kernel is the compiled one
+    along random directions of every input, failing the same states."""
+    import warnings
+
+    from linkage_fmu.kernels import compiled
+    from linkage_fmu.motion import moment_and_slope
+
+    mech = presets.get(name, **_with_friction_everywhere(name, params))
+    if not mech.effort_on_crank:
+        pytest.skip(f"{name}: the effort does not act on the crank")
+    values, given = mech.inputs(0.0, 0.0, (), {})
+    kernel = mech.solver.kernel((mech.effort.name,), False, given)
+    exact = kernel.tangent()
+    if exact is None:
+        pytest.skip("no C compiler")
+    loads = {ld.name: 7.0 for ld in mech.input_loads}
+    with_compiler = moment_and_slope(mech, **loads)
+    monkeypatch.setenv("CC", "no-such-compiler")
+    monkeypatch.setenv("LINKAGE_FMU_CACHE", str(tmp_path))
+    compiled._no_compiler_warning.cache_clear()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # "no C compiler found"
+        without = moment_and_slope(mech, **loads)
+    python = kernel.python_tangent()
+    rng = np.random.default_rng(38)
+    states = _states(kernel, kernel.n_inputs - 3, rng)
+    pairs = []
+    for x in states:
+        try:
+            pairs.append((with_compiler(*x[:3]), without(*x[:3])))
+        except (AssemblyError, SelfLockingError, ValueError):
+            with pytest.raises((AssemblyError, SelfLockingError, ValueError)):
+                without(*x[:3])
+        dx = rng.normal(size=len(x))
+        c = exact(x, dx)
+        try:
+            p = python(x, dx)
+        except ArithmeticError:  # Python's division by 0 (C's inf): a state failed
+            assert type(c) is not tuple or not np.isfinite(c[0]).all(), x
+            continue
+        if type(c) is not tuple:
+            assert p == c, x
+            continue
+        np.testing.assert_array_equal(p[0], c[0])
+        scale = 1e-14 * max(1e-300, float(np.max(np.abs(c[1]))))
+        np.testing.assert_allclose(p[1], c[1], rtol=1e-14, atol=scale, err_msg=str(x))
+    assert len(pairs) >= 20
+    slopes = 1e-14 * max(abs(s) for (_, s), _ in pairs)
+    for (m, s), (mp, sp) in pairs:
+        assert mp == m
+        assert sp == pytest.approx(s, rel=1e-14, abs=slopes)
+    assert not list(tmp_path.iterdir())  # nothing compiled

@@ -330,11 +330,13 @@ def moment_and_slope(mech, **loads) -> Callable[[float, float, float], tuple]:
     """``f(theta, omega, alpha) -> (Mb, dMb/dalpha)``: the balancing moment on the crank
     at a state, with the loads given, and its derivative by the crank acceleration.
 
-    Both come from one call of the compiled forward-mode kernel of the effort's plan
-    (:meth:`Kernel.tangent <linkage_fmu.kernels.Kernel.tangent>`): ``Mb`` the kernel's
+    Both come from one call of the forward-mode kernel of the effort's plan: the
+    compiled one (:meth:`Kernel.tangent <linkage_fmu.kernels.Kernel.tangent>`), or
+    without a C compiler its Python twin (:meth:`Kernel.python_tangent
+    <linkage_fmu.kernels.Kernel.python_tangent>`, the same floats): ``Mb`` the kernel's
     own floats, the derivative exact through every traced operation (friction's Newton
-    steps included). Where the kernel does not take the state (a guard fails) or there
-    is no C compiler, ``Mb`` is :meth:`~linkage_fmu.Mechanism.solve`'s and the
+    steps included). Where the kernel does not take the state (a guard fails, or the
+    derivative is not finite), ``Mb`` is :meth:`~linkage_fmu.Mechanism.solve`'s and the
     derivative a forward difference of it, step ``1e-6 max(1, |alpha|, omega**2)``
     (about 1e-6 relative: Newton's method on it still converges, a little slower).
     Without friction the derivative is ``J_red`` (``Mb`` is affine in ``alpha``).
@@ -373,9 +375,18 @@ def moment_and_slope(mech, **loads) -> Callable[[float, float, float], tuple]:
     outputs = (effort,)
     try:
         kernel = mech.solver.kernel(outputs, False, given)
-        tangent = kernel.tangent()
-    except (ValueError, CompilerError):  # no witness state, or the compiler failed
-        tangent = None
+    except ValueError:  # no witness state
+        kernel = tangent = None
+    if kernel is not None:
+        try:
+            tangent = kernel.tangent()
+        except CompilerError:  # the compiler failed
+            tangent = None
+        if tangent is None:  # no C compiler: the same derivatives in Python
+            try:
+                tangent = kernel.python_tangent()
+            except ValueError:  # an operation without a derivative rule
+                tangent = None
     along = np.zeros(3 + len(fixed))
     along[2] = 1.0
 
@@ -384,7 +395,10 @@ def moment_and_slope(mech, **loads) -> Callable[[float, float, float], tuple]:
 
     def f(theta: float, omega: float, alpha: float) -> tuple:
         if tangent is not None:
-            r = tangent([theta, omega, alpha, *fixed], along)
+            try:
+                r = tangent([theta, omega, alpha, *fixed], along)
+            except (ArithmeticError, ValueError):  # Python's math: C gives inf or NaN
+                r = None
             if type(r) is tuple:
                 m, dm = float(r[0][0]), float(r[1][0])
                 if math.isfinite(m + dm):

@@ -25,6 +25,7 @@ from dataclasses import dataclass, field
 from . import compiled
 from .c_source import SUMMARY_HEAD, c_source
 from .python_source import compile_source, python_source
+from .tangent import TangentFunction, python_tangent, tangent_tape
 from .trace import TRACE, Reason, Tape, program
 
 __all__ = ["Kernel", "Reason", "TRACE", "trace"]
@@ -70,6 +71,7 @@ class Kernel:
     call: Callable = field(default=None, repr=False)
     calls: int = 0  # one-state calls counted by the solver (which decides when to compile)
     _module: object = field(default=None, repr=False)  # the compiled one-state extension
+    _python_tangent: object = field(default=None, repr=False)
 
     def __post_init__(self):
         if self.function is None:
@@ -153,6 +155,24 @@ class Kernel:
         path = compiled.build(self.c_source(array=False, tangent=True))
         return None if path is None else compiled.TangentKernel(
             path, "linkage", self.n_inputs, len(self.outputs), self.frozen)
+
+    def python_tangent(self) -> TangentFunction:
+        """The forward-mode kernel as Python
+        (:class:`~linkage_fmu.kernels.tangent.TangentFunction`), which needs no C
+        compiler: the tape's derivatives (:func:`~linkage_fmu.kernels.tangent.tangent_tape`)
+        run from :attr:`frozen`, the same floats as :meth:`tangent`'s where both take
+        the state; made on first use and kept.
+
+        Examples
+        --------
+        >>> k = trace(lambda x, p: [x[0] * x[1] * p["a"]], [2.0, 5.0], {"a": 3.0}, ("y",))
+        >>> k.python_tangent()([2.0, 5.0], [1.0, 0.0])   # d(3 x0 x1)/dx0 = 3 x1
+        ((30.0,), (15.0,))
+        """
+        if self._python_tangent is None:
+            self._python_tangent = python_tangent(tangent_tape(self.tape, self.results),
+                                                  self.frozen)
+        return self._python_tangent
 
     def summary(self, reductions: Sequence[tuple[str, tuple[str, ...]]]):
         """The compiled reductions over states

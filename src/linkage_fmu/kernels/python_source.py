@@ -17,12 +17,28 @@ from .trace import Sym, Tape, operand, program, sign
 _INFIX = {"add": "+", "sub": "-", "mul": "*", "div": "/", "pow": "**", "lt": "<", "le": "<=",
           "gt": ">", "ge": ">=", "eq": "==", "ne": "!="}
 _FUNCTIONS = ("sqrt", "cos", "sin", "tan", "asin", "acos", "atan", "atan2", "hypot",
-              "radians", "degrees")
+              "radians", "degrees", "log")
 _CALL = {**{f: f for f in _FUNCTIONS}, "abs": "abs", "max": "max", "min": "min",
          "sign": "sign"}
 #: what the generated source calls: the very functions of the scalar formulas
+def quotient(a: float, b: float) -> float:
+    """``a / b`` as IEEE arithmetic (C) has it where ``b`` is zero: ``inf`` of the sign of
+    the operands' product, or NaN for ``0 / 0`` and ``NaN / 0`` (Python raises).
+
+    Examples
+    --------
+    >>> quotient(1.0, -0.0), quotient(0.0, 0.0), quotient(3.0, 2.0)
+    (-inf, nan, 1.5)
+    """
+    if b:
+        return a / b
+    if a != a or a == 0.0:
+        return math.nan
+    return math.copysign(math.inf, a) * math.copysign(1.0, b)
+
+
 NAMESPACE = {**{f: getattr(math, f) for f in _FUNCTIONS}, "inf": math.inf, "nan": math.nan,
-             "sign": sign}
+             "sign": sign, "quotient": quotient}
 
 
 def _literal(value: float) -> str:
@@ -31,17 +47,20 @@ def _literal(value: float) -> str:
 
 
 def _statements(tape: Tape, nodes: list, guards: dict, codes: dict, indent: str,
-                bodies: dict | None = None) -> list:
+                bodies: dict | None = None, ieee: bool = False) -> list:
     lines = []
     for i in nodes:
         node = tape.nodes[i]
         if node.op in ("final", "converged"):  # written by their loop
             continue
         if node.op == "loop":
-            lines += _loop(tape, tape.loops[i], guards, codes, indent, bodies)
+            lines += _loop(tape, tape.loops[i], guards, codes, indent, bodies, ieee)
             continue
         args = [operand(tape, a, _literal) for a in node.args]
-        if node.op in _INFIX:
+        if ieee and node.op == "div" and not (
+                tape.nodes[node.args[1]].op == "const" and tape.nodes[node.args[1]].value):
+            expr = f"{args[0]} / {args[1]} if {args[1]} else quotient({args[0]}, {args[1]})"
+        elif node.op in _INFIX:
             expr = f"{args[0]} {_INFIX[node.op]} {args[1]}"
         elif node.op == "neg":
             expr = f"-{args[0]}"
@@ -59,7 +78,8 @@ def _statements(tape: Tape, nodes: list, guards: dict, codes: dict, indent: str,
     return lines
 
 
-def _loop(tape: Tape, L, guards: dict, codes: dict, indent: str, bodies: dict) -> list:
+def _loop(tape: Tape, L, guards: dict, codes: dict, indent: str, bodies: dict,
+          ieee: bool = False) -> list:
     """A loop (:meth:`Tape.loop <linkage_fmu.kernels.trace.Tape.loop>`): its carried
     values, then ``for`` over its runs, the test after ``minimum`` of them."""
     inner = indent + "    "
@@ -69,7 +89,7 @@ def _loop(tape: Tape, L, guards: dict, codes: dict, indent: str, bodies: dict) -
         f"{indent}{_tuple(carries)} = {_tuple([operand(tape, a, _literal) for a in L.inits])}",
         f"{indent}t{L.converged} = False",
         f"{indent}for _k{L.index} in range({L.maximum}):",
-        *_statements(tape, bodies[L.index], guards, codes, inner, bodies),
+        *_statements(tape, bodies[L.index], guards, codes, inner, bodies, ieee),
         f"{inner}{_tuple(carries)} = {_tuple(news)}",
         f"{inner}if _k{L.index} >= {L.minimum - 1} and not "
         f"{operand(tape, L.again, _literal)}:",
@@ -86,11 +106,13 @@ def _tuple(items: list) -> str:
 
 
 def python_source(tape: Tape, arguments: list[str], results: list,
-                  parameters: tuple = ()) -> str:
+                  parameters: tuple = (), ieee: bool = False) -> str:
     """Two functions: ``prepare(*parameters)``, the parameter step, returning the tuple
     of values the state step reads (or the code of the check of the parameters that
     fails, an int), and ``make(*those values)``, returning ``kernel(*arguments)``, which
-    returns the tuple of ``results`` or the code of the guard that fails.
+    returns the tuple of ``results`` or the code of the guard that fails. With
+    ``ieee``, a division by zero gives IEEE arithmetic's inf or NaN (:func:`quotient`)
+    instead of raising.
 
     Examples
     --------
@@ -119,11 +141,11 @@ def python_source(tape: Tape, arguments: list[str], results: list,
               for r in results]
     return "\n".join([
         f"def prepare({', '.join(parameters)}):",
-        *_statements(tape, prog.prepare, prog.guards, codes, "    "),
+        *_statements(tape, prog.prepare, prog.guards, codes, "    ", ieee=ieee),
         f"    return {_tuple(frozen)}",
         f"def make({', '.join(frozen)}):",
         f"    def kernel({', '.join(arguments)}):",
-        *_statements(tape, prog.state, prog.guards, codes, "        ", prog.bodies),
+        *_statements(tape, prog.state, prog.guards, codes, "        ", prog.bodies, ieee),
         f"        return {_tuple(values)}",
         "    return kernel",
         "",

@@ -415,16 +415,7 @@ def program(tape: Tape, results: list) -> Program:
     """The :class:`Program` of ``results`` (Syms or floats): the live nodes (the
     results', the guards' and what they depend on), split into the work on the
     parameters alone and the work per state, the loops' bodies apart."""
-    todo = [r.index for r in results if isinstance(r, Sym)] + [g for g, _ in tape.guards]
-    live = set()
-    while todo:
-        i = todo.pop()
-        if i not in live:
-            live.add(i)
-            todo.extend(tape.nodes[i].args)
-            if tape.nodes[i].op == "loop":
-                L = tape.loops[i]
-                todo.extend([*L.news, L.again, *L.carries])
+    live = live_nodes(tape, results)
     guards = {}
     for index, outcome in tape.guards:
         guards.setdefault(index, outcome)
@@ -451,6 +442,23 @@ def program(tape: Tape, results: list) -> Program:
     frozen = [i for i in order if i in fixed and i in read and tape.nodes[i].op != "const"]
     prepare = [i for i in order if i in fixed and tape.nodes[i].op not in ("input", "const")]
     return Program(prepare, frozen, state, guards, bodies)
+
+
+def live_nodes(tape: Tape, results: list) -> set:
+    """The nodes code generated from ``tape`` computes for ``results`` (Syms or
+    floats): the results', the guards' and what they depend on (a loop's body, its
+    carried values and its test included)."""
+    todo = [r.index for r in results if isinstance(r, Sym)] + [g for g, _ in tape.guards]
+    live = set()
+    while todo:
+        i = todo.pop()
+        if i not in live:
+            live.add(i)
+            todo.extend(tape.nodes[i].args)
+            if tape.nodes[i].op == "loop":
+                L = tape.loops[i]
+                todo.extend([*L.news, L.again, *L.carries])
+    return live
 
 
 def operand(tape: Tape, i: int, literal) -> str:
