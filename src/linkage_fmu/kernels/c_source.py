@@ -11,8 +11,9 @@ from __future__ import annotations
 
 import copy
 import dataclasses
-import math
 
+from .tangent import SCALE as _SCALE
+from .tangent import needed as tangent_needed
 from .trace import Sym, Tape, operand, program
 
 _INFIX = {"add": "+", "sub": "-", "mul": "*", "div": "/", "lt": "<", "le": "<=", "gt": ">",
@@ -20,8 +21,6 @@ _INFIX = {"add": "+", "sub": "-", "mul": "*", "div": "/", "lt": "<", "le": "<=",
 _CALL = {"sqrt": "sqrt", "cos": "cos", "sin": "sin", "tan": "tan", "asin": "asin",
          "acos": "acos", "atan": "atan", "atan2": "atan2", "hypot": "hypot", "abs": "fabs",
          "pow": "pow"}
-#: CPython's math.radians and math.degrees: one multiplication by these
-_SCALE = {"radians": math.pi / 180.0, "degrees": 180.0 / math.pi}
 _COMPARE = {"lt", "le", "gt", "ge", "eq", "ne"}
 
 
@@ -214,26 +213,7 @@ class _Tangent:
     def __init__(self, tape: Tape, prog, results: list):
         self.tape = tape
         zero = {i for i, n in enumerate(tape.nodes) if n.op == "const" or i in tape.fixed}
-        needed = set()
-        todo = [r.index for r in results if isinstance(r, Sym)]
-        while todo:
-            i = todo.pop()
-            if i in needed:
-                continue
-            needed.add(i)
-            node = tape.nodes[i]
-            if node.op in ("sign", "converged", "fails") or node.op in _COMPARE:
-                continue  # piecewise constant: no derivative
-            if node.op == "final":
-                todo.append(tape.loops[node.args[0]].carries[node.value])
-            elif node.op == "carry":
-                L = next(L for L in tape.loops.values() if i in L.carries)
-                k = L.carries.index(i)
-                todo += [L.inits[k], L.news[k]]
-            elif node.op == "select":  # not through its condition
-                todo.extend(node.args[1:])
-            elif node.op != "loop":
-                todo.extend(node.args)
+        needed = tangent_needed(tape, results)
         zero.update(i for i in range(len(tape.nodes)) if i not in needed)
         self.zero, self.needed = zero, needed
 
