@@ -758,6 +758,37 @@ def test_friction_fuzz_and_energy(friction_fmus):
     assert energy["stuck steps"] > 10 and energy["reversals"] >= 2, energy
 
 
+def test_the_two_roots_of_the_acceleration_with_friction_agree(friction_fmus, tmp_path):
+    """With friction, alpha solves tau = Mb(alpha) twice, by two algorithms kept apart on
+    purpose: simulate's Newton (motion.py, from alpha = 0, the library's kernel and its
+    exact tangent) and the drive FMU's bracketed secant (backend_native.c, from
+    Eksergian's estimate, its kernel's loops stopping once they converge). At 72 states
+    of the slider-crank with :data:`FRICTION` (12 angles over the turn, moving forwards
+    and backwards at three speeds, one near rest) under a driving and a braking moment,
+    the FMU's derivative of omega (model exchange, the crank moving the way of omega)
+    equals simulate's alpha to 1e-12 of the root's scale ``|alpha| + (|tau| + |Mb|) /
+    (dMb/dalpha)``, the size both iterations' tests are relative to (measured 4.3e-16:
+    both stop within rounding of one root)."""
+    from linkage_fmu import motion
+    from linkage_fmu.presets import linkage
+
+    mech = linkage("slider_crank", **FRICTION)
+    angles = np.linspace(0.0, 2.0 * np.pi, 12, endpoint=False) + 0.1
+    for d in (1, -1):
+        way = motion._Direction(mech, d, {"load": LOAD}, 0.0)
+        states = [[float(th), d * w] for th in angles for w in (1e-3, 3.0, 40.0)]
+        for tau in (1.0, -0.5):
+            out = host({"job": "exchange", "fmu": str(friction_fmus[2]), "tau": tau,
+                        "start": {**FRICTION, "load": LOAD, "theta0": 0.3,
+                                  "omega0": d * 5.0}, "states": states}, tmp_path)
+            for (theta, omega), (status, dx) in zip(states, out["derivatives"]):
+                assert status == OK and dx[0] == omega, (theta, omega, out["log"])
+                alpha = way.acceleration(0.0, theta, omega, tau)
+                Mb, slope = way.moment(theta, omega, alpha)
+                scale = abs(alpha) + (abs(tau) + abs(Mb)) / slope
+                assert abs(dx[1] - alpha) <= 1e-12 * scale, (theta, omega, tau, dx[1], alpha)
+
+
 # -- stops, breakaways and reversals in every importer ------------------------------------
 def test_a_decelerating_crank_stops_and_sticks_in_cosimulation(friction_fmus):
     """From theta0 = 0.3 at 0.01 rad/s under a tau 90 % of the way up the band (friction

@@ -448,6 +448,13 @@ class _Direction:
     def acceleration(self, ti: float, th: float, w: float, tq: float) -> float:
         """``alpha`` solving ``tq - extra alpha = Mb(th, w, alpha)`` (Newton from 0, kept
         inside the bracket that the residual's signs give)."""
+        # Not the drive FMU's bracketed secant from Eksergian's estimate
+        # (fmi/backend_native.c), on purpose: here each step is a call from Python, so
+        # the fewest steps win, and one call of the tangent kernel gives Mb and the exact
+        # slope together; Mb is the library's own floats (the kernel's loops run as solve
+        # runs them), so that a row of the motion is solve's at its alpha. The FMU's
+        # secant saves C runs of the kernel instead. Both find the root to rounding
+        # (tests/test_drive.py compares them state by state).
         extra = self.extra
         a, last, before = 0.0, math.inf, math.inf
         lo, hi = -math.inf, math.inf  # the root lies between: the residual's signs

@@ -281,7 +281,13 @@ static Status friction_band(const Model *m, const Values *v, double theta, doubl
  * and more: the twin runs only where the secant's slope is not positive, to tell a kink
  * from friction locking the crank.
  * LK_DISCARD, saying why, where dMb/dalpha is not positive before a bracket is found
- * (friction locks the crank) or it does not converge. */
+ * (friction locks the crank) or it does not converge.
+ * Not the Newton iteration of the library's simulate (motion.py), on purpose: this one
+ * runs at every evaluation of the derivatives an importer's integrator asks for, in C,
+ * where a run of the alpha-dependent part (RHS_VARY) is the cost to save, and the kernel's
+ * loops stop once they converge (settle): its Mb is the root's to rounding, not the
+ * library's floats, which simulate keeps. Both find the same root to rounding
+ * (tests/test_drive.py compares them state by state). */
 static Status acceleration(const Model *m, const Values *v, const double *x, int dir,
                            double *alpha, char *why, size_t size) {
     const int s = m->structure;
