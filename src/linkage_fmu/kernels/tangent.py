@@ -93,6 +93,8 @@ class TangentTape:
     the original ``results`` (Syms of ``tape``, or floats) and their ``derivatives``
     (Syms of ``tape``, or 0.0 where a derivative is zero). ``codes``: the
     code of each of its guards (by position, from 1) in the original kernel's codes.
+    Its witnesses are NaN but for the state inputs' (the new tape is printed, not
+    traced on).
     """
 
     tape: Tape
