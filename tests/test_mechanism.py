@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from conftest import IDS, VARIANTS
-from linkage_fmu import SingularPositionError, friction, groups, kinetostatics, presets
+from linkage_fmu import SingularPositionError, friction, groups, kinetostatics, linalg, presets
 from linkage_fmu.loads import wrenches
 
 TH = np.linspace(0.05, 2 * np.pi, 25)
@@ -431,13 +431,13 @@ def test_a_singular_matrix_in_the_direct_method_is_the_librarys_error():
         assert err.value.reason.text == ("the linkage is at a singular position: the dyad at "
                                          "B is at a toggle")
     rubbing = presets.get("slider_crank", mu_guide=0.1)
-    with mock.patch.object(friction.kinetostatics, "_solve",
+    with mock.patch.object(friction.linalg, "solve_batch",
                            side_effect=np.linalg.LinAlgError("Singular matrix")):
         with pytest.raises(STATE_ERRORS):
             rubbing.solve(0.5, omega=10.0, method="direct")
     A = np.array([[[2.0, 1.0], [1.0, 3.0]], [[1.0, 2.0], [2.0, 4.0]]])
     b = np.array([[1.0, 2.0], [1.0, 1.0]])
-    x = kinetostatics._solve(A, b)
+    x = linalg.solve_batch(A, b)
     np.testing.assert_allclose(x[0], np.linalg.solve(A[0], b[0]), rtol=1e-15)
     assert np.isnan(x[1]).all()
 

@@ -119,3 +119,67 @@ def test_no_module_uses_another_modules_private_names():
                 if attr.startswith("_") and not attr.startswith("__") and \
                         attr not in CONVENTIONAL:
                     assert attr in own, (name, node.lineno, attr)
+
+
+def module_names(name: str, path: Path, tree: ast.Module, known: dict) -> dict[str, str]:
+    """Local name -> the package module it is bound to by an import of module ``name``
+    (``from . import friction``, ``from .. import newton as n``, ``import linkage_fmu.x``),
+    at any level of its code."""
+    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+    bound = {}
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                parts = package.split(".")
+                parts = parts[:len(parts) - node.level + 1]
+                base = ".".join(parts + ([base] if base else []))
+            for a in node.names:
+                if f"{base}.{a.name}" in known:
+                    bound[a.asname or a.name] = f"{base}.{a.name}"
+        elif isinstance(node, ast.Import):
+            for a in node.names:
+                if a.name in known:
+                    bound[a.asname or a.name.partition(".")[0]] = \
+                        a.name if a.asname else a.name.partition(".")[0]
+    return bound
+
+
+def module_of(node: ast.expr, bound: dict, known: dict) -> str | None:
+    """The package module the expression ``node`` names (a name bound to one, or a
+    submodule of one: ``friction.kinetostatics``), else None."""
+    if isinstance(node, ast.Name):
+        return bound.get(node.id)
+    if isinstance(node, ast.Attribute):
+        outer = module_of(node.value, bound, known)
+        if outer is not None and f"{outer}.{node.attr}" in known:
+            return f"{outer}.{node.attr}"
+    return None
+
+
+def test_no_module_uses_a_private_name_of_a_module_it_imports():
+    """``kinetostatics._solve`` from friction: a private name read through an imported
+    module, which the test above passes where the reading module defines a name of the
+    same spelling."""
+    known = modules()
+    found = []
+    for name, path in known.items():
+        tree = ast.parse(path.read_text())
+        bound = module_names(name, path, tree, known)
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Attribute) and node.attr.startswith("_") and \
+                    not node.attr.startswith("__") and node.attr not in CONVENTIONAL:
+                target = module_of(node.value, bound, known)
+                if target is not None and target != name:
+                    found.append((name, node.lineno, f"{target}.{node.attr}"))
+    assert not found
+
+
+def test_the_linear_algebra_is_a_leaf():
+    """linkage_fmu.linalg imports nothing of the package, and at its import only numpy:
+    mpmath is imported by the solve that uses it (the package imports without it)."""
+    assert graph()[f"{PACKAGE}.linalg"] == set()
+    tree = ast.parse((SRC / PACKAGE / "linalg.py").read_text())
+    top = {a.name for node in tree.body if isinstance(node, ast.Import) for a in node.names}
+    top |= {node.module for node in tree.body if isinstance(node, ast.ImportFrom)}
+    assert top == {"__future__", "numpy"}

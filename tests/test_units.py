@@ -9,7 +9,7 @@ import re
 
 import pytest
 
-from linkage_fmu import presets
+from linkage_fmu import presets, units
 from linkage_fmu.expressions import evaluate
 from linkage_fmu.parameters import Parameter
 from linkage_fmu.units import has_units, to_si
@@ -113,3 +113,34 @@ def test_a_moment_written_as_one_word_is_refused_with_the_unit_meant(text, fixed
                                          rf"is .*; did you mean '{re.escape(fixed)}'\?$"):
         evaluate(text, "N.m", "T")
     assert evaluate(fixed, "N.m", "T") == float(text.split()[0]) * (1e3 if "k" in text else 1.0)
+
+
+@pytest.mark.parametrize("unit", units.TABLE, ids=[u.symbol for u in units.TABLE])
+def test_each_units_base_and_display_units_are_pints(unit):
+    """Reference: pint's own definitions. The SI base-unit exponents the FMUs'
+    modelDescription writes are those of the unit's pint spelling (coherent: factor 1),
+    and each display unit's factor is pint's conversion (1 deg = pi / 180 rad), to 1e-15."""
+    ureg = units.registry()
+    base = ureg.Quantity(1.0, unit.pint).to_base_units()
+    short = {"kilogram": "kg", "meter": "m", "second": "s", "radian": "rad"}
+    assert {short[k]: v for k, v in base.unit_items()} == unit.base
+    assert base.magnitude == pytest.approx(1.0, rel=1e-15)
+    for name, factor in unit.display:
+        spelled = name.replace("s2", "s**2")
+        assert ureg.Quantity(1.0, unit.pint).to(spelled).magnitude == pytest.approx(
+            factor, rel=1e-15)
+        assert factor == pytest.approx(180.0 / math.pi, rel=1e-15)
+
+
+def test_the_units_named_and_defined_are_the_tables():
+    """The units a description may use (their pint spelling, what each measures), the
+    ones the FMUs' modelDescription defines and the units of the crank's motion are
+    read from one table: every unit a value may have is defined for the FMUs."""
+    from linkage_fmu.fmi.writers import UNITS
+
+    assert list(UNITS) == [u.symbol for u in units.TABLE]
+    assert list(units.PINT) == list(units.NAMES) == [u.symbol for u in units.TABLE
+                                                      if u.described]
+    assert set(units.MOTION_UNITS.values()) <= set(units.PINT)
+    mech = presets.get("four_bar")
+    assert {k: mech.input_units[k] for k in units.MOTION_UNITS} == units.MOTION_UNITS

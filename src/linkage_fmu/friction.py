@@ -42,7 +42,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import kinetostatics, newton
+from . import kinetostatics, linalg, newton
 from .groups.base import Joint, KinematicState, push
 from .kernels.trace import Reason
 
@@ -244,37 +244,6 @@ def law(xp, jf: JointFriction, s, reaction):
     return k * (xp.abs(n1) + xp.abs(n2)), k * 0.5 * (s1 + s2), k * (s2 - s1) / jf.length
 
 
-def _solve(J: list, g: list) -> list:
-    """``J^-1 g`` for a small system, by elimination without pivoting (``J`` is the
-    identity plus friction terms: its diagonal stays near 1 until self-locking)."""
-    n = len(g)
-    J = [list(row) for row in J]
-    g = list(g)
-    for k in range(n):
-        for i in range(k + 1, n):
-            r = J[i][k] / J[k][k]
-            for c in range(k + 1, n):
-                J[i][c] = J[i][c] - r * J[k][c]
-            g[i] = g[i] - r * g[k]
-    x = [0.0] * n
-    for i in reversed(range(n)):
-        v = g[i]
-        for c in range(i + 1, n):
-            v = v - J[i][c] * x[c]
-        x[i] = v / J[i][i]
-    return x
-
-
-def _determinant(J: list):
-    n = len(J)
-    if n == 1:
-        return J[0][0]
-    if n == 2:
-        return J[0][0] * J[1][1] - J[0][1] * J[1][0]
-    return sum(J[0][c] * _determinant([row[:c] + row[c + 1:] for row in J[1:]]) * (-1.0) ** c
-               for c in range(n))
-
-
 def _scratch(W: dict | None, links) -> dict:
     """Wrenches for a trial solve of a group: its links' (copies, or zeros), and zeros
     for the bodies its statics pushes reactions onto."""
@@ -343,8 +312,8 @@ def solve_group(mech, st: KinematicState, grp, pairs: tuple, W: dict, R: dict,
         g = [f[0] if first else pick(f[0], m[i] - f[0]) for i, f in enumerate(laws)]
         J = [[(1.0 if i == k else 0.0) - (laws[i][1] * K[k][i][0] + laws[i][2] * K[k][i][1])
               for k in range(n)] for i in range(n)]
-        d = _solve(J, g)
-        return [pick(-v, v) for v in d], _determinant(J)
+        d = linalg.solve_unpivoted(J, g)
+        return [pick(-v, v) for v in d], linalg.determinant(J)
 
     what = _locks(grp, pairs)
     fail = _failure(mech, st, what)
@@ -603,7 +572,7 @@ def direct(mech, st: KinematicState, W: dict, omega, static: bool, xp, n_states:
         B = np.empty((n_states, n))
         for r, v in rhs:
             B[:, r] = v
-        x = kinetostatics._solve(A, B).T  # x[k]: unknown k over states (NaN: singular)
+        x = linalg.solve_batch(A, B).T  # x[k]: unknown k over states (NaN: singular)
         tol = TOLERANCE
     sign_A = _det_sign(A, precise)
     done = np.zeros(n_states, bool)
@@ -632,7 +601,7 @@ def direct(mech, st: KinematicState, W: dict, omega, static: bool, xp, n_states:
                 J[:, r, col] += fa * v
                 J[:, r, col + 1] += fb * v * scale(jf)
         with np.errstate(all="ignore"):
-            d = kinetostatics._solve(J, G).T  # NaN where J is singular (an overflow)
+            d = linalg.solve_batch(J, G).T  # NaN where J is singular (an overflow)
             held = np.where(done, held, _det_sign(J, False) == sign_A)
             x = np.where(done, x, x - d)
             if k + 1 >= ITERATIONS:

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import linalg
 from .groups import KinematicState
 from .groups.base import push
 from .numerics import Number
@@ -236,22 +237,8 @@ def direct(mech, st: KinematicState, W: dict, xp, n_states: int = 1):
     if lu_solve is not None:
         return unknowns(mech, lu_solve(*equilibrium_entries(mech, st, W)))
     A, b = equilibrium_system(mech, st, W, n_states)
-    R, effort = unknowns(mech, _solve(A, b).T)
+    R, effort = unknowns(mech, linalg.solve_batch(A, b).T)
     if xp.scalar:
         R = {k: (float(a[0]), float(b[0])) for k, (a, b) in R.items()}
         effort = float(effort[0])
     return R, effort
-
-
-def _solve(A: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Batched LU solve; singular states give NaN instead of failing the batch."""
-    try:
-        return np.linalg.solve(A, b[..., None])[..., 0]
-    except np.linalg.LinAlgError:
-        x = np.full(b.shape, np.nan)
-        for i in range(A.shape[0]):
-            try:
-                x[i] = np.linalg.solve(A[i], b[i])
-            except np.linalg.LinAlgError:
-                pass
-        return x

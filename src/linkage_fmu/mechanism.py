@@ -27,6 +27,7 @@ from .loads import Load, powers, wrenches
 from .numerics import ARRAY, SCALAR, finite_array, finite_float
 from .outputs import SHAKING, EffortOutput, Shaking
 from .solver import METHODS, Solution, Solver
+from .units import MOTION_UNITS
 
 __all__ = ["Mechanism", "Body", "Effort", "Solution", "METHODS", "MOTION"]
 
@@ -172,8 +173,7 @@ class Mechanism:
         self._n_loads = len(self.input_loads)
         self._load_name = self.input_loads[0].name if self.input_loads else None
         #: input name -> its unit (the loads over the cycle included)
-        self.input_units = {"theta": "rad", "omega": "rad/s", "alpha": "rad/s2",
-                            **{load.name: load.unit for load in self.loads}}
+        self.input_units = {**MOTION_UNITS, **{load.name: load.unit for load in self.loads}}
         # every linkage reports what its moving links put on the frame
         outputs = tuple(outputs) + friction_outputs(self) + tuple(
             Shaking(n, c) for n, c in zip(SHAKING, "xyM"))

@@ -1,11 +1,12 @@
-"""Newton iterations and small linear solves written once for every kind of number.
+"""Newton iterations written once for every kind of number.
 
 The same steps run on floats (one state), numpy arrays (many states, each its own
 iteration), mpmath numbers and traced numbers (:mod:`~linkage_fmu.kernels.trace`), where
 an iteration is a loop of the kernel (:meth:`~linkage_fmu.kernels.trace.Tape.loop`):
 its body holds no branch, its decisions are operations. The friction of the joints
 (:mod:`~linkage_fmu.friction`) and the closure of a class III group
-(:mod:`~linkage_fmu.groups.closure`) iterate with them.
+(:mod:`~linkage_fmu.groups.closure`) iterate with them, solving their linear systems
+with :mod:`~linkage_fmu.linalg`.
 
 Examples
 --------
@@ -14,8 +15,6 @@ Examples
 ...     return [(x[0] * x[0] - 2.0) / (2.0 * x[0])], None, memory
 >>> round(iterate(SCALAR, [1.0], step, fail=None)[0], 15)
 1.414213562373095
->>> solve(SCALAR, [[0.0, 2.0], [4.0, 1.0]], [2.0, 9.0])[0]
-[2.0, 1.0]
 """
 
 from __future__ import annotations
@@ -288,99 +287,3 @@ def inverse(xp, x):
     (0.25, 0.0)
     """
     return xp.sign(x) / xp.maximum(xp.abs(x), TINY)
-
-
-def solve(xp, A: list, b: list) -> tuple[list, list]:
-    """``A^-1 b`` by Gaussian elimination with partial pivoting, and the magnitudes of
-    the pivots (the diagonal of ``U`` in ``PA = LU``): :func:`solve_many` of one
-    right-hand side.
-
-    Examples
-    --------
-    >>> from linkage_fmu.numerics import SCALAR
-    >>> x, pivots = solve(SCALAR, [[1e-20, 1.0], [1.0, 1.0]], [1.0, 2.0])
-    >>> [round(v, 15) for v in x], pivots
-    ([1.0, 1.0], [1.0, 1.0])
-    """
-    (x,), pivots = solve_many(xp, A, [b])
-    return x, pivots
-
-
-def solve_signed(xp, A: list, b: list) -> tuple[list, object]:
-    """``A^-1 b`` (:func:`solve`) and the sign of ``det A``, -1.0 or 1.0 (0.0 where a
-    pivot is 0 or NaN), from the pivots and the row swaps, without a branch.
-
-    Examples
-    --------
-    >>> from linkage_fmu.numerics import SCALAR
-    >>> solve_signed(SCALAR, [[0.0, 2.0], [4.0, 1.0]], [2.0, 9.0])
-    ([2.0, 1.0], -1.0)
-    """
-    (x,), _, sign = _eliminate(xp, A, [b], True)
-    return x, sign
-
-
-def solve_many(xp, A: list, B: list) -> tuple[list, list]:
-    """``A^-1 b`` for each right-hand side ``b`` of ``B``, by Gaussian elimination with
-    partial pivoting, and the magnitudes of the pivots.
-
-    The pivoting takes no branch, so that it runs inside a kernel's loop: at column
-    ``k`` each lower row in turn is swapped with row ``k`` where its entry is larger in
-    magnitude, by blending the two rows with weights 0 and 1 (``w = max(sign(|a| -
-    |p|), 0)``, exact): the largest entry of the column ends on the diagonal, as in
-    LAPACK's partial pivoting, rows of equal magnitude left in place. ``A`` is a list of
-    rows of numbers of ``xp`` (floats, arrays over states, mpmath, traced). A zero pivot
-    divides by zero: ZeroDivisionError on floats and mpmath, inf or NaN on arrays and in
-    kernels.
-
-    Examples
-    --------
-    >>> from linkage_fmu.numerics import SCALAR
-    >>> solve_many(SCALAR, [[0.0, 2.0], [4.0, 1.0]], [[1.0, 0.0], [0.0, 1.0]])[0]
-    [[-0.125, 0.5], [0.25, 0.0]]
-    """
-    X, pivots, _ = _eliminate(xp, A, B, False)
-    return X, pivots
-
-
-def _eliminate(xp, A: list, B: list, signed: bool) -> tuple[list, list, object]:
-    """:func:`solve_many`'s elimination; with ``signed``, also the sign of ``det A``
-    (each swap taken, ``w = 1``, turns it; then the pivots' signs), else None."""
-    n = len(A)
-    A = [list(row) for row in A]
-    B = [list(b) for b in B]
-    pivots = []
-    turned = 1.0
-    for k in range(n):
-        for i in range(k + 1, n):
-            w = xp.maximum(xp.sign(xp.abs(A[i][k]) - xp.abs(A[k][k])), 0.0)
-            v = 1.0 - w
-            if signed:
-                turned = turned * (1.0 - 2.0 * w)
-            for c in range(k, n):
-                A[k][c], A[i][c] = w * A[i][c] + v * A[k][c], w * A[k][c] + v * A[i][c]
-            for b in B:
-                b[k], b[i] = w * b[i] + v * b[k], w * b[k] + v * b[i]
-        p = A[k][k]
-        pivots.append(xp.abs(p))
-        for i in range(k + 1, n):
-            r = A[i][k] / p
-            for c in range(k + 1, n):
-                A[i][c] = A[i][c] - r * A[k][c]
-            for b in B:
-                b[i] = b[i] - r * b[k]
-    X = []
-    for b in B:
-        x = [0.0] * n
-        for i in reversed(range(n)):
-            v = b[i]
-            for c in range(i + 1, n):
-                v = v - A[i][c] * x[c]
-            x[i] = v / A[i][i]
-        X.append(x)
-    if not signed:
-        return X, pivots, None
-    sign = turned
-    for k in range(n):
-        sign = sign * xp.sign(A[k][k])
-    return X, pivots, sign

@@ -15,24 +15,15 @@ from types import SimpleNamespace
 import mpmath
 import numpy as np
 
-
-def lu_solve(n: int, a: list, b: list):
-    """Solve the ``n`` equations given as nonzero entries ``a`` (row, column, value) and
-    right-hand side ``b`` (row, value) by mpmath's LU with partial pivoting."""
-    A, B = mpmath.zeros(n, n), mpmath.zeros(n, 1)
-    for r, c, v in a:
-        A[r, c] = v
-    for r, v in b:
-        B[r] = v
-    return mpmath.lu_solve(A, B)
-
+from .linalg import solve_mpmath
 
 #: evaluation mode of the formulas on mpmath numbers (see :mod:`linkage_fmu.numerics`);
-#: the direct method solves its linear system with :func:`lu_solve`
+#: the direct method solves its linear system with
+#: :func:`~linkage_fmu.linalg.solve_mpmath`
 MP = SimpleNamespace(scalar=True, sqrt=mpmath.sqrt, cos=mpmath.cos, sin=mpmath.sin,
                      atan2=mpmath.atan2, abs=abs, maximum=max, sign=mpmath.sign,
                      nan_where=lambda z: mpmath.nan if z else mpmath.mpf(0),
-                     lu_solve=lu_solve,
+                     lu_solve=solve_mpmath,
                      eps=lambda: mpmath.mp.eps * 1000,
                      functions={"sqrt": mpmath.sqrt, "sin": mpmath.sin, "cos": mpmath.cos,
                                 "tan": mpmath.tan, "asin": mpmath.asin, "acos": mpmath.acos,

@@ -24,17 +24,60 @@ from __future__ import annotations
 
 import functools
 import re
+from typing import NamedTuple
 
-#: the package's units (as in the FMUs' modelDescription) -> pint's spelling
-PINT = {"m": "m", "rad": "rad", "rad/s": "rad/s", "rad/s2": "rad/s**2", "kg": "kg",
-        "kg.m2": "kg*m**2", "kg/m": "kg/m", "m/s2": "m/s**2", "N": "N", "N.m": "N*m",
-        "1": "dimensionless", "s": "s", "Pa": "Pa", "m2": "m**2", "J": "J", "W": "W"}
-#: what a unit measures, for messages
-NAMES = {"m": "a length", "rad": "an angle", "rad/s": "an angular speed",
-         "rad/s2": "an angular acceleration", "kg": "a mass", "kg.m2": "a moment of inertia",
-         "kg/m": "a mass per length", "m/s2": "an acceleration", "N": "a force",
-         "N.m": "a moment", "1": "a number", "s": "a time", "Pa": "a pressure",
-         "m2": "an area", "J": "an energy", "W": "a power"}
+#: degrees in a radian, the factor of the FMUs' display units of angles
+RAD2DEG = 57.29577951308232
+
+
+class Unit(NamedTuple):
+    """A unit the package names.
+
+    ``symbol`` is how the tables, the messages and the FMUs' modelDescription write it,
+    ``pint`` pint's spelling, ``measures`` what it measures (in messages), ``base`` its
+    SI base-unit exponents and ``display`` its display units, (name, factor from the
+    unit), as the modelDescription defines them. ``described`` is False for a unit that
+    only a diagnostic output has: no value or output of a description may be in it.
+    """
+
+    symbol: str
+    pint: str
+    measures: str
+    base: dict
+    display: tuple = ()
+    described: bool = True
+
+
+#: every unit the package names, in the order they are listed (the FMUs'
+#: modelDescription defines them in this order)
+TABLE = (
+    Unit("rad", "rad", "an angle", {"rad": 1}, (("deg", RAD2DEG),)),
+    Unit("rad/s", "rad/s", "an angular speed", {"rad": 1, "s": -1}, (("deg/s", RAD2DEG),)),
+    Unit("rad/s2", "rad/s**2", "an angular acceleration", {"rad": 1, "s": -2},
+         (("deg/s2", RAD2DEG),)),
+    Unit("m", "m", "a length", {"m": 1}),
+    Unit("m/s2", "m/s**2", "an acceleration", {"m": 1, "s": -2}),
+    Unit("kg", "kg", "a mass", {"kg": 1}),
+    Unit("kg/m", "kg/m", "a mass per length", {"kg": 1, "m": -1}),
+    Unit("kg.m2", "kg*m**2", "a moment of inertia", {"kg": 1, "m": 2}),
+    # the reduced inertia's derivative by the crank angle (dJ_red)
+    Unit("kg.m2/rad", "kg*m**2/rad", "a moment of inertia per angle",
+         {"kg": 1, "m": 2, "rad": -1}, described=False),
+    Unit("N", "N", "a force", {"kg": 1, "m": 1, "s": -2}),
+    Unit("N.m", "N*m", "a moment", {"kg": 1, "m": 2, "s": -2}),
+    Unit("W", "W", "a power", {"kg": 1, "m": 2, "s": -3}),
+    Unit("J", "J", "an energy", {"kg": 1, "m": 2, "s": -2}),
+    Unit("Pa", "Pa", "a pressure", {"kg": 1, "m": -1, "s": -2}),
+    Unit("m2", "m**2", "an area", {"m": 2}),
+    Unit("s", "s", "a time", {"s": 1}),
+    Unit("1", "dimensionless", "a number", {}),
+)
+#: the units of the values and outputs of a description -> pint's spelling
+PINT = {u.symbol: u.pint for u in TABLE if u.described}
+#: what each of :data:`PINT` measures, for messages
+NAMES = {u.symbol: u.measures for u in TABLE if u.described}
+#: the units of the crank's motion, the inputs every linkage has
+MOTION_UNITS = {"theta": "rad", "omega": "rad/s", "alpha": "rad/s2"}
 #: a number, then a unit: a word that starts with a letter (letters, digits, _ * / ^ .);
 #: never the exponent of the number (``1e3`` is a number, not 1 of the unit ``e3``)
 _QUANTITY = re.compile(r"(?<![\w.])((?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)[ \t]*"
@@ -204,7 +247,7 @@ def unit_problem(unit, where: str) -> str:
     "[[outputs]] #2 (Q) unit: 'kN' is not SI, and the output is computed in SI: write 'N'"
     >>> print(unit_problem("ZZ", "[[outputs]] #2 (Q) unit"))  # doctest: +ELLIPSIS
     [[outputs]] #2 (Q) unit: 'ZZ' is not a unit (pint knows no 'ZZ'); the units of an output
-    are m, rad, ...
+    are rad, rad/s, ...
     """
     if unit in PINT:
         return ""

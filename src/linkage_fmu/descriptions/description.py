@@ -62,7 +62,7 @@ from ..expressions import Expression, check_units
 from ..groups import OWNER, Field, Group, LinkJoints
 from ..outputs import SHAKING
 from ..parameters import KINDS, Parameter
-from ..units import unit_problem
+from ..units import MOTION_UNITS, unit_problem
 
 INPUT_NAMES = ("theta", "omega", "alpha")
 #: the tables of a description written as joints and links (:mod:`.topology`), which
@@ -237,7 +237,7 @@ OUTPUT_KEYS = {
     },
 }
 #: the units of the inputs
-INPUT_UNITS = {"theta": "rad", "omega": "rad/s", "alpha": "rad/s2"}
+INPUT_UNITS = MOTION_UNITS
 
 class DescriptionError(ValueError):
     """A description with problems; ``problems`` lists every one of them."""

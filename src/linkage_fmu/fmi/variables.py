@@ -35,11 +35,12 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from ..mechanism import METHODS, MOTION
+from ..units import MOTION_UNITS
 
 _MOTION_INFO = {
-    "theta": ("rad", "deg", "crank angle from +x, counter-clockwise"),
-    "omega": ("rad/s", "", "crank angular speed"),
-    "alpha": ("rad/s2", "", "crank angular acceleration"),
+    "theta": (MOTION_UNITS["theta"], "deg", "crank angle from +x, counter-clockwise"),
+    "omega": (MOTION_UNITS["omega"], "", "crank angular speed"),
+    "alpha": (MOTION_UNITS["alpha"], "", "crank angular acceleration"),
 }
 #: the solvers of each flavour's ``method`` parameter, and what it says of them
 FLAVOURS = {

@@ -34,6 +34,7 @@ import jinja2
 
 from .. import __version__
 from ..kernels.c_source import c_literal
+from ..units import TABLE
 from .variables import (
     MOTION_STATE,
     TOLERANCE,
@@ -45,28 +46,9 @@ from .variables import (
 )
 
 TEMPLATES = Path(__file__).with_name("templates")
-#: unit -> (SI base-unit exponents, display units as (name, factor)): every unit a value
-#: may have (:data:`linkage_fmu.units.PINT`), and the reduced inertia's derivative
-RAD2DEG = 57.29577951308232
-UNITS = {
-    "rad": ({"rad": 1}, [("deg", RAD2DEG)]),
-    "rad/s": ({"rad": 1, "s": -1}, [("deg/s", RAD2DEG)]),
-    "rad/s2": ({"rad": 1, "s": -2}, [("deg/s2", RAD2DEG)]),
-    "m": ({"m": 1}, []),
-    "m/s2": ({"m": 1, "s": -2}, []),
-    "kg": ({"kg": 1}, []),
-    "kg/m": ({"kg": 1, "m": -1}, []),
-    "kg.m2": ({"kg": 1, "m": 2}, []),
-    "kg.m2/rad": ({"kg": 1, "m": 2, "rad": -1}, []),
-    "N": ({"kg": 1, "m": 1, "s": -2}, []),
-    "N.m": ({"kg": 1, "m": 2, "s": -2}, []),
-    "W": ({"kg": 1, "m": 2, "s": -3}, []),
-    "J": ({"kg": 1, "m": 2, "s": -2}, []),
-    "Pa": ({"kg": 1, "m": -1, "s": -2}, []),
-    "m2": ({"m": 2}, []),
-    "s": ({"s": 1}, []),
-    "1": ({}, []),
-}
+#: unit -> (SI base-unit exponents, display units as (name, factor)): every unit of
+#: :data:`linkage_fmu.units.TABLE`, in its order
+UNITS = {u.symbol: (u.base, u.display) for u in TABLE}
 LOG_CATEGORIES = ("logStatusWarning", "logStatusDiscard", "logStatusError", "logStatusFatal",
                   "logAll")
 #: the C framework's names of the types, kinds and rules

@@ -15,7 +15,7 @@ from collections.abc import Collection, Mapping, Sequence
 
 import numpy as np
 
-from .. import newton, numerics
+from .. import linalg, newton, numerics
 from ..errors import NearSingularWarning
 from ..kernels.trace import Reason
 from ..numerics import SCALAR
@@ -132,7 +132,7 @@ class Closure(Group):
     before it cannot be assembled at an angle on the way. No state is answered on
     another assembly mode. The whole continuation is one loop of a kernel, each
     step's Newton a loop inside it, and the linear solves pivot without a branch
-    (:func:`linkage_fmu.newton.solve`).
+    (:func:`linkage_fmu.linalg.solve`).
 
     Examples
     --------
@@ -397,10 +397,10 @@ class Closure(Group):
         singular (as a kernel's division by 0 gives)."""
         if xp.scalar:
             try:
-                return newton.solve_signed(xp, J, f)
+                return linalg.solve_signed(xp, J, f)
             except ZeroDivisionError:
                 return [math.nan] * len(f), 0.0
-        return newton.solve_signed(xp, J, f)
+        return linalg.solve_signed(xp, J, f)
 
     def _start(self, xp) -> tuple[list, object]:
         """The drawn pose's tangent ``dX/dtheta`` (of the points it places) and the sign
@@ -559,7 +559,7 @@ class Closure(Group):
         into ``d`` (``st.d1`` or ``st.d2``): ``r`` from the needed points' own, and for
         the second order the terms ``|Pi' - Pj'|^2`` (``quadratic``: ``st.d1``)."""
         J, r = self._rate_equations(st.xp, st.p, d, quadratic)
-        X, _ = newton.solve(st.xp, J, r)
+        X, _ = linalg.solve(st.xp, J, r)
         for p, c in self.column.items():
             d[p] = (X[c], X[c + 1])
 
@@ -625,7 +625,7 @@ class Closure(Group):
         for link in self.links:
             fx, fy, m = moment_about(mech, st, W, link, self.link_joints[link][0])
             b += [-fx, -fy, -m / L]
-        x, _ = newton.solve(st.xp, self._matrix(st, L), b)
+        x, _ = linalg.solve(st.xp, self._matrix(st, L), b)
         for k, j in enumerate(self.joints):
             R[j.name] = (x[2 * k], x[2 * k + 1])
             if j.a == OWNER:  # the group's link acts on the owner with the opposite
@@ -653,7 +653,7 @@ class Closure(Group):
         norm = _largest(xp, [sum(xp.abs(A[r][c]) for r in range(n)) for c in range(n)])
         unit = [[1.0 if r == c else 0.0 for r in range(n)] for c in range(n)]
         try:
-            columns, pivots = newton.solve_many(xp, A, unit)  # of A^-1
+            columns, pivots = linalg.solve_many(xp, A, unit)  # of A^-1
         except ZeroDivisionError:  # floats or mpmath, exactly singular
             return gamma, math.inf
         small = _smallest(xp, pivots)
