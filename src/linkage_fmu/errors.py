@@ -1,4 +1,6 @@
-"""Errors raised for states a linkage cannot take."""
+"""Errors raised for states a linkage cannot take, and for a part it cannot have (an
+output, a load, a parameter), which name the part as data (a description says where in
+its file the part is)."""
 
 from __future__ import annotations
 
@@ -106,6 +108,71 @@ class OverflowInputError(ValueError):
         #: why, as the FMUs say it
         self.reason = Reason("overflow", "an input or a parameter is too large in magnitude")
         super().__init__(f"{mechanism}: {detail}")
+
+
+class OutputError(ValueError):
+    """An output a linkage cannot report: ``output`` is its name, ``problem`` says why.
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets
+    >>> from linkage_fmu.outputs import Force
+    >>> try:
+    ...     Force("F13x", "1", "3", "x").bind(presets.get("four_bar"))
+    ... except OutputError as err:
+    ...     print(err.output, "|", err.problem, "|", err)
+    F13x | no joint between bodies '1' and '3' | output F13x: no joint between bodies '1' and '3'
+    """
+
+    def __init__(self, output: str, problem: str):
+        self.output, self.problem = output, problem
+        super().__init__(f"output {output}: {problem}")
+
+    def __reduce__(self):  # pickled as made (a sweep's worker sends its errors back)
+        return type(self), (self.output, self.problem)
+
+
+class LoadError(ValueError):
+    """A load a linkage cannot take: ``load`` is its name, ``problem`` says why.
+
+    Examples
+    --------
+    >>> from linkage_fmu.loads import Load
+    >>> try:
+    ...     Load("F", "2", "force", at="P", direction=(0.0, 0.0))
+    ... except LoadError as err:
+    ...     print(err.load, "|", err.problem)
+    F | direction (0.0, 0.0) has no length
+    """
+
+    def __init__(self, load: str, problem: str):
+        self.load, self.problem = load, problem
+        super().__init__(f"load {load}: {problem}")
+
+    def __reduce__(self):
+        return type(self), (self.load, self.problem)
+
+
+class ParameterError(ValueError):
+    """A parameter declared as it cannot be: ``parameter`` is its name, ``problem`` says
+    why.
+
+    Examples
+    --------
+    >>> from linkage_fmu.parameters import Parameter
+    >>> try:
+    ...     Parameter("mu_A", 0.1, "friction", "friction in A", maximum=2000.0)
+    ... except ParameterError as err:
+    ...     print(err.parameter, "|", err.problem)
+    mu_A | max = 2000 is above the largest coefficient of friction taken (1000)
+    """
+
+    def __init__(self, parameter: str, problem: str):
+        self.parameter, self.problem = parameter, problem
+        super().__init__(f"{parameter}: {problem}")
+
+    def __reduce__(self):
+        return type(self), (self.parameter, self.problem)
 
 
 class NearSingularWarning(UserWarning):

@@ -12,6 +12,7 @@ import re
 import warnings
 from typing import Any
 
+from ..errors import ParameterError
 from ..expressions import Expression, check_units
 from ..groups import OWNER, Field, Group, LinkJoints
 from ..outputs import SHAKING
@@ -177,8 +178,8 @@ class Checker:
             try:
                 spec = Parameter(name, p["default"], p["kind"], p["description"],
                                  p["choices"], p["min"], p["max"])
-            except ValueError as err:  # a bound the kind cannot have
-                self.found.append(f"{where}: {str(err).removeprefix(f'{name}: ')}")
+            except ParameterError as err:  # a bound the kind cannot have
+                self.found.append(f"{where}: {err.problem}")
                 continue
             try:
                 value = spec.validate(p["default"])
