@@ -1,6 +1,6 @@
-"""Errors raised for states a linkage cannot take, and for a part it cannot have (an
-output, a load, a parameter), which name the part as data (a description says where in
-its file the part is)."""
+"""Errors raised for states a linkage cannot take, and for a linkage or a part of it that
+cannot be as given (an output, a load, a parameter), which name the linkage or the part
+as data (a description says where in its file the part is)."""
 
 from __future__ import annotations
 
@@ -108,6 +108,31 @@ class OverflowInputError(ValueError):
         #: why, as the FMUs say it
         self.reason = Reason("overflow", "an input or a parameter is too large in magnitude")
         super().__init__(f"{mechanism}: {detail}")
+
+
+class LinkageError(ValueError):
+    """A linkage that cannot be put together as given: ``linkage`` is its name,
+    ``problem`` says what is wrong (a body that is no moving link, a load off its body,
+    a name given twice).
+
+    Examples
+    --------
+    >>> from linkage_fmu import Mechanism, presets
+    >>> m = presets.get("four_bar")  # built again without the body of link 3:
+    >>> try:
+    ...     Mechanism("demo", m.frame, m.frame_points, m.groups, m.bodies[:2], m.effort,
+    ...               [], [], 0.0)
+    ... except LinkageError as err:
+    ...     print(err.linkage, "|", err.problem)
+    demo | bodies ['1', '2'] do not match the moving links ['1', '2', '3']
+    """
+
+    def __init__(self, linkage: str, problem: str):
+        self.linkage, self.problem = linkage, problem
+        super().__init__(f"{linkage}: {problem}")
+
+    def __reduce__(self):
+        return type(self), (self.linkage, self.problem)
 
 
 class OutputError(ValueError):

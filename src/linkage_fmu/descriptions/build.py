@@ -9,7 +9,7 @@ from pathlib import Path
 
 from .. import numerics
 from ..bodies import Body, Effort
-from ..errors import LoadError, NearSingularWarning, OutputError
+from ..errors import LinkageError, LoadError, NearSingularWarning, OutputError
 from ..expressions import Expression
 from ..friction import Declared, Friction
 from ..groups import Group, LinkJoints
@@ -215,11 +215,12 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
     except OutputError as err:  # the output's table: [[outputs]] #3 (F03) for F03x
         text = f"{keys[err.output]}: {err.problem}" if err.output in keys else str(err)
         raise ValueError(f"{origin}: {text}") from None
+    except LinkageError as err:  # named by its description's file, not its name
+        raise ValueError(f"{origin}: {err.problem}") from None
     except ValueError as err:
         if type(err) is not ValueError:
             raise
-        text = str(err).removeprefix(f"{d.name}: ")
-        raise ValueError(f"{origin}: {text}") from None
+        raise ValueError(f"{origin}: {err}") from None
     if d.drawn is not None and symbols:  # the parameter step refuses what the pose check does
         from .assur import SLIDE_TOLERANCE
 
