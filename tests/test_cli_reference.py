@@ -12,11 +12,11 @@ from pathlib import Path
 
 import pytest
 
-from linkage_fmu import cli_reference
+from linkage_fmu.manual import cli_reference
 
 ROOT = Path(__file__).resolve().parents[1]
 DOC = ROOT / "docs" / "cli.md"
-REGENERATE = "regenerate it: python -m linkage_fmu.cli_reference > docs/cli.md"
+REGENERATE = "regenerate it: python -m linkage_fmu.manual.cli_reference > docs/cli.md"
 
 
 def run(*args: str) -> subprocess.CompletedProcess:
@@ -41,7 +41,7 @@ def test_the_committed_reference_is_what_the_code_writes(text):
 
 
 def test_the_script_prints_the_reference(text):
-    done = run("-m", "linkage_fmu.cli_reference")
+    done = run("-m", "linkage_fmu.manual.cli_reference")
     assert done.returncode == 0, done.stderr
     assert done.stdout == text
 

@@ -18,13 +18,14 @@ from pathlib import Path
 import pytest
 
 from linkage_fmu import expressions, groups, parameters, presets, units
-from linkage_fmu.descriptions import Description, description, reference, topology
+from linkage_fmu.descriptions import Description, schema, topology
+from linkage_fmu.manual import reference
 from linkage_fmu.outputs import SHAKING
 
 ROOT = Path(__file__).resolve().parents[1]
 DOC = ROOT / "docs" / "description.md"
 REGENERATE = ("regenerate it: linkage-fmu reference -o docs/description.md (or python -m "
-              "linkage_fmu.descriptions.reference > docs/description.md)")
+              "linkage_fmu.manual.reference > docs/description.md)")
 
 
 @pytest.fixture(scope="module")
@@ -66,7 +67,7 @@ def test_the_committed_reference_is_what_the_code_writes(text):
 def test_the_script_prints_the_reference(text):
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(
         [str(ROOT / "src")] + [p for p in [os.environ.get("PYTHONPATH")] if p])}
-    run = subprocess.run([sys.executable, "-m", "linkage_fmu.descriptions.reference"], env=env,
+    run = subprocess.run([sys.executable, "-m", "linkage_fmu.manual.reference"], env=env,
                          capture_output=True, text=True, encoding="utf-8")
     assert run.returncode == 0, run.stderr
     assert run.stdout == text
@@ -93,10 +94,10 @@ def test_it_says_angles_are_radians_and_lists_the_units(text):
 
 def test_every_table_and_its_keys(text):
     tables = section(text, "## The tables")
-    assert [f"`{h}`" for h, _ in description.TABLES.values()] + [
+    assert [f"`{h}`" for h, _ in schema.TABLES.values()] + [
         f"`{h}`" for h, _ in topology.TABLES.values()] == re.findall(
         r"^\| (`[^`]+`) \|", tables, flags=re.M)
-    for header, holds in description.TABLES.values():
+    for header, holds in schema.TABLES.values():
         assert f"| `{header}` | {holds} |" in tables
     for heading, keys in [("### `[joints]`", topology.JOINT_KEYS),
                           ("### `[[links]]`", topology.LINK_KEYS),
@@ -106,11 +107,11 @@ def test_every_table_and_its_keys(text):
         assert keys_listed(part) == list(keys), heading
         for key, meaning in keys.items():
             assert f"| `{key}` | {meaning} |" in part
-    for heading, keys in [("## `[linkage]`", description.LINKAGE_KEYS),
-                          ("## `[bodies.L]`", {**description.BODY_KEYS,
-                                               **description.CG_KEYS}),
-                          ("## `[effort]`", {**description.EFFORT_KEYS,
-                                             **description.EFFORT_CHOICE_KEYS})]:
+    for heading, keys in [("## `[linkage]`", schema.LINKAGE_KEYS),
+                          ("## `[bodies.L]`", {**schema.BODY_KEYS,
+                                               **schema.CG_KEYS}),
+                          ("## `[effort]`", {**schema.EFFORT_KEYS,
+                                             **schema.EFFORT_CHOICE_KEYS})]:
         part = section(text, heading)
         assert keys_listed(part) == list(keys), heading
         for key, meaning in keys.items():
@@ -121,7 +122,7 @@ def test_every_table_and_its_keys(text):
 
 def test_every_parameter_kind_with_its_unit_and_rule(text):
     part = section(text, "## `[parameters]`")
-    assert keys_listed(part) == list(description.PARAMETER_KEYS) + list(parameters.KINDS)
+    assert keys_listed(part) == list(schema.PARAMETER_KEYS) + list(parameters.KINDS)
     assert "| `length` | `m` | a length | > 0 |" in part
     assert "| `inertia` | `kg.m2` | a moment of inertia | >= 0 |" in part
     assert "| `branch` |  |  | +1 or -1 |" in part
@@ -189,7 +190,7 @@ def test_a_group_type_defined_elsewhere_is_in_the_reference(registry, text):
 
 def test_every_load_key_with_its_default(text):
     part = section(text, "## `[[loads]]`")
-    assert keys_listed(part) == list(description.LOAD_KEYS)
+    assert keys_listed(part) == list(schema.LOAD_KEYS)
     assert "| `period_deg` | `360.0` | the table's period, degrees of crank angle" in part
     assert "| `fixed_in` | `\"frame\"` |" in part
     assert "| `start` | `0.0` |" in part
@@ -203,10 +204,10 @@ def test_every_load_key_with_its_default(text):
 
 def test_every_output_kind_and_key(text):
     part = section(text, "## `[[outputs]]`")
-    assert set(description.OUTPUT_KINDS) == set(description.OUTPUT_KEYS)
-    assert keys_listed(part.split("### ")[0]) == list(description.OUTPUT_KEYS)
-    for kind, keys in description.OUTPUT_KEYS.items():
-        assert f"| `{kind}` | {description.OUTPUT_KINDS[kind]} |" in part
+    assert set(schema.OUTPUT_KINDS) == set(schema.OUTPUT_KEYS)
+    assert keys_listed(part.split("### ")[0]) == list(schema.OUTPUT_KEYS)
+    for kind, keys in schema.OUTPUT_KEYS.items():
+        assert f"| `{kind}` | {schema.OUTPUT_KINDS[kind]} |" in part
         own = section(text, f'### `kind = "{kind}"`')
         assert keys_listed(own) == list(keys), kind
 
@@ -229,8 +230,8 @@ def test_the_friction_tables_their_keys_and_outputs(text):
     adds with the descriptions the code gives them (each pair's naming its two links,
     from a built preset), the sign conventions and eta's definition."""
     part = section(text, "## `[friction.J]`")
-    assert keys_listed(part)[:len(description.FRICTION_KEYS)] == list(description.FRICTION_KEYS)
-    for key, meaning in description.FRICTION_KEYS.items():
+    assert keys_listed(part)[:len(schema.FRICTION_KEYS)] == list(schema.FRICTION_KEYS)
+    for key, meaning in schema.FRICTION_KEYS.items():
         assert f"| `{key}` | {meaning.replace('|', chr(92) + '|')} |" in part
     mech = presets.get("slider_crank")
     for name in ("Mf_A", "Ff_guide", "P_loss", "eta"):
@@ -245,7 +246,7 @@ def test_the_friction_tables_their_keys_and_outputs(text):
 
 def test_the_inputs_and_expressions(text):
     part = section(text, "## `[inputs]`")
-    assert keys_listed(part) == list(description.INPUT_UNITS)
+    assert keys_listed(part) == list(schema.INPUT_UNITS)
     assert "| `theta` | `rad` | `0.0` | crank angle from +x, counter-clockwise |" in part
     assert "| `omega` | `rad/s` | `0.0` | crank angular speed |" in part
     assert "| `alpha` | `rad/s2` | `0.0` | crank angular acceleration |" in part

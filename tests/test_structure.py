@@ -1,6 +1,6 @@
 """The package's structure, read from its source: no module uses another module's private
-names, the imports (function-level ones included) form no cycle, and the kernels import
-nothing of the package above them."""
+names, the imports (function-level ones included) form no cycle, the kernels import
+nothing of the package above them, and the descriptions nothing above the mechanism."""
 
 from __future__ import annotations
 
@@ -81,6 +81,32 @@ def test_the_kernels_import_nothing_above_them():
         if name.startswith(f"{PACKAGE}.kernels"):
             outside = {t for t in targets if not t.startswith(f"{PACKAGE}.kernels")}
             assert outside <= {f"{PACKAGE}.ccompiler"}, (name, outside)
+
+
+def stands_on(g: dict[str, set[str]], roots: set[str]) -> set[str]:
+    """The modules ``roots`` and every module they import, directly or not."""
+    found, todo = set(), list(roots)
+    while todo:
+        name = todo.pop()
+        if name not in found:
+            found.add(name)
+            todo.extend(g[name])
+    return found
+
+
+def test_descriptions_import_nothing_above_the_mechanism():
+    """linkage_fmu.descriptions and its modules import only themselves, the mechanism,
+    the parameters (the kinds and rules of the values a description builds it with) and
+    what these stand on: not the presets, the FMUs, the command line, the plots, sweeps
+    or the manual, which stand on the descriptions."""
+    g = graph()
+    below = stands_on(g, {f"{PACKAGE}.mechanism", f"{PACKAGE}.parameters"})
+    assert f"{PACKAGE}.groups" in below and f"{PACKAGE}.presets" not in below
+    descriptions = {n for n in g if n == f"{PACKAGE}.descriptions"
+                    or n.startswith(f"{PACKAGE}.descriptions.")}
+    for name in descriptions:
+        above = g[name] - below - descriptions
+        assert not above, (name, above)
 
 
 def own_names(tree: ast.Module) -> set[str]:

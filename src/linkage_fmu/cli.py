@@ -291,9 +291,10 @@ def _warning(message, category, filename, lineno, file=None, line=None) -> None:
 
 class Parser(argparse.ArgumentParser):
     """An argument parser that keeps what it is given, so that the command-line
-    reference can be written from it (:mod:`linkage_fmu.cli_reference`): ``arguments``,
-    every argument's action in the order added; ``commands``, each command's parser by
-    name, and on each, ``summary``, the help its command was added with."""
+    reference can be written from it (:mod:`linkage_fmu.manual.cli_reference`):
+    ``arguments``, every argument's action in the order added; ``commands``, each
+    command's parser by name, and on each, ``summary``, the help its command was added
+    with."""
 
     def __init__(self, *args, **kwargs):
         self.arguments: list[argparse.Action] = []
@@ -322,8 +323,8 @@ class Parser(argparse.ArgumentParser):
 
 def build_parser() -> Parser:
     """The command line's parser, every command a subparser of it (the loads of a named
-    linkage are added to its command's by :func:`_main`); :mod:`linkage_fmu.cli_reference`
-    writes the command-line reference from it.
+    linkage are added to its command's by :func:`_main`);
+    :mod:`linkage_fmu.manual.cli_reference` writes the command-line reference from it.
 
     Examples
     --------
@@ -662,7 +663,7 @@ def _check(args) -> int:
 
 
 def _reference(args) -> int:
-    from .descriptions.reference import markdown
+    from .manual.reference import markdown
 
     text = markdown()
     if args.output:

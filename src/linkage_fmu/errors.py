@@ -1,4 +1,6 @@
-"""Errors raised for states a linkage cannot take."""
+"""Errors raised for states a linkage cannot take, and for a linkage or a part of it that
+cannot be as given (an output, a load, a parameter), which name the linkage or the part
+as data (a description says where in its file the part is)."""
 
 from __future__ import annotations
 
@@ -106,6 +108,96 @@ class OverflowInputError(ValueError):
         #: why, as the FMUs say it
         self.reason = Reason("overflow", "an input or a parameter is too large in magnitude")
         super().__init__(f"{mechanism}: {detail}")
+
+
+class LinkageError(ValueError):
+    """A linkage that cannot be put together as given: ``linkage`` is its name,
+    ``problem`` says what is wrong (a body that is no moving link, a load off its body,
+    a name given twice).
+
+    Examples
+    --------
+    >>> from linkage_fmu import Mechanism, presets
+    >>> m = presets.get("four_bar")  # built again without the body of link 3:
+    >>> try:
+    ...     Mechanism("demo", m.frame, m.frame_points, m.groups, m.bodies[:2], m.effort,
+    ...               [], [], 0.0)
+    ... except LinkageError as err:
+    ...     print(err.linkage, "|", err.problem)
+    demo | bodies ['1', '2'] do not match the moving links ['1', '2', '3']
+    """
+
+    def __init__(self, linkage: str, problem: str):
+        self.linkage, self.problem = linkage, problem
+        super().__init__(f"{linkage}: {problem}")
+
+    def __reduce__(self):
+        return type(self), (self.linkage, self.problem)
+
+
+class OutputError(ValueError):
+    """An output a linkage cannot report: ``output`` is its name, ``problem`` says why.
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets
+    >>> from linkage_fmu.outputs import Force
+    >>> try:
+    ...     Force("F13x", "1", "3", "x").bind(presets.get("four_bar"))
+    ... except OutputError as err:
+    ...     print(err.output, "|", err.problem, "|", err)
+    F13x | no joint between bodies '1' and '3' | output F13x: no joint between bodies '1' and '3'
+    """
+
+    def __init__(self, output: str, problem: str):
+        self.output, self.problem = output, problem
+        super().__init__(f"output {output}: {problem}")
+
+    def __reduce__(self):  # pickled as made (a sweep's worker sends its errors back)
+        return type(self), (self.output, self.problem)
+
+
+class LoadError(ValueError):
+    """A load a linkage cannot take: ``load`` is its name, ``problem`` says why.
+
+    Examples
+    --------
+    >>> from linkage_fmu.loads import Load
+    >>> try:
+    ...     Load("F", "2", "force", at="P", direction=(0.0, 0.0))
+    ... except LoadError as err:
+    ...     print(err.load, "|", err.problem)
+    F | direction (0.0, 0.0) has no length
+    """
+
+    def __init__(self, load: str, problem: str):
+        self.load, self.problem = load, problem
+        super().__init__(f"load {load}: {problem}")
+
+    def __reduce__(self):
+        return type(self), (self.load, self.problem)
+
+
+class ParameterError(ValueError):
+    """A parameter declared as it cannot be: ``parameter`` is its name, ``problem`` says
+    why.
+
+    Examples
+    --------
+    >>> from linkage_fmu.parameters import Parameter
+    >>> try:
+    ...     Parameter("mu_A", 0.1, "friction", "friction in A", maximum=2000.0)
+    ... except ParameterError as err:
+    ...     print(err.parameter, "|", err.problem)
+    mu_A | max = 2000 is above the largest coefficient of friction taken (1000)
+    """
+
+    def __init__(self, parameter: str, problem: str):
+        self.parameter, self.problem = parameter, problem
+        super().__init__(f"{parameter}: {problem}")
+
+    def __reduce__(self):
+        return type(self), (self.parameter, self.problem)
 
 
 class NearSingularWarning(UserWarning):

@@ -43,6 +43,7 @@ from typing import NamedTuple
 import numpy as np
 
 from . import kinetostatics, linalg, newton
+from .errors import LinkageError
 from .groups.base import Joint, KinematicState, push
 from .kernels.trace import Reason
 
@@ -132,16 +133,16 @@ def resolve(mech, declared: Declared) -> LinkageFriction:
     for f in declared.frictions:
         j = joints.get(f.joint)
         if j is None:
-            raise ValueError(f"{mech.name}: friction of {f.joint!r}, which is no pair of the "
-                             f"linkage; its pairs are: {', '.join(joints)}")
+            raise LinkageError(mech.name, f"friction of {f.joint!r}, which is no pair of the "
+                               f"linkage; its pairs are: {', '.join(joints)}")
         if f.joint in by_name:
-            raise ValueError(f"{mech.name}: the friction of {f.joint} is given twice")
+            raise LinkageError(mech.name, f"the friction of {f.joint} is given twice")
         if j.normal is None and (f.length is not None or f.radius is None):
-            raise ValueError(f"{mech.name}: friction of {f.joint}: a revolute pair has a "
-                             "mu and a radius (no length)")
+            raise LinkageError(mech.name, f"friction of {f.joint}: a revolute pair has a "
+                               "mu and a radius (no length)")
         if j.normal is not None and f.radius is not None:
-            raise ValueError(f"{mech.name}: friction of {f.joint}: a prismatic pair has a "
-                             "mu and optionally a length (no radius)")
+            raise LinkageError(mech.name, f"friction of {f.joint}: a prismatic pair has a "
+                               "mu and optionally a length (no radius)")
         by_name[f.joint] = JointFriction(j, f.mu, f.radius, f.length)
     groups, k = [], 0
     for grp in mech.groups:

@@ -17,6 +17,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 from . import numerics
+from .errors import LoadError
 from .expressions import Expression
 from .groups import KinematicState
 from .numerics import Number
@@ -41,7 +42,7 @@ class Load:
     >>> Load("F", "2", "force", at="P", direction=(0.0, 0.0))
     Traceback (most recent call last):
     ...
-    ValueError: load F: direction (0.0, 0.0) has no length
+    linkage_fmu.errors.LoadError: load F: direction (0.0, 0.0) has no length
     """
 
     name: str
@@ -60,21 +61,20 @@ class Load:
 
     def __post_init__(self):
         if self.kind not in ("force", "moment"):
-            raise ValueError(f"load {self.name}: kind must be 'force' or 'moment', got "
-                             f"{self.kind!r}")
+            raise LoadError(self.name, f"kind must be 'force' or 'moment', got {self.kind!r}")
         if self.kind == "force":
             x, y = (numerics.real(v) for v in self.direction)
             norm = numerics.hypot(x, y)
             if not norm > 0.0 or not (hasattr(norm, "traced") or math.isfinite(norm)):
-                raise ValueError(f"load {self.name}: direction {self.direction!r} has no length")
+                raise LoadError(self.name, f"direction {self.direction!r} has no length")
             if norm != 1.0:
                 object.__setattr__(self, "direction", (x / norm, y / norm))
             if self.fixed_in not in ("frame", "link"):
-                raise ValueError(f"load {self.name}: fixed_in must be 'frame' or 'link'")
+                raise LoadError(self.name, "fixed_in must be 'frame' or 'link'")
         if not self.unit:
             object.__setattr__(self, "unit", "N" if self.kind == "force" else "N.m")
         if self.value is not None and self.table is not None:
-            raise ValueError(f"load {self.name}: give a value or a table, not both")
+            raise LoadError(self.name, "give a value or a table, not both")
 
     @property
     def computed(self) -> bool:

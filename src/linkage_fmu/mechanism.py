@@ -17,7 +17,7 @@ import numpy as np
 
 from . import diagnostics, flywheel, friction, inertia, motion, numerics
 from .bodies import Body, Effort
-from .errors import AssemblyError
+from .errors import AssemblyError, LinkageError
 from .expressions import evaluate
 from .friction import Declared
 from .friction import outputs as friction_outputs
@@ -110,28 +110,28 @@ class Mechanism:
                 raise TypeError(f"{name}: {grp!r} is not a group (a subclass of "
                                 "linkage_fmu.groups.Group)")
         if not groups or not groups[0].DRIVER:
-            raise ValueError(f"{name}: the first group must be the driver (a Crank)")
+            raise LinkageError(name, "the first group must be the driver (a Crank)")
         placed = set(self.frame_points)
         owner = {p: frame for p in self.frame_points}
         for grp in groups:
             missing = [p for p in grp.needs if p not in placed]
             if missing:
-                raise ValueError(f"{name}: {type(grp).__name__} needs {missing} placed before it")
+                raise LinkageError(name, f"{type(grp).__name__} needs {missing} placed before it")
             placed.update(grp.places)
             owner.update(grp.owners)
         for k, grp in enumerate(groups):  # a group that re-places what is before it
             try:
                 grp.attach(tuple(groups[:k]), self.frame_points)
             except ValueError as err:
-                raise ValueError(f"{name}: {err}") from None
+                raise LinkageError(name, str(err)) from None
         links = [link for grp in groups for link in grp.links]
         body_names = [b.name for b in self.bodies]
         if sorted(links) != sorted(body_names):
-            raise ValueError(f"{name}: bodies {body_names} do not match the moving links {links}")
+            raise LinkageError(name, f"bodies {body_names} do not match the moving links {links}")
         for load in self.loads:
             if load.body not in body_names:
-                raise ValueError(f"{name}: load {load.name} acts on {load.body!r}, not a moving "
-                                 "link")
+                raise LinkageError(name, f"load {load.name} acts on {load.body!r}, not a moving "
+                                   "link")
         cg_points = [b.cg_point() for b in self.bodies if b.cg != b.ref]
         self.groups = tuple(groups) + tuple(cg_points)
         self.cg = {b.name: b.cg for b in self.bodies}
@@ -314,8 +314,8 @@ class Mechanism:
         a = self.frame if j.a == FRAME else j.a
         if a == OWNER:
             if j.point not in self.owner:
-                raise ValueError(f"{self.name}: joint {j.name} is shared by two links; "
-                                 "attach to a point that belongs to one link")
+                raise LinkageError(self.name, f"joint {j.name} is shared by two links; "
+                                   "attach to a point that belongs to one link")
             a = self.owner[j.point]
         return Joint(j.name, j.point, a, j.b, j.normal)
 
@@ -746,8 +746,8 @@ def _check_load_points(name: str, loads: Sequence[Load], bodies: Sequence[Body],
     >>> _check_load_points(mech.name, [F], mech.bodies, mech.owner, mech.joints)
     Traceback (most recent call last):
     ...
-    ValueError: four_bar: load F acts on body 2 at point D, which is not a point of body 2 (its
-    points: B, C, S2)
+    linkage_fmu.errors.LinkageError: four_bar: load F acts on body 2 at point D, which is not a
+    point of body 2 (its points: B, C, S2)
     """
     points = {b.name: {b.ref, b.cg} for b in bodies}
     for point, link in owner.items():
@@ -758,9 +758,9 @@ def _check_load_points(name: str, loads: Sequence[Load], bodies: Sequence[Body],
     for load in loads:
         if load.kind == "force" and load.at not in points.get(load.body, {load.at}):
             on = ", ".join(sorted(points[load.body]))
-            raise ValueError(f"{name}: load {load.name} acts on body {load.body} at point "
-                             f"{load.at}, which is not a point of body {load.body} (its "
-                             f"points: {on})")
+            raise LinkageError(name, f"load {load.name} acts on body {load.body} at point "
+                               f"{load.at}, which is not a point of body {load.body} (its "
+                               f"points: {on})")
 
 
 def _check_names(name: str, kinds: dict) -> None:
@@ -771,8 +771,8 @@ def _check_names(name: str, kinds: dict) -> None:
     for kind, names in kinds.items():
         for n in names:
             if n in seen:
-                raise ValueError(f"{name}: the name {n!r} is both {_article(seen[n])} and "
-                                 f"{_article(kind)}")
+                raise LinkageError(name, f"the name {n!r} is both {_article(seen[n])} and "
+                                   f"{_article(kind)}")
             seen[n] = kind
 
 

@@ -11,6 +11,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from . import numerics
+from .errors import OutputError
 from .expressions import Expression
 
 
@@ -25,7 +26,7 @@ def joint_between(mech, by: str, on: str, output: str):
     for j in mech.joints:
         if {j.a, j.b} == {by, on}:
             return j, (1.0 if (j.a, j.b) == (by, on) else -1.0)
-    raise ValueError(f"output {output}: no joint between bodies {by!r} and {on!r}")
+    raise OutputError(output, f"no joint between bodies {by!r} and {on!r}")
 
 
 @dataclass(frozen=True)

@@ -6,6 +6,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
+from .errors import ParameterError
 from .expressions import evaluate
 from .numerics import finite_float
 
@@ -106,8 +107,8 @@ class Parameter:
 
     def __post_init__(self):
         if self.kind == "friction" and self.maximum is not None and self.maximum > MU_MAX:
-            raise ValueError(f"{self.name}: max = {self.maximum:g} is above the largest "
-                             f"coefficient of friction taken ({MU_MAX:g})")
+            raise ParameterError(self.name, f"max = {self.maximum:g} is above the largest "
+                                            f"coefficient of friction taken ({MU_MAX:g})")
         if self.kind == "friction" and self.maximum is None:
             object.__setattr__(self, "maximum", MU_MAX)
 

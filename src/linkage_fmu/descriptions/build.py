@@ -4,13 +4,12 @@ from __future__ import annotations
 
 import functools
 import math
-import re
 import warnings
 from pathlib import Path
 
 from .. import numerics
 from ..bodies import Body, Effort
-from ..errors import NearSingularWarning
+from ..errors import LinkageError, LoadError, NearSingularWarning, OutputError
 from ..expressions import Expression
 from ..friction import Declared, Friction
 from ..groups import Group, LinkJoints
@@ -154,9 +153,10 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
             loads.append(Load(spec["name"], spec["body"], spec["kind"], spec.get("at", ""),
                               direction, spec.get("fixed_in", "frame"), spec.get("unit", ""),
                               spec.get("description", ""), value, **over_cycle))
-        except ValueError as err:  # "load F_P: direction ... has no length"
-            text = str(err).removeprefix(f"load {spec['name']}: ")
-            raise ValueError(f"{origin}: {where}: {text}") from None
+        except LoadError as err:  # the load's table: [[loads]] NAME
+            raise ValueError(f"{origin}: {where}: {err.problem}") from None
+        except ValueError as err:
+            raise ValueError(f"{origin}: {where}: {err}") from None
 
     chosen = None
     for when, spec in d.efforts.items():
@@ -212,15 +212,15 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
     try:
         mech = Mechanism(d.name, d.frame, frame_points, groups, bodies, effort, outputs, loads,
                          gravity, params, d, rebuild, inputs, declared)
+    except OutputError as err:  # the output's table: [[outputs]] #3 (F03) for F03x
+        text = f"{keys[err.output]}: {err.problem}" if err.output in keys else str(err)
+        raise ValueError(f"{origin}: {text}") from None
+    except LinkageError as err:  # named by its description's file, not its name
+        raise ValueError(f"{origin}: {err.problem}") from None
     except ValueError as err:
         if type(err) is not ValueError:
             raise
-        # the description's file and key: "output F03x: ..." is "[[outputs]] #3 (F03): ..."
-        text = str(err).removeprefix(f"{d.name}: ")
-        named = re.match(r"output (\w+): (.*)", text, flags=re.S)
-        if named and named[1] in keys:
-            text = f"{keys[named[1]]}: {named[2]}"
-        raise ValueError(f"{origin}: {text}") from None
+        raise ValueError(f"{origin}: {err}") from None
     if d.drawn is not None and symbols:  # the parameter step refuses what the pose check does
         from .assur import SLIDE_TOLERANCE
 

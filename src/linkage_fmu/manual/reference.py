@@ -1,8 +1,8 @@
 """The reference of the description file format, written from what the code declares.
 
 :func:`markdown` writes ``docs/description.md``: the tables of a description file
-(:data:`~linkage_fmu.descriptions.description.TABLES`) and every key each takes, from the
-mappings the reader and checker use (:mod:`~linkage_fmu.descriptions.description`); the
+(:data:`~linkage_fmu.descriptions.schema.TABLES`) and every key each takes, from the
+mappings the reader and checker use (:mod:`~linkage_fmu.descriptions.schema`); the
 parameter kinds with their units and rules (:mod:`~linkage_fmu.parameters`); every group
 type in :attr:`Group.registry <linkage_fmu.groups.Group.registry>` with its fields; the
 outputs every linkage has, with the descriptions a built linkage gives them; what
@@ -15,7 +15,7 @@ time it is written.
 ``linkage-fmu reference -o docs/description.md`` writes it; run as a script, it
 prints it::
 
-    python -m linkage_fmu.descriptions.reference > docs/description.md
+    python -m linkage_fmu.manual.reference > docs/description.md
 """
 
 from __future__ import annotations
@@ -30,13 +30,13 @@ from pathlib import Path
 from typing import Any
 
 from .. import expressions, parameters, presets, units
+from ..descriptions import assur, topology
+from ..descriptions import schema as spec
+from ..descriptions.description import Description
 from ..friction import FrictionOutput, LossOutput
 from ..groups import ROLE_MEANINGS, ROLES, Group
 from ..mechanism import Mechanism
 from ..outputs import SHAKING
-from . import assur, topology
-from . import description as spec
-from .description import Description
 
 #: the description file shown whole at the end of the reference
 EXAMPLE = Path(__file__).resolve().parents[3] / "examples" / "coupler_four_bar.toml"
@@ -143,7 +143,7 @@ other point, the bodies, the loads, where the balancing effort acts, and what it
 `linkage_fmu.load(path)`, `Description.read(path)` and every `linkage-fmu` command
 read it; the check reports every problem at once, each with its table and key.
 
-This reference is written from the code by `linkage_fmu.descriptions.reference` (do not edit it:
+This reference is written from the code by `linkage_fmu.manual.reference` (do not edit it:
 run `linkage-fmu reference -o docs/description.md`). The tables, in the
 order a file usually has them:
 {tables}.

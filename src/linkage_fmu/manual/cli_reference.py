@@ -1,8 +1,8 @@
 """The command-line reference (Markdown), written from the parser of :mod:`linkage_fmu.cli`,
 so that it lists every command and option the command line has, with its help.
 
-``python -m linkage_fmu.cli_reference > docs/cli.md`` writes the documentation's page (a
-test keeps it current).
+``python -m linkage_fmu.manual.cli_reference > docs/cli.md`` writes the documentation's
+page (a test keeps it current).
 
 Examples
 --------
@@ -18,10 +18,10 @@ from __future__ import annotations
 import argparse
 import sys
 
-from .cli import LOAD_COMMANDS, Parser, build_parser, subcommands
+from ..cli import LOAD_COMMANDS, Parser, build_parser, subcommands
 
 INTRO = """\
-<!-- written by python -m linkage_fmu.cli_reference > docs/cli.md; do not edit -->
+<!-- written by python -m linkage_fmu.manual.cli_reference > docs/cli.md; do not edit -->
 
 # Command-line reference
 
