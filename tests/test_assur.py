@@ -4,14 +4,18 @@ groups, in which order, with which fields; and each problem it reports, by its m
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 import fmu_cache
-from linkage_fmu.descriptions import Description, DescriptionError
-from linkage_fmu.descriptions.assur import decompose, outline
+from linkage_fmu import groups
+from linkage_fmu.descriptions import Description, DescriptionError, reference
+from linkage_fmu.descriptions.assur import decompose, outline, recognisers
 from linkage_fmu.descriptions.topology import read
+
+ROOT = Path(__file__).resolve().parents[1]
 
 HEAD = """
 [linkage]
@@ -1180,3 +1184,71 @@ def test_a_dyad_drawn_near_a_toggle_warns_and_the_examples_do_not():
         warnings.simplefilter("error", NearSingularWarning)
         for path in sorted([*examples.glob("*.toml"), *examples.glob("joints/*.toml")]):
             Description.read(path).build()
+
+
+# -- a group type drawn as joints and links is one class ---------------------------------
+def test_a_group_type_that_declares_its_drawing_is_recognised_from_joints_and_links(registry):
+    """Defined here and nowhere else, a type that declares its DRAWING (an RRR dyad under
+    another name, ranked before the RRR) is what the decomposition takes two links pinned
+    together for: the drawn four-bar is built with it and gives the same numbers, and the
+    reference lists it among the dyads a drawing may show."""
+    path = ROOT / "examples" / "joints" / "four_bar.toml"
+    drawn = Description.read(path)
+    assert [g["type"] for g in drawn.groups][:2] == ["crank", "RRR"]
+
+    class Elbow(groups.RRR):
+        """Two links pinned together at an elbow."""
+
+        kind = "elbow"
+        FIELDS = groups.RRR.FIELDS
+        DRAWING = groups.Drawing(0, 2, "two links pinned at an elbow",
+                                 "each pinned to a placed joint")
+
+    assert [cls.kind for cls in recognisers()] == ["elbow", "RRR", "RRP", "RPR", "RPP",
+                                                   "closure"]
+    elbow = Description.read(path)
+    assert [g["type"] for g in elbow.groups] == [
+        "elbow" if g["type"] == "RRR" else g["type"] for g in drawn.groups]
+    assert [{k: v for k, v in g.items() if k != "type"} for g in elbow.groups] == [
+        {k: v for k, v in g.items() if k != "type"} for g in drawn.groups]
+    mech = elbow.build()
+    assert [type(grp) for grp in mech.groups][:2] == [groups.Crank, Elbow]
+    theta, omega, alpha, load = 0.7, 3.0, 1.0, 20.0
+    assert dict(mech.solve(theta, omega, alpha, load)) == dict(
+        drawn.build().solve(theta, omega, alpha, load))
+    assert ("| `elbow` | two links pinned at an elbow | each pinned to a placed joint |\n"
+            "| `RRR` |") in reference.markdown()
+
+
+def test_a_drawing_and_its_recognise_come_together(registry):
+    """A type that declares a DRAWING recognises it, and one that recognises declares
+    its own: each is refused, naming what it misses, when it is defined; a type that
+    inherits its parent's recognise without a DRAWING of its own is not recognised."""
+    with pytest.raises(TypeError, match=r"Bare \(kind 'bare'\) declares a DRAWING but no "
+                                        "recognise"):
+        class Bare(groups.Crank):
+            kind = "bare"
+            FIELDS = groups.Crank.FIELDS
+            DRAWING = groups.Drawing(0, 2, "a link", "a pin")
+    with pytest.raises(TypeError, match=r"Looks \(kind 'looks'\) implements recognise but "
+                                        "declares no DRAWING"):
+        class Looks(groups.Crank):
+            kind = "looks"
+            FIELDS = groups.Crank.FIELDS
+
+            @classmethod
+            def recognise(cls, drawn, links):
+                return False
+    with pytest.raises(TypeError, match=r"DRAWING = 'two links' must be a Drawing or None"):
+        class Words(groups.RRR):
+            kind = "words"
+            FIELDS = groups.RRR.FIELDS
+            DRAWING = "two links"
+
+    class Quiet(groups.RRR):
+        kind = "quiet"
+        FIELDS = groups.RRR.FIELDS
+
+    assert "quiet" in registry and Quiet not in recognisers()
+    with pytest.raises(ValueError, match="a group has 2 links or more"):
+        groups.Drawing(0, 1, "a link", "a pin")

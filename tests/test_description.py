@@ -359,6 +359,14 @@ def test_a_new_group_type_is_one_class(registry):
     assert sorted(j.name for j in reread(d).build().joints) == ["A", "B", "C", "D", "E", "F", "M"]
 
 
+def only_one_driver(kind: str) -> str:
+    """Why a driver after the first group is refused, in the checker's words."""
+    return (f"only one {kind} (the first group) drives the linkage: a linkage has mobility 1, "
+            "so one driver moves it, with the inputs theta, omega and alpha (its angle, speed "
+            "and acceleration), and every later group follows from the points placed before "
+            "it (a group type that is no driver has DRIVER = False)")
+
+
 def test_the_first_group_is_the_driver_and_only_the_first(registry):
     """The rule follows DRIVER, not the name of a kind: a second driver type is a
     driver too."""
@@ -367,8 +375,7 @@ def test_the_first_group_is_the_driver_and_only_the_first(registry):
     with pytest.raises(DescriptionError) as info:
         reread(d)
     assert "[[groups]] #1 (RRR): the first group must be the crank" in info.value.problems
-    assert ("[[groups]] #2 (crank): only one crank (the first group) drives the linkage"
-            in info.value.problems)
+    assert "[[groups]] #2 (crank): " + only_one_driver("crank") in info.value.problems
 
     class Motor(groups.Crank):
         kind = "motor"
@@ -384,8 +391,8 @@ def test_the_first_group_is_the_driver_and_only_the_first(registry):
         reread(d)
     problems = info.value.problems
     assert "[[groups]] #1 (RRR): the first group must be the crank or motor" in problems
-    assert "[[groups]] #2 (crank): only one crank (the first group) drives the linkage" in problems
-    assert "[[groups]] #3 (motor): only one motor (the first group) drives the linkage" in problems
+    assert "[[groups]] #2 (crank): " + only_one_driver("crank") in problems
+    assert "[[groups]] #3 (motor): " + only_one_driver("motor") in problems
     with pytest.raises(DescriptionError, match="there are none; the first must be the crank or "
                                                "motor"):
         Description("empty", model="Empty").point("A", 0, 0).check()

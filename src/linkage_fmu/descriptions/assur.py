@@ -4,12 +4,13 @@
 returns the group-form tables that describe the same linkage (``[points]``,
 ``[[groups]]``, ``[bodies.L]``), which the description's checker and builder take as
 they take a hand-written file. The crank comes first; then, as long as a link is not
-placed, the first dyad the library solves is peeled off (RRR, RRP: a rod and a slider on
-a frame guide, RPR: a block sliding on a lever through the lever's pivot, RPP: a block in
-the slot of a yoke on a frame guide), trying the links two by two in the order of
-[[links]]; a link's further joints and its points become ``point`` groups on it. What no dyad
-resolves is the smallest connected set of links that the placed ones hold with mobility 0: a
-``closure`` group (revolute pairs only).
+placed, the first group a group type recognises is peeled off (each type that declares
+its ``DRAWING`` recognises its own: :func:`recognisers`), trying the links two by two in
+the order of [[links]] for the dyads (RRR, RRP: a rod and a slider on a frame guide, RPR:
+a block sliding on a lever through the lever's pivot, RPP: a block in the slot of a yoke
+on a frame guide); a link's further joints and its points become ``point`` groups on it.
+What no dyad resolves is the smallest connected set of links that the placed ones hold
+with mobility 0: a ``closure`` group (revolute pairs only).
 
 Every number of the group form is an expression of the drawn coordinates (lengths,
 guide points and angles, the points and centres of mass in each link's own frame), so
@@ -51,6 +52,7 @@ import math
 from dataclasses import dataclass, field
 
 from ..expressions import Expression
+from ..groups import Group
 from .topology import Topology, inline
 
 #: the largest sine of the angle between a prismatic pair's drawn slide and the guide its
@@ -197,9 +199,22 @@ def body_table(drawn: Decomposition | None, link: str) -> str:
     return f"[[links]] #{number} ({link})"
 
 
-class _Decomposer:
+class Decomposer:
     """One decomposition (see :func:`decompose`): what is placed so far, and the tables
-    made from it."""
+    made from it.
+
+    A group type's ``recognise`` (:meth:`linkage_fmu.groups.Group.recognise`) reads the
+    linkage ``t`` (its joints, links and frame) and what is placed (:meth:`placed`,
+    :meth:`anchors`, :meth:`dyad_of`, :meth:`connected`, :meth:`mobility`,
+    :meth:`held_twice`), and adds a group it recognises: the points it uses
+    (:meth:`attach`: a placed joint, or the pin a further link takes there), the drawn
+    pose as expressions (:meth:`xy`, :meth:`slide`, :meth:`pose_of`, :meth:`num`,
+    :meth:`branch`), its table (:meth:`group`), its pairs (:meth:`pair`), who holds each
+    point it places (``owner``: the body, None if shared; ``first``: the link a further
+    link is pinned to), each new link's own frame (``frame_``: link -> (point,
+    direction)), then its links' other joints and points (:meth:`finish`); or it refuses
+    a drawing that cannot be solved (:meth:`refuse`).
+    """
 
     def __init__(self, t: Topology, values: dict, branches: tuple, at_points: set):
         self.t, self.values, self.branches, self.at_points = t, values, branches, at_points
@@ -231,8 +246,9 @@ class _Decomposer:
     # -- the output tables ---------------------------------------------------------------
     def group(self, spec: dict, places: dict) -> None:
         """Add a group; ``places`` maps each point it places to its drawn (x, y)."""
-        self.out.groups.append({k: fold(v) if isinstance(v, str) and k not in _NAMES else v
-                                for k, v in spec.items()})
+        fields = Group.registry[spec["type"]].FIELDS  # a name is never folded
+        self.out.groups.append({k: fold(v) if isinstance(v, str) and k in fields and
+                                not fields[k].is_name else v for k, v in spec.items()})
         for p, (x, y) in places.items():
             self.out.pose[p] = (x, y, self.where())
 
@@ -351,8 +367,7 @@ class _Decomposer:
                 self.out.slides[j] = tuple(fold(v) for v in self.slide(j))
         self.crank()
         while len(self.placed_links) < len(t.links):
-            if not (self.dyad() or self.closure()):
-                break
+            self.step()
         return self.out
 
     def crank(self) -> None:
@@ -390,170 +405,38 @@ class _Decomposer:
                 to_placed.append(("pin", j))
         return to_placed, shared
 
-    def dyad(self) -> bool:
+    def dyad_of(self, x: str, y: str) -> tuple | None:
+        """``(x's pair, the joint they share, y's pair)`` where the links ``x`` and ``y``
+        are drawn as a dyad: each with one pair to the placed bodies (``(kind, joint)``,
+        as :meth:`anchors` gives it) and one joint not yet placed that they share; else
+        None."""
+        ax, sx = self.anchors(x, y)
+        ay, _ = self.anchors(y, x)
+        if len(sx) != 1 or len(ax) != 1 or len(ay) != 1:
+            return None
+        return ax[0], sx[0], ay[0]
+
+    def step(self) -> bool:
+        """Add the next group: the first that a group type recognises among the links not
+        yet placed, trying each size of group smallest first (every set of that many
+        links in the order of [[links]], and for each set the types in their order),
+        then the types of any size (:func:`recognisers`)."""
         free = [n for n in self.t.links if n not in self.placed_links]
-        for x, y in itertools.combinations(free, 2):
-            ax, sx = self.anchors(x, y)
-            ay, _ = self.anchors(y, x)
-            if len(sx) != 1 or len(ax) != 1 or len(ay) != 1:
-                continue
-            s = sx[0]
-            kinds = (ax[0][0], ay[0][0])
-            rotating = not self.t.joints[s].prismatic
-            if rotating and kinds == ("pin", "pin"):
-                self.rrr(x, y, ax[0][1], s, ay[0][1])
-            elif rotating and sorted(kinds) == ["frame guide", "pin"]:
-                rod, slider = (x, y) if kinds[0] == "pin" else (y, x)
-                end = (ax if rod == x else ay)[0][1]
-                self.rrp(rod, slider, end, s, (ay if rod == x else ax)[0][1])
-            elif not rotating and kinds == ("pin", "pin"):
-                if not self.rpr(x, y, ax[0][1], s, ay[0][1]):
-                    continue
-            elif not rotating and sorted(kinds) == ["frame guide", "pin"]:
-                block, yoke = (x, y) if kinds[0] == "pin" else (y, x)
-                self.rpp(block, yoke, (ax if block == x else ay)[0][1], s,
-                         (ay if block == x else ax)[0][1])
-            else:
-                continue
+        types = recognisers()
+        for size in sorted({cls.DRAWING.size for cls in types} - {None}):
+            fitting = [cls for cls in types if cls.DRAWING.size == size]
+            for links in itertools.combinations(free, size):
+                if any(cls.recognise(self, links) for cls in fitting):
+                    return True
+        if any(cls.recognise(self, tuple(free)) for cls in types if cls.DRAWING.size is None):
             return True
-        return False
-
-    def rrr(self, l1: str, l2: str, e1: str, c: str, e2: str) -> None:
-        p1, p2 = self.attach(e1, l1), self.attach(e2, l2)
-        (x1, y1), (x2, y2), (cx, cy) = self.pose_of(p1), self.pose_of(p2), self.xy(c)
-
-        def sign(v):
-            n = lambda s: self.num(s, v)  # noqa: E731
-            return ((n(x2) - n(x1)) * (n(cy) - n(y1)) - (n(y2) - n(y1)) * (n(cx) - n(x1)))
-
-        b = self.branch(sign, f"({x2} - {x1}) * ({cy} - {y1}) - ({y2} - {y1}) * ({cx} - {x1})")
-        if b is None:
-            raise DecompositionError([f"[joints] {c}: the dyad {e1}-{c}-{e2} (links {l1}, "
-                                      f"{l2}) is drawn at a toggle ({e1}, {c}, {e2} in line): "
-                                      "its assembly mode is undefined; draw it apart"])
-        self.group({"type": "RRR", "link1": l1, "link2": l2, "end1": p1, "middle": c,
-                    "end2": p2, "length1": f"hypot({cx} - {x1}, {cy} - {y1})",
-                    "length2": f"hypot({cx} - {x2}, {cy} - {y2})", "branch": b},
-                   {c: (cx, cy)})
-        self.pair(p1, self.owner[p1], l1)
-        self.pair(c, l1, l2)
-        self.pair(p2, self.owner[p2], l2)
-        self.owner[c], self.first[c] = None, l1
-        self.frame_[l1] = (p1, (f"({cx} - {x1})", f"({cy} - {y1})"))
-        self.frame_[l2] = (p2, (f"({cx} - {x2})", f"({cy} - {y2})"))
-        self.finish(l1)
-        self.finish(l2)
-
-    def rrp(self, rod: str, slider: str, end: str, pin: str, guide: str) -> None:
-        p = self.attach(end, rod)
-        (ex, ey), (bx, by), (tx, ty) = self.pose_of(p), self.xy(pin), self.slide(guide)
-
-        def sign(v):
-            n = lambda s: self.num(s, v)  # noqa: E731
-            return (n(bx) - n(ex)) * n(tx) + (n(by) - n(ey)) * n(ty)
-
-        b = self.branch(sign, f"({bx} - {ex}) * {tx} + ({by} - {ey}) * {ty}")
-        if b is None:
-            raise DecompositionError([f"[joints] {pin}: the rod {end}{pin} (link {rod}) is "
-                                      f"drawn square to the guide {guide}: the slider's "
-                                      "assembly mode is undefined; draw it apart"])
-        self.group({"type": "RRP", "rod": rod, "slider": slider, "end": p, "pin": pin,
-                    "length": f"hypot({bx} - {ex}, {by} - {ey})", "guide_point": [bx, by],
-                    "guide_angle": f"atan2({ty}, {tx})", "branch": b, "guide": guide},
-                   {pin: (bx, by)})
-        self.out.groups[-1]["guide_point"] = [fold(bx), fold(by)]
-        self.pair(p, self.owner[p], rod)
-        self.pair(pin, rod, slider)
-        self.pair(guide, self.t.frame, slider)
-        self.owner[pin], self.first[pin] = None, rod
-        self.frame_[rod] = (p, (f"({bx} - {ex})", f"({by} - {ey})"))
-        self.frame_[slider] = (pin, (tx, ty))
-        self.finish(rod)
-        self.finish(slider)
-
-    def rpr(self, x: str, y: str, jx: str, slot: str, jy: str) -> bool:
-        lever = self.t.joints[slot].guide
-        block = y if lever == x else x
-        pivot, pin = (jx, jy) if lever == x else (jy, jx)
-        (px, py), (cx, cy), (tx, ty) = self.xy(pin), self.xy(pivot), self.slide(slot)
-        n = self.num
-        ax, ay, dx, dy = n(cx) - n(px), n(cy) - n(py), n(tx), n(ty)
-        if ax == 0.0 and ay == 0.0:
-            return False
-        sine = abs(ax * dy - ay * dx) / (math.hypot(ax, ay) * math.hypot(dx, dy))
-        if not sine <= SLIDE_TOLERANCE:  # the slot does not pass through the lever's pivot
-            drawn = ", ".join(map(repr, self.t.joints[slot].slide))
-            self.missed[slot] = (
-                f"[joints] {slot} slide: [{drawn}] through the pin {pin} misses the pivot "
-                f"{pivot} of the lever {lever} by {sine * math.hypot(ax, ay):.3g} m (the sine "
-                f"of the angle between the slide and the line {pin}-{pivot} is {sine:.3g}; "
-                f"the tolerance is {SLIDE_TOLERANCE:g}): a block in the slot of a turning "
-                "lever (an RPR dyad) slides on a line through the lever's pivot; write "
-                f"slide = [\"x_{pin} - x_{pivot}\", \"y_{pin} - y_{pivot}\"] for a slot "
-                "exactly through it")
-            return False
-        off = (f"abs(({cx} - {px}) * {ty} - ({cy} - {py}) * {tx}) / "
-               f"(hypot({cx} - {px}, {cy} - {py}) * hypot({tx}, {ty}))")
-        if any(name in self.params for name in Expression(off).names):
-            self.out.checks.append((
-                f"[joints] {slot} slide: the parameters turn the slide off the line "
-                f"{pin}-{pivot} through the lever's pivot (the sine of the angle between "
-                f"them above {SLIDE_TOLERANCE:g}): the slot of a turning lever runs "
-                "through its pivot", fold(off)))
-        p, c = self.attach(pin, block), self.attach(pivot, lever)
-        self.group({"type": "RPR", "block": block, "lever": lever, "pin": p, "pivot": c,
-                    "slide": slot}, {})
-        self.pair(p, self.owner[p], block)
-        self.pair(slot, block, lever)
-        self.pair(c, self.owner[c], lever)
-        (px, py), (cx, cy) = self.pose_of(p), self.pose_of(c)
-        self.frame_[lever] = (c, (f"({px} - {cx})", f"({py} - {cy})"))
-        self.frame_[block] = (p, self.frame_[lever][1])
-        self.finish(block)
-        self.finish(lever)
-        return True
-
-    def rpp(self, block: str, yoke: str, pin: str, slot: str, guide: str) -> None:
-        p = self.attach(pin, block)
-        (ex, ey), (t1x, t1y), (t2x, t2y) = self.pose_of(p), self.slide(slot), self.slide(guide)
-        qx, qy = self.xy(guide)
-        # how far along the guide the slot's line through the pin crosses it
-        s = (f"((({ex}) - {qx}) * {t1y} - (({ey}) - {qy}) * {t1x}) "
-             f"/ ({t2x} * {t1y} - {t2y} * {t1x})")
-        ref = f"{guide}_ref"
-        self.fresh(ref, f"the point of yoke {yoke} where the slot's line crosses the guide "
-                        f"{guide}")
-        rx, ry = f"({qx} + {s} * {t2x})", f"({qy} + {s} * {t2y})"
-        self.group({"type": "RPP", "block": block, "yoke": yoke, "pin": p, "ref": ref,
-                    "slot_angle": f"atan2({t1y}, {t1x})", "guide_point": [qx, qy],
-                    "guide_angle": f"atan2({t2y}, {t2x})", "slot": slot, "guide": guide},
-                   {ref: (rx, ry)})
-        self.out.groups[-1]["guide_point"] = [fold(qx), fold(qy)]
-        self.pair(p, self.owner[p], block)
-        self.pair(slot, block, yoke)
-        self.pair(guide, self.t.frame, yoke)
-        self.owner[ref] = self.first[ref] = yoke
-        self.frame_[block] = (p, (t1x, t1y))
-        self.frame_[yoke] = (ref, (t2x, t2y))
-        self.finish(block)
-        self.finish(yoke)
-
-    def closure(self) -> bool:
-        """The smallest connected set of the links left that the placed ones hold with
-        mobility 0, as one ``closure`` group; a DecompositionError if there is none or
-        it slides."""
-        t = self.t
-        free = [n for n in t.links if n not in self.placed_links]
-        for size in range(2, len(free) + 1):
-            for subset in itertools.combinations(free, size):
-                if self._connected(subset) and self._mobility(subset) == 0 and all(
-                        self._held_twice(n, subset) for n in subset):
-                    return self._emit_closure(subset)
         raise DecompositionError([
             f"[[links]]: a group the decomposition cannot solve: links {', '.join(free)} are "
             "left, and no connected set of them is held by the placed links with mobility 0"])
 
-    def _connected(self, subset: tuple) -> bool:
+    # -- for the group types' recognise: the links' structure and the tables ----------------
+    def connected(self, subset: tuple) -> bool:
+        """Whether the links ``subset`` are connected through their joints."""
         seen, todo = {subset[0]}, [subset[0]]
         while todo:
             link = todo.pop()
@@ -564,7 +447,7 @@ class _Decomposer:
                         todo.append(other)
         return len(seen) == len(subset)
 
-    def _held_twice(self, link: str, subset: tuple) -> bool:
+    def held_twice(self, link: str, subset: tuple) -> bool:
         """Whether ``link`` has two pairs or more within the group ``subset`` or to
         placed bodies (a link of an Assur group does; one with a single pair would
         turn freely while the count of the group says 0)."""
@@ -576,7 +459,8 @@ class _Decomposer:
                 held += 1
         return held >= 2
 
-    def _mobility(self, subset: tuple) -> int:
+    def mobility(self, subset: tuple) -> int:
+        """Gruebler's count of the links ``subset`` held by the placed bodies."""
         pairs = 0
         for j in {j for n in subset for j in self.t.links[n].joints}:
             on = self.t.on(j)
@@ -585,61 +469,43 @@ class _Decomposer:
             pairs += inside if held else inside - 1
         return 3 * len(subset) - 2 * pairs
 
-    def _emit_closure(self, subset: tuple) -> bool:
-        t = self.t
-        sliding = [j for n in subset for j in t.links[n].joints if t.joints[j].prismatic]
-        missed = [self.missed[j] for j in dict.fromkeys(sliding) if j in self.missed]
-        if missed and len(subset) == 2:
-            raise DecompositionError(missed)
-        if sliding:
-            what = ("a dyad that no dyad of the library is (an RRP's slider and an RPP's "
-                    "yoke slide on a frame guide, an RPR's slot passes through its lever's "
-                    "pivot)" if len(subset) == 2 else
-                    f"a group of {len(subset)} links (only dyads may slide)")
-            raise DecompositionError([
-                f"[[links]]: a group the decomposition cannot solve: links "
-                f"{', '.join(subset)}, with the prismatic pair(s) "
-                f"{', '.join(dict.fromkeys(sliding))}, form {what}"])
-        links, pose, places = {}, {}, {}
-        for n in subset:
-            names = []
-            for j in t.links[n].joints:
-                inside = [m for m in t.on(j) if m in subset]
-                if self.placed(j):
-                    p = self.attach(j, n)
-                    names.append(p)
-                    pose[p] = self.pose_of(p)
-                elif len(inside) >= 2:
-                    names.append(j)
-                    pose[j] = places[j] = self.xy(j)
-            links[n] = names
-        self.group({"type": "closure", "links": links,
-                    "pose": {p: [fold(x), fold(y)] for p, (x, y) in pose.items()},
-                    "theta": self.out.theta}, places)
-        for n, names in links.items():
-            for p in names:
-                if p not in places:
-                    self.pair(p, self.owner[p], n)
-        for j in places:
-            # the closure group's pairs at a point it places: the first two links listing
-            # it, then each further one pinned to the one listed before it
-            inside = [n for n, names in links.items() if j in names]
-            self.pair(j, inside[0], inside[1])
-            for k in range(2, len(inside)):
-                self.pair(f"{j}_{inside[k]}", inside[k - 1], inside[k])
-            self.owner[j], self.first[j] = None, inside[0]
-        for n, names in links.items():
-            (x0, y0), (x1, y1) = pose[names[0]], pose[names[1]]
-            self.frame_[n] = (names[0], (f"({x1} - {x0})", f"({y1} - {y0})"))
-        for n in subset:
-            self.finish(n)
-        return True
+    #: see :data:`SLIDE_TOLERANCE`
+    slide_tolerance = SLIDE_TOLERANCE
+
+    @staticmethod
+    def fold(text):
+        """:func:`fold`: an expression of the drawn pose as the group form writes it."""
+        return fold(text)
+
+    def moves(self, text: str) -> bool:
+        """Whether the expression ``text`` uses a parameter."""
+        return any(name in self.params for name in Expression(text).names)
+
+    def check(self, what: str, text: str) -> None:
+        """Check at every parameter set that the expression ``text`` is at most
+        :data:`SLIDE_TOLERANCE` (see ``Decomposition.checks``); ``what`` says what it is."""
+        self.out.checks.append((what, fold(text)))
+
+    @staticmethod
+    def refuse(*problems: str) -> None:
+        """Raise the DecompositionError of ``problems``: the links form a group that
+        cannot be decomposed."""
+        raise DecompositionError(list(problems))
 
 
-#: group-form fields that are names, never folded
-_NAMES = {"type", "link", "link1", "link2", "pivot", "tip", "end1", "end2", "middle", "rod",
-          "slider", "end", "pin", "guide", "block", "lever", "slide", "yoke", "ref", "slot",
-          "from", "name", "links", "pose", "guide_point"}
+def recognisers() -> list[type]:
+    """The group types that a linkage written as joints and links may show (those that
+    declare their ``DRAWING``), in the order the decomposition tries them: by size,
+    those of any size last, then by rank and kind.
+
+    Examples
+    --------
+    >>> [cls.kind for cls in recognisers()]
+    ['RRR', 'RRP', 'RPR', 'RPP', 'closure']
+    """
+    found = [cls for cls in Group.registry.values() if cls.__dict__.get("DRAWING")]
+    return sorted(found, key=lambda cls: (cls.DRAWING.size is None, cls.DRAWING.size or 0,
+                                          cls.DRAWING.rank, cls.kind))
 
 
 def decompose(t: Topology, values: dict, branches: tuple = (), at_points: set = frozenset()
@@ -662,7 +528,7 @@ def decompose(t: Topology, values: dict, branches: tuple = (), at_points: set = 
     DecompositionError
         A group the decomposition cannot solve, or a drawn pose at a toggle.
     """
-    return _Decomposer(t, values, tuple(branches), set(at_points)).run()
+    return Decomposer(t, values, tuple(branches), set(at_points)).run()
 
 
 # -- what the decomposition is, for people ---------------------------------------------
@@ -684,8 +550,6 @@ def outline(groups: list[dict]) -> list[tuple[str, str, tuple, tuple]]:
     ('point', 'point', ('3',), ('D',))
     ('II', 'RRP', ('4', '5'), ('D', 'E', 'guide'))
     """
-    from ..groups import Group
-
     rows = []
     for spec in groups:
         kind = spec.get("type")

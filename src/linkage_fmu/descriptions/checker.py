@@ -250,7 +250,12 @@ class Checker:
         if k == 0 and not cls.DRIVER:
             self.found.append(f"{where}: the first group must be the {self.drivers()}")
         if k > 0 and cls.DRIVER:
-            self.found.append(f"{where}: only one {kind} (the first group) drives the linkage")
+            self.found.append(
+                f"{where}: only one {kind} (the first group) drives the linkage: a linkage "
+                "has mobility 1, so one driver moves it, with the inputs theta, omega and "
+                "alpha (its angle, speed and acceleration), and every later group follows "
+                "from the points placed before it (a group type that is no driver has "
+                "DRIVER = False)")
         for key in spec:
             if key != "type" and key not in cls.FIELDS:
                 self.found.append(f"{where} {key}: unknown field; a {kind} has "

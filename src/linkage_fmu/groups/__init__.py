@@ -4,8 +4,10 @@ Every type derives from :class:`~linkage_fmu.groups.base.Group`, which states th
 contract (kinematics at three orders, closed-form statics, equilibrium rows through its
 joints, transmission angle, construction from a description file: its ``FIELDS``, each a
 :class:`~linkage_fmu.groups.base.Field`, its ``OPTIONAL`` ones, whether it is the
-``DRIVER``, and the ``pairs`` its fields make). A new type is one class in one module
-here; importing it registers its ``kind`` for description files.
+``DRIVER``, and the ``pairs`` its fields make; and, for a type a linkage written as
+joints and links may show, its :class:`~linkage_fmu.groups.base.Drawing` and how it
+recognises it). A new type is one class in one module here; importing it registers its
+``kind`` for description files.
 
 Examples
 --------
@@ -19,6 +21,7 @@ from .base import (
                    OWNER,
                    ROLE_MEANINGS,
                    ROLES,
+                   Drawing,
                    Field,
                    Group,
                    Joint,
@@ -34,4 +37,5 @@ from .rrp import RRP
 from .rrr import RRR
 
 __all__ = ["Group", "Field", "ROLES", "ROLE_MEANINGS", "Joint", "KinematicState", "FRAME",
-           "OWNER", "LinkJoints", "Crank", "RRR", "RRP", "RPP", "RPR", "LinkPoint", "Closure"]
+           "OWNER", "LinkJoints", "Crank", "RRR", "RRP", "RPP", "RPR", "LinkPoint", "Closure",
+           "Drawing"]

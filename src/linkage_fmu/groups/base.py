@@ -323,6 +323,55 @@ class Field:
         return self.role in NAME_ROLES
 
 
+@dataclass(frozen=True)
+class Drawing:
+    """How a group type is drawn in a linkage written as joints and links: what the
+    decomposition of such a linkage looks for, and what the reference of the format
+    says of it. A type recognises its drawing itself (:meth:`Group.recognise`).
+
+    Parameters
+    ----------
+    rank : int
+        Types of one size are tried in the order of their rank (then of their kind).
+    size : int or None
+        How many links the group has: the decomposition offers the type every set of
+        that many links not yet placed, in the order of [[links]], smallest sizes first;
+        None for a group of any size, offered every link not yet placed once no type of
+        a fixed size is found (a closure).
+    links, pairs : str
+        Its links and their pairs, in words, for the reference's table of the groups of a
+        fixed size: what joins them to one another and to the placed bodies.
+
+    Raises
+    ------
+    ValueError
+        A size below 2, or a fixed size without its words.
+
+    Examples
+    --------
+    >>> Drawing(1, 2, "two links pinned together", "each pinned to a placed joint").size
+    2
+    >>> Drawing(1, 2)
+    Traceback (most recent call last):
+    ...
+    ValueError: a group of 2 links says what its links and their pairs are (links, pairs), for
+    the reference of the format
+    """
+
+    rank: int
+    size: int | None = 2
+    links: str = ""
+    pairs: str = ""
+
+    def __post_init__(self) -> None:
+        if self.size is not None and not (isinstance(self.size, int) and self.size >= 2):
+            raise ValueError(f"size = {self.size!r}: a group has 2 links or more (None: any "
+                             "number)")
+        if self.size is not None and not (self.links and self.pairs):
+            raise ValueError(f"a group of {self.size} links says what its links and their "
+                             "pairs are (links, pairs), for the reference of the format")
+
+
 def names_in(spec: dict, keys: Iterable[str]) -> tuple[str, ...]:
     """The values of ``keys`` in ``spec`` that are names (non-empty strings), in order.
 
@@ -343,7 +392,9 @@ class Group(ABC):
     class that misses one cannot be instantiated (``TypeError`` naming it). Each
     concrete class with a ``kind`` is the group type of that name in description files,
     and must declare its own ``FIELDS`` (``TypeError`` naming it when the class is
-    created); ``OPTIONAL``, ``DRIVER`` and ``pairs`` have defaults.
+    created); ``OPTIONAL``, ``DRIVER`` and ``pairs`` have defaults. A type that a
+    linkage written as joints and links may show declares its own ``DRAWING`` and
+    implements ``recognise``; by default a type is not recognised from joints and links.
 
     Examples
     --------
@@ -374,7 +425,15 @@ class Group(ABC):
     OPTIONAL : tuple of str
         The fields that may be left out.
     DRIVER : bool
-        True for the driver: the first group of a linkage, and only the first.
+        True for the driver: the first group of a linkage, and only the first. A linkage
+        has mobility 1: its driver's angle, speed and acceleration are the linkage's
+        inputs ``theta``, ``omega`` and ``alpha``, and every later group follows from
+        the points placed before it.
+    DRAWING : Drawing or None
+        How the type is drawn as joints and links, declared by the type itself (a new
+        kind does not take its parent's); None for a type the decomposition of such a
+        linkage does not recognise (the crank, which ``[crank]`` names, and a point on
+        a link, which it adds itself).
     needs : tuple of str
         Points that must be placed before this group.
     places : tuple of str
@@ -395,6 +454,7 @@ class Group(ABC):
     FIELDS: ClassVar[dict[str, Field]]  # no default: every type declares its own
     OPTIONAL: ClassVar[tuple[str, ...]] = ()
     DRIVER: ClassVar[bool] = False
+    DRAWING: ClassVar[Drawing | None] = None
 
     needs: tuple = ()
     places: tuple = ()
@@ -453,6 +513,26 @@ class Group(ABC):
         []
         """
         return []
+
+    @classmethod
+    def recognise(cls, drawn, links: tuple[str, ...]) -> bool:
+        """Whether the links ``links`` not yet placed (as many as the type's ``DRAWING``
+        says, in the order of [[links]]) form this group in the joints-and-links linkage
+        under decomposition ``drawn``
+        (:class:`~linkage_fmu.descriptions.assur.Decomposer`), with the links and joints
+        placed so far; if they do, the group's table, its pairs and its links' points
+        are added to ``drawn`` (its methods say how), and True is returned. A drawing
+        they form that cannot be solved (a toggle) raises the decomposition's error.
+
+        By default False: the type is not recognised from joints and links.
+
+        Examples
+        --------
+        >>> from linkage_fmu.groups import Crank
+        >>> Crank.DRAWING, Crank.recognise(None, ("1",))
+        (None, False)
+        """
+        return False
 
     def attach(self, before: tuple, frame_points: dict) -> None:  # noqa: B027 (optional hook)
         """Called by the mechanism with the groups ``before`` this one (in order) and
@@ -516,6 +596,15 @@ def _contract_problem(cls: type) -> str:
         return f"OPTIONAL = {optional!r} must be a tuple of names in its FIELDS"
     if not isinstance(cls.DRIVER, bool):
         return f"DRIVER = {cls.DRIVER!r} must be True or False"
+    drawing = cls.__dict__.get("DRAWING")
+    if drawing is not None and not isinstance(drawing, Drawing):
+        return f"DRAWING = {drawing!r} must be a Drawing or None"
+    if drawing is not None and cls.recognise.__func__ is Group.recognise.__func__:
+        return ("declares a DRAWING but no recognise: the decomposition asks recognise "
+                "whether links form the group")
+    if drawing is None and "recognise" in cls.__dict__:
+        return ("implements recognise but declares no DRAWING of its own: the "
+                "decomposition asks only the types that declare one")
     return ""
 
 

@@ -9,6 +9,7 @@ drawn one. Its statics is its own linear system, three equations per link.
 
 from __future__ import annotations
 
+import itertools
 import math
 import warnings
 from collections.abc import Collection, Mapping, Sequence
@@ -19,7 +20,18 @@ from .. import linalg, newton, numerics
 from ..errors import NearSingularWarning
 from ..kernels.trace import Reason
 from ..numerics import SCALAR
-from .base import OWNER, Field, Group, Joint, KinematicState, LinkJoints, fmt, moment_about, push
+from .base import (
+    OWNER,
+    Drawing,
+    Field,
+    Group,
+    Joint,
+    KinematicState,
+    LinkJoints,
+    fmt,
+    moment_about,
+    push,
+)
 
 #: the continuation's longest step, rad: 16 over half a turn. Measured on the class III
 #: six-bar of tests/test_closure.py over 720 angles of a full turn, in fixed steps from
@@ -164,6 +176,89 @@ class Closure(Group):
                               "assembly mode"),
         "theta": Field("angle", "the crank angle at which the pose is drawn"),
     }
+    DRAWING = Drawing(1, None)
+
+    @classmethod
+    def recognise(cls, drawn, links):
+        """The smallest connected set of ``links`` (the links not yet placed) that the
+        placed links hold with mobility 0, each link held twice: one closure group, its
+        pairs revolute (one that slides is refused, naming why no dyad took it).
+
+        Examples
+        --------
+        >>> from linkage_fmu.descriptions.topology import read
+        >>> from linkage_fmu.descriptions.assur import decompose
+        >>> t, _ = read({"joints": {"O": [0, 0], "A": [0.1, 0], "P": [0.5, -0.1],
+        ...                         "Q": [0.3, -0.3], "E": [0.25, 0.3], "F": [0.55, 0.25],
+        ...                         "G": [0.4, 0.05]},
+        ...              "links": [{"name": "1", "joints": ["O", "A"]},
+        ...                        {"name": "2", "joints": ["A", "E"]},
+        ...                        {"name": "3", "joints": ["P", "F"]},
+        ...                        {"name": "4", "joints": ["Q", "G"]},
+        ...                        {"name": "5", "joints": ["E", "F", "G"]}],
+        ...              "crank": {"link": "1", "pivot": "O"}}, {})
+        >>> closure = decompose(t, {}).groups[1]
+        >>> closure["type"], closure["links"]
+        ('closure', {'2': ['A', 'E'], '3': ['P', 'F'], '4': ['Q', 'G'], '5': ['E', 'F', 'G']})
+        """
+        for size in range(2, len(links) + 1):
+            for subset in itertools.combinations(links, size):
+                if drawn.connected(subset) and drawn.mobility(subset) == 0 and all(
+                        drawn.held_twice(n, subset) for n in subset):
+                    cls._form(drawn, subset)
+                    return True
+        return False
+
+    @classmethod
+    def _form(cls, drawn, subset: tuple) -> None:
+        """The closure group of the links ``subset``, its pairs and its links' points."""
+        t = drawn.t
+        sliding = [j for n in subset for j in t.links[n].joints if t.joints[j].prismatic]
+        missed = [drawn.missed[j] for j in dict.fromkeys(sliding) if j in drawn.missed]
+        if missed and len(subset) == 2:
+            drawn.refuse(*missed)
+        if sliding:
+            what = ("a dyad that no dyad of the library is (an RRP's slider and an RPP's "
+                    "yoke slide on a frame guide, an RPR's slot passes through its lever's "
+                    "pivot)" if len(subset) == 2 else
+                    f"a group of {len(subset)} links (only dyads may slide)")
+            drawn.refuse(f"[[links]]: a group the decomposition cannot solve: links "
+                         f"{', '.join(subset)}, with the prismatic pair(s) "
+                         f"{', '.join(dict.fromkeys(sliding))}, form {what}")
+        links, pose, places = {}, {}, {}
+        for n in subset:
+            names = []
+            for j in t.links[n].joints:
+                inside = [m for m in t.on(j) if m in subset]
+                if drawn.placed(j):
+                    p = drawn.attach(j, n)
+                    names.append(p)
+                    pose[p] = drawn.pose_of(p)
+                elif len(inside) >= 2:
+                    names.append(j)
+                    pose[j] = places[j] = drawn.xy(j)
+            links[n] = names
+        drawn.group({"type": cls.kind, "links": links,
+                     "pose": {p: [drawn.fold(x), drawn.fold(y)] for p, (x, y) in pose.items()},
+                     "theta": drawn.out.theta}, places)
+        for n, names in links.items():
+            for p in names:
+                if p not in places:
+                    drawn.pair(p, drawn.owner[p], n)
+        for j in places:
+            # the closure group's pairs at a point it places: the first two links listing
+            # it, then each further one pinned to the one listed before it
+            inside = [n for n, names in links.items() if j in names]
+            drawn.pair(j, inside[0], inside[1])
+            for k in range(2, len(inside)):
+                drawn.pair(f"{j}_{inside[k]}", inside[k - 1], inside[k])
+            drawn.owner[j], drawn.first[j] = None, inside[0]
+        for n, names in links.items():
+            (x0, y0), (x1, y1) = pose[names[0]], pose[names[1]]
+            drawn.frame_[n] = (names[0], (f"({x1} - {x0})", f"({y1} - {y0})"))
+        for n in subset:
+            drawn.finish(n)
+
     def __init__(self, links: Mapping[str, Sequence[str]], pose: Mapping[str, Sequence],
                  theta: float, placed: Collection[str]):
         self.link_joints = {link: tuple(joints) for link, joints in links.items()}

@@ -8,6 +8,7 @@ from ..numerics import SCALAR
 from .base import (
     FRAME,
     OWNER,
+    Drawing,
     Field,
     Group,
     Joint,
@@ -52,6 +53,60 @@ class RPP(Group):
         "slot": Field("new joint", "name of the block's prismatic pair in the slot"),
         "guide": Field("new joint", "name of the yoke's prismatic pair on the guide"),
     }
+
+    DRAWING = Drawing(4, 2, "a block and a yoke sliding in one another",
+                      "the block pinned to a placed joint, the yoke on a frame guide")
+
+    @classmethod
+    def recognise(cls, drawn, links):
+        """A block and a yoke sliding in one another, the block pinned to a placed joint,
+        the yoke on a frame guide (a prismatic joint that it alone lists); the yoke's
+        reference point is named ``GUIDE_ref``.
+
+        Examples
+        --------
+        >>> from pathlib import Path
+        >>> import linkage_fmu
+        >>> from linkage_fmu.descriptions import Description
+        >>> root = Path(linkage_fmu.__file__).parents[2]
+        >>> d = Description.read(root / "examples/joints/scotch_yoke.toml")
+        >>> {k: d.groups[1][k] for k in ("type", "block", "yoke", "pin", "ref", "slot")}
+        {'type': 'RPP', 'block': '2', 'yoke': '3', 'pin': 'B', 'ref': 'guide_ref', 'slot': 'slot'}
+        """
+        shape = drawn.dyad_of(*links)
+        if shape is None:
+            return False
+        (kind_x, jx), slot, (kind_y, jy) = shape
+        if not drawn.t.joints[slot].prismatic or sorted((kind_x, kind_y)) != ["frame guide",
+                                                                              "pin"]:
+            return False
+        x, y = links
+        block, yoke = (x, y) if kind_x == "pin" else (y, x)
+        pin, guide = (jx, jy) if block == x else (jy, jx)
+        p = drawn.attach(pin, block)
+        (ex, ey), (t1x, t1y), (t2x, t2y) = drawn.pose_of(p), drawn.slide(slot), drawn.slide(guide)
+        qx, qy = drawn.xy(guide)
+        # how far along the guide the slot's line through the pin crosses it
+        s = (f"((({ex}) - {qx}) * {t1y} - (({ey}) - {qy}) * {t1x}) "
+             f"/ ({t2x} * {t1y} - {t2y} * {t1x})")
+        ref = f"{guide}_ref"
+        drawn.fresh(ref, f"the point of yoke {yoke} where the slot's line crosses the guide "
+                         f"{guide}")
+        rx, ry = f"({qx} + {s} * {t2x})", f"({qy} + {s} * {t2y})"
+        drawn.group({"type": cls.kind, "block": block, "yoke": yoke, "pin": p, "ref": ref,
+                     "slot_angle": f"atan2({t1y}, {t1x})",
+                     "guide_point": [drawn.fold(qx), drawn.fold(qy)],
+                     "guide_angle": f"atan2({t2y}, {t2x})", "slot": slot, "guide": guide},
+                    {ref: (rx, ry)})
+        drawn.pair(p, drawn.owner[p], block)
+        drawn.pair(slot, block, yoke)
+        drawn.pair(guide, drawn.t.frame, yoke)
+        drawn.owner[ref] = drawn.first[ref] = yoke
+        drawn.frame_[block] = (p, (t1x, t1y))
+        drawn.frame_[yoke] = (ref, (t2x, t2y))
+        drawn.finish(block)
+        drawn.finish(yoke)
+        return True
 
     def __init__(self, block: str, yoke: str, E: str, ref: str, slot_angle: float,
                  guide_point: tuple, guide_angle: float, slot_joint: str, guide_joint: str):

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from .base import OWNER, Field, Group, Joint, KinematicState, moment_about, push
+from .base import OWNER, Drawing, Field, Group, Joint, KinematicState, moment_about, push
 
 
 class RPR(Group):
@@ -37,6 +37,76 @@ class RPR(Group):
         "pivot": Field("point", "the placed point the lever turns about"),
         "slide": Field("new joint", "name of the block's prismatic pair on the lever"),
     }
+
+    DRAWING = Drawing(3, 2, "a block and a lever sliding in one another",
+                      "each pinned to a placed joint; the guide's line through the block's "
+                      "pin passes through the lever's pin (the lever carries the guide; see "
+                      "below)")
+
+    @classmethod
+    def recognise(cls, drawn, links):
+        """A block and a lever sliding in one another (the lever carries the guide), each
+        pinned to a placed joint, the slide drawn through the lever's pin (to the
+        decomposition's slide tolerance). A slide that misses it is noted for the
+        decomposition's message (``drawn.missed``), and the links are no RPR.
+
+        Examples
+        --------
+        >>> from pathlib import Path
+        >>> import linkage_fmu
+        >>> from linkage_fmu.descriptions import Description
+        >>> root = Path(linkage_fmu.__file__).parents[2]
+        >>> d = Description.read(root / "examples/joints/crank_shaper.toml")
+        >>> {k: d.groups[1][k] for k in ("type", "block", "lever", "pin", "pivot", "slide")}
+        {'type': 'RPR', 'block': '2', 'lever': '3', 'pin': 'B', 'pivot': 'C', 'slide': 'slot'}
+        """
+        shape = drawn.dyad_of(*links)
+        if shape is None:
+            return False
+        (kind_x, jx), slot, (kind_y, jy) = shape
+        if not drawn.t.joints[slot].prismatic or (kind_x, kind_y) != ("pin", "pin"):
+            return False
+        x, y = links
+        lever = drawn.t.joints[slot].guide
+        block = y if lever == x else x
+        pivot, pin = (jx, jy) if lever == x else (jy, jx)
+        (px, py), (cx, cy), (tx, ty) = drawn.xy(pin), drawn.xy(pivot), drawn.slide(slot)
+        n = drawn.num
+        ax, ay, dx, dy = n(cx) - n(px), n(cy) - n(py), n(tx), n(ty)
+        if ax == 0.0 and ay == 0.0:
+            return False
+        sine = abs(ax * dy - ay * dx) / (math.hypot(ax, ay) * math.hypot(dx, dy))
+        tolerance = drawn.slide_tolerance
+        if not sine <= tolerance:  # the slot does not pass through the lever's pivot
+            written = ", ".join(map(repr, drawn.t.joints[slot].slide))
+            drawn.missed[slot] = (
+                f"[joints] {slot} slide: [{written}] through the pin {pin} misses the pivot "
+                f"{pivot} of the lever {lever} by {sine * math.hypot(ax, ay):.3g} m (the sine "
+                f"of the angle between the slide and the line {pin}-{pivot} is {sine:.3g}; "
+                f"the tolerance is {tolerance:g}): a block in the slot of a turning "
+                "lever (an RPR dyad) slides on a line through the lever's pivot; write "
+                f"slide = [\"x_{pin} - x_{pivot}\", \"y_{pin} - y_{pivot}\"] for a slot "
+                "exactly through it")
+            return False
+        off = (f"abs(({cx} - {px}) * {ty} - ({cy} - {py}) * {tx}) / "
+               f"(hypot({cx} - {px}, {cy} - {py}) * hypot({tx}, {ty}))")
+        if drawn.moves(off):
+            drawn.check(f"[joints] {slot} slide: the parameters turn the slide off the line "
+                        f"{pin}-{pivot} through the lever's pivot (the sine of the angle "
+                        f"between them above {tolerance:g}): the slot of a turning lever "
+                        "runs through its pivot", off)
+        p, c = drawn.attach(pin, block), drawn.attach(pivot, lever)
+        drawn.group({"type": cls.kind, "block": block, "lever": lever, "pin": p, "pivot": c,
+                     "slide": slot}, {})
+        drawn.pair(p, drawn.owner[p], block)
+        drawn.pair(slot, block, lever)
+        drawn.pair(c, drawn.owner[c], lever)
+        (px, py), (cx, cy) = drawn.pose_of(p), drawn.pose_of(c)
+        drawn.frame_[lever] = (c, (f"({px} - {cx})", f"({py} - {cy})"))
+        drawn.frame_[block] = (p, drawn.frame_[lever][1])
+        drawn.finish(block)
+        drawn.finish(lever)
+        return True
 
     def __init__(self, block: str, lever: str, pin: str, pivot: str, slide_joint: str):
         self.block, self.lever, self.P, self.C = block, lever, pin, pivot

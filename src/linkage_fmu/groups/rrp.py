@@ -7,6 +7,7 @@ import numpy as np
 from .base import (
     FRAME,
     OWNER,
+    Drawing,
     Field,
     Group,
     Joint,
@@ -52,6 +53,62 @@ class RRP(Group):
                                   "perpendicular from end to the guide, -1: on the other"),
         "guide": Field("new joint", "name of the slider's prismatic pair on the guide"),
     }
+
+    DRAWING = Drawing(2, 2, "a rod and a slider pinned together",
+                      "the rod pinned to a placed joint, the slider on a frame guide "
+                      "(listed by the slider only)")
+
+    @classmethod
+    def recognise(cls, drawn, links):
+        """A rod and a slider pinned together at a joint not yet placed, the rod pinned
+        to a placed joint, the slider on a frame guide (a prismatic joint that it alone
+        lists).
+
+        Examples
+        --------
+        >>> from pathlib import Path
+        >>> import linkage_fmu
+        >>> from linkage_fmu.descriptions import Description
+        >>> root = Path(linkage_fmu.__file__).parents[2]
+        >>> d = Description.read(root / "examples/joints/slider_crank.toml")
+        >>> {k: d.groups[1][k] for k in ("type", "rod", "slider", "end", "pin", "guide")}
+        {'type': 'RRP', 'rod': '2', 'slider': '3', 'end': 'A', 'pin': 'B', 'guide': 'guide'}
+        """
+        shape = drawn.dyad_of(*links)
+        if shape is None:
+            return False
+        (kind_x, jx), pin, (kind_y, jy) = shape
+        if drawn.t.joints[pin].prismatic or sorted((kind_x, kind_y)) != ["frame guide", "pin"]:
+            return False
+        x, y = links
+        rod, slider = (x, y) if kind_x == "pin" else (y, x)
+        end, guide = (jx, jy) if rod == x else (jy, jx)
+        p = drawn.attach(end, rod)
+        (ex, ey), (bx, by), (tx, ty) = drawn.pose_of(p), drawn.xy(pin), drawn.slide(guide)
+
+        def sign(v):
+            n = lambda s: drawn.num(s, v)  # noqa: E731
+            return (n(bx) - n(ex)) * n(tx) + (n(by) - n(ey)) * n(ty)
+
+        b = drawn.branch(sign, f"({bx} - {ex}) * {tx} + ({by} - {ey}) * {ty}")
+        if b is None:
+            drawn.refuse(f"[joints] {pin}: the rod {end}{pin} (link {rod}) is drawn square "
+                         f"to the guide {guide}: the slider's assembly mode is undefined; "
+                         "draw it apart")
+        drawn.group({"type": cls.kind, "rod": rod, "slider": slider, "end": p, "pin": pin,
+                     "length": f"hypot({bx} - {ex}, {by} - {ey})",
+                     "guide_point": [drawn.fold(bx), drawn.fold(by)],
+                     "guide_angle": f"atan2({ty}, {tx})", "branch": b, "guide": guide},
+                    {pin: (bx, by)})
+        drawn.pair(p, drawn.owner[p], rod)
+        drawn.pair(pin, rod, slider)
+        drawn.pair(guide, drawn.t.frame, slider)
+        drawn.owner[pin], drawn.first[pin] = None, rod
+        drawn.frame_[rod] = (p, (f"({bx} - {ex})", f"({by} - {ey})"))
+        drawn.frame_[slider] = (pin, (tx, ty))
+        drawn.finish(rod)
+        drawn.finish(slider)
+        return True
 
     def __init__(self, link: str, slider: str, E: str, B: str, L: float,
                  guide_point: tuple, gamma: float, branch: int, guide_joint: str):

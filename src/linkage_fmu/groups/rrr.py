@@ -8,6 +8,7 @@ import numpy as np
 
 from .base import (
     OWNER,
+    Drawing,
     Field,
     Group,
     Joint,
@@ -49,6 +50,60 @@ class RRR(Group):
         "branch": Field("branch", "+1: middle to the left of the line end1 -> end2, "
                                   "-1: to the right"),
     }
+
+    DRAWING = Drawing(1, 2, "two links pinned together", "each pinned to a placed joint")
+
+    @classmethod
+    def recognise(cls, drawn, links):
+        """Two links pinned together at a joint not yet placed, each pinned to a placed
+        joint: ``link1`` is the first of ``links``.
+
+        Examples
+        --------
+        >>> from linkage_fmu.descriptions.topology import read
+        >>> from linkage_fmu.descriptions.assur import decompose
+        >>> t, _ = read({"joints": {"A": [0, 0], "B": [0.1, 0], "C": [0.3, 0.2],
+        ...                         "D": [0.4, 0]},
+        ...              "links": [{"name": "1", "joints": ["A", "B"]},
+        ...                        {"name": "2", "joints": ["B", "C"]},
+        ...                        {"name": "3", "joints": ["C", "D"]}],
+        ...              "crank": {"link": "1", "pivot": "A"}}, {})
+        >>> {k: decompose(t, {}).groups[1][k] for k in ("type", "end1", "middle", "end2")}
+        {'type': 'RRR', 'end1': 'B', 'middle': 'C', 'end2': 'D'}
+        """
+        shape = drawn.dyad_of(*links)
+        if shape is None:
+            return False
+        (kind1, e1), c, (kind2, e2) = shape
+        if drawn.t.joints[c].prismatic or (kind1, kind2) != ("pin", "pin"):
+            return False
+        l1, l2 = links
+        p1, p2 = drawn.attach(e1, l1), drawn.attach(e2, l2)
+        (x1, y1), (x2, y2), (cx, cy) = drawn.pose_of(p1), drawn.pose_of(p2), drawn.xy(c)
+
+        def sign(v):
+            n = lambda s: drawn.num(s, v)  # noqa: E731
+            return ((n(x2) - n(x1)) * (n(cy) - n(y1)) - (n(y2) - n(y1)) * (n(cx) - n(x1)))
+
+        b = drawn.branch(sign,
+                         f"({x2} - {x1}) * ({cy} - {y1}) - ({y2} - {y1}) * ({cx} - {x1})")
+        if b is None:
+            drawn.refuse(f"[joints] {c}: the dyad {e1}-{c}-{e2} (links {l1}, {l2}) is drawn "
+                         f"at a toggle ({e1}, {c}, {e2} in line): its assembly mode is "
+                         "undefined; draw it apart")
+        drawn.group({"type": cls.kind, "link1": l1, "link2": l2, "end1": p1, "middle": c,
+                     "end2": p2, "length1": f"hypot({cx} - {x1}, {cy} - {y1})",
+                     "length2": f"hypot({cx} - {x2}, {cy} - {y2})", "branch": b},
+                    {c: (cx, cy)})
+        drawn.pair(p1, drawn.owner[p1], l1)
+        drawn.pair(c, l1, l2)
+        drawn.pair(p2, drawn.owner[p2], l2)
+        drawn.owner[c], drawn.first[c] = None, l1
+        drawn.frame_[l1] = (p1, (f"({cx} - {x1})", f"({cy} - {y1})"))
+        drawn.frame_[l2] = (p2, (f"({cx} - {x2})", f"({cy} - {y2})"))
+        drawn.finish(l1)
+        drawn.finish(l2)
+        return True
 
     def __init__(self, link1: str, link2: str, E1: str, C: str, E2: str,
                  L1: float, L2: float, branch: int):

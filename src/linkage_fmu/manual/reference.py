@@ -405,12 +405,7 @@ every slide has a length, a prismatic pair of two links says which carries the g
 The crank comes first. Then, as long as a link is not placed, the first dyad the library
 solves is taken off, trying the links two by two in the order of `[[links]]`:
 
-| dyad | its links | their pairs |
-| --- | --- | --- |
-| `RRR` | two links pinned together | each pinned to a placed joint |
-| `RRP` | a rod and a slider pinned together | the rod pinned to a placed joint, the slider on a frame guide (listed by the slider only) |
-| `RPR` | a block and a lever sliding in one another | each pinned to a placed joint; the guide's line through the block's pin passes through the lever's pin (the lever carries the guide; see below) |
-| `RPP` | a block and a yoke sliding in one another | the block pinned to a placed joint, the yoke on a frame guide |
+{_drawn_groups()}
 
 A link's other joints and its `points` become `point` groups on it, once it is placed
 (a load or an effort may act at them, and a load's `value` may use their `x_P`, `y_P`);
@@ -471,6 +466,14 @@ the pair's name, and a load's `value` may use its `x_J`, `y_J`.
 
 `Mb`, the shaking force and moment, `J_red` and the diagnostics follow as for any
 linkage."""  # noqa: E501 (the tables' rows)
+
+
+def _drawn_groups() -> str:
+    """The table of the group types of a fixed size the decomposition recognises, in the
+    order it tries them, each as its ``DRAWING`` says."""
+    rows = [f"| `{cls.kind}` | {_cell(cls.DRAWING.links)} | {_cell(cls.DRAWING.pairs)} |"
+            for cls in assur.recognisers() if cls.DRAWING.size is not None]
+    return "\n".join(["| dyad | its links | their pairs |", "| --- | --- | --- |", *rows])
 
 
 def _loads() -> str:
