@@ -21,7 +21,6 @@ from .base import (
                    ROLES,
                    Field,
                    Group,
-                   Joint,
                    KinematicState,
                    LinkJoints,
 )
@@ -33,5 +32,5 @@ from .rpr import RPR
 from .rrp import RRP
 from .rrr import RRR
 
-__all__ = ["Group", "Field", "ROLES", "ROLE_MEANINGS", "Joint", "KinematicState", "FRAME",
+__all__ = ["Group", "Field", "ROLES", "ROLE_MEANINGS", "KinematicState", "FRAME",
            "OWNER", "LinkJoints", "Crank", "RRR", "RRP", "RPP", "RPR", "LinkPoint", "Closure"]
