@@ -18,6 +18,7 @@ from conftest import IDS, VARIANTS
 from linkage_fmu import SelfLockingError, presets, solver
 from linkage_fmu.descriptions.description import Description, DescriptionError
 from linkage_fmu.kinetostatics import effort_coefficient
+from linkage_fmu.pairs import Revolute
 from linkage_fmu.precise import MP, reference
 
 NAMES = presets.names()
@@ -55,7 +56,7 @@ def _friction_params(name, rng, base=None):
     for jf in mech.friction.joints:
         j = jf.joint.name
         p[mu_of(name, j)] = float(rng.uniform(0.0, 0.3))
-        if jf.revolute:
+        if isinstance(jf.joint, Revolute):
             p[f"r_{j}"] = float(rng.uniform(0.0, 0.05) * L)
     return p
 
@@ -84,7 +85,7 @@ def test_zero_mu_is_bit_identical_to_no_friction(name):
     bare = _frictionless(name).build()
     first = presets.get(name).friction.joints[0]
     extra = {mu_of(name, first.joint.name): 0.0}
-    if first.revolute:
+    if isinstance(first.joint, Revolute):
         extra[f"r_{first.joint.name}"] = 0.01
     common = [n for n in bare.output_names]
     th = np.array([s[0] for s in STATES])
@@ -112,7 +113,7 @@ def _relative_motion(mech, st, jf):
     def w(body):
         return 0.0 if body == mech.frame else st.w1[body]
 
-    if jf.revolute:
+    if isinstance(jf.joint, Revolute):
         return w(j.b) - w(j.a)
     px, py = st.p[j.point]
 
@@ -160,7 +161,7 @@ def test_power_balance_and_friction_laws(variant, method):
         if outs is None:
             continue
         size = np.hypot(*(sol[o] for o in outs)) if len(outs) == 2 else np.abs(sol[outs[0]])
-        law = jf.mu * (jf.radius if jf.revolute else 1.0) * size
+        law = jf.mu * (jf.radius if isinstance(jf.joint, Revolute) else 1.0) * size
         np.testing.assert_allclose(np.abs(f)[ok], law[ok], rtol=1e-12, atol=1e-12 * (1 + law.max()),
                                    err_msg=jf.output)
     np.testing.assert_allclose(total[ok], P[ok], rtol=1e-10, atol=1e-10 * scale.max())
@@ -625,7 +626,7 @@ def test_each_friction_value_is_the_action_its_description_names(variant):
     for jf in mech.friction.joints:
         j = jf.joint
         text = mech.output_info[jf.output][1]
-        kind = ("friction moment in the pin" if jf.revolute else
+        kind = ("friction moment in the pin" if isinstance(jf.joint, Revolute) else
                 "friction force in the prismatic pair")
         assert text.startswith(f"{kind} {j.name} of link {j.a} on link {j.b}, "), text
         assert f"link {j.b} acts on link {j.a} with its opposite" in text

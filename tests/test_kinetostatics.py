@@ -21,6 +21,7 @@ from conftest import IDS, MP, VARIANTS, power_residual
 from linkage_fmu import presets
 from linkage_fmu.kinetostatics import closed_form, equilibrium_system
 from linkage_fmu.loads import wrenches
+from linkage_fmu.pairs import Prismatic
 
 SCOTCH_YOKE_TABLE = Path(__file__).parent / "reference" / "scotch_yoke_table.csv"
 # the worked example's column -> (our output, sign): MECHANISMS.md: F12x and F41x are
@@ -185,7 +186,7 @@ def test_random_states(variant, state):
     x = []
     for j in mech.joints:
         c0, c1 = R[j.name]
-        x += [c0, c1 / L if j.normal is not None else c1]
+        x += [c0, c1 / L if isinstance(j, Prismatic) else c1]
     x.append(effort / L if mech.effort.direction is None else effort)
     r = A[0] @ np.array(x) - rhs[0]
     assert np.max(np.abs(r)) <= 1e-12 * max(1.0, cond / 100) * np.max(np.abs(x))

@@ -14,6 +14,7 @@ import pytest
 from conftest import IDS, VARIANTS
 from linkage_fmu import SingularPositionError, friction, groups, kinetostatics, linalg, presets
 from linkage_fmu.loads import wrenches
+from linkage_fmu.pairs import Revolute
 
 TH = np.linspace(0.05, 2 * np.pi, 25)
 
@@ -242,7 +243,7 @@ def _friction(name: str, base: dict, rng) -> dict:
         j = jf.joint.name
         params[next(k for k in mech.parameters if k.startswith("mu") and k.endswith(f"_{j}"))] = \
             float(rng.uniform(0.0, 0.6))
-        if jf.revolute:
+        if isinstance(jf.joint, Revolute):
             params[f"r_{j}"] = float(rng.uniform(0.0, 0.05) * mech.length_scale)
     return params
 

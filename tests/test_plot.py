@@ -25,6 +25,7 @@ from matplotlib.text import Text  # noqa: E402
 import linkage_fmu  # noqa: E402
 from linkage_fmu import plot, presets  # noqa: E402
 from linkage_fmu.descriptions import Description  # noqa: E402
+from linkage_fmu.pairs import Revolute  # noqa: E402
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "coupler_four_bar.toml"
 PNG = b"\x89PNG\r\n\x1a\n"
@@ -315,7 +316,7 @@ def test_linkage_arrows_are_the_joint_forces_to_scale(tmp_path, make, theta, inp
     gids = {a.get_gid() for a in fig.axes[0].get_children()}
     assert {f"link:{b.name}" for b in mech.bodies} <= gids
     (joints,) = by_gid(fig.axes[0])["joints"]
-    revolute = [st.p[j.point] for j in mech.joints if j.normal is None]
+    revolute = [st.p[j.point] for j in mech.joints if isinstance(j, Revolute)]
     np.testing.assert_allclose(np.array(joints.get_data(), float).T, np.array(revolute, float),
                                rtol=RTOL, atol=1e-15)
 

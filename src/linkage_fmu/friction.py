@@ -44,7 +44,7 @@ import numpy as np
 
 from . import kinetostatics, linalg, newton
 from .errors import LinkageError
-from .groups.base import Joint, KinematicState, push
+from .groups.base import KinematicState, push
 from .kernels.trace import Reason
 
 # the iterations, shared with the closure of class III groups, under this module's names;
@@ -54,6 +54,7 @@ from .newton import loop as _loop
 from .newton import tape_of as _tape
 from .newton import tolerance as _tolerance
 from .numerics import ARRAY
+from .pairs import Pair
 
 
 def iterate(xp, x: list, step, fail, first=None, memory: tuple = ()) -> list:
@@ -77,19 +78,16 @@ class Friction:
 class JointFriction(NamedTuple):
     """A friction resolved on the linkage: the pair, its values, the output's name."""
 
-    joint: Joint
+    joint: Pair
     mu: float
     radius: float
     length: float | None
 
     @property
-    def revolute(self) -> bool:
-        return self.joint.normal is None
-
-    @property
     def output(self) -> str:
-        """``Mf_<joint>`` (a moment, N.m) or ``Ff_<joint>`` (a force, N)."""
-        return f"{'Mf' if self.revolute else 'Ff'}_{self.joint.name}"
+        """``Mf_<joint>`` (a moment, N.m) or ``Ff_<joint>`` (a force, N): the pair's
+        ``friction_prefix``."""
+        return f"{self.joint.friction_prefix}_{self.joint.name}"
 
 
 class Declared(NamedTuple):
@@ -137,12 +135,9 @@ def resolve(mech, declared: Declared) -> LinkageFriction:
                                f"linkage; its pairs are: {', '.join(joints)}")
         if f.joint in by_name:
             raise LinkageError(mech.name, f"the friction of {f.joint} is given twice")
-        if j.normal is None and (f.length is not None or f.radius is None):
-            raise LinkageError(mech.name, f"friction of {f.joint}: a revolute pair has a "
-                               "mu and a radius (no length)")
-        if j.normal is not None and f.radius is not None:
-            raise LinkageError(mech.name, f"friction of {f.joint}: a prismatic pair has a "
-                               "mu and optionally a length (no radius)")
+        wrong = j.friction_rule(f.radius, f.length)
+        if wrong:
+            raise LinkageError(mech.name, f"friction of {f.joint}: {wrong}")
         by_name[f.joint] = JointFriction(j, f.mu, f.radius, f.length)
     groups, k = [], 0
     for grp in mech.groups:
@@ -193,56 +188,29 @@ def _omega(mech, st: KinematicState, body: str):
     return 0.0 if body == mech.frame else st.w1[body]
 
 
-def tangent(j: Joint, st: KinematicState):
-    """The tangent of a prismatic pair: the direction whose left normal is its normal."""
-    nx, ny = j.normal_at(st)
-    return ny, -nx
-
-
 def coefficient(mech, st: KinematicState, jf: JointFriction):
     """First-order coefficient of the relative motion of the pair: ``phi_b' - phi_a'``
     (revolute), or the sliding of ``b`` on ``a`` along the tangent (prismatic)."""
-    j = jf.joint
-    if jf.revolute:
-        return _omega(mech, st, j.b) - _omega(mech, st, j.a)
-    (ax, ay), (bx, by) = _velocity(mech, st, j.a, j.point), _velocity(mech, st, j.b, j.point)
-    tx, ty = tangent(j, st)
-    return (bx - ax) * tx + (by - ay) * ty
+    return jf.joint.relative_motion(st, lambda body: _omega(mech, st, body),
+                                    lambda body, point: _velocity(mech, st, body, point))
 
 
 def apply(mech, st: KinematicState, W: dict, jf: JointFriction, f) -> None:
     """Add the friction ``f`` of the pair (on body b; ``-f`` on body a) to the wrenches."""
-    j = jf.joint
-    if jf.revolute:
-        for body, v in ((j.b, f), (j.a, -f)):
-            if body != mech.frame:
-                W[body][2] = W[body][2] + v
-        return
-    tx, ty = tangent(j, st)
-    push(mech, st, W, j.b, j.point, f * tx, f * ty)
-    push(mech, st, W, j.a, j.point, -f * tx, -f * ty)
+
+    def couple(body, v):
+        if body != mech.frame:
+            W[body][2] = W[body][2] + v
+
+    jf.joint.apply_friction(st, f, couple,
+                            lambda body, point, fx, fy: push(mech, st, W, body, point, fx, fy))
 
 
 def law(xp, jf: JointFriction, s, reaction):
     """The friction of the pair for its reaction (``(Fx, Fy)`` or ``(N, M)``) and
-    motion sign ``s``, and its derivatives by the reaction's two components."""
-    a, b = reaction
-    if jf.revolute:
-        # |R| scaled by its larger component, so that no square overflows (a reaction
-        # over 1e154: with mu = 0, inf * 0 would be NaN); the ratios are the unit
-        # vector's, and 0 for R = 0 (where the root is 0 and the larger component TINY)
-        big = xp.maximum(xp.maximum(xp.abs(a), xp.abs(b)), TINY)
-        p, q = a / big, b / big
-        root = xp.sqrt(p * p + q * q)
-        k = -jf.mu * jf.radius * s
-        inv = 1.0 / xp.maximum(root, 1.0)
-        return k * (big * root), k * p * inv, k * q * inv
-    k = -jf.mu * s
-    if jf.length is None:
-        return k * xp.abs(a), k * sign(xp, a), 0.0 * a
-    n1, n2 = 0.5 * a - b / jf.length, 0.5 * a + b / jf.length
-    s1, s2 = sign(xp, n1), sign(xp, n2)
-    return k * (xp.abs(n1) + xp.abs(n2)), k * 0.5 * (s1 + s2), k * (s2 - s1) / jf.length
+    motion sign ``s``, and its derivatives by the reaction's two components (the pair's
+    :meth:`~linkage_fmu.pairs.Pair.friction_law`)."""
+    return jf.joint.friction_law(xp, jf.mu, jf.radius, jf.length, s, reaction, TINY)
 
 
 def _scratch(W: dict | None, links) -> dict:
@@ -547,7 +515,9 @@ def direct(mech, st: KinematicState, W: dict, omega, static: bool, xp, n_states:
         u = [(rows[b] + i, v / L if i == 2 else v) for b, w in unit.items()
              for i, v in enumerate(w)]
         pattern.append((jf, column[jf.joint.name], u))
-    scale = lambda jf: L if not jf.revolute else 1.0  # noqa: E731 -- a couple's column
+
+    def scale(jf):  # of the pair's second column
+        return jf.joint.column_scale(L)
 
     precise = getattr(xp, "lu_solve", None) is not None
     on = xp if precise else ARRAY
@@ -643,40 +613,32 @@ def _det_sign(A, precise: bool):
 # -- outputs ----------------------------------------------------------------------------------
 @dataclass(frozen=True)
 class FrictionOutput:
-    """Output: the friction of the pair ``joint``, the action of its link ``by`` (the
-    pair's body a) on its link ``on`` (body b): a moment (revolute, N.m,
-    counter-clockwise positive) or a force along the pair's sliding direction
-    (prismatic, N; ``guide``: the link whose direction that is, or None for a direction
-    fixed in the frame). Link ``on`` acts on link ``by`` with its opposite."""
+    """Output: the friction of ``pair``, the action of its body a on its body b: a moment
+    (a pin, N.m, counter-clockwise positive) or a force along its sliding direction (a
+    slider, N); as the pair says (:meth:`~linkage_fmu.pairs.Pair.friction_description`).
+    Body b acts on body a with its opposite.
+
+    Examples
+    --------
+    >>> from linkage_fmu.pairs import Revolute
+    >>> out = FrictionOutput("Mf_B", Revolute("B", "B", "2", "3"))
+    >>> out.unit, out.description[:40]
+    ('N.m', 'friction moment in the pin B of link 2 o')
+    """
 
     name: str
-    joint: str
-    revolute: bool
-    by: str = ""
-    on: str = ""
-    guide: str | None = None
+    pair: Pair
 
     @property
     def unit(self) -> str:
-        return "N.m" if self.revolute else "N"
+        return self.pair.friction_unit
 
     @property
     def description(self) -> str:
-        links = f"of link {self.by} on link {self.on}"
-        opposite = f"; link {self.on} acts on link {self.by} with its opposite"
-        if self.revolute:
-            return (f"friction moment in the pin {self.joint} {links}, counter-clockwise "
-                    f"positive (it opposes the rotation of link {self.on} relative to link "
-                    f"{self.by}){opposite}")
-        along = (f"the direction of link {self.guide}" if self.guide is not None else
-                 "the pair's sliding direction t = (n_y, -n_x), its normal n turned 90 deg "
-                 "clockwise")
-        return (f"friction force in the prismatic pair {self.joint} {links}, positive along "
-                f"{along} (it opposes the sliding of link {self.on} on link {self.by})"
-                f"{opposite}")
+        return self.pair.friction_description()
 
     def bind(self, mech):
-        return lambda R, E, st: R.friction[self.joint]
+        return lambda R, E, st, name=self.pair.name: R.friction[name]
 
 
 @dataclass(frozen=True)
@@ -737,9 +699,8 @@ def outputs(mech) -> tuple:
     """The friction outputs of ``mech``: each pair's, ``P_loss`` and ``eta``."""
     if not mech.friction.joints:
         return ()
-    return tuple(FrictionOutput(jf.output, jf.joint.name, jf.revolute, jf.joint.a, jf.joint.b,
-                                jf.joint.normal if isinstance(jf.joint.normal, str) else None)
-                 for jf in mech.friction.joints) + (LossOutput("P_loss"), LossOutput("eta"))
+    return tuple(FrictionOutput(jf.output, jf.joint) for jf in mech.friction.joints) + (
+        LossOutput("P_loss"), LossOutput("eta"))
 
 
 def unsolved(mech, st: KinematicState, R: dict, effort, omega, static: bool) -> Reactions:

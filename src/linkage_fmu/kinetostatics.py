@@ -143,15 +143,7 @@ def equilibrium_entries(mech, st: KinematicState, W: dict | None = None):
         for body, sign in ((j.b, 1.0), (j.a, -1.0)):
             if body == mech.frame:
                 continue
-            r = rows[body]
-            ax, ay = arm(j.point, body)
-            if j.normal is None:  # Fx, Fy
-                a += [(r, col, sign), (r + 2, col, -sign * ay),
-                      (r + 1, col + 1, sign), (r + 2, col + 1, sign * ax)]
-            else:  # N along the normal, couple M/L
-                nx, ny = j.normal_at(st)
-                a += [(r, col, sign * nx), (r + 1, col, sign * ny),
-                      (r + 2, col, sign * (ax * ny - ay * nx)), (r + 2, col + 1, sign)]
+            a += j.entries(st, rows[body], col, sign, arm(j.point, body))
         col += 2
     e = mech.effort
     r = rows[e.body]
@@ -207,7 +199,7 @@ def unknowns(mech, x) -> tuple[dict, object]:
     R = {}
     col = 0
     for j in mech.joints:
-        R[j.name] = (x[col], x[col + 1] * (L if j.normal is not None else 1.0))
+        R[j.name] = (x[col], x[col + 1] * j.column_scale(L))
         col += 2
     return R, x[col] * (L if mech.effort.direction is None else 1.0)
 

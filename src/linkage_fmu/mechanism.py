@@ -22,10 +22,11 @@ from .expressions import evaluate
 from .friction import Declared
 from .friction import outputs as friction_outputs
 from .friction import resolve as resolve_friction
-from .groups import FRAME, OWNER, Group, Joint, KinematicState
+from .groups import FRAME, OWNER, Group, KinematicState
 from .loads import Load, powers, wrenches
 from .numerics import ARRAY, SCALAR, finite_array, finite_float
 from .outputs import SHAKING, EffortOutput, Shaking
+from .pairs import Pair
 from .solver import METHODS, Solution, Solver
 from .units import MOTION_UNITS
 
@@ -310,14 +311,14 @@ class Mechanism:
         its description's ``[inputs]`` and the loads' ``start``."""
         return MappingProxyType(self._start)
 
-    def _resolve(self, j: Joint) -> Joint:
+    def _resolve(self, j: Pair) -> Pair:
         a = self.frame if j.a == FRAME else j.a
         if a == OWNER:
             if j.point not in self.owner:
                 raise LinkageError(self.name, f"joint {j.name} is shared by two links; "
                                    "attach to a point that belongs to one link")
             a = self.owner[j.point]
-        return Joint(j.name, j.point, a, j.b, j.normal)
+        return j.between(a)
 
     def __repr__(self) -> str:
         params = ", ".join(f"{k}={v!r}" for k, v in self.parameters.items())
@@ -731,7 +732,7 @@ class Mechanism:
 
 
 def _check_load_points(name: str, loads: Sequence[Load], bodies: Sequence[Body],
-                       owner: dict, joints: Sequence[Joint]) -> None:
+                       owner: dict, joints: Sequence[Pair]) -> None:
     """Refuse a force load whose point ``at`` is not on its body: a point a group placed
     on it (a crank's tip, a point fixed on the link), its centre of mass or its ``ref``,
     or the point of one of its joints. Elsewhere the force would act on a point of the

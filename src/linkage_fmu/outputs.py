@@ -45,21 +45,8 @@ class Force:
         return self.note or f"force of link {self.by} on link {self.on}, {self.axis} component"
 
     def bind(self, mech) -> Callable:
-        i = "xy".index(self.axis)
         j, sign = joint_between(mech, self.by, self.on, self.name)
-        if j.normal is None:
-            return lambda R, E, st, name=j.name: sign * R[name][i]
-        if has_friction(mech, j.name):  # the normal force and the friction along the pair
-
-            def force(R, E, st, name=j.name):
-                nx, ny = j.normal_at(st)
-                return sign * (R[name][0] * (nx, ny)[i] + R.friction[name] * (ny, -nx)[i])
-
-            return force
-        if isinstance(j.normal, str):  # a guide on a moving link
-            return lambda R, E, st, name=j.name: sign * j.normal_at(st)[i] * R[name][0]
-        k = sign * j.normal[i]
-        return lambda R, E, st, name=j.name: k * R[name][0]
+        return j.force_output("xy".index(self.axis), sign, has_friction(mech, j.name))
 
 
 @dataclass(frozen=True)
@@ -78,14 +65,7 @@ class Magnitude:
 
     def bind(self, mech) -> Callable:
         j, _ = joint_between(mech, self.by, self.on, self.name)
-
-        def magnitude(R, E, st, name=j.name):
-            a, b = R[name]
-            if j.normal is not None:  # a prismatic pair: the normal force alone
-                return st.xp.abs(a)
-            return st.xp.sqrt(a * a + b * b)
-
-        return magnitude
+        return j.magnitude_output()
 
 
 @dataclass(frozen=True)
@@ -144,9 +124,8 @@ class Derived:
     description: str = ""
 
     def bind(self, mech) -> Callable:
-        kinds = {j.name: ("N", "M") if j.normal is not None else ("Fx", "Fy") for j in mech.joints}
-        by_name = {f"{k}_{joint}": (joint, i) for joint, ks in kinds.items()
-                   for i, k in enumerate(ks)}
+        by_name = {f"{k}_{j.name}": (j.name, i) for j in mech.joints
+                   for i, k in enumerate(j.components)}
 
         def resolve(name):
             if name in by_name:
@@ -201,18 +180,7 @@ class Shaking:
         def forces(R, E, st):
             """(fx, fy, point or None, couple) of each action on the frame."""
             for j, sign in joints:
-                rubs = j.name in rubbing  # its friction: a couple, or a force along it
-                if j.normal is None:
-                    yield (sign * R[j.name][0], sign * R[j.name][1], j.point,
-                           sign * R.friction[j.name] if rubs else 0.0)
-                else:
-                    nx, ny = j.normal_at(st)
-                    n = sign * R[j.name][0]
-                    fx, fy = n * nx, n * ny
-                    if rubs:
-                        f = sign * R.friction[j.name]
-                        fx, fy = fx + f * ny, fy - f * nx
-                    yield fx, fy, j.point, sign * R[j.name][1]
+                yield j.action(R, st, sign, j.name in rubbing)
             if effort.direction is None:  # the driver's reaction: a couple
                 yield 0.0, 0.0, None, -E
             else:

@@ -24,7 +24,6 @@ from .base import (
                    Drawing,
                    Field,
                    Group,
-                   Joint,
                    KinematicState,
                    LinkJoints,
 )
@@ -36,6 +35,6 @@ from .rpr import RPR
 from .rrp import RRP
 from .rrr import RRR
 
-__all__ = ["Group", "Field", "ROLES", "ROLE_MEANINGS", "Joint", "KinematicState", "FRAME",
+__all__ = ["Group", "Field", "ROLES", "ROLE_MEANINGS", "KinematicState", "FRAME",
            "OWNER", "LinkJoints", "Crank", "RRR", "RRP", "RPP", "RPR", "LinkPoint", "Closure",
            "Drawing"]

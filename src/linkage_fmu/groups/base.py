@@ -150,27 +150,6 @@ FRAME = "<frame>"
 OWNER = "<owner of the point>"
 
 
-class Joint(NamedTuple):
-    """A kinematic pair between bodies ``a`` and ``b``; its reaction is the action of
-    ``a`` on ``b``. A revolute pair (``normal is None``) transmits a force ``(Fx, Fy)``
-    at ``point``; a prismatic pair transmits a force ``N`` along its normal through
-    ``point`` and a couple ``M``. The normal is a fixed unit vector ``(nx, ny)``, or the
-    name of the link whose left normal it is (a guide on a moving link).
-    """
-
-    name: str
-    point: str
-    a: str
-    b: str
-    normal: tuple | str | None = None
-
-    def normal_at(self, st: KinematicState) -> Vec:
-        """The unit normal of a prismatic pair at the state ``st``."""
-        if isinstance(self.normal, str):
-            return left_normal(st.u[self.normal])
-        return self.normal
-
-
 def left_normal(t: Vec) -> Vec:
     """Left normal of the unit vector ``t``."""
     return -t[1], t[0]
@@ -440,7 +419,7 @@ class Group(ABC):
         Points this group places.
     links : tuple of str
         Moving links this group adds (one body each).
-    joints : tuple of Joint
+    joints : tuple of :class:`~linkage_fmu.pairs.Pair`
         The pairs this group closes, with :data:`FRAME`/:data:`OWNER` placeholders.
     owners : dict
         Point -> link for the points placed that belong to one link only.

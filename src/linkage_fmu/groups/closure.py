@@ -20,12 +20,12 @@ from .. import linalg, newton, numerics
 from ..errors import NearSingularWarning
 from ..kernels.trace import Reason
 from ..numerics import SCALAR
+from ..pairs import Revolute
 from .base import (
     OWNER,
     Drawing,
     Field,
     Group,
-    Joint,
     KinematicState,
     LinkJoints,
     fmt,
@@ -77,7 +77,7 @@ def _listing(links: Mapping) -> dict:
     return listing
 
 
-def _pairs(listing: dict, placed) -> list[Joint]:
+def _pairs(listing: dict, placed) -> list[Revolute]:
     """The revolute pairs: at a placed point, one with its owner (named by the point),
     at a point the group places, one between its first two links (named by the point);
     every further link at the point is pinned to the one listed before it
@@ -85,10 +85,10 @@ def _pairs(listing: dict, placed) -> list[Joint]:
     joints = []
     for p, links in listing.items():
         if p in placed:
-            joints.append(Joint(p, p, OWNER, links[0]))
+            joints.append(Revolute(p, p, OWNER, links[0]))
         for k in range(1, len(links)):
             name = p if (k == 1 and p not in placed) else f"{p}_{links[k]}"
-            joints.append(Joint(name, p, links[k - 1], links[k]))
+            joints.append(Revolute(name, p, links[k - 1], links[k]))
     return joints
 
 

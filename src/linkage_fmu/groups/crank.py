@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from .base import FRAME, Field, Group, Joint, KinematicState, moment_about, names_in
+from ..pairs import Revolute
+from .base import FRAME, Field, Group, KinematicState, moment_about, names_in
 
 
 class Crank(Group):
@@ -36,7 +37,7 @@ class Crank(Group):
         self.needs = (pivot,)
         self.places = (tip,)
         self.links = (link,)
-        self.joints = (Joint(pivot, pivot, FRAME, link),)
+        self.joints = (Revolute(pivot, pivot, FRAME, link),)
         self.owners = {tip: link}
         self.lengths = (length,)
 

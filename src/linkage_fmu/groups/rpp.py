@@ -5,13 +5,13 @@ from __future__ import annotations
 from .. import numerics
 from ..kernels.trace import Reason
 from ..numerics import SCALAR
+from ..pairs import Prismatic, Revolute
 from .base import (
     FRAME,
     OWNER,
     Drawing,
     Field,
     Group,
-    Joint,
     KinematicState,
     angle_and_kappa,
     left_normal,
@@ -124,9 +124,9 @@ class RPP(Group):
         self.needs = (E,)
         self.places = (ref,)
         self.links = (block, yoke)
-        self.joints = (Joint(E, E, OWNER, block),
-                       Joint(slot_joint, E, block, yoke, left_normal(self.t1)),
-                       Joint(guide_joint, ref, FRAME, yoke, left_normal(self.t2)))
+        self.joints = (Revolute(E, E, OWNER, block),
+                       Prismatic(slot_joint, E, block, yoke, left_normal(self.t1)),
+                       Prismatic(guide_joint, ref, FRAME, yoke, left_normal(self.t2)))
         self.owners = {ref: yoke}
         self.key = E
 

@@ -6,7 +6,8 @@ import math
 
 import numpy as np
 
-from .base import OWNER, Drawing, Field, Group, Joint, KinematicState, moment_about, push
+from ..pairs import Prismatic, Revolute
+from .base import OWNER, Drawing, Field, Group, KinematicState, moment_about, push
 
 
 class RPR(Group):
@@ -114,9 +115,9 @@ class RPR(Group):
         self.needs = (pin, pivot)
         self.places = ()
         self.links = (block, lever)
-        self.joints = (Joint(pin, pin, OWNER, block),
-                       Joint(slide_joint, pin, block, lever, lever),
-                       Joint(pivot, pivot, OWNER, lever))
+        self.joints = (Revolute(pin, pin, OWNER, block),
+                       Prismatic(slide_joint, pin, block, lever, lever),
+                       Revolute(pivot, pivot, OWNER, lever))
         self.owners = {}
         self.key = pin
         self._coincide = f"the lever's direction is undefined: {pin} coincides with {pivot}"

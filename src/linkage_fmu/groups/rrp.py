@@ -4,13 +4,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..pairs import Prismatic, Revolute
 from .base import (
     FRAME,
     OWNER,
     Drawing,
     Field,
     Group,
-    Joint,
     KinematicState,
     angle_and_kappa,
     fmt,
@@ -120,8 +120,8 @@ class RRP(Group):
         self.needs = (E,)
         self.places = (B,)
         self.links = (link, slider)
-        self.joints = (Joint(E, E, OWNER, link), Joint(B, B, link, slider),
-                       Joint(guide_joint, B, FRAME, slider, left_normal(self.t)))
+        self.joints = (Revolute(E, E, OWNER, link), Revolute(B, B, link, slider),
+                       Prismatic(guide_joint, B, FRAME, slider, left_normal(self.t)))
         self.owners = {}  # B belongs to rod and slider
         self.key = B
         self.lengths = (L,)

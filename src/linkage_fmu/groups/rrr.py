@@ -6,12 +6,12 @@ import math
 
 import numpy as np
 
+from ..pairs import Revolute
 from .base import (
     OWNER,
     Drawing,
     Field,
     Group,
-    Joint,
     KinematicState,
     angle_and_kappa,
     fmt,
@@ -113,8 +113,8 @@ class RRR(Group):
         self.needs = (E1, E2)
         self.places = (C,)
         self.links = (link1, link2)
-        self.joints = (Joint(E1, E1, OWNER, link1), Joint(C, C, link1, link2),
-                       Joint(E2, E2, OWNER, link2))
+        self.joints = (Revolute(E1, E1, OWNER, link1), Revolute(C, C, link1, link2),
+                       Revolute(E2, E2, OWNER, link2))
         self.owners = {}  # C belongs to both links
         self.key = C
         self.lengths = (L1, L2)

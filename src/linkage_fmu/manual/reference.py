@@ -37,6 +37,7 @@ from ..friction import FrictionOutput, LossOutput
 from ..groups import ROLE_MEANINGS, ROLES, Group
 from ..mechanism import Mechanism
 from ..outputs import SHAKING
+from ..pairs import Prismatic, Revolute
 
 #: the description file shown whole at the end of the reference
 EXAMPLE = Path(__file__).resolve().parents[3] / "examples" / "coupler_four_bar.toml"
@@ -578,9 +579,9 @@ def _friction() -> str:
     named = [(f"`{jf.output}`", _code(mech.output_info[jf.output][0]),
               _cell(mech.output_info[jf.output][1])) for jf in mech.friction.joints]
     rows = [(f"`{o.name}`", _code(o.unit), _cell(o.description)) for o in (
-        FrictionOutput("Mf_<J>", "<J>", True, "<a>", "<b>"),
-        FrictionOutput("Ff_<J>", "<J>", False, "<a>", "<b>"),
-        FrictionOutput("Ff_<J>", "<J>", False, "<a>", "<b>", "<L>"),
+        FrictionOutput("Mf_<J>", Revolute("<J>", "<J>", "<a>", "<b>")),
+        FrictionOutput("Ff_<J>", Prismatic("<J>", "<J>", "<a>", "<b>", (0.0, 1.0))),
+        FrictionOutput("Ff_<J>", Prismatic("<J>", "<J>", "<a>", "<b>", "<L>")),
         LossOutput("P_loss"), LossOutput("eta"))]
     return f"""## `[friction.J]`
 

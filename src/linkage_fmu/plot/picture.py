@@ -366,8 +366,9 @@ def draw_scene(ax: "Axes", mech: "Mechanism", scene: Scene, scale: float, size: 
         _draw_frame_point(ax, *pos[name], s, name)
     guides = []
     for j in mech.joints:  # fixed guides
-        if j.normal is not None and not isinstance(j.normal, str) and mech.frame in (j.a, j.b):
-            (x, y), (nx, ny) = pos[j.point], j.normal
+        normal = j.guide(None)
+        if normal is not None and mech.frame in (j.a, j.b):
+            (x, y), (nx, ny) = pos[j.point], normal
             tx, ty = ny, -nx
             h = 0.35 * size
             ends = np.array([(x - h * tx, y - h * ty), (x + h * tx, y + h * ty)])
@@ -394,7 +395,7 @@ def draw_scene(ax: "Axes", mech: "Mechanism", scene: Scene, scale: float, size: 
             continue
         ax.plot(*zip(*xy), "-", color=color, lw=3.0, solid_capstyle="round", zorder=2,
                 label=f"link {link}", gid=f"link:{link}")
-    revolute = [j.point for j in mech.joints if j.normal is None]
+    revolute = [j.point for j in mech.joints if j.draws_pin]
     jx, jy = zip(*[pos[p] for p in revolute]) if revolute else ((), ())
     ax.plot(jx, jy, "o", ms=7, mfc="white", mec="k", mew=1.3, ls="none", zorder=4,
             gid="joints")
