@@ -11,9 +11,10 @@ import pytest
 
 import fmu_cache
 from linkage_fmu import groups
-from linkage_fmu.descriptions import Description, DescriptionError, reference
+from linkage_fmu.descriptions import Description, DescriptionError
 from linkage_fmu.descriptions.assur import decompose, outline, recognisers
 from linkage_fmu.descriptions.topology import read
+from linkage_fmu.manual import reference
 
 ROOT = Path(__file__).resolve().parents[1]
 
