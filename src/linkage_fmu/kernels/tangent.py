@@ -179,7 +179,7 @@ def tangent_tape(tape: Tape, results: list) -> TangentTape:
 
     def add(op: str, *args, value=None, scope: object = False) -> int:
         node = Node(op, tuple(args), value)
-        return new._add(node, math.nan, fn=None, scope=scope).index
+        return new.record(node, math.nan, fn=None, scope=scope).index
 
     def const(value: float) -> int:
         return new.const(value).index
@@ -288,7 +288,7 @@ def _derivative(tape: Tape, op: str, node: Node, t: int, a: list, da: list) -> i
         return add("mul", x, y)
 
     def add(o, *args, value=None):
-        return tape._add(Node(o, tuple(args), value), math.nan).index
+        return tape.record(Node(o, tuple(args), value), math.nan).index
 
     def const(value):
         return tape.const(value).index
