@@ -487,3 +487,18 @@ def test_start_values_cannot_go_stale():
     twin = copy.deepcopy(mech)
     assert twin.solve(0.3, omega=10.0)["Mb"] == mech.solve(0.3, omega=10.0)["Mb"]
     assert twin.start == mech.start
+
+
+def test_a_second_driving_group_is_refused_with_the_reason():
+    """A linkage of groups has one driver, its first group: a later crank is refused
+    before anything is built, saying why (its later groups have mobility 0)."""
+    from linkage_fmu import Mechanism
+    from linkage_fmu.errors import LinkageError
+    from linkage_fmu.groups import Crank
+
+    m = presets.get("four_bar")
+    with pytest.raises(LinkageError, match="four_bar: only the first group drives the "
+                                           "linkage: its later groups have mobility 0"):
+        Mechanism("four_bar", m.frame, m.frame_points, (*m.groups, Crank("9", "D", "Z", 0.1)),
+                  m.bodies, m.effort, [], [], 0.0)
+    assert [d.name for d in m.drivers] == ["A"] and m.drivers[0].effort == "Mb"

@@ -209,3 +209,127 @@ def test_the_linear_algebra_is_a_leaf():
     top = {a.name for node in tree.body if isinstance(node, ast.Import) for a in node.names}
     top |= {node.module for node in tree.body if isinstance(node, ast.ImportFrom)}
     assert top == {"__future__", "numpy"}
+
+
+#: the package's layers, bottom first: a module imports its own layer's and those below.
+#: A package (``groups``, ``kernels``) stands for its modules; the package root and the
+#: applications come last.
+LAYERS = (
+    ("numbers and kernels", {"units", "errors", "numerics", "linalg", "newton", "printing",
+                             "ccompiler", "kernels", "expressions", "interpolation",
+                             "tables"}),
+    ("the parts of a linkage", {"pairs", "drivers", "groups", "parameters", "bodies",
+                                "loads", "outputs", "inertia"}),
+    ("the physics", {"kinetostatics", "friction", "diagnostics", "ranges", "motion",
+                     "flywheel"}),
+    ("the formula sequence", {"inputs", "evaluation"}),
+    ("solving", {"solver", "precise"}),
+    ("the mechanism", {"mechanism"}),
+    ("descriptions", {"descriptions"}),
+    ("applications", {"presets", "fmi", "sweep", "optimize", "plot", "manual", "cli",
+                      "__main__", ""}),
+)
+
+
+def layer_of(name: str) -> int:
+    short = name[len(PACKAGE) + 1:] if name != PACKAGE else ""
+    top = short.partition(".")[0]
+    for k, (_, members) in enumerate(LAYERS):
+        if short in members or top in members:
+            return k
+    raise AssertionError(f"{name} is in no layer of LAYERS: add it where it belongs")
+
+
+def test_no_import_arrow_runs_upwards():
+    """Each module imports only modules of its own layer or of the layers below
+    (:data:`LAYERS`): the data flows from the numbers up to the applications, and a
+    module placed in no layer fails the test."""
+    g = graph()
+    upward = [(name, LAYERS[layer_of(name)][0], target, LAYERS[layer_of(target)][0])
+              for name, targets in sorted(g.items()) for target in sorted(targets)
+              if layer_of(target) > layer_of(name)]
+    assert not upward
+
+
+def test_class_mechanism_is_a_facade_under_350_lines():
+    """The mechanism holds what a linkage is and hands its work to the modules below
+    (the formula sequence, the inputs, the solver): its class stays under 350 lines."""
+    tree = ast.parse((SRC / PACKAGE / "mechanism.py").read_text())
+    (cls,) = [n for n in tree.body if isinstance(n, ast.ClassDef) and n.name == "Mechanism"]
+    assert cls.end_lineno - cls.lineno + 1 < 350
+
+
+def mechanism_methods() -> set[str]:
+    """The methods of class Mechanism (not its properties)."""
+    tree = ast.parse((SRC / PACKAGE / "mechanism.py").read_text())
+    (cls,) = [n for n in tree.body if isinstance(n, ast.ClassDef) and n.name == "Mechanism"]
+    return {f.name for f in cls.body if isinstance(f, ast.FunctionDef)
+            and not any(isinstance(d, ast.Name) and d.id == "property"
+                        for d in f.decorator_list)}
+
+
+def test_the_solver_calls_no_method_of_the_mechanism():
+    """The solver reads the mechanism's data and evaluates it through
+    :mod:`linkage_fmu.evaluation` and its input table; it calls none of the mechanism's
+    methods (a call of a name the mechanism's methods have, on anything but the solver
+    itself, fails). ``rebuild`` is data: the linkage's own way to be built again."""
+    methods = {m for m in mechanism_methods() if not m.startswith("__")}
+    assert {"solve", "kinematics", "inputs"} <= methods
+    known = modules()
+    path = SRC / PACKAGE / "solver.py"
+    tree = ast.parse(path.read_text())
+    bound = module_names(f"{PACKAGE}.solver", path, tree, known)
+
+    def own(value: ast.expr) -> bool:  # the solver itself, or a module it imports
+        return (isinstance(value, ast.Name) and value.id == "self") or \
+            module_of(value, bound, known) is not None
+
+    calls = [(n.lineno, ast.unparse(n.func)) for n in ast.walk(tree)
+             if isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute)
+             and n.func.attr in methods and not own(n.func.value)]
+    assert not calls
+
+
+#: the modules that hold the pair kinds, and the description layer, whose drawings name
+#: a pair by the letter of an Assur group's formula (R or P) before any pair class exists
+#: (a group type's ``recognise``, which reads such a drawing ``drawn``, is skipped too)
+KIND_HOMES = ("pairs.py", "descriptions")
+
+
+def test_no_code_outside_the_pair_classes_asks_a_pairs_kind():
+    """No module but :mod:`linkage_fmu.pairs` tests which kind a pair is: no
+    ``isinstance``/``type(...) is`` of a pair class, and no reading of what only one kind
+    has (a normal, a ``revolute`` flag); each kind answers through its methods."""
+    from linkage_fmu import pairs
+
+    kinds = {name for name, value in vars(pairs).items()
+             if isinstance(value, type) and issubclass(value, pairs.Pair)}
+    assert {"Pair", "Revolute", "Prismatic"} <= kinds
+    found = []
+    for name, path in modules().items():
+        rel = path.relative_to(SRC / PACKAGE).as_posix()
+        if any(rel == home or rel.startswith(home + "/") for home in KIND_HOMES):
+            continue
+        tree = ast.parse(path.read_text())
+        # a group type's recognise (and what it calls with the drawing, ``drawn``) reads
+        # a drawing, whose joints are R or P by letter
+        drawing = {id(n) for f in ast.walk(tree) if isinstance(f, ast.FunctionDef)
+                   and "drawn" in [a.arg for a in f.args.args] for n in ast.walk(f)}
+        for node in ast.walk(tree):
+            if id(node) in drawing:
+                continue
+            if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and \
+                    node.func.id in ("isinstance", "issubclass") and len(node.args) == 2:
+                named = {n.id for n in ast.walk(node.args[1]) if isinstance(n, ast.Name)}
+                named |= {n.attr for n in ast.walk(node.args[1]) if isinstance(n, ast.Attribute)}
+                if named & kinds:
+                    found.append((name, node.lineno, "isinstance"))
+            elif isinstance(node, ast.Compare) and any(
+                    isinstance(op, (ast.Is, ast.IsNot, ast.Eq, ast.NotEq)) for op in node.ops):
+                named = {n.id for n in ast.walk(node) if isinstance(n, ast.Name)}
+                if named & (kinds - {"Pair"}):
+                    found.append((name, node.lineno, "type comparison"))
+            elif isinstance(node, ast.Attribute) and node.attr in ("normal", "revolute",
+                                                                   "prismatic"):
+                found.append((name, node.lineno, node.attr))
+    assert not found

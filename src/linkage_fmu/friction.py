@@ -322,33 +322,20 @@ def _failure(mech, st: KinematicState, what: str):
 
 
 def solve(mech, st: KinematicState, W: dict, plan, omega, xp):
-    """Reactions and balancing effort as the ``plan`` asks (its method; the effort alone
-    by virtual power), with the friction in the joints where the linkage has it, else
-    by :mod:`~linkage_fmu.kinetostatics` alone. ``W`` is consumed.
-
-    With friction, the effort alone still needs the reactions; it is then taken from
-    the virtual power balance ``e = e0 - sum(f c) / q'``, which is ``e0`` itself where
-    every friction value is 0.
+    """Reactions and balancing effort with the friction in the joints, as the ``plan``
+    asks (its method); ``W`` is consumed. The effort alone still needs the reactions; it
+    is then taken from the virtual power balance ``e = e0 - sum(f c) / q'``, which is
+    ``e0`` itself where every friction value is 0. A linkage without active friction is
+    solved by :func:`linkage_fmu.evaluation.reactions` alone.
     """
-    fr = mech.friction
-    n = 1 if xp.scalar else np.size(st.theta)
-    if fr.active:
-        if plan.method == "direct":
-            return direct(mech, st, W, omega, plan.static, xp, n)
-        R, effort = closed_form(mech, st, W, omega, plan.static)
-        if not plan.reactions:
-            c, _ = motion_signs(mech, st, omega, plan.static)
-            q1 = kinetostatics.effort_coefficient(mech, st)
-            effort = R.ideal - virtual_power(R.friction, c) / q1
-        return R, effort
-    if plan.reactions and plan.method == "direct":
-        R, effort = kinetostatics.direct(mech, st, W, xp, n)
-    elif plan.reactions:
-        R, effort = kinetostatics.closed_form(mech, st, W)
-    else:
-        R, effort = {}, kinetostatics.virtual_effort(mech, st, W)
-    if fr.joints:  # declared, every mu 0
-        R = unsolved(mech, st, R, effort, omega, plan.static)
+    if plan.method == "direct":
+        return direct(mech, st, W, omega, plan.static, xp,
+                      1 if xp.scalar else np.size(st.theta))
+    R, effort = closed_form(mech, st, W, omega, plan.static)
+    if not plan.reactions:
+        c, _ = motion_signs(mech, st, omega, plan.static)
+        q1 = kinetostatics.effort_coefficient(mech, st)
+        effort = R.ideal - virtual_power(R.friction, c) / q1
     return R, effort
 
 

@@ -1,10 +1,12 @@
 """A mechanism: a crank, ordered Assur groups, link inertia, loads and named outputs.
 
-:class:`Mechanism` holds what a linkage *is*: its topology (which link owns which point,
-the joints), names and units of its inputs and outputs, its length scales, its
-kinematics, and one sequence of formulas, :meth:`Mechanism.evaluate`, that computes a
-plan's outputs on any kind of number (floats, arrays, mpmath, traced). Solving, which
-path serves which call, lives in :mod:`~linkage_fmu.solver`. A mechanism is usually
+:class:`Mechanism` holds what a linkage *is*, as data: its topology (which link owns which
+point, its pairs), its drivers, the names and units of its inputs and outputs, its length
+scales; and it is the facade users call. The one sequence of formulas that computes a
+plan's outputs on any kind of number (floats, arrays, mpmath, traced) is
+:mod:`~linkage_fmu.evaluation`, a call's inputs :mod:`~linkage_fmu.inputs`; solving,
+which path serves which call, lives in :mod:`~linkage_fmu.solver`, which reads the
+mechanism's data and calls none of its methods. A mechanism is usually
 built from a :class:`~linkage_fmu.descriptions.Description` (a description file, or a preset's).
 """
 
@@ -13,43 +15,20 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable, Sequence
 from types import MappingProxyType
 
-import numpy as np
-
-from . import diagnostics, flywheel, friction, inertia, motion, numerics
+from . import diagnostics, evaluation, flywheel, inertia, motion, numerics
 from .bodies import Body, Effort
-from .errors import AssemblyError, LinkageError
-from .expressions import evaluate
+from .errors import LinkageError
 from .friction import Declared
 from .friction import outputs as friction_outputs
 from .friction import resolve as resolve_friction
 from .groups import FRAME, OWNER, Group, KinematicState
-from .loads import Load, powers, wrenches
-from .numerics import ARRAY, SCALAR, finite_array, finite_float
+from .inputs import LEAN, InputTable, floats
+from .loads import Load
 from .outputs import SHAKING, EffortOutput, Shaking
 from .pairs import Pair
 from .solver import METHODS, Solution, Solver
-from .units import MOTION_UNITS
 
-__all__ = ["Mechanism", "Body", "Effort", "Solution", "METHODS", "MOTION"]
-
-#: the inputs every linkage has; its loads follow them
-MOTION = ("theta", "omega", "alpha")
-
-
-#: the types :meth:`Mechanism.solve`'s lean path takes besides floats, as floats
-#: (:func:`_floats`)
-_CONVERTED = frozenset((int, np.float64))
-#: the types of omega and alpha it takes (not bool: the general path refuses it)
-_LEAN = _CONVERTED | {float}
-
-
-def _floats(inputs: tuple) -> list | None:
-    """``inputs`` with each int or numpy float64 as a float (as the general path takes
-    them), or None where an int does not fit a float (the general path says why)."""
-    try:
-        return [float(v) if type(v) in _CONVERTED else v for v in inputs]
-    except OverflowError:
-        return None
+__all__ = ["Mechanism", "Body", "Effort", "Solution", "METHODS"]
 
 
 class Mechanism:
@@ -112,19 +91,10 @@ class Mechanism:
                                 "linkage_fmu.groups.Group)")
         if not groups or not groups[0].DRIVER:
             raise LinkageError(name, "the first group must be the driver (a Crank)")
-        placed = set(self.frame_points)
-        owner = {p: frame for p in self.frame_points}
-        for grp in groups:
-            missing = [p for p in grp.needs if p not in placed]
-            if missing:
-                raise LinkageError(name, f"{type(grp).__name__} needs {missing} placed before it")
-            placed.update(grp.places)
-            owner.update(grp.owners)
-        for k, grp in enumerate(groups):  # a group that re-places what is before it
-            try:
-                grp.attach(tuple(groups[:k]), self.frame_points)
-            except ValueError as err:
-                raise LinkageError(name, str(err)) from None
+        if any(grp.DRIVER for grp in groups[1:]):  # its mobility: one per driver
+            raise LinkageError(name, "only the first group drives the linkage: its later "
+                               "groups have mobility 0, so it has one driver")
+        owner = _place(name, frame, self.frame_points, groups)
         links = [link for grp in groups for link in grp.links]
         body_names = [b.name for b in self.bodies]
         if sorted(links) != sorted(body_names):
@@ -137,44 +107,24 @@ class Mechanism:
         self.groups = tuple(groups) + tuple(cg_points)
         self.cg = {b.name: b.cg for b in self.bodies}
         self.owner = owner
-        self.joints = tuple(self._resolve(j) for grp in groups for j in grp.joints)
+        self.joints = tuple(_resolve(name, frame, owner, j) for grp in groups for j in grp.joints)
         _check_load_points(name, self.loads, self.bodies, owner, self.joints)
         #: the friction in its joints (:class:`~linkage_fmu.friction.LinkageFriction`)
         self.friction = resolve_friction(self, friction)
         self.effort_on_crank = effort.direction is None and effort.body == groups[0].link
         self.crank = groups[0]
-        #: a length of the linkage's size: its fixed link lengths, and, where a group's
-        #: size is not a fixed length (a slotted lever), the distances of the frame points
-        sizes = [v for grp in groups for v in grp.lengths]
-        if not all(grp.fixed_size for grp in groups):
-            points = list(self.frame_points.values())
-            sizes += [numerics.hypot(p[0] - q[0], p[1] - q[1])
-                      for i, p in enumerate(points) for q in points[:i]]
-        self.length_scale = numerics.largest(sizes)
-        #: factor of ``cond`` for centres of mass far from their joints: the largest
-        #: ``offset / length_scale`` of the bodies, at least 1 (exactly 1 while every
-        #: centre of mass is within ``length_scale`` of its point ``ref``). The equations
-        #: take moments about the centres of mass, so a joint force on a link whose
-        #: centre of mass lies ``d`` away gets an arm of about ``d``: the closed form
-        #: cancels terms of that size and the direct method's moment rows get entries
-        #: ``d / L``. Both lose about the largest ``d / L`` in relative accuracy, not the
-        #: product of them (measured; tests/test_stability.py)
-        self.offset_scale = numerics.largest([1.0] + [b.offset / self.length_scale
-                                                      for b in self.bodies])
+        self.length_scale = _length_scale(groups, self.frame_points)
+        self.offset_scale = _offset_scale(self.bodies, self.length_scale)
         self.dyads = tuple(grp for grp in groups if grp.key)
+        #: what drives it: one :class:`~linkage_fmu.drivers.Driver` per degree of freedom
+        self.drivers = (groups[0].driver(effort.name),)
+        #: its inputs: names, units, start values, a call's values
+        #: (:class:`~linkage_fmu.inputs.InputTable`)
+        self.input_table = table = InputTable(name, self.drivers, self.loads, start)
         #: the loads that are inputs (the others are computed over the cycle)
-        self.input_loads = tuple(load for load in self.loads if not load.computed)
-        self.computed_loads = tuple(load for load in self.loads if load.computed)
-        self._input_names = MOTION + tuple(load.name for load in self.input_loads)
-        # the input loads by name -> position, and their start values (the lean path)
-        self._load_position = {load.name: k for k, load in enumerate(self.input_loads)}
-        self._start = {**dict.fromkeys(MOTION, 0.0), **{ld.name: ld.start for ld in self.loads},
-                       **(start or {})}
-        self._start_loads = tuple(self._start[ld.name] for ld in self.input_loads)
-        self._n_loads = len(self.input_loads)
-        self._load_name = self.input_loads[0].name if self.input_loads else None
+        self.input_loads, self.computed_loads = table.input_loads, table.computed_loads
         #: input name -> its unit (the loads over the cycle included)
-        self.input_units = {**MOTION_UNITS, **{load.name: load.unit for load in self.loads}}
+        self.input_units = table.units
         # every linkage reports what its moving links put on the frame
         outputs = tuple(outputs) + friction_outputs(self) + tuple(
             Shaking(n, c) for n, c in zip(SHAKING, "xyM"))
@@ -201,7 +151,8 @@ class Mechanism:
         self.output_info.update(diagnostics.info(self))
         #: solves it: plans, kernels, methods (:class:`~linkage_fmu.solver.Solver`)
         self.solver = Solver(self)
-        self._hot = self.solver.hot  # the lean path of solve: [static, moving]
+        # the lean path of solve: [static, moving] hot kernels, the inputs' start values
+        self._hot, self._start = self.solver.hot, table.defaults
 
     @property
     def output_names(self) -> tuple[str, ...]:
@@ -282,7 +233,7 @@ class Mechanism:
         >>> a["Mb"] == b["Mb"]
         True
         """
-        return self._input_names
+        return self.input_table.names
 
     @property
     def parameters(self) -> dict:
@@ -309,16 +260,7 @@ class Mechanism:
         """Input name -> the value it takes where none is given; read-only (the lean path
         of :meth:`solve` keeps the input loads' start values): other start values are
         its description's ``[inputs]`` and the loads' ``start``."""
-        return MappingProxyType(self._start)
-
-    def _resolve(self, j: Pair) -> Pair:
-        a = self.frame if j.a == FRAME else j.a
-        if a == OWNER:
-            if j.point not in self.owner:
-                raise LinkageError(self.name, f"joint {j.name} is shared by two links; "
-                                   "attach to a point that belongs to one link")
-            a = self.owner[j.point]
-        return j.between(a)
+        return self.input_table.start
 
     def __repr__(self) -> str:
         params = ", ".join(f"{k}={v!r}" for k, v in self.parameters.items())
@@ -326,129 +268,13 @@ class Mechanism:
 
     # -- kinematics -------------------------------------------------------------
     def kinematics(self, theta, order: int = 2, xp=None) -> KinematicState:
-        """The position of every point and link at the crank angle(s) ``theta``, and
-        their first and second derivatives with respect to ``theta``.
-
-        The points are named as the description names them: the frame's points, the
-        joints and points the groups place, and each link's centre of mass ``S<link>``
-        (``S2`` for link ``2``, ``Scrank`` for a link named ``crank``) where it is off
-        the link's point ``ref``; where it is on it, the centre of mass is that point.
-        ``mech.cg`` maps each moving link to its centre of mass's point.
-
-        Parameters
-        ----------
-        theta : float or array_like
-            Crank angle(s) [rad], finite.
-        order : {0, 1, 2}
-            Positions only (0), with the first derivatives (1), and the second (2).
-        xp : namespace, optional
-            The numbers to compute on (:data:`~linkage_fmu.numerics.SCALAR`,
-            :data:`~linkage_fmu.numerics.ARRAY`, :data:`linkage_fmu.precise.MP`);
-            default floats for one angle, numpy arrays for many.
-
-        Returns
-        -------
-        KinematicState
-            ``st.p[point]``, ``st.d1[point]``, ``st.d2[point]``: the point's position
-            ``(x, y)`` [m] and its derivatives ``(dx/dtheta, dy/dtheta)`` [m/rad] and
-            ``(d2x/dtheta2, d2y/dtheta2)`` [m/rad2]; ``st.u[link]``, ``st.w1[link]``,
-            ``st.w2[link]``: the link's direction ``(cos phi, sin phi)`` and
-            ``dphi/dtheta``, ``d2phi/dtheta2``. At crank speed ``omega`` and
-            acceleration ``alpha``, a point's velocity is ``d1 omega``
-            (``st.velocity(point, omega)``), its acceleration ``d2 omega**2 + d1
-            alpha`` (``st.acceleration(point, omega, alpha)``), a link's angular
-            speed ``w1 omega``. For arrays, ``st.invalid`` marks the angles the
-            linkage cannot be assembled at (NaN there).
-
-        Raises
-        ------
-        AssemblyError
-            One angle the linkage cannot be assembled at.
-        ValueError
-            An angle that is not a finite number.
-
-        Examples
-        --------
-        The four-bar (crank AB 0.1 m, coupler BC 0.35 m, rocker CD 0.3 m, D 0.4 m
-        from A along x), its coupler's centre of mass ``S2`` 0.175 m from B along BC:
-
-        >>> import math
-        >>> from linkage_fmu import presets
-        >>> mech = presets.get("four_bar")
-        >>> st = mech.kinematics(0.5)
-        >>> sorted(st.p), mech.cg
-        (['A', 'B', 'C', 'D', 'S2', 'S3'], {'1': 'A', '2': 'S2', '3': 'S3'})
-        >>> [round(v, 6) for v in st.p["B"]] == [round(0.1 * math.cos(0.5), 6),
-        ...                                      round(0.1 * math.sin(0.5), 6)]
-        True
-        >>> (B, C), S2 = (st.p["B"], st.p["C"]), st.p["S2"]
-        >>> [round(s - (b + c) / 2, 12) for s, b, c in zip(S2, B, C)]  # mid BC
-        [0.0, 0.0]
-        >>> [round(v, 6) for v in st.velocity("B", 10.0)]  # B turns at 1 m/s
-        [-0.479426, 0.877583]
-        >>> round(st.w1["1"], 12), [round(v, 6) for v in st.u["1"]]
-        (1.0, [0.877583, 0.479426])
-        >>> [round(v, 6) for v in mech.kinematics(0.0, order=0).p["C"]]
-        [0.304167, 0.284282]
-        """
-        if xp is None:
-            if np.ndim(theta) == 0:
-                xp = SCALAR
-                theta = finite_float("theta", theta.item() if isinstance(theta, np.ndarray)
-                                     else theta)
-            else:
-                xp = ARRAY
-                theta = finite_array("theta", theta)
-
-        def fail(condition: str, what: str = ""):
-            raise AssemblyError(self.name, theta, condition, what)
-
-        st = KinematicState(theta, xp, fail)
-        zero = (0.0, 0.0)
-        for p, xy in self.frame_points.items():
-            st.p[p], st.d1[p], st.d2[p] = xy, zero, zero
-        for grp in self.groups:
-            grp.position(st)
-        if order >= 1:
-            for grp in self.groups:
-                grp.first(st)
-        if order >= 2:
-            for grp in self.groups:
-                grp.second(st)
-        return st
+        """The position of every point and link at the crank angle(s) ``theta`` and
+        their derivatives up to ``order``: :func:`linkage_fmu.evaluation.kinematics`."""
+        return evaluation.kinematics(self, theta, order, xp)
 
     def reduced_inertia(self, theta, xp=None) -> tuple:
-        """The moment of inertia of the whole linkage reduced to the crank and its
-        derivative with respect to the crank angle, at the crank angle(s) ``theta``
-        [rad; one angle may be text with a unit, ``"30 deg"``]: the kinetic energy of
-        the moving links is ``J(theta) * omega**2 / 2``, and with no loads the
-        balancing moment is ``J * alpha + dJ / 2 * omega**2``. ``J`` [kg m2] and
-        ``dJ`` [kg m2/rad] are floats for a scalar ``theta`` and arrays of its shape
-        otherwise (NaN where the linkage cannot be assembled); ``xp`` evaluates on
-        another namespace's numbers. The method is
-        :func:`linkage_fmu.inertia.reduced_inertia`, which says how.
-
-        Returns
-        -------
-        J, dJ : float or ndarray
-            The reduced inertia [kg m2] and its derivative ``dJ/dtheta`` [kg m2/rad].
-
-        Examples
-        --------
-        The scotch yoke's block (4 kg) at the end of its 0.1 m crank and its yoke
-        (10 kg, at ``0.1 sin(theta)``) give ``J = (4 + 10 cos(theta)**2) 0.1**2`` and
-        ``dJ = -10 0.1**2 sin(2 theta)``:
-
-        >>> import math
-        >>> from linkage_fmu import presets
-        >>> yoke = presets.get("scotch_yoke")
-        >>> J, dJ = yoke.reduced_inertia([0.0, math.pi / 4])
-        >>> J.round(12).tolist(), dJ.round(12).tolist()
-        ([0.14, 0.09], [0.0, -0.1])
-        >>> J, dJ = yoke.reduced_inertia("30 deg")
-        >>> round(J, 12), round(dJ, 12)
-        (0.115, -0.086602540378)
-        """
+        """The moment of inertia reduced to the crank and its derivative by the crank
+        angle: :func:`linkage_fmu.inertia.reduced_inertia`."""
         return inertia.reduced_inertia(self, theta, xp)
 
     def simulate(self, tau, t, theta0=None, omega0=None, **options):
@@ -459,65 +285,11 @@ class Mechanism:
         """The flywheel for ``Cs`` at ``omega_mean``: :func:`linkage_fmu.flywheel.flywheel`."""
         return flywheel.flywheel(self, omega_mean, Cs, **options)
 
-    # -- the formulas -----------------------------------------------------------
-    def evaluate(self, plan, theta, omega, alpha, loads, xp) -> tuple[dict, KinematicState]:
-        """The outputs of ``plan`` (and whatever it computes besides) on numbers of the
-        namespace ``xp``, and the kinematic state: the one sequence of formulas behind
-        every path, floats, arrays, mpmath and the traced kernels.
-
-        ``plan`` (:class:`~linkage_fmu.solver.Plan`) says which outputs, whether the
-        scene is static (``omega = alpha = 0``: no derivative kinematics, no inertia)
-        and the method (``direct``: the assembled linear system; otherwise group by
-        group); the effort alone needs no reactions (virtual power). ``solve`` and
-        ``table`` make the plan (``mech.solver.plan``) and call this; use them.
-
-        Examples
-        --------
-        >>> from linkage_fmu import presets
-        >>> from linkage_fmu.numerics import SCALAR
-        >>> yoke = presets.get("scotch_yoke")
-        >>> plan = yoke.solver.plan(("Mb",), False, "closed_form")
-        >>> out, state = yoke.evaluate(plan, 0.5, 10.0, 0.0, [100.0], SCALAR)
-        >>> out["Mb"] == yoke.solve(0.5, 10.0, 0.0, 100.0)["Mb"]
-        True
-        """
-        order = 0
-        if plan.reactions or plan.effort:
-            if not plan.static:
-                order = 2
-            elif not plan.reactions or self.friction.active or "eta" in plan.outputs or (
-                    plan.method != "direct" and not self.effort_on_crank):
-                order = 1
-        order = max(order, diagnostics.order(self, plan.outputs))
-        st = self.kinematics(theta, order, xp)
-        R, effort = {}, 0.0
-        if plan.reactions or plan.effort:
-            if self.computed_loads:  # each computed load: given, or None (computed)
-                given = dict(zip(plan.given, loads[len(self.input_loads):]))
-                inputs = iter(loads)
-                loads = [given.get(ld.name) if ld.computed else next(inputs)
-                         for ld in self.loads]
-            W = wrenches(self, st, omega, alpha, loads, plan.static)
-            R, effort = friction.solve(self, st, W, plan, omega, xp)
-            if "eta" in plan.outputs and self.friction.joints:  # what each source puts in
-                R.sources = powers(self, st, omega, alpha, loads, plan.static)
-        out = {}
-        for name, fn in self.output_functions:
-            if name in plan.outputs:
-                out[name] = fn(R, effort, st)
-        if plan.diagnostics:
-            out.update(diagnostics.values(self, st, plan.outputs))
-        return out, st
-
     # -- inputs -----------------------------------------------------------------
     def inputs(self, omega=None, alpha=None, loads: Sequence = (),
                named: dict | None = None) -> tuple[list, tuple]:
-        """``[omega, alpha, *input loads, *given computed loads]`` from the values given
-        (the input loads positionally in :attr:`input_loads` order, or by name; a load
-        over the cycle by name to override it), each input not given taking its start
-        value (:attr:`start`), text (a number with a unit, an expression: ``"1800 rpm"``,
-        ``"2 * pi * 30 rad/s"``) taken in SI (:func:`~.expressions.evaluate`); and the
-        names of the computed loads given.
+        """``[omega, alpha, *loads]`` of a call, and the loads over the cycle it gives:
+        :meth:`InputTable.values <linkage_fmu.inputs.InputTable.values>`.
 
         Examples
         --------
@@ -525,89 +297,17 @@ class Mechanism:
         >>> presets.get("four_bar").inputs(alpha=2.0, named={"load": 3.0})
         ([10.0, 2.0, 3.0], ())
         """
-        if not named and len(loads) == len(self.input_loads) and omega is not None and \
-                alpha is not None:
-            out, given = [omega, alpha, *loads], ()
-        else:
-            out, given = self._named(omega, alpha, loads, named or {})
-        for k, value in enumerate(out):
-            if isinstance(value, str):  # a number with a unit, an expression
-                name = (self.input_names[1:] + given)[k]
-                out[k] = evaluate(value, self.input_units[name], name)
-        return out, given
-
-    def _named(self, omega, alpha, loads: Sequence, named: dict) -> tuple[list, tuple]:
-        names = [load.name for load in self.input_loads]
-        if len(loads) > len(names):
-            raise TypeError(f"{self.name} has {len(names)} input load(s) ({', '.join(names)}), "
-                            f"got {len(loads)} positional load values")
-        values = dict(zip(names, loads))
-        known = {load.name for load in self.loads}
-        for key, value in named.items():
-            if key not in known:
-                raise TypeError(f"{self.name} has no input {key!r}; its inputs are: "
-                                + ", ".join(self.input_names + tuple(
-                                    ld.name for ld in self.computed_loads)))
-            if key in values:
-                raise TypeError(f"load {key} is given twice")
-            values[key] = value
-        given = tuple(ld.name for ld in self.computed_loads if ld.name in values)
-        return [self.start["omega"] if omega is None else omega,
-                self.start["alpha"] if alpha is None else alpha,
-                *(values.get(n, self.start[n]) for n in names),
-                *(values[n] for n in given)], given
+        return self.input_table.values(omega, alpha, loads, named)
 
     # -- solving (the solver's public interface, here for convenience) -----------
     def solve(self, theta, omega=None, alpha=None, *loads, method: str = "closed_form",
               outputs: Iterable[str] | None = None, **named_loads) -> Solution:
-        """Joint reactions, balancing effort and diagnostics at one or many states
-        (:meth:`Solver.solve <linkage_fmu.solver.Solver.solve>`).
+        """Joint reactions, balancing effort and diagnostics at one or many states.
 
-        Parameters
-        ----------
-        theta : float, str or array_like
-            Crank angle [rad]; one angle may be text with a unit (``"30 deg"``).
-        omega, alpha : float, str or array_like, optional
-            Crank speed [rad/s] and acceleration [rad/s2] (``"1800 rpm"``); default the
-            start values (:attr:`start`).
-        *loads : float, str or array_like
-            Each input load's magnitude [N or N.m], in :attr:`input_names` order.
-        method : {'closed_form', 'direct', 'interpreted'}
-            ``closed_form`` (default): group by group from the last group back to the
-            crank, one state by its compiled kernel; ``direct``: the assembled linear
-            system of the whole linkage (the reference); ``interpreted``: the closed
-            form's formulas step by step (a second reference).
-        outputs : iterable of str, optional
-            The names wanted, of :attr:`output_names` and :attr:`diagnostic_names`
-            (default all); asking for the balancing effort alone skips the reactions.
-        **named_loads : float, str or array_like
-            The input loads by name (a preset's one load is ``load``), or a load given
-            over the cycle by name, which replaces what it computes. A load not given
-            takes its start value.
-
-        Returns
-        -------
-        Solution
-            Output name -> value, the outputs then the diagnostics: floats for one
-            state; for arrays an :class:`~linkage_fmu.solver.ArraySolution` of the
-            inputs' broadcast shape, NaN at a state without outputs, whose ``valid``
-            and ``status`` say which and why.
-
-        Raises
-        ------
-        AssemblyError
-            One state the linkage cannot be assembled at.
-        SingularPositionError
-            One state at which the equations are singular (a toggle, a dead centre).
-        SelfLockingError
-            One state that friction locks: no finite effort moves the linkage.
-        OverflowInputError
-            One state of finite inputs whose outputs overflow.
-        ValueError
-            An unknown method or output, an input that is not a finite number (or an
-            unknown unit), or inputs that do not broadcast to one shape.
-        TypeError
-            An unknown input name, a load given twice, or too many loads.
+        Each input is a float, text with a unit (one state) or an array; the
+        parameters, what it returns and what it raises are those of
+        :meth:`Solver.solve <linkage_fmu.solver.Solver.solve>`, which serves every call
+        this method's fast path (a hot compiled kernel, plain numbers) does not.
 
         Examples
         --------
@@ -621,114 +321,104 @@ class Mechanism:
         array([400., 300.])
         """
         if outputs is None and method == "closed_form":
-            # the lean path: plain numbers, every output, the compiled kernel once hot
-            # (Solver.hot). It returns only the kernel's Solution, the floats the general
-            # path returns for the same inputs; anything else (text, arrays, a state
-            # without outputs, a kernel not yet hot, no compiler) goes on to the solver,
-            # which decides and raises
+            # the lean path, the one fast path: plain numbers, every output, the compiled
+            # kernel once hot (Solver.hot). It returns only the kernel's Solution, the
+            # floats the general path returns for the same inputs; anything else (text,
+            # arrays, a state without outputs, a kernel not yet hot, no compiler) goes on
+            # to the solver, which decides and raises
             w = self._start["omega"] if omega is None else omega
             a = self._start["alpha"] if alpha is None else alpha
             hot = None
-            if type(w) in _LEAN and type(a) in _LEAN:  # the kernel checks every input
+            if type(w) in LEAN and type(a) in LEAN:  # the kernel checks every input
                 hot = self._hot[1] if w != 0.0 or a != 0.0 else self._hot[0]
             if hot is not None:
-                if named_loads and len(named_loads) == 1 and not loads and self._n_loads == 1:
+                table = self.input_table
+                if named_loads and len(named_loads) == 1 and not loads and table.one_load:
                     # a linkage's one load by name (None for another name: the kernel
                     # refuses it, the general path says why)
-                    r = hot(theta, w, a, named_loads.get(self._load_name))
+                    r = hot(theta, w, a, named_loads.get(table.one_load))
                 else:
-                    x = loads if not named_loads and len(loads) == self._n_loads else \
-                        self._lean_loads(loads, named_loads)
+                    x = loads if not named_loads and len(loads) == table.n_loads else \
+                        table.lean_loads(loads, named_loads)
                     r = None if x is None else \
                         hot(theta, w, a, x[0]) if len(x) == 1 else hot(theta, w, a, *x)
                 if type(r) is Solution:
                     return r
                 if r is None:  # ints or numpy floats, taken as floats
-                    x = self._lean_loads(loads, named_loads)
-                    x = None if x is None else _floats((theta, w, a, *x))
+                    x = table.lean_loads(loads, named_loads)
+                    x = None if x is None else floats((theta, w, a, *x))
                     if x is not None and type(r := hot(*x)) is Solution:
                         return r
         return self.solver.solve(theta, omega, alpha, *loads, method=method, outputs=outputs,
                                  **named_loads)
 
-    def _lean_loads(self, loads: tuple, named: dict) -> tuple | list | None:
-        """The input loads of :meth:`solve`'s lean path from those given positionally
-        (``loads``) and by name (``named``), each not given at its start value; None
-        where the general path must decide (too many, unknown names, twice given, a
-        load over the cycle given)."""
-        position = self._load_position
-        if not named and len(loads) == len(position):
-            return loads
-        if not named and not loads:
-            return self._start_loads
-        if not loads and len(named) == len(position):  # each by name
-            x = []
-            for name in position:
-                value = named.get(name)
-                if value is None:
-                    return None
-                x.append(value)
-            return x
-        if len(loads) > len(position):
-            return None
-        x = list(loads) + list(self._start_loads[len(loads):])
-        for name, value in named.items():
-            k = position.get(name)
-            if k is None or k < len(loads):
-                return None
-            x[k] = value
-        return x
-
     def table(self, theta, omega=None, alpha=None, *loads, method: str = "closed_form",
               outputs: Iterable[str] | None = None, **named_loads):
         """:meth:`solve` over the crank angles ``theta`` as a pandas DataFrame, one
-        column per output (:meth:`Solver.table <linkage_fmu.solver.Solver.table>`).
-
-        Parameters
-        ----------
-        theta : float or array_like
-            Crank angle(s) [rad], the table's index (named ``theta``).
-        omega, alpha, *loads, method, outputs, **named_loads
-            As for :meth:`solve`; each broadcasts against ``theta``.
-
-        Returns
-        -------
-        pandas.DataFrame
-            One row per angle, one column per output wanted (the outputs, then the
-            diagnostics); a row the linkage has no outputs at (it cannot be assembled
-            there, a singular or locked position) is NaN.
-
-        Raises
-        ------
-        ValueError, TypeError
-            As :meth:`solve` for the inputs; a state without outputs raises nothing
-            (its row is NaN).
-
-        Examples
-        --------
-        >>> import numpy as np
-        >>> from linkage_fmu import presets
-        >>> yoke = presets.get("scotch_yoke")
-        >>> df = yoke.table(np.radians([0.0, 60.0]), omega=10.0, load=400.0,
-        ...                 outputs=["Mb", "F23y"])
-        >>> df.round(4)
-                      Mb      F23y
-        theta
-        0.000000  40.0000  400.0000
-        1.047198  15.6699  313.3975
-
-        A crank too long to turn a revolution: the rows it cannot reach are NaN.
-
-        >>> rocker = presets.get("four_bar", l_AB=0.3)
-        >>> rocker.table([0.0, 3.0], omega=10.0, outputs=["Mb"])["Mb"].isna().tolist()
-        [False, True]
-        """
+        column per output: :meth:`Solver.table <linkage_fmu.solver.Solver.table>`."""
         return self.solver.table(theta, omega, alpha, *loads, method=method, outputs=outputs,
                                  **named_loads)
 
     def kernel(self, outputs: Iterable[str] | None = None, static: bool = False):
         """The traced kernel of the plan ``(outputs, static)``: :meth:`.Solver.kernel`."""
         return self.solver.kernel(outputs, static)
+
+
+def _place(name: str, frame: str, frame_points: dict, groups: Sequence) -> dict:
+    """Point -> the link that owns it, the groups taken in order: each needs only
+    points placed before it, and fits those before it (:meth:`Group.attach
+    <linkage_fmu.groups.Group.attach>`)."""
+    placed = set(frame_points)
+    owner = {p: frame for p in frame_points}
+    for grp in groups:
+        missing = [p for p in grp.needs if p not in placed]
+        if missing:
+            raise LinkageError(name, f"{type(grp).__name__} needs {missing} placed before it")
+        placed.update(grp.places)
+        owner.update(grp.owners)
+    for k, grp in enumerate(groups):  # a group that re-places what is before it
+        try:
+            grp.attach(tuple(groups[:k]), frame_points)
+        except ValueError as err:
+            raise LinkageError(name, str(err)) from None
+    return owner
+
+
+def _length_scale(groups: Sequence, frame_points: dict):
+    """A length of the linkage's size: its fixed link lengths, and, where a group's size
+    is not a fixed length (a slotted lever), the distances of the frame points."""
+    sizes = [v for grp in groups for v in grp.lengths]
+    if not all(grp.fixed_size for grp in groups):
+        points = list(frame_points.values())
+        sizes += [numerics.hypot(p[0] - q[0], p[1] - q[1])
+                  for i, p in enumerate(points) for q in points[:i]]
+    return numerics.largest(sizes)
+
+
+def _offset_scale(bodies: Sequence[Body], length_scale):
+    """The factor of ``cond`` for centres of mass far from their joints: the largest
+    ``offset / length_scale`` of the bodies, at least 1 (exactly 1 while every centre of
+    mass is within ``length_scale`` of its point ``ref``).
+
+    The equations take moments about the centres of mass, so a joint force on a link
+    whose centre of mass lies ``d`` away gets an arm of about ``d``: the closed form
+    cancels terms of that size and the direct method's moment rows get entries ``d /
+    L``. Both lose about the largest ``d / L`` in relative accuracy, not the product of
+    them (measured; tests/test_stability.py).
+    """
+    return numerics.largest([1.0] + [b.offset / length_scale for b in bodies])
+
+
+def _resolve(name: str, frame: str, owner: dict, j: Pair) -> Pair:
+    """The pair ``j`` between the links it joins: the frame by its name, and the link
+    that owns its point where the group left that to the linkage (``OWNER``)."""
+    a = frame if j.a == FRAME else j.a
+    if a == OWNER:
+        if j.point not in owner:
+            raise LinkageError(name, f"joint {j.name} is shared by two links; "
+                               "attach to a point that belongs to one link")
+        a = owner[j.point]
+    return j.between(a)
 
 
 def _check_load_points(name: str, loads: Sequence[Load], bodies: Sequence[Body],

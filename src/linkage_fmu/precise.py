@@ -15,6 +15,7 @@ from types import SimpleNamespace
 import mpmath
 import numpy as np
 
+from . import evaluation
 from .linalg import solve_mpmath
 
 #: evaluation mode of the formulas on mpmath numbers (see :mod:`linkage_fmu.numerics`);
@@ -74,7 +75,7 @@ def reference(mech, theta: float, omega: float | None = None, alpha: float | Non
     plan = mech.solver.plan(mech.output_names, False, "direct", given)
     with mpmath.workdps(dps):
         state = [mpmath.mpf(float(v)) for v in (theta, *values)]
-        out, _ = mech.evaluate(plan, state[0], state[1], state[2], state[3:], MP)
+        out, _ = evaluation.evaluate(mech, plan, state[0], state[1], state[2], state[3:], MP)
         return {name: +out[name] for name in mech.output_names}
 
 

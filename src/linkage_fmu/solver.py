@@ -10,8 +10,8 @@ method. A :class:`Solver` (one per :class:`~linkage_fmu.mechanism.Mechanism`, it
   take the state;
 * many states: the compiled array kernel over all of them, the interpreted formulas for
   the states it hands back, in blocks that stay in the CPU caches;
-* ``method="interpreted"`` or ``"direct"``: :meth:`Mechanism.evaluate
-  <linkage_fmu.mechanism.Mechanism.evaluate>` on floats or arrays.
+* ``method="interpreted"`` or ``"direct"``: :func:`~linkage_fmu.evaluation.evaluate`
+  on floats or arrays.
 
 A state without outputs has a reason (:class:`~linkage_fmu.kernels.trace.Reason`):
 scalars raise the library's error, which carries it; arrays give NaN and a status per
@@ -27,7 +27,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import diagnostics, ranges
+from . import diagnostics, evaluation, ranges
 from .errors import AssemblyError, OverflowInputError, SelfLockingError, SingularPositionError
 from .expressions import evaluate
 from .kernels import TRACE, Kernel, trace
@@ -295,7 +295,7 @@ class Solver:
 
         for theta in witnesses():
             try:  # a witness must be solvable
-                mech.evaluate(plan, theta, omega, alpha, loads, SCALAR)
+                evaluation.evaluate(mech, plan, theta, omega, alpha, loads, SCALAR)
             except (ValueError, ArithmeticError, np.linalg.LinAlgError) as err:
                 last = err  # an overflow at these parameters: no witness here either
                 continue
@@ -303,7 +303,7 @@ class Solver:
 
             def outputs(x: list, symbols: dict) -> list:
                 twin = mech.rebuild(symbols) if symbols else mech
-                out, _ = twin.evaluate(plan, x[0], x[1], x[2], x[3:], TRACE)
+                out, _ = evaluation.evaluate(twin, plan, x[0], x[1], x[2], x[3:], TRACE)
                 return [out[n] for n in wanted]
 
             checked = tuple(i for i, n in enumerate(wanted) if n in plan.checked)
@@ -320,58 +320,70 @@ class Solver:
     # -- solving ----------------------------------------------------------------
     def solve(self, theta, omega=None, alpha=None, *loads, method: str = "closed_form",
               outputs: Iterable[str] | None = None, **named_loads) -> Solution:
-        """Joint reactions, balancing effort and diagnostics at one or many states.
+        """Joint reactions, balancing effort and diagnostics at one or many states:
+        every call :meth:`Mechanism.solve <linkage_fmu.mechanism.Mechanism.solve>`'s
+        fast path does not serve.
 
         Parameters
         ----------
-        theta, omega, alpha : float or array_like
-            Crank angle [rad], speed [rad/s] and acceleration [rad/s2].
-        *loads, **named_loads : float or array_like
-            The magnitude of each input load [N or N.m], in the order of the linkage's
-            ``input_loads`` or by name (a preset's single load is ``load``); a load over
-            the cycle by name overrides what it computes. An input not given (omega,
-            alpha and each load) takes the linkage's start value (``start``). A single
-            value may be text with a unit (``"1800 rpm"``, ``"30 deg"``, ``"4 kN"``,
-            see :mod:`~linkage_fmu.units`).
+        theta : float, str or array_like
+            Crank angle [rad]; one angle may be text with a unit (``"30 deg"``).
+        omega, alpha : float, str or array_like, optional
+            Crank speed [rad/s] and acceleration [rad/s2] (``"1800 rpm"``); default the
+            start values (the linkage's ``start``).
+        *loads : float, str or array_like
+            Each input load's magnitude [N or N.m], in the linkage's ``input_names`` order.
         method : {'closed_form', 'direct', 'interpreted'}
-            The closed form, group by group from the last group back to the crank (for
-            one state, its traced kernel: :meth:`kernel`); the assembled linear system
-            (the reference); or the closed form's group formulas run step by step (a
-            second reference).
+            ``closed_form`` (default): group by group from the last group back to the
+            crank, one state by its compiled kernel; ``direct``: the assembled linear
+            system of the whole linkage (the reference); ``interpreted``: the closed
+            form's formulas step by step (a second reference).
         outputs : iterable of str, optional
-            Names wanted (default: all outputs and diagnostics). Asking only for the
-            balancing effort skips the reactions; a static scene skips velocities and
-            accelerations.
+            The names wanted, of the linkage's ``output_names`` and ``diagnostic_names``
+            (default all); asking for the balancing effort alone skips the reactions.
+        **named_loads : float, str or array_like
+            The input loads by name (a preset's one load is ``load``), or a load given
+            over the cycle by name, which replaces what it computes. A load not given
+            takes its start value.
 
         Returns
         -------
         Solution
-            Floats for scalar inputs; arrays of the broadcast input shape otherwise
-            (an :class:`ArraySolution`, which says why a state has none).
+            Output name -> value, the outputs then the diagnostics: floats for one
+            state; for arrays an :class:`~linkage_fmu.solver.ArraySolution` of the
+            inputs' broadcast shape, NaN at a state without outputs, whose ``valid``
+            and ``status`` say which and why.
 
         Raises
         ------
         AssemblyError
-            Scalar ``theta`` at which the linkage cannot be assembled.
+            One state the linkage cannot be assembled at.
         SingularPositionError
-            Scalar state at which the equations are exactly singular.
+            One state at which the equations are singular (a toggle, a dead centre).
+        SelfLockingError
+            One state that friction locks: no finite effort moves the linkage.
         OverflowInputError
-            Scalar finite inputs whose outputs overflow float64, or parameters whose
-            arithmetic does (arrays: every state ``OVERFLOW``); a non-finite diagnostic
-            (``dJ_red``) counts as any output.
+            One state of finite inputs whose outputs overflow.
+        ValueError
+            An unknown method or output, an input that is not a finite number (or an
+            unknown unit), or inputs that do not broadcast to one shape.
+        TypeError
+            An unknown input name, a load given twice, or too many loads.
+
+        Examples
+        --------
+        The scotch yoke worked example's state, given as text with units:
+
+        >>> from linkage_fmu import presets
+        >>> sol = presets.get("scotch_yoke").solver.solve("60 deg", "10 rad/s", load="0.4 kN")
+        >>> round(sol["Mb"], 4), round(sol["F23y"], 4)
+        (15.6699, 313.3975)
         """
         mech = self.mech
-        if outputs is None and method == "closed_form" and type(omega) is float and \
-                type(alpha) is float and not named_loads and len(loads) == len(mech.input_loads):
-            fast = self.hot[omega != 0.0 or alpha != 0.0]
-            if fast is not None:  # a compiled kernel that checks its inputs: FMU steps
-                r = fast(theta, omega, alpha, *loads)
-                if type(r) is Solution:
-                    return r
         if method not in METHODS:
             raise ValueError(f"method must be one of {METHODS}, got {method!r}")
         wanted = self.wanted(outputs)
-        values, given = mech.inputs(omega, alpha, loads, named_loads)
+        values, given = mech.input_table.values(omega, alpha, loads, named_loads)
         if isinstance(theta, str):  # a number with a unit, an expression
             theta = evaluate(theta, "rad", "theta")
         args = (theta, *values)
@@ -418,15 +430,47 @@ class Solver:
 
     def table(self, theta, omega=None, alpha=None, *loads, method: str = "closed_form",
               outputs: Iterable[str] | None = None, **named_loads):
-        """:meth:`solve` over ``theta`` as a pandas DataFrame, one column per output.
+        """:meth:`solve` over the crank angles ``theta`` as a pandas DataFrame, one
+        column per output.
+
+        Parameters
+        ----------
+        theta : float or array_like
+            Crank angle(s) [rad], the table's index (named ``theta``).
+        omega, alpha, *loads, method, outputs, **named_loads
+            As for :meth:`solve`; each broadcasts against ``theta``.
+
+        Returns
+        -------
+        pandas.DataFrame
+            One row per angle, one column per output wanted (the outputs, then the
+            diagnostics); a row the linkage has no outputs at (it cannot be assembled
+            there, a singular or locked position) is NaN.
+
+        Raises
+        ------
+        ValueError, TypeError
+            As :meth:`solve` for the inputs; a state without outputs raises nothing
+            (its row is NaN).
 
         Examples
         --------
+        >>> import numpy as np
         >>> from linkage_fmu import presets
-        >>> df = presets.get("scotch_yoke").table([0.0, 1.0], omega=10.0, load=400.0,
-        ...                                       outputs=("Mb",))
-        >>> list(df.columns), df.index.name
-        (['Mb'], 'theta')
+        >>> yoke = presets.get("scotch_yoke")
+        >>> df = yoke.table(np.radians([0.0, 60.0]), omega=10.0, load=400.0,
+        ...                 outputs=["Mb", "F23y"])
+        >>> df.round(4)
+                      Mb      F23y
+        theta
+        0.000000  40.0000  400.0000
+        1.047198  15.6699  313.3975
+
+        A crank too long to turn a revolution: the rows it cannot reach are NaN.
+
+        >>> rocker = presets.get("four_bar", l_AB=0.3)
+        >>> rocker.table([0.0, 3.0], omega=10.0, outputs=["Mb"])["Mb"].isna().tolist()
+        [False, True]
         """
         theta = np.atleast_1d(np.asarray(theta, dtype=float))
         return frame(self.solve(theta, omega, alpha, *loads, method=method, outputs=outputs,
@@ -469,7 +513,8 @@ class Solver:
         static = values[1] == 0.0 and values[2] == 0.0
         plan = self.plan(wanted, static, method, given)
         try:
-            out, _ = mech.evaluate(plan, values[0], values[1], values[2], values[3:], SCALAR)
+            out, _ = evaluation.evaluate(mech, plan, values[0], values[1], values[2],
+                                         values[3:], SCALAR)
             # one finite sum: every term is finite (a sum that overflows is checked term
             # by term); a non-finite output means singular or overflowing
             if math.isfinite(sum(out[n] for n in plan.checked)) or \
@@ -486,7 +531,7 @@ class Solver:
         theta = values[0]
         inputs = ", ".join(f"{n} = {v!r}" for n, v in zip(mech.input_names + given, values))
         try:
-            st = mech.kinematics(theta, 0 if mech.effort_on_crank else 1, SCALAR)
+            st = evaluation.kinematics(mech, theta, 0 if mech.effort_on_crank else 1, SCALAR)
         except OverflowError:  # the position itself overflows
             return OverflowInputError(mech.name, f"the arithmetic overflows float64 at "
                                       f"{inputs}: {_largest(mech, values, given)}")
@@ -545,7 +590,7 @@ class Solver:
             for part in parts:
                 omega, alpha = flat[1][part], flat[2][part]
                 plan = self.plan(wanted, not (omega.any() or alpha.any()), method, given)
-                values, st = self.mech.evaluate(plan, flat[0][part], omega, alpha,
+                values, st = evaluation.evaluate(self.mech, plan, flat[0][part], omega, alpha,
                                                 [a[part] for a in flat[3:]], ARRAY)
                 valid[part] = _solved(st)
                 for name in wanted:
@@ -619,7 +664,7 @@ class Solver:
         that assemble and whose friction has no solution."""
         with np.errstate(all="ignore"):
             plan = self.plan(wanted, False, "interpreted", given)
-            _, st = self.mech.evaluate(plan, flat[0], flat[1], flat[2], flat[3:], ARRAY)
+            _, st = evaluation.evaluate(self.mech, plan, flat[0], flat[1], flat[2], flat[3:], ARRAY)
         locked = np.zeros(flat[0].size, bool) if st.locked is None else st.locked.copy()
         if st.invalid is not None:
             locked &= ~st.invalid

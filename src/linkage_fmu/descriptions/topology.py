@@ -160,6 +160,12 @@ class Topology:
         """Gruebler's count, 3 n - 2 p, for n moving links and p lower pairs."""
         return 3 * len(self.links) - 2 * self.pair_count()
 
+    @property
+    def drivers(self) -> tuple[str, ...]:
+        """The pairs that drive it, one per degree of freedom its mobility must have:
+        the [crank]'s pivot."""
+        return (self.pivot,)
+
 
 class CycleError(ValueError):
     """A drawn position that uses itself; ``cycle`` holds the joints around the loop."""
@@ -249,9 +255,10 @@ def read(data: dict, values: dict, frame: str = "0", measures: dict | None = Non
             found.append(f"{where} guide: only a prismatic pair (with slide) has a guide")
     crank, pivot = _crank(data.get("crank"), joints, links, on, on_frame, found)
     t = Topology(frame, joints, links, crank, pivot, on_frame, ground.get("tables", {}))
-    if not found and t.mobility() != 1:
+    if not found and t.mobility() != len(t.drivers):
         n, p = len(links), t.pair_count()
-        found.append(f"[[links]]: the linkage's mobility is {t.mobility()}, not 1: 3 x {n} "
+        found.append(f"[[links]]: the linkage's mobility is {t.mobility()}, not "
+                     f"{len(t.drivers)}: 3 x {n} "
                      f"moving links - 2 x {p} pairs (Gruebler's count; a joint on one link "
                      "is a pair with the frame, a joint on k links k - 1 pairs"
                      + (", a joint of the frame's entry on k links k pairs)" if on_frame

@@ -34,7 +34,7 @@ import math
 from dataclasses import dataclass, replace
 from typing import Any
 
-from ..mechanism import METHODS, MOTION
+from ..mechanism import METHODS
 from ..units import MOTION_UNITS
 
 _MOTION_INFO = {
@@ -130,12 +130,13 @@ def variables(mech, flavour: str = "pythonfmu") -> list[Variable]:
     methods, method_text = FLAVOURS[flavour]
     d = mech.description
     table = []
-    for k, name in enumerate(MOTION):
+    motion = mech.input_table.motion  # the driver's inputs
+    for k, name in enumerate(motion):
         unit, display, text = _MOTION_INFO[name]
         table.append(Variable(name, "Real", "input", "continuous", unit, display, text,
                               float(mech.start[name]), index=k))
     # a load over the cycle is computed inside: no input
-    for k, load in enumerate(mech.input_loads, len(MOTION)):
+    for k, load in enumerate(mech.input_loads, len(motion)):
         text = load.description or f"{load.kind} on link {load.body}"
         table.append(Variable(load.name, "Real", "input", "continuous", load.unit, "", text,
                               float(load.start), index=k))

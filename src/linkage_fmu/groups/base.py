@@ -32,6 +32,7 @@ from typing import ClassVar, NamedTuple
 import numpy as np
 
 from .. import numerics
+from ..drivers import Driver
 from ..kernels.trace import Reason
 from ..numerics import Number
 
@@ -406,8 +407,8 @@ class Group(ABC):
     DRIVER : bool
         True for the driver: the first group of a linkage, and only the first. A linkage
         has mobility 1: its driver's angle, speed and acceleration are the linkage's
-        inputs ``theta``, ``omega`` and ``alpha``, and every later group follows from
-        the points placed before it.
+        inputs ``theta``, ``omega`` and ``alpha`` (its :meth:`driver` says so), and
+        every later group follows from the points placed before it.
     DRAWING : Drawing or None
         How the type is drawn as joints and links, declared by the type itself (a new
         kind does not take its parent's); None for a type the decomposition of such a
@@ -513,6 +514,21 @@ class Group(ABC):
         """
         return False
 
+    def driver(self, effort: str, alone: bool = True) -> Driver:
+        """The :class:`~linkage_fmu.drivers.Driver` of a driving group: the pair it
+        drives, its inputs (named as :meth:`Driver.named
+        <linkage_fmu.drivers.Driver.named>` says for a linkage's only driver, or one of
+        several) and the name of its ``effort`` output. A type with ``DRIVER = True``
+        implements it (checked when the class is defined); for others it is an error.
+
+        Examples
+        --------
+        >>> from linkage_fmu.groups import Crank
+        >>> Crank("1", "A", "B", 0.1).driver("Mb").inputs
+        ('theta', 'omega', 'alpha')
+        """
+        raise TypeError(f"{type(self).__name__} is no driver (DRIVER = False)")
+
     def attach(self, before: tuple, frame_points: dict) -> None:  # noqa: B027 (optional hook)
         """Called by the mechanism with the groups ``before`` this one (in order) and
         its frame points (name -> ``(x, y)``): a group that needs to place the points
@@ -575,6 +591,9 @@ def _contract_problem(cls: type) -> str:
         return f"OPTIONAL = {optional!r} must be a tuple of names in its FIELDS"
     if not isinstance(cls.DRIVER, bool):
         return f"DRIVER = {cls.DRIVER!r} must be True or False"
+    if cls.DRIVER and cls.driver is Group.driver:
+        return ("is a DRIVER but does not implement driver(effort, alone): the mechanism "
+                "asks it which pair it drives and how its inputs are named")
     drawing = cls.__dict__.get("DRAWING")
     if drawing is not None and not isinstance(drawing, Drawing):
         return f"DRAWING = {drawing!r} must be a Drawing or None"

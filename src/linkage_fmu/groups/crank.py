@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from ..drivers import Driver
 from ..pairs import Revolute
 from .base import FRAME, Field, Group, KinematicState, moment_about, names_in
 
@@ -55,6 +56,10 @@ class Crank(Group):
         ('A',)
         """
         return names_in(spec, ("pivot",))
+
+    def driver(self, effort: str, alone: bool = True) -> Driver:
+        """Its angle about the pivot drives the linkage (see :meth:`Group.driver`)."""
+        return Driver.named(self.pivot, "angle", effort, alone)
 
     def position(self, st: KinematicState) -> None:
         xp, L = st.xp, self.length

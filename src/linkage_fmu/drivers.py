@@ -1,0 +1,95 @@
+"""The drivers of a linkage: which pair each one drives, its inputs and its effort.
+
+A :class:`Driver` is data: the pair it moves, its kind (an angle or a travel), the
+names and units of its coordinate, speed and acceleration inputs, and the name of the
+effort output it needs. The mechanism holds a tuple of them (``mech.drivers``), from
+which its inputs are named and its mobility checked; nothing else names a driver's
+inputs.
+
+Examples
+--------
+>>> crank = Driver.named("A", "angle", "Mb")
+>>> crank.inputs, crank.units, crank.effort
+(('theta', 'omega', 'alpha'), ('rad', 'rad/s', 'rad/s2'), 'Mb')
+>>> Driver.named("C", "travel", "Fb_C", alone=False).inputs
+('s_C', 'v_C', 'a_C')
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import ClassVar
+
+from .units import MOTION_UNITS
+
+#: kind -> the names of its coordinate, speed and acceleration (a linkage's one angle
+#: driver takes them as they are; several drivers add their pair's name) and their units
+KINDS: dict[str, tuple[tuple[str, str, str], tuple[str, str, str]]] = {
+    "angle": (tuple(MOTION_UNITS), tuple(MOTION_UNITS.values())),
+    "travel": (("s", "v", "a"), ("m", "m/s", "m/s2")),
+}
+
+
+@dataclass(frozen=True)
+class Driver:
+    """A driver: the pair ``name`` it drives, its ``kind`` (a key of :data:`KINDS`),
+    its coordinate, speed and acceleration ``inputs`` with their ``units``, and the name
+    of its ``effort`` output (the moment or force it applies).
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets
+    >>> (crank,) = presets.get("slider_crank").drivers
+    >>> crank.name, crank.kind, crank.inputs, crank.effort
+    ('O', 'angle', ('theta', 'omega', 'alpha'), 'Mb')
+    """
+
+    name: str
+    kind: str
+    inputs: tuple[str, str, str]
+    units: tuple[str, str, str]
+    effort: str
+
+    #: the kinds a driver may be
+    kinds: ClassVar[tuple[str, ...]] = tuple(KINDS)
+
+    @classmethod
+    def named(cls, pair: str, kind: str, effort: str, alone: bool = True) -> Driver:
+        """The driver of ``pair`` with its inputs named: a linkage's only driver
+        (``alone``) takes its kind's names as they are (``theta``, ``omega``,
+        ``alpha``), one of several adds its pair's (``theta_A``).
+
+        Raises
+        ------
+        ValueError
+            A kind that is none of :data:`KINDS`.
+        """
+        if kind not in KINDS:
+            raise ValueError(f"the driver of {pair}: a driver's kind is one of "
+                             f"{', '.join(KINDS)}, not {kind!r}")
+        names, units = KINDS[kind]
+        inputs = names if alone else tuple(f"{n}_{pair}" for n in names)
+        return cls(pair, kind, inputs, units, effort)
+
+
+def input_names(drivers: tuple[Driver, ...]) -> tuple[str, ...]:
+    """The drivers' inputs in a linkage's order: each driver's coordinate, speed and
+    acceleration, driver by driver.
+
+    Examples
+    --------
+    >>> input_names((Driver.named("A", "angle", "Mb"),))
+    ('theta', 'omega', 'alpha')
+    """
+    return tuple(n for d in drivers for n in d.inputs)
+
+
+def input_units(drivers: tuple[Driver, ...]) -> dict[str, str]:
+    """Input name -> unit, for the drivers' inputs.
+
+    Examples
+    --------
+    >>> input_units((Driver.named("C", "travel", "Fb"),))
+    {'s': 'm', 'v': 'm/s', 'a': 'm/s2'}
+    """
+    return {n: u for d in drivers for n, u in zip(d.inputs, d.units)}
