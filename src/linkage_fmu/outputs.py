@@ -136,7 +136,7 @@ def _contract_problem(cls: type) -> str:
     if "kind" in keys:
         return "KEYS has 'kind', which names the output's kind in a description file"
     for method in ("check", "from_spec"):
-        if getattr(cls, method).__func__ is getattr(Output, method).__func__:
+        if getattr(getattr(cls, method), "__func__", None) is getattr(Output, method).__func__:
             return (f"implements no {method}: the description's "
                     f"{'checker' if method == 'check' else 'builder'} asks it")
     return ""
