@@ -16,7 +16,7 @@ from ..groups import Group, LinkJoints
 from ..kernels.trace import Reason
 from ..loads import Load
 from ..mechanism import Mechanism
-from ..outputs import Couple, Derived, EffortOutput, Force, Magnitude, Normal
+from ..outputs import EffortOutput, Output
 from ..parameters import resolve
 from ..tables import PeriodicTable
 from .assur import body_table
@@ -173,35 +173,12 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
 
     outputs, keys = [], {}  # keys: output name -> where the description declares it
     for k, spec in enumerate(d.outputs):
-        kind, name = spec["kind"], spec["name"]
-        first = len(outputs)
-        text = spec.get("description", "")
-        if kind == "force":
-            for axis in spec.get("components", ["x", "y"]):
-                outputs.append(Force(spec.get(axis, name + axis), spec["by"], spec["on"], axis,
-                                     f"{text}, {axis} component" if text else ""))
-            if spec.get("magnitude"):
-                m = spec["magnitude"]
-                outputs.append(Magnitude(m if isinstance(m, str) else f"{name}_abs", spec["by"],
-                                         spec["on"], f"{text}, magnitude" if text else ""))
-        elif kind == "normal":
-            outputs.append(Normal(name, spec["joint"], text))
-        elif kind == "couple":
-            outputs.append(Couple(name, spec["joint"], text))
-        elif kind == "effort":
-            unit = spec.get("unit") or ("N.m" if _is_moment(d, name) else "N")
-            outputs.append(EffortOutput(name, unit, text or (
-                "balancing moment on the driver link, counter-clockwise positive"
-                if unit == "N.m" else "balancing force")))
-        else:
-            outputs.append(Derived(name, spec["expression"], spec.get("unit", "N"), text))
-        keys.update((o.name, f"[[outputs]] #{k + 1} ({name})") for o in outputs[first:])
+        made = Output.registry[spec["kind"]].from_spec(spec, d)
+        keys.update((o.name, f"[[outputs]] #{k + 1} ({spec['name']})") for o in made)
+        outputs += made
     for name in dict.fromkeys(e["name"] for e in d.efforts.values()):  # always reported
         if name not in keys:
-            unit = "N.m" if _is_moment(d, name) else "N"
-            outputs.append(EffortOutput(name, unit, "balancing moment on the driver link, "
-                                        "counter-clockwise positive" if unit == "N.m" else
-                                        "balancing force"))
+            outputs += EffortOutput.from_spec({"name": name}, d)
     declared = _friction(d, number, friction)
 
     def rebuild(traced: dict) -> Mechanism:
@@ -283,6 +260,3 @@ def _unit(v: tuple) -> tuple:
         raise ValueError(f"direction {v!r} has no length")
     return v if n == 1.0 else (v[0] / n, v[1] / n)
 
-
-def _is_moment(d, name: str) -> bool:
-    return any(s.get("name") == name and "direction" not in s for s in d.efforts.values())

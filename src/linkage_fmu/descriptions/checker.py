@@ -15,7 +15,7 @@ from typing import Any
 from ..errors import ParameterError
 from ..expressions import Expression, check_units
 from ..groups import OWNER, Field, Group, LinkJoints
-from ..outputs import SHAKING
+from ..outputs import SHAKING, Output
 from ..parameters import KINDS, Parameter
 from ..units import unit_problem
 from .schema import (
@@ -25,7 +25,6 @@ from .schema import (
     INPUT_NAMES,
     INPUT_UNITS,
     LOAD_KEYS,
-    OUTPUT_KEYS,
     TABLE_DEFAULTS,
 )
 
@@ -54,7 +53,9 @@ class Checker:
     One method per table, run in the order of the messages; what a table defines for
     the later ones (points placed, links added, pairs, load names) is kept here. Group
     types are known only through their contract (``FIELDS``, ``OPTIONAL``, ``DRIVER``,
-    ``pairs``), so a new type is checked like the shipped ones.
+    ``pairs``), and output kinds through theirs (``KEYS``, ``check``:
+    :class:`~linkage_fmu.outputs.Output`), so a new type or kind is checked like the
+    shipped ones.
 
     Examples
     --------
@@ -531,67 +532,30 @@ class Checker:
 
     # -- outputs ----------------------------------------------------------------------
     def output(self, k: int, spec: dict, used: list) -> None:
-        """One output; the names it gives must not be in ``used`` (then they are)."""
+        """One output, checked by its kind; the names it gives must not be in ``used``
+        (then they are)."""
         kind = spec.get("kind")
         where = f"[[outputs]] #{k + 1} ({spec.get('name', kind)})"
-        if kind not in OUTPUT_KEYS:
-            self.found.append(f"{where} kind: {kind!r} is not one of {', '.join(OUTPUT_KEYS)}")
+        cls = Output.registry.get(kind)
+        if cls is None:
+            self.found.append(f"{where} kind: {kind!r} is not one of "
+                              f"{', '.join(Output.registry)}")
             return
-        unknown = set(spec) - set(OUTPUT_KEYS[kind]) - {"kind"}
+        unknown = set(spec) - set(cls.KEYS) - {"kind"}
         if unknown:
             self.found.append(f"{where}: unknown key(s) {', '.join(sorted(unknown))}")
         name = spec.get("name")
         if not is_identifier(name):
             self.found.append(f"{where} name: {name!r} must be an identifier")
             return
-        names = {"force": self.force_output, "normal": self.pair_output,
-                 "couple": self.pair_output, "effort": self.effort_output,
-                 "expression": self.expression_output}[kind](where, name, spec)
-        for n in names:
+        for n in cls.check(self, where, name, spec):
             if n in used or n in self.taken or n in self.load_names:
                 self.found.append(f"{where}: output name {n!r} is used twice")
             used.append(n)
 
-    def force_output(self, where: str, name: str, spec: dict) -> list:
-        for key in ("by", "on"):
-            if spec.get(key) not in self.links and spec.get(key) != self.d.frame:
-                self.found.append(f"{where} {key}: {spec.get(key)!r} is not a body")
-        comps = spec.get("components", ["x", "y"])
-        if not set(comps) <= {"x", "y"} or not comps:
-            self.found.append(f"{where} components: must be a list of 'x' and/or 'y'")
-        names = [spec.get(c, name + c) for c in comps]
-        if spec.get("magnitude"):
-            m = spec["magnitude"]
-            names.append(m if isinstance(m, str) else f"{name}_abs")
-        return names
-
-    def pair_output(self, where: str, name: str, spec: dict) -> list:
-        if spec.get("joint") not in self.joints:
-            self.found.append(f"{where} joint: {spec.get('joint')!r} is not a pair")
-        return [name]
-
     def effort_names(self) -> set:
+        """The names of the efforts of [effort]."""
         return {spec.get("name") for spec in self.d.efforts.values() if isinstance(spec, dict)}
-
-    def effort_output(self, where: str, name: str, spec: dict) -> list:
-        if name not in self.effort_names():
-            self.found.append(f"{where} name: {name!r} is not the name of an [effort]")
-        elif "unit" in spec and not self.unit(f"{where} unit", spec["unit"]):
-            kinds = {"N" if "direction" in e else "N.m" for e in self.d.efforts.values()
-                     if isinstance(e, dict) and e.get("name") == name}
-            if spec["unit"] not in kinds:
-                what = "a force" if kinds == {"N"} else "a moment"
-                self.found.append(f"{where} unit: {spec['unit']!r}: {name} is {what}, in "
-                                  f"{' or '.join(sorted(kinds))}")
-        return [name]
-
-    def expression_output(self, where: str, name: str, spec: dict) -> list:
-        joint_vars = {f"{v}_{j}" for j in self.joints for v in ("N", "M", "Fx", "Fy")}
-        self.expr(f"{where} expression", spec.get("expression", ""),
-                  set(self.d.parameters) | joint_vars | self.effort_names())
-        if "unit" in spec:
-            self.unit(f"{where} unit", spec["unit"])
-        return [name]
 
     def unit(self, where: str, unit: Any) -> str:
         """An output's unit, which must be one of the package's (the output is computed

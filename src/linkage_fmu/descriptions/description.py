@@ -211,8 +211,10 @@ class Description:
         return self._changed()
 
     def output(self, kind: str, **fields) -> "Description":
-        """An output: ``force`` (components of the force of body ``by`` on body ``on``),
-        ``normal`` or ``couple`` of a prismatic pair, ``effort``, or ``expression``."""
+        """An output of the kind ``kind``: ``force`` (components of the force of body
+        ``by`` on body ``on``), ``normal`` or ``couple`` of a prismatic pair, ``effort``,
+        ``expression``, or another in :attr:`Output.registry
+        <linkage_fmu.outputs.Output.registry>`, with the keys it declares."""
         self.outputs.append({"kind": kind, **fields})
         return self._changed()
 

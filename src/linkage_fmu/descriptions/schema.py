@@ -14,7 +14,32 @@ Examples
 
 from __future__ import annotations
 
+from collections.abc import Iterator, Mapping
+
+from ..outputs import Output
 from ..units import MOTION_UNITS
+
+
+class _PerKind(Mapping):
+    """Kind -> the class fact ``fact`` of each output kind, read from
+    :attr:`Output.registry <linkage_fmu.outputs.Output.registry>` when asked: a kind
+    defined after this module is imported is in it."""
+
+    def __init__(self, fact: str):
+        self._fact = fact
+
+    def __getitem__(self, kind: str):
+        return getattr(Output.registry[kind], self._fact)
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(Output.registry)
+
+    def __len__(self) -> int:
+        return len(Output.registry)
+
+    def __repr__(self) -> str:
+        return repr(dict(self))
+
 
 INPUT_NAMES = ("theta", "omega", "alpha")
 #: the tables of a description written as joints and links (:mod:`.topology`), which
@@ -136,52 +161,9 @@ EFFORT_CHOICE_KEYS = {
     "choose": "the choice parameter whose value selects the effort",
     "options": "VALUE = { name, body, ... }: the effort for each value of that parameter",
 }
-#: kind of a [[outputs]] table -> what it reports
-OUTPUT_KINDS = {
-    "force": "components of the force one body exerts on another through their joint, N",
-    "normal": "normal force of a prismatic pair along its normal, N",
-    "couple": "couple transmitted by a prismatic pair, counter-clockwise positive, N.m",
-    "effort": "the balancing effort of an [effort] (zero when a choice makes another "
-              "the effort)",
-    "expression": "an expression of the joint reactions, the effort and the parameters",
-}
+#: kind of a [[outputs]] table -> what it reports, of every output kind defined
+OUTPUT_KINDS: Mapping[str, str] = _PerKind("REPORTS")
 #: kind of a [[outputs]] table -> its keys besides kind -> what each is
-OUTPUT_KEYS = {
-    "force": {
-        "name": "stem of the outputs' names: NAMEx and NAMEy (required)",
-        "by": "the body that exerts the force, a moving link or the frame (required)",
-        "on": "the body it acts on, joined to by (required)",
-        "components": "the components reported, a list of \"x\" and/or \"y\" (default "
-                      "both)",
-        "x": "name of the x component (default NAMEx)",
-        "y": "name of the y component (default NAMEy)",
-        "magnitude": "also report the force's magnitude (a prismatic pair's: its normal "
-                     "force): true for NAME_abs, or its name",
-        "description": "what the force is; the outputs' descriptions add the component",
-    },
-    "normal": {
-        "name": "name of the output (required)",
-        "joint": "the prismatic pair, by its name (required)",
-        "description": "what it is",
-    },
-    "couple": {
-        "name": "name of the output (required)",
-        "joint": "the prismatic pair, by its name (required)",
-        "description": "what it is",
-    },
-    "effort": {
-        "name": "the name of an [effort] (required)",
-        "unit": "its unit (default: N.m for a moment, N for a force)",
-        "description": "what it is",
-    },
-    "expression": {
-        "name": "name of the output (required)",
-        "expression": "an expression of N_J, M_J (the normal force and couple of a "
-                      "prismatic pair J), Fx_J, Fy_J (the force of a revolute pair J), "
-                      "the efforts' names and the parameters (required)",
-        "unit": "its unit (default N)",
-        "description": "what it is",
-    },
-}
+OUTPUT_KEYS: Mapping[str, dict[str, str]] = _PerKind("KEYS")
 #: the units of the inputs
 INPUT_UNITS = MOTION_UNITS
