@@ -25,18 +25,24 @@ def modules() -> dict[str, Path]:
     return out
 
 
+def imported_from(name: str, path: Path, node: ast.ImportFrom) -> str:
+    """The absolute name of the module a ``from ... import`` of module ``name`` reads."""
+    base = node.module or ""
+    if node.level:
+        package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+        parts = package.split(".")
+        parts = parts[:len(parts) - node.level + 1]
+        base = ".".join(parts + ([base] if base else []))
+    return base
+
+
 def imports(name: str, path: Path, known: dict) -> set[str]:
     """The package's modules that module ``name`` imports, at any level of its code."""
     tree = ast.parse(path.read_text())
-    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
     found = set()
     for node in ast.walk(tree):
         if isinstance(node, ast.ImportFrom):
-            base = node.module or ""
-            if node.level:
-                parts = package.split(".")
-                parts = parts[:len(parts) - node.level + 1]
-                base = ".".join(parts + ([base] if base else []))
+            base = imported_from(name, path, node)
             # a submodule, or a name the module ``base`` defines
             targets = [f"{base}.{a.name}" if f"{base}.{a.name}" in known else base
                        for a in node.names]
@@ -151,15 +157,10 @@ def module_names(name: str, path: Path, tree: ast.Module, known: dict) -> dict[s
     """Local name -> the package module it is bound to by an import of module ``name``
     (``from . import friction``, ``from .. import newton as n``, ``import linkage_fmu.x``),
     at any level of its code."""
-    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
     bound = {}
     for node in ast.walk(tree):
         if isinstance(node, ast.ImportFrom):
-            base = node.module or ""
-            if node.level:
-                parts = package.split(".")
-                parts = parts[:len(parts) - node.level + 1]
-                base = ".".join(parts + ([base] if base else []))
+            base = imported_from(name, path, node)
             for a in node.names:
                 if f"{base}.{a.name}" in known:
                     bound[a.asname or a.name] = f"{base}.{a.name}"
