@@ -14,10 +14,9 @@ from __future__ import annotations
 import copy
 import dataclasses
 
-from .printer import COMPARE, Printer, values
-from .tangent import SCALE as _SCALE
+from .printer import Printer, values
 from .tangent import needed as tangent_needed
-from .trace import Sym, Tape, operand, program
+from .trace import COMPARE, SCALE, Sym, Tape, operand, program
 
 _CALL = {"sqrt": "sqrt", "cos": "cos", "sin": "sin", "tan": "tan", "asin": "asin",
          "acos": "acos", "atan": "atan", "atan2": "atan2", "hypot": "hypot", "abs": "fabs",
@@ -101,7 +100,7 @@ class CPrinter(Printer):
             f"{test} ? {a[1]} : {a[0]}"
 
     def scaled(self, op, a):
-        return f"{a[0]} * {c_literal(_SCALE[op])}"
+        return f"{a[0]} * {c_literal(SCALE[op])}"
 
     def call(self, op, a):
         name = f"lk_{op}" if self.simd and op in _VECTOR else _CALL[op]
@@ -311,8 +310,8 @@ def _derivative(tape: Tape, i: int, d) -> str | None:
         pick = ">" if op == "max" else "<"
         e = None if da[0] is None and da[1] is None else \
             f"({a[1]} {pick} {a[0]} ? {da[1] or '0.0'} : {da[0] or '0.0'})"
-    elif op in _SCALE:
-        e = times(da[0], c_literal(_SCALE[op]))
+    elif op in SCALE:
+        e = times(da[0], c_literal(SCALE[op]))
     elif op == "select":
         e = None if da[1] is None and da[2] is None else \
             f"({a[0]} ? {da[1] or '0.0'} : {da[2] or '0.0'})"
@@ -824,7 +823,7 @@ def _reduction(i: int, kind: str, y: list) -> tuple[list, list, list]:
         if kind == "min":
             value = [f"const double v = {y[0]};"]
         else:  # min(g, 180 - g) of the angle in degrees g (numpy's np.degrees)
-            value = [f"const double g = {y[0]} * {c_literal(_SCALE['degrees'])};",
+            value = [f"const double g = {y[0]} * {c_literal(SCALE['degrees'])};",
                      "const double h = 180.0 - g;", "const double v = h < g ? h : g;"]
         init = [f"        double a{i} = INFINITY, c{i} = 0.0;"]
         block = [f"{ind}{{", f"{ind}    double b = INFINITY, c = 0.0;",

@@ -13,14 +13,11 @@ from __future__ import annotations
 
 import abc
 
-from .tangent import SCALE
-from .trace import Node, Sym, Tape, operand
+from .trace import SCALE, Node, Sym, Tape, operand
 
 #: the operations written ``a <op> b`` in both languages (``pow`` is not: :meth:`power`)
 INFIX = {"add": "+", "sub": "-", "mul": "*", "div": "/", "lt": "<", "le": "<=",
          "gt": ">", "ge": ">=", "eq": "==", "ne": "!="}
-#: the comparisons: their results are truth values, not floats
-COMPARE = frozenset({"lt", "le", "gt", "ge", "eq", "ne"})
 
 
 def values(tape: Tape, results: list, literal) -> list:
@@ -170,7 +167,7 @@ class Printer(abc.ABC):
 
     @abc.abstractmethod
     def scaled(self, op: str, a: list) -> str:
-        """``a[0]`` converted by ``op`` (:data:`SCALE <linkage_fmu.kernels.tangent.SCALE>`:
+        """``a[0]`` converted by ``op`` (:data:`SCALE <linkage_fmu.kernels.trace.SCALE>`:
         radians, degrees)."""
 
     @abc.abstractmethod

@@ -91,6 +91,10 @@ class TracingError(RuntimeError):
 #: the loop itself (its arguments: the carried values' initial values), a carried
 #: value's last value, and whether the loop converged
 LOOP_OPS = ("carry", "loop", "final", "converged")
+#: the comparisons: their results are truth values (piecewise constant, no derivative)
+COMPARE = frozenset({"lt", "le", "gt", "ge", "eq", "ne"})
+#: CPython's math.radians and math.degrees: one multiplication by these
+SCALE = {"radians": math.pi / 180.0, "degrees": 180.0 / math.pi}
 
 
 @dataclass(eq=False)
@@ -153,8 +157,13 @@ class Tape:
     def _visible(self, scope) -> bool:
         return scope is None or scope in self._open
 
-    def _add(self, node: Node, witness: float, fixed: bool = False, fn=None,
-             scope: object = False) -> "Sym":
+    def record(self, node: Node, witness: float, fixed: bool = False, fn=None,
+               scope: object = False) -> "Sym":
+        """The Sym of ``node``: the one already on the tape (the same operation of the
+        same operands), or ``node`` appended with its ``witness`` value, the function
+        ``fn`` that computes it, in ``scope`` (the loop whose body it is in; by default
+        its operands' innermost), ``fixed`` (computed from the parameters alone) if so
+        or if its operands all are."""
         key = (node.op, node.args, _key(node.value))
         i = self._index.get(key)
         if i is not None:
@@ -189,15 +198,15 @@ class Tape:
     def input(self, name: str, witness: float, parameter: bool = False) -> "Sym":
         """An argument of the kernel (of its parameter step, with ``parameter``), with
         its witness value."""
-        return self._add(Node("input", (), name), float(witness), parameter)
+        return self.record(Node("input", (), name), float(witness), parameter)
 
     def const(self, value: float) -> "Sym":
-        return self._add(Node("const", (), float(value)), float(value), True)
+        return self.record(Node("const", (), float(value)), float(value), True)
 
     def apply(self, op: str, fn, *operands) -> "Sym":
         syms = [o if isinstance(o, Sym) else self.const(o) for o in operands]
         witness = fn(*(self.witness[s.index] for s in syms))
-        return self._add(Node(op, tuple(s.index for s in syms)), witness, fn=fn)
+        return self.record(Node(op, tuple(s.index for s in syms)), witness, fn=fn)
 
     def compare(self, op: str, a, b) -> "Sym":
         """The comparison ``a op b`` (``op`` one of lt, le, gt, ge, eq, ne) as a value
@@ -214,7 +223,7 @@ class Tape:
             raise ValueError(f"two functions named {name!r} in one trace")
         syms = [o if isinstance(o, Sym) else self.const(o) for o in operands]
         witness = function(*(self.witness[s.index] for s in syms))
-        return self._add(Node("extern", tuple(s.index for s in syms), name), witness,
+        return self.record(Node("extern", tuple(s.index for s in syms), name), witness,
                          fn=function)
 
     def guard(self, op: str, fn, a, b) -> bool:
@@ -299,7 +308,7 @@ class Tape:
                  1 if parent is None else parent.depth + 1)
         self._open.append(L)
         try:
-            carries = [self._add(Node("carry", (), (L.serial, k)), self.witness[s.index],
+            carries = [self.record(Node("carry", (), (L.serial, k)), self.witness[s.index],
                                  scope=L) for k, s in enumerate(inits)]
             new, again, *last = body(list(carries))
             new = [self._sym(v) for v in new]
@@ -308,18 +317,18 @@ class Tape:
                                    f"{len(carries)} carried ones")
             again = self._sym(again)
             for value in (last[0] if last else ()):  # carried out, not read by the body
-                carries.append(self._add(Node("carry", (), (L.serial, len(carries))), 0.0,
+                carries.append(self.record(Node("carry", (), (L.serial, len(carries))), 0.0,
                                          scope=L))
                 inits.append(self.const(0.0))
                 new.append(self._sym(value))
             flags = []
             for value, outcome, reason in L.pending:  # checks of the body: failure flags
                 k = len(carries)
-                flag = self._add(Node("carry", (), (L.serial, k)), 0.0, scope=L)
+                flag = self.record(Node("carry", (), (L.serial, k)), 0.0, scope=L)
                 carries.append(flag)
                 inits.append(self.const(0.0))
                 fn = _fails(outcome)
-                new.append(self._add(Node("fails", (flag.index, value), outcome),
+                new.append(self.record(Node("fails", (flag.index, value), outcome),
                                      fn(0.0, self.witness[value]), fn=fn))
                 flags.append(reason)
         finally:
@@ -328,14 +337,14 @@ class Tape:
         L.inits = [s.index for s in inits]
         L.news = [s.index for s in new]
         L.again = again.index
-        loop = self._add(Node("loop", tuple(L.inits), L.serial), 0.0, scope=parent)
+        loop = self.record(Node("loop", tuple(L.inits), L.serial), 0.0, scope=parent)
         L.index = loop.index
         self.loops[L.index] = L
         env = {}
         values, converged = self._run(L, env)
-        finals = [self._add(Node("final", (L.index,), k), v, scope=parent)
+        finals = [self.record(Node("final", (L.index,), k), v, scope=parent)
                   for k, v in enumerate(values)]
-        flag = self._add(Node("converged", (L.index,)), bool(converged), scope=parent)
+        flag = self.record(Node("converged", (L.index,)), bool(converged), scope=parent)
         L.finals, L.converged = [s.index for s in finals], flag.index
         n = len(finals) - len(flags)
         for final, reason in zip(finals[n:], flags):
