@@ -130,6 +130,35 @@ def test_kernel_sources_are_straight_line_python():
     assert all(f": return {code}\n" in source for code in checks)
 
 
+def test_the_c_and_python_printers_walk_the_tape_alike():
+    """One walk over the tape (kernels/printer.py) for both languages: each live
+    operation is one statement of its variable ``t<i>`` in each, in the same order, its
+    guard right after it; a printer that misses a language's piece cannot be made."""
+    from linkage_fmu.kernels.c_source import CPrinter
+    from linkage_fmu.kernels.printer import Printer
+    from linkage_fmu.kernels.python_source import PythonPrinter
+    from linkage_fmu.kernels.trace import program
+
+    kernel = presets.get("crank_shaper").kernel()
+    prog = program(kernel.tape, kernel.results)
+    c = CPrinter(kernel.tape, prog.guards, prog.codes).statements(prog.state, "")
+    py = PythonPrinter(kernel.tape, prog.guards, prog.codes).statements(prog.state, "")
+    assert len(c) == len(py) == len(prog.state) + len(prog.guards.keys() & set(prog.state))
+    for a, b in zip(c, py):
+        if b.startswith("if "):
+            assert a.startswith("if (") and a.endswith(f"return {b.split()[-1]};")
+        else:
+            assert a.split(" = ")[0].split()[-1] == b.split(" = ")[0]
+    assert issubclass(CPrinter, Printer) and issubclass(PythonPrinter, Printer)
+
+    class Partial(Printer):
+        def literal(value):
+            return repr(value)
+
+    with pytest.raises(TypeError, match="abstract"):
+        Partial(kernel.tape, prog.guards, prog.codes)
+
+
 @pytest.mark.parametrize("friction, vectorise", [(False, True), (True, True), (True, False)])
 def test_the_compiled_array_kernel_is_the_python_kernel_to_a_few_ulp(monkeypatch, friction,
                                                                      vectorise):

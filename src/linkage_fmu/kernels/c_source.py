@@ -4,7 +4,9 @@ Each operation is the same IEEE operation as in Python (the build keeps
 ``-ffp-contract=off`` and no fast-math) and the elementary functions are the C
 library's, which Python's ``math`` module calls too: the results are the Python
 kernel's. Two entry points: one state, and an array loop over states (threads with
-OpenMP where the compiler has it) that marks the states whose guards fail.
+OpenMP where the compiler has it) that marks the states whose guards fail. The
+statements of the operations are :class:`CPrinter`'s, the C spelling of the walk over the
+tape that the Python source shares (:class:`~linkage_fmu.kernels.printer.Printer`).
 """
 
 from __future__ import annotations
@@ -12,16 +14,13 @@ from __future__ import annotations
 import copy
 import dataclasses
 
-from .tangent import SCALE as _SCALE
+from .printer import Printer, values
 from .tangent import needed as tangent_needed
-from .trace import Sym, Tape, operand, program
+from .trace import COMPARE, SCALE, Sym, Tape, operand, program
 
-_INFIX = {"add": "+", "sub": "-", "mul": "*", "div": "/", "lt": "<", "le": "<=", "gt": ">",
-          "ge": ">=", "eq": "==", "ne": "!="}
 _CALL = {"sqrt": "sqrt", "cos": "cos", "sin": "sin", "tan": "tan", "asin": "asin",
          "acos": "acos", "atan": "atan", "atan2": "atan2", "hypot": "hypot", "abs": "fabs",
          "pow": "pow"}
-_COMPARE = {"lt", "le", "gt", "ge", "eq", "ne"}
 
 
 def c_literal(value: float) -> str:
@@ -46,62 +45,75 @@ def c_literal(value: float) -> str:
 INDENT = " "
 
 
+class CPrinter(Printer):
+    """C statements of a tape's operations: one declaration per operation (each
+    assigned once: no ``const``, which only lengthens large kernels' source); a failed
+    guard returns its code, or with ``simd`` marks the state (``bad``) and the
+    computation goes on (NaNs, no traps), and the elementary functions are the vector
+    ones (``lk_*``); with ``vectorise`` too, max and min pick by the bits (no branch to
+    keep the loop scalar). With ``tangent``, each operation's derivative follows it.
+    With ``peel`` (and ``simd``), a loop is its first runs, straight (:func:`_peeled`)."""
+
+    def __init__(self, tape: Tape, guards: dict, codes: dict, bodies: dict | None = None,
+                 simd: bool = False, vectorise: bool = False,
+                 tangent: _Tangent | None = None, peel: bool = False):
+        super().__init__(tape, guards, codes, bodies)
+        self.simd, self.vectorise, self.tangent, self.peel = simd, vectorise, tangent, peel
+
+    literal = staticmethod(c_literal)
+
+    def declare(self, i, node, expression, indent):
+        return f"{indent}{'int' if node.op in COMPARE else 'double'} t{i} = {expression};"
+
+    def guard(self, i, indent):
+        if self.simd:
+            return f"{indent}bad |= {'!' if self.guards[i] else ''}t{i};"
+        return f"{indent}if ({'!' if self.guards[i] else ''}t{i}) return {self.codes[i]};"
+
+    def after(self, i, indent):
+        return [] if self.tangent is None else self.tangent.line(i, indent)
+
+    def loop(self, L, indent):
+        if self.peel:
+            return _peeled(self.tape, L, self.guards, self.codes, indent, self.bodies)
+        return _loop(self.tape, L, self.guards, self.codes, indent, self.bodies, self.tangent)
+
+    def divide(self, i, node, a):
+        return f"{a[0]} / {a[1]}"
+
+    def power(self, a):
+        return self.call("pow", a)
+
+    def select(self, a):
+        return (f"lk_pick({a[0]} != 0, {a[1]}, {a[2]})" if self.vectorise
+                else f"{a[0]} ? {a[1]} : {a[2]}")
+
+    def fails(self, a, holds):
+        return f"(double)(({a[0]} != 0.0) | ((({a[1]}) != 0) != {int(holds)}))"
+
+    def sign(self, a):  # two comparisons, no branch
+        return f"(double)(({a[0]} > 0.0) - ({a[0]} < 0.0))"
+
+    def extremum(self, op, a):
+        test = f"{a[1]} {'>' if op == 'max' else '<'} {a[0]}"
+        return f"lk_pick({test}, {a[1]}, {a[0]})" if self.vectorise else \
+            f"{test} ? {a[1]} : {a[0]}"
+
+    def scaled(self, op, a):
+        return f"{a[0]} * {c_literal(SCALE[op])}"
+
+    def call(self, op, a):
+        name = f"lk_{op}" if self.simd and op in _VECTOR else _CALL[op]
+        return f"{name}({', '.join(a)})"
+
+
 def _statements(tape: Tape, nodes: list, guards: dict, codes: dict, indent: str = INDENT,
                 simd: bool = False, vectorise: bool = False, bodies: dict | None = None,
-                tangent: "_Tangent | None" = None, peel: bool = False) -> list:
-    """One declaration per operation (each assigned once: no ``const``, which only
-    lengthens large kernels' source); a failed guard returns its code, or with ``simd``
-    marks the state (``bad``) and the computation goes on (NaNs, no traps), and the
-    elementary functions are the vector ones (``lk_*``); with ``vectorise`` too, max
-    and min pick by the bits (no branch to keep the loop scalar). A loop node is its
-    loop (``bodies``: loop node -> its body's operations); with ``tangent``, each
-    operation's derivative follows it. With ``peel`` (and ``simd``), a loop is its
-    first runs, straight (:func:`_peeled`)."""
-    body = []
-    for i in nodes:
-        node = tape.nodes[i]
-        a = [operand(tape, j, c_literal) for j in node.args]
-        if node.op in ("final", "converged"):  # declared by their loop
-            continue
-        if node.op == "loop":
-            body += (_peeled(tape, tape.loops[i], guards, codes, indent, bodies) if peel
-                     else _loop(tape, tape.loops[i], guards, codes, indent, bodies, tangent))
-            continue
-        if node.op in _COMPARE:
-            body.append(f"{indent}int t{i} = {a[0]} {_INFIX[node.op]} {a[1]};")
-        elif node.op == "select":
-            pick = (f"lk_pick({a[0]} != 0, {a[1]}, {a[2]})" if vectorise
-                    else f"{a[0]} ? {a[1]} : {a[2]}")
-            body.append(f"{indent}double t{i} = {pick};")
-        elif node.op == "fails":  # a check inside a loop: its failure, kept
-            body.append(f"{indent}double t{i} = (double)(({a[0]} != 0.0) | "
-                        f"((({a[1]}) != 0) != {int(node.value)}));")
-        elif node.op in _INFIX:
-            body.append(f"{indent}double t{i} = {a[0]} {_INFIX[node.op]} {a[1]};")
-        elif node.op == "neg":
-            body.append(f"{indent}double t{i} = -{a[0]};")
-        elif node.op == "extern":
-            body.append(f"{indent}double t{i} = {node.value}({', '.join(a)});")
-        elif node.op == "sign":  # trace.sign: two comparisons, no branch
-            body.append(f"{indent}double t{i} = (double)(({a[0]} > 0.0) - ({a[0]} < 0.0));")
-        elif node.op in ("max", "min"):  # Python's max(a, b): b only if b > a (min: <)
-            test = f"{a[1]} {'>' if node.op == 'max' else '<'} {a[0]}"
-            pick = (f"lk_pick({test}, {a[1]}, {a[0]})" if vectorise
-                    else f"{test} ? {a[1]} : {a[0]}")
-            body.append(f"{indent}double t{i} = {pick};")
-        elif node.op in _SCALE:
-            body.append(f"{indent}double t{i} = {a[0]} * {c_literal(_SCALE[node.op])};")
-        else:
-            name = f"lk_{node.op}" if simd and node.op in _VECTOR else _CALL[node.op]
-            body.append(f"{indent}double t{i} = {name}({', '.join(a)});")
-        if i in guards:
-            if simd:
-                body.append(f"{indent}bad |= {'!' if guards[i] else ''}t{i};")
-            else:
-                body.append(f"{indent}if ({'!' if guards[i] else ''}t{i}) return {codes[i]};")
-        if tangent is not None:
-            body += tangent.line(i, indent)
-    return body
+                tangent: _Tangent | None = None, peel: bool = False) -> list:
+    """The C of the operations ``nodes`` (:class:`CPrinter`; ``bodies``: loop node ->
+    its body's operations)."""
+    return CPrinter(tape, guards, codes, bodies, simd, vectorise, tangent,
+                    peel).statements(nodes, indent)
 
 
 def _loop(tape: Tape, L, guards: dict, codes: dict, indent: str, bodies: dict,
@@ -230,7 +242,7 @@ class _Tangent:
     def line(self, i: int, indent: str) -> list:
         """The declaration of the derivative of operation ``i`` (none where it is 0)."""
         tape, node = self.tape, self.tape.nodes[i]
-        if node.op in _COMPARE or i in self.zero or node.op == "fails":
+        if node.op in COMPARE or i in self.zero or node.op == "fails":
             self.zero.add(i)
             return []
         e = _derivative(tape, i, self.of)
@@ -298,8 +310,8 @@ def _derivative(tape: Tape, i: int, d) -> str | None:
         pick = ">" if op == "max" else "<"
         e = None if da[0] is None and da[1] is None else \
             f"({a[1]} {pick} {a[0]} ? {da[1] or '0.0'} : {da[0] or '0.0'})"
-    elif op in _SCALE:
-        e = times(da[0], c_literal(_SCALE[op]))
+    elif op in SCALE:
+        e = times(da[0], c_literal(SCALE[op]))
     elif op == "select":
         e = None if da[1] is None and da[2] is None else \
             f"({a[0]} ? {da[1] or '0.0'} : {da[2] or '0.0'})"
@@ -384,8 +396,7 @@ def _array_source(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
     n_out = len(results)
     xs = ", ".join(f"const double *restrict xb{k}" for k in range(n_inputs))
     ys = ", ".join(f"double *restrict y{k}" for k in range(n_out))
-    outputs = [operand(tape, r.index, c_literal) if isinstance(r, Sym) else c_literal(r)
-               for r in results]
+    outputs = values(tape, results, c_literal)
     vectorise = prog.operations <= VECTOR_OPERATIONS
     used = {tape.nodes[i].op for body in (prog.state, *prog.bodies.values()) for i in body}
     used &= set(_VECTOR)
@@ -719,8 +730,7 @@ def _looped_block(tape: Tape, prog, prefix: str, n_inputs: int, results: list,
                                   f"({array(i)}[j] != 0.0);" for i in checked)], indent)
         return lines
 
-    outputs = [operand(tape, r.index, c_literal) if isinstance(r, Sym) else c_literal(r)
-               for r in results]
+    outputs = values(tape, results, c_literal)
     ends = loads([r.index for r in results if isinstance(r, Sym)], "        ")
     ends += [f"        y{k}[j0 + j] = {v};" for k, v in enumerate(outputs)]
     total = len(arrays) + len(acts)
@@ -813,7 +823,7 @@ def _reduction(i: int, kind: str, y: list) -> tuple[list, list, list]:
         if kind == "min":
             value = [f"const double v = {y[0]};"]
         else:  # min(g, 180 - g) of the angle in degrees g (numpy's np.degrees)
-            value = [f"const double g = {y[0]} * {c_literal(_SCALE['degrees'])};",
+            value = [f"const double g = {y[0]} * {c_literal(SCALE['degrees'])};",
                      "const double h = 180.0 - g;", "const double v = h < g ? h : g;"]
         init = [f"        double a{i} = INFINITY, c{i} = 0.0;"]
         block = [f"{ind}{{", f"{ind}    double b = INFINITY, c = 0.0;",
@@ -996,8 +1006,7 @@ def _split_source(tape: Tape, prog, prefix: str, frozen: list, results: list,
     crossing = [i for i in fixed if i in read and tape.nodes[i].op not in ("const", "input")]
     crossing += [i for i in fixed if i in read and tape.nodes[i].op == "final"
                  and i not in crossing]
-    outputs = [operand(tape, r.index, c_literal) if isinstance(r, Sym) else c_literal(r)
-               for r in results]
+    outputs = values(tape, results, c_literal)
     loads = [f"    const double {name} = q[{k}]; (void){name};" for k, name in enumerate(frozen)]
     inputs = [f"    const double x{k} = x[{k}]; (void)x{k};" for k in range(n_inputs)]
     return [
@@ -1119,8 +1128,7 @@ def c_source(tape: Tape, n_inputs: int, results: list, parameters: tuple = (),
         "}",
         "",
     ]
-    outputs = [operand(tape, r.index, c_literal) if isinstance(r, Sym) else c_literal(r)
-               for r in results]
+    outputs = values(tape, results, c_literal)
     if not tangent:
         head += [
             f"int {prefix}_one(const double *q, const double *x, double *y) {{",

@@ -5,17 +5,18 @@ the formulas did them (so the results are bit-identical to the interpreted formu
 floats), and an early return of the
 guard's code (:attr:`Program.codes <linkage_fmu.kernels.trace.Program.codes>`) where a
 guard does not hold. The work on the parameters alone is a separate function, run once
-per parameter set; its values are closed over by the kernel of a state.
+per parameter set; its values are closed over by the kernel of a state. The walk over
+the tape is the C source's too (:class:`~linkage_fmu.kernels.printer.Printer`): this
+module spells it in Python (:class:`PythonPrinter`).
 """
 
 from __future__ import annotations
 
 import math
 
-from .trace import Sym, Tape, operand, program, sign
+from .printer import Printer, values
+from .trace import Tape, operand, program, sign
 
-_INFIX = {"add": "+", "sub": "-", "mul": "*", "div": "/", "pow": "**", "lt": "<", "le": "<=",
-          "gt": ">", "ge": ">=", "eq": "==", "ne": "!="}
 _FUNCTIONS = ("sqrt", "cos", "sin", "tan", "asin", "acos", "atan", "atan2", "hypot",
               "radians", "degrees", "log")
 _CALL = {**{f: f for f in _FUNCTIONS}, "abs": "abs", "max": "max", "min": "min",
@@ -46,59 +47,71 @@ def _literal(value: float) -> str:
     return f"({text})" if text.startswith("-") else text
 
 
-def _statements(tape: Tape, nodes: list, guards: dict, codes: dict, indent: str,
-                bodies: dict | None = None, ieee: bool = False) -> list:
-    lines = []
-    for i in nodes:
-        node = tape.nodes[i]
-        if node.op in ("final", "converged"):  # written by their loop
-            continue
-        if node.op == "loop":
-            lines += _loop(tape, tape.loops[i], guards, codes, indent, bodies, ieee)
-            continue
-        args = [operand(tape, a, _literal) for a in node.args]
-        if ieee and node.op == "div" and not (
-                tape.nodes[node.args[1]].op == "const" and tape.nodes[node.args[1]].value):
-            expr = f"{args[0]} / {args[1]} if {args[1]} else quotient({args[0]}, {args[1]})"
-        elif node.op in _INFIX:
-            expr = f"{args[0]} {_INFIX[node.op]} {args[1]}"
-        elif node.op == "neg":
-            expr = f"-{args[0]}"
-        elif node.op == "extern":
-            expr = f"{node.value}({', '.join(args)})"
-        elif node.op == "select":
-            expr = f"{args[1]} if {args[0]} else {args[2]}"
-        elif node.op == "fails":  # a check inside a loop: its failure, kept
-            expr = f"1.0 if ({args[0]} or bool({args[1]}) != {node.value}) else 0.0"
-        else:
-            expr = f"{_CALL[node.op]}({', '.join(args)})"
-        lines.append(f"{indent}t{i} = {expr}")
-        if i in guards:
-            lines.append(f"{indent}if {'not ' if guards[i] else ''}t{i}: return {codes[i]}")
-    return lines
+class PythonPrinter(Printer):
+    """Python statements of a tape's operations: ``t<i> = ...``, a failed guard
+    returns its code, a loop is a ``for`` over its runs; with ``ieee``, a division by
+    anything but a nonzero constant gives IEEE arithmetic's inf or NaN where the divisor
+    is zero (:func:`quotient`)."""
 
+    def __init__(self, tape: Tape, guards: dict, codes: dict, bodies: dict | None = None,
+                 ieee: bool = False):
+        super().__init__(tape, guards, codes, bodies)
+        self.ieee = ieee
 
-def _loop(tape: Tape, L, guards: dict, codes: dict, indent: str, bodies: dict,
-          ieee: bool = False) -> list:
-    """A loop (:meth:`Tape.loop <linkage_fmu.kernels.trace.Tape.loop>`): its carried
-    values, then ``for`` over its runs, the test after ``minimum`` of them."""
-    inner = indent + "    "
-    carries = [f"t{c}" for c in L.carries]
-    news = [operand(tape, n, _literal) for n in L.news]
-    return [
-        f"{indent}{_tuple(carries)} = {_tuple([operand(tape, a, _literal) for a in L.inits])}",
-        f"{indent}t{L.converged} = False",
-        f"{indent}for _k{L.index} in range({L.maximum}):",
-        *_statements(tape, bodies[L.index], guards, codes, inner, bodies, ieee),
-        f"{inner}{_tuple(carries)} = {_tuple(news)}",
-        f"{inner}if _k{L.index} >= {L.minimum - 1} and not "
-        f"{operand(tape, L.again, _literal)}:",
-        f"{inner}    t{L.converged} = True",
-        f"{inner}    break",
-        *(f"{indent}t{f} = t{c}" for f, c in zip(L.finals, L.carries)),
-        *(f"{indent}if {'not ' if guards[i] else ''}t{i}: return {codes[i]}"
-          for i in (*L.finals, L.converged) if i in guards),
-    ]
+    literal = staticmethod(_literal)
+
+    def declare(self, i, node, expression, indent):
+        return f"{indent}t{i} = {expression}"
+
+    def guard(self, i, indent):
+        return f"{indent}if {'not ' if self.guards[i] else ''}t{i}: return {self.codes[i]}"
+
+    def divide(self, i, node, a):
+        divisor = self.tape.nodes[node.args[1]]
+        if self.ieee and not (divisor.op == "const" and divisor.value):
+            return f"{a[0]} / {a[1]} if {a[1]} else quotient({a[0]}, {a[1]})"
+        return f"{a[0]} / {a[1]}"
+
+    def power(self, a):
+        return f"{a[0]} ** {a[1]}"
+
+    def select(self, a):
+        return f"{a[1]} if {a[0]} else {a[2]}"
+
+    def fails(self, a, holds):
+        return f"1.0 if ({a[0]} or bool({a[1]}) != {holds}) else 0.0"
+
+    def sign(self, a):
+        return self.call("sign", a)
+
+    def extremum(self, op, a):
+        return self.call(op, a)
+
+    def scaled(self, op, a):  # math.radians and math.degrees: the formulas' own
+        return self.call(op, a)
+
+    def call(self, op, a):
+        return f"{_CALL[op]}({', '.join(a)})"
+
+    def loop(self, L, indent):
+        """A loop (:meth:`Tape.loop <linkage_fmu.kernels.trace.Tape.loop>`): its carried
+        values, then ``for`` over its runs, the test after ``minimum`` of them."""
+        inner = indent + "    "
+        carries = [f"t{c}" for c in L.carries]
+        news = [self.operand(n) for n in L.news]
+        return [
+            f"{indent}{_tuple(carries)} = {_tuple([self.operand(a) for a in L.inits])}",
+            f"{indent}t{L.converged} = False",
+            f"{indent}for _k{L.index} in range({L.maximum}):",
+            *self.statements(self.bodies[L.index], inner),
+            f"{inner}{_tuple(carries)} = {_tuple(news)}",
+            f"{inner}if _k{L.index} >= {L.minimum - 1} and not {self.operand(L.again)}:",
+            f"{inner}    t{L.converged} = True",
+            f"{inner}    break",
+            *(f"{indent}t{f} = t{c}" for f, c in zip(L.finals, L.carries)),
+            *(f"{indent}{self.guard(i, '')}"
+              for i in (*L.finals, L.converged) if i in self.guards),
+        ]
 
 
 def _tuple(items: list) -> str:
@@ -137,16 +150,16 @@ def python_source(tape: Tape, arguments: list[str], results: list,
     prog = program(tape, results)
     codes = prog.codes
     frozen = [operand(tape, i, _literal) for i in prog.frozen]
-    values = [operand(tape, r.index, _literal) if isinstance(r, Sym) else repr(float(r))
-              for r in results]
+    outputs = values(tape, results, _literal)
     return "\n".join([
         f"def prepare({', '.join(parameters)}):",
-        *_statements(tape, prog.prepare, prog.guards, codes, "    ", ieee=ieee),
+        *PythonPrinter(tape, prog.guards, codes, ieee=ieee).statements(prog.prepare, "    "),
         f"    return {_tuple(frozen)}",
         f"def make({', '.join(frozen)}):",
         f"    def kernel({', '.join(arguments)}):",
-        *_statements(tape, prog.state, prog.guards, codes, "        ", prog.bodies, ieee),
-        f"        return {_tuple(values)}",
+        *PythonPrinter(tape, prog.guards, codes, prog.bodies, ieee).statements(prog.state,
+                                                                               "        "),
+        f"        return {_tuple(outputs)}",
         "    return kernel",
         "",
     ])

@@ -37,12 +37,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from .trace import LOOP_OPS, Loop, Node, Sym, Tape, live_nodes, program
-
-#: the comparisons: piecewise constant, no derivative
-_COMPARE = ("lt", "le", "gt", "ge", "eq", "ne")
-#: CPython's math.radians and math.degrees: one multiplication by these
-SCALE = {"radians": math.pi / 180.0, "degrees": 180.0 / math.pi}
+from .trace import COMPARE, LOOP_OPS, SCALE, Loop, Node, Sym, Tape, live_nodes, program
 
 
 def needed(tape: Tape, results: list) -> set:
@@ -69,7 +64,7 @@ def needed(tape: Tape, results: list) -> set:
             continue
         out.add(i)
         node = tape.nodes[i]
-        if node.op in ("sign", "converged", "fails") or node.op in _COMPARE:
+        if node.op in ("sign", "converged", "fails") or node.op in COMPARE:
             continue  # piecewise constant: no derivative
         if node.op == "final":
             todo.append(tape.loops[node.args[0]].carries[node.value])
@@ -255,7 +250,7 @@ def tangent_tape(tape: Tape, results: list) -> TangentTape:
         m[i] = add(op, *(m[a] for a in node.args), value=node.value, scope=where)
         if op == "extern":
             new.functions[m[i]] = tape.functions[i]
-        if i in need and op not in _COMPARE and op not in ("fails", "sign"):
+        if i in need and op not in COMPARE and op not in ("fails", "sign"):
             e = _derivative(new, op, node, m[i], [m[a] for a in node.args],
                             [d.get(a) for a in node.args])
             if e is not None:

@@ -91,6 +91,10 @@ class TracingError(RuntimeError):
 #: the loop itself (its arguments: the carried values' initial values), a carried
 #: value's last value, and whether the loop converged
 LOOP_OPS = ("carry", "loop", "final", "converged")
+#: the comparisons: their results are truth values (piecewise constant, no derivative)
+COMPARE = frozenset({"lt", "le", "gt", "ge", "eq", "ne"})
+#: CPython's math.radians and math.degrees: one multiplication by these
+SCALE = {"radians": math.pi / 180.0, "degrees": 180.0 / math.pi}
 
 
 @dataclass(eq=False)
@@ -154,10 +158,12 @@ class Tape:
         return scope is None or scope in self._open
 
     def record(self, node: Node, witness: float, fixed: bool = False, fn=None,
-             scope: object = False) -> "Sym":
-        """The symbol of ``node`` on the tape: the one recorded before for the same
-        operation on the same operands, else a new one with its ``witness`` value (in the
-        innermost loop of its operands unless ``scope`` says which)."""
+               scope: object = False) -> "Sym":
+        """The Sym of ``node``: the one already on the tape (the same operation of the
+        same operands), or ``node`` appended with its ``witness`` value, the function
+        ``fn`` that computes it, in ``scope`` (the loop whose body it is in; by default
+        its operands' innermost), ``fixed`` (computed from the parameters alone) if so
+        or if its operands all are."""
         key = (node.op, node.args, _key(node.value))
         i = self._index.get(key)
         if i is not None:
