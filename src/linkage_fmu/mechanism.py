@@ -17,7 +17,7 @@ import numpy as np
 
 from . import diagnostics, flywheel, friction, inertia, motion, numerics
 from .bodies import Body, Effort
-from .errors import AssemblyError, LinkageError
+from .errors import AssemblyError, InputTypeError, LinkageError
 from .expressions import evaluate
 from .friction import Declared
 from .friction import outputs as friction_outputs
@@ -108,8 +108,8 @@ class Mechanism:
         self.rebuild = rebuild
         for grp in groups:
             if not isinstance(grp, Group):
-                raise TypeError(f"{name}: {grp!r} is not a group (a subclass of "
-                                "linkage_fmu.groups.Group)")
+                raise InputTypeError(f"{name}: {grp!r} is not a group (a subclass of "
+                                     "linkage_fmu.groups.Group)")
         if not groups or not groups[0].DRIVER:
             raise LinkageError(name, "the first group must be the driver (a Crank)")
         placed = set(self.frame_points)
@@ -539,17 +539,18 @@ class Mechanism:
     def _named(self, omega, alpha, loads: Sequence, named: dict) -> tuple[list, tuple]:
         names = [load.name for load in self.input_loads]
         if len(loads) > len(names):
-            raise TypeError(f"{self.name} has {len(names)} input load(s) ({', '.join(names)}), "
-                            f"got {len(loads)} positional load values")
+            raise InputTypeError(f"{self.name} has {len(names)} input load(s) "
+                                 f"({', '.join(names)}), got {len(loads)} positional load "
+                                 "values")
         values = dict(zip(names, loads))
         known = {load.name for load in self.loads}
         for key, value in named.items():
             if key not in known:
-                raise TypeError(f"{self.name} has no input {key!r}; its inputs are: "
-                                + ", ".join(self.input_names + tuple(
-                                    ld.name for ld in self.computed_loads)))
+                raise InputTypeError(f"{self.name} has no input {key!r}; its inputs are: "
+                                     + ", ".join(self.input_names + tuple(
+                                         ld.name for ld in self.computed_loads)))
             if key in values:
-                raise TypeError(f"load {key} is given twice")
+                raise InputTypeError(f"load {key} is given twice")
             values[key] = value
         given = tuple(ld.name for ld in self.computed_loads if ld.name in values)
         return [self.start["omega"] if omega is None else omega,
