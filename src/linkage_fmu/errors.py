@@ -1,8 +1,8 @@
 """The errors the package raises, all of them a :class:`LinkageFmuError`: for states a
 linkage cannot take, each with its :class:`Reason`, for a linkage or a part of it that
 cannot be as given (an output, a load, a parameter), which name the linkage or the part
-as data (a description says where in its file the part is), and for a value, a type, a
-computation or a package the library cannot take or finish.
+as data (a description says where in its file the part is), and for a value or a type
+it cannot take, a computation it cannot finish, a package it cannot import.
 
 Each is also the builtin error it has always been (a ``ValueError``, a ``TypeError``, a
 ``RuntimeError``, an ``ImportError``), so that ``except ValueError`` still catches it.
