@@ -1,13 +1,19 @@
 """The package's structure, read from its source: no module uses another module's private
 names, the imports (function-level ones included) form no cycle, the kernels import
-nothing of the package above them, and the descriptions nothing above the mechanism."""
+nothing of the package above them but the errors, the descriptions nothing above the
+mechanism, and every error the package raises is a LinkageFmuError."""
 
 from __future__ import annotations
 
 import ast
+import builtins
+import importlib
+import inspect
 from pathlib import Path
 
 import pytest
+
+from linkage_fmu.errors import LinkageFmuError
 
 SRC = Path(__file__).resolve().parents[1] / "src"
 PACKAGE = "linkage_fmu"
@@ -79,14 +85,16 @@ def test_the_imports_have_no_cycle():
 
 
 def test_the_kernels_import_nothing_above_them():
-    """linkage_fmu.kernels and its modules import only themselves and the compiler
-    finder (a leaf that imports nothing of the package)."""
+    """linkage_fmu.kernels and its modules import only themselves, the errors (a leaf
+    that imports nothing of the package) and the compiler finder (which imports only the
+    errors)."""
     g = graph()
-    assert g[f"{PACKAGE}.ccompiler"] == set()
+    assert g[f"{PACKAGE}.errors"] == set()
+    assert g[f"{PACKAGE}.ccompiler"] <= {f"{PACKAGE}.errors"}
     for name, targets in g.items():
         if name.startswith(f"{PACKAGE}.kernels"):
             outside = {t for t in targets if not t.startswith(f"{PACKAGE}.kernels")}
-            assert outside <= {f"{PACKAGE}.ccompiler"}, (name, outside)
+            assert outside <= {f"{PACKAGE}.ccompiler", f"{PACKAGE}.errors"}, (name, outside)
 
 
 def stands_on(g: dict[str, set[str]], roots: set[str]) -> set[str]:
@@ -334,3 +342,122 @@ def test_no_code_outside_the_pair_classes_asks_a_pairs_kind():
                                                                    "prismatic"):
                 found.append((name, node.lineno, node.attr))
     assert not found
+
+
+#: the exceptions the package may raise that are not its own errors, each for a reason:
+#: argparse's protocol for an option's type (argparse catches it and prints the usage),
+#: an abstract method's, and an iterator's end
+NOT_OURS = {"argparse.ArgumentTypeError", "NotImplementedError", "StopIteration"}
+#: ``raise`` of an error made before, where the source does not say its class: the
+#: error a failed trace was kept with, and the method that makes a state's error (both
+#: make library errors, which the construction check below covers)
+MADE_BEFORE = {(f"{PACKAGE}.solver", "k.error"), (f"{PACKAGE}.solver", "self._unbounded")}
+
+
+def local_imports(module, tree: ast.Module) -> dict:
+    """Name -> object for the names a function of ``module`` imports (``from .errors
+    import SelfLockingError`` inside a function)."""
+    bound = {}
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom):
+            source = importlib.import_module("." * node.level + (node.module or ""),
+                                             module.__package__)
+            for a in node.names:
+                if hasattr(source, a.name):
+                    bound[a.asname or a.name] = getattr(source, a.name)
+    return bound
+
+
+def resolve(module, node: ast.expr, local: dict):
+    """The object the name or attribute chain ``node`` is in ``module`` (its globals, the
+    names its functions import, the builtins), or None where it is not such a name (a
+    local variable, ``self``)."""
+    if isinstance(node, ast.Attribute):
+        outer = resolve(module, node.value, local)
+        return None if outer is None else getattr(outer, node.attr, None)
+    if isinstance(node, ast.Name):
+        for names in (vars(module), local, vars(builtins)):
+            if node.id in names:
+                return names[node.id]
+    return None
+
+
+def is_error(obj) -> bool:
+    return isinstance(obj, type) and issubclass(obj, BaseException) and \
+        not issubclass(obj, Warning)
+
+
+def raised() -> list[tuple[str, int, str, object]]:
+    """``(module, line, expression, object)`` for every ``raise X(...)``, ``raise X`` and
+    every call of an exception class (an error made to be raised elsewhere) of the
+    package, X a name or an attribute chain."""
+    found = []
+    for name, path in modules().items():
+        if name.endswith(".__main__"):
+            continue  # it runs the command line; its code raises nothing
+        module = importlib.import_module(name)
+        tree = ast.parse(path.read_text())
+        local = local_imports(module, tree)
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Raise) and node.exc is not None:
+                target = node.exc.func if isinstance(node.exc, ast.Call) else node.exc
+                if isinstance(target, (ast.Name, ast.Attribute)):
+                    found.append((name, node.lineno, ast.unparse(target),
+                                  resolve(module, target, local)))
+            elif isinstance(node, ast.Call) and isinstance(node.func, (ast.Name, ast.Attribute)):
+                obj = resolve(module, node.func, local)
+                if is_error(obj):
+                    found.append((name, node.lineno, ast.unparse(node.func), obj))
+    return list(dict.fromkeys(found))  # a raise's call is seen as a call too
+
+
+def test_every_error_the_package_raises_is_a_linkage_fmu_error():
+    """Read from the source: each error raised or made is a LinkageFmuError (and, by the
+    test below, the builtin error it names), but for NOT_OURS and MADE_BEFORE; a
+    ``raise ValueError(...)`` fails it."""
+    wrong = []
+    for name, line, expr, obj in raised():
+        if expr in NOT_OURS:
+            continue
+        if obj is None:
+            if (name, expr) not in MADE_BEFORE:
+                wrong.append((name, line, expr, "not resolved"))
+        elif is_error(obj) and not issubclass(obj, LinkageFmuError):
+            wrong.append((name, line, expr, obj.__name__))
+    assert not wrong
+
+
+def test_the_check_sees_a_builtin_error():
+    tree = ast.parse("def f(x):\n    raise ValueError(f'x = {x}')\n")
+    raise_ = next(n for n in ast.walk(tree) if isinstance(n, ast.Raise))
+    obj = resolve(importlib.import_module(f"{PACKAGE}.errors"), raise_.exc.func, {})
+    assert obj is ValueError and not issubclass(obj, LinkageFmuError)
+
+
+#: the builtin error each of the package's errors has always been
+BUILTIN = {"AssemblyError": ValueError, "SingularPositionError": ValueError,
+           "SelfLockingError": ValueError, "OverflowInputError": ValueError,
+           "LinkageError": ValueError, "OutputError": ValueError, "LoadError": ValueError,
+           "ParameterError": ValueError, "InputError": ValueError,
+           "InputTypeError": TypeError, "ComputationError": RuntimeError,
+           "DependencyError": ImportError, "UsageError": Exception,
+           "CompilerError": RuntimeError, "NoFeasibleDesignError": ValueError,
+           "TracingError": RuntimeError, "FMURunError": RuntimeError,
+           "BinaryError": ValueError, "DescriptionError": ValueError,
+           "DecompositionError": ValueError, "CycleError": ValueError,
+           "MissingFFmpegError": RuntimeError}
+
+
+def test_each_error_class_is_a_linkage_fmu_error_and_its_builtin():
+    classes = {}
+    for name in modules():
+        if name.endswith(".__main__"):
+            continue
+        module = importlib.import_module(name)
+        for _, cls in inspect.getmembers(module, is_error):
+            if cls.__module__ == name and cls is not LinkageFmuError:
+                classes[cls.__name__] = cls
+    assert set(classes) == set(BUILTIN)
+    for cls_name, cls in classes.items():
+        assert issubclass(cls, LinkageFmuError), cls_name
+        assert issubclass(cls, BUILTIN[cls_name]), cls_name

@@ -18,6 +18,7 @@ from . import presets
 from .descriptions import Description, DescriptionError
 from .errors import (
     AssemblyError,
+    LinkageFmuError,
     NearSingularWarning,
     OverflowInputError,
     SelfLockingError,
@@ -27,8 +28,8 @@ from .mechanism import Mechanism, Solution
 
 __version__ = "0.1.0"
 __all__ = ["presets", "load", "Description", "DescriptionError", "Mechanism", "Solution",
-           "AssemblyError", "SingularPositionError", "OverflowInputError", "SelfLockingError",
-           "NearSingularWarning", "__version__"]
+           "LinkageFmuError", "AssemblyError", "SingularPositionError", "OverflowInputError",
+           "SelfLockingError", "NearSingularWarning", "__version__"]
 
 
 def load(path: str | Path, **parameters) -> Mechanism:

@@ -8,6 +8,7 @@ import math
 from dataclasses import dataclass
 
 from . import numerics
+from .errors import InputError
 from .groups import LinkPoint
 from .kernels.trace import Reason
 
@@ -50,19 +51,19 @@ class Body:
                 v >= 0.0  # noqa: B015 -- recorded as a check
                 numerics.label(v, Reason("parameter", rule))
             elif not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0):
-                raise ValueError(f"{rule}, got {v!r}")
+                raise InputError(f"{rule}, got {v!r}")
         for attr in ("along", "across", "distance", "angle"):
             v = getattr(self, attr)
             if (v is None and attr == "distance") or attr in traced:
                 continue  # traced: the builder checked that it is finite
             if not (isinstance(v, (int, float)) and math.isfinite(v)):
-                raise ValueError(f"{attr} of the centre of mass of body {self.name!r} must be "
+                raise InputError(f"{attr} of the centre of mass of body {self.name!r} must be "
                                  f"a finite number, got {v!r}")
         if not traced and self.distance is not None and (self.along or self.across):
-            raise ValueError(f"body {self.name!r}: give the centre of mass as along/across or "
+            raise InputError(f"body {self.name!r}: give the centre of mass as along/across or "
                              "as distance/angle, not both")
         if not self.ref:
-            raise ValueError(f"body {self.name!r} needs the point 'ref' its centre of mass is "
+            raise InputError(f"body {self.name!r} needs the point 'ref' its centre of mass is "
                              "measured from")
 
     @functools.cached_property

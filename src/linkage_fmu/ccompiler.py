@@ -29,6 +29,8 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
+from .errors import LinkageFmuError
+
 #: compilers tried in order when ``CC`` is not set
 CANDIDATES = ("cc", "gcc", "clang")
 
@@ -37,7 +39,7 @@ CANDIDATES = ("cc", "gcc", "clang")
 LOG = logging.getLogger(__name__)
 
 
-class CompilerError(RuntimeError):
+class CompilerError(LinkageFmuError, RuntimeError):
     """No C compiler, or a compilation failed (the message holds its output)."""
 
 

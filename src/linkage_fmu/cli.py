@@ -34,6 +34,7 @@ import numpy as np
 from . import __version__, presets, ranges
 from .descriptions import Description, DescriptionError
 from .descriptions.assur import outline
+from .errors import LinkageFmuError
 from .expressions import evaluate
 from .printing import number
 from .solver import frame
@@ -80,7 +81,7 @@ EPILOG = """examples:
 """
 
 
-class UsageError(Exception):
+class UsageError(LinkageFmuError):
     """A command-line value that cannot be used; the message says which and why."""
 
 

@@ -20,6 +20,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import ClassVar
 
+from .errors import InputError
 from .units import MOTION_UNITS
 
 #: kind -> the names of its coordinate, speed and acceleration (a linkage's one angle
@@ -65,7 +66,7 @@ class Driver:
             A kind that is none of :data:`KINDS`.
         """
         if kind not in KINDS:
-            raise ValueError(f"the driver of {pair}: a driver's kind is one of "
+            raise InputError(f"the driver of {pair}: a driver's kind is one of "
                              f"{', '.join(KINDS)}, not {kind!r}")
         names, units = KINDS[kind]
         inputs = names if alone else tuple(f"{n}_{pair}" for n in names)

@@ -1,19 +1,103 @@
-"""Errors raised for states a linkage cannot take, and for a linkage or a part of it that
+"""The errors the package raises, all of them a :class:`LinkageFmuError`: for states a
+linkage cannot take, each with its :class:`Reason`, for a linkage or a part of it that
 cannot be as given (an output, a load, a parameter), which name the linkage or the part
-as data (a description says where in its file the part is)."""
+as data (a description says where in its file the part is), and for a value or a type
+it cannot take, a computation it cannot finish, a package it cannot import.
+
+Each is also the builtin error it has always been (a ``ValueError``, a ``TypeError``, a
+``RuntimeError``, an ``ImportError``), so that ``except ValueError`` still catches it.
+The module imports nothing of the package, so that every module, the kernels included,
+can raise its errors.
+"""
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
-from .kernels.trace import Reason
+
+@dataclass(frozen=True)
+class Reason:
+    """Why a guard fails: ``kind`` is ``'assembly'`` (the state cannot be assembled),
+    ``'singular'`` (the reactions are unbounded), ``'locking'`` (friction locks the
+    linkage: no finite balancing effort), ``'parameter'`` (a check of the
+    parameter step) or ``'branch'`` (the state takes a branch the trace did not), and
+    ``what`` says which condition, without numbers.
+
+    Examples
+    --------
+    >>> Reason("assembly", "the dyad B-C-D cannot close").text
+    'the linkage cannot be assembled: the dyad B-C-D cannot close'
+    """
+
+    kind: str
+    what: str = ""
+
+    @property
+    def text(self) -> str:
+        """The reason as the FMUs log it, the same words in every flavour."""
+        head = {"assembly": "the linkage cannot be assembled",
+                "singular": "the linkage is at a singular position",
+                "parameter": "the parameter set is invalid",
+                "branch": "the state takes another branch than the kernel was traced on",
+                "locking": "friction locks the linkage",
+                "overflow": "the outputs overflow float64"}[self.kind]
+        return f"{head}: {self.what}" if self.what else head
+
+
+class LinkageFmuError(Exception):
+    """The base of every error the package raises: one ``except`` catches them all, and
+    leaves the errors of other code alone.
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets, LinkageFmuError
+    >>> mech = presets.get("four_bar", l_AB=0.3)   # crank too long to turn fully
+    >>> try:
+    ...     mech.solve(3.1)
+    ... except LinkageFmuError as err:
+    ...     print(type(err).__name__, isinstance(err, ValueError))
+    AssemblyError True
+    """
+
+
+class InputError(LinkageFmuError, ValueError):
+    """A value given to the package that it cannot take: an argument, an option or a
+    value of a file out of its range or not of its kind; the message names it and says
+    why.
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets
+    >>> try:
+    ...     presets.get("no_such_linkage")
+    ... except InputError as err:
+    ...     print(isinstance(err, ValueError))
+    True
+    """
+
+
+class InputTypeError(LinkageFmuError, TypeError):
+    """A value of a type the package cannot take (a string where a number is expected,
+    an unknown keyword); the message names it."""
+
+
+class ComputationError(LinkageFmuError, RuntimeError):
+    """A computation that could not finish: an integration or a search that failed or
+    did not converge, a generated kernel or an FMU that cannot run as asked."""
+
+
+class DependencyError(LinkageFmuError, ImportError):
+    """A package that cannot be imported as needed: an optional dependency that is not
+    installed (the message says how to install it), or an FMU's bundled copy of this
+    package that differs from the one the process runs."""
 
 
 def _angle(theta: float) -> str:
     return f"theta = {theta:.6g} rad ({math.degrees(theta):.4g} deg)"
 
 
-class AssemblyError(ValueError):
+class AssemblyError(LinkageFmuError, ValueError):
     """The linkage cannot be assembled at the requested crank angle.
 
     Raised for scalar inputs only; array inputs get NaN in the affected states and
@@ -39,7 +123,7 @@ class AssemblyError(ValueError):
         super().__init__(f"{mechanism} cannot be assembled at {_angle(theta)}: {condition}")
 
 
-class SingularPositionError(ValueError):
+class SingularPositionError(LinkageFmuError, ValueError):
     """The equations are exactly singular (a toggle or dead-centre position).
 
     The position exists but the reactions or the balancing effort are unbounded there.
@@ -55,7 +139,7 @@ class SingularPositionError(ValueError):
         super().__init__(f"{mechanism} is singular at {_angle(theta)}: {detail}")
 
 
-class SelfLockingError(ValueError):
+class SelfLockingError(LinkageFmuError, ValueError):
     """Friction locks the linkage: no finite balancing effort moves it at this position.
 
     Raised for scalar inputs; array inputs get NaN in those states and
@@ -81,7 +165,7 @@ class SelfLockingError(ValueError):
                          f"{mechanism} locks at {_angle(theta)}")
 
 
-class OverflowInputError(ValueError):
+class OverflowInputError(LinkageFmuError, ValueError):
     """Finite inputs or parameters whose magnitudes make the outputs overflow float64
     (``omega = 1e160``, ``l_CD = 1e308``), any output, the diagnostics included.
 
@@ -110,7 +194,7 @@ class OverflowInputError(ValueError):
         super().__init__(f"{mechanism}: {detail}")
 
 
-class LinkageError(ValueError):
+class LinkageError(LinkageFmuError, ValueError):
     """A linkage that cannot be put together as given: ``linkage`` is its name,
     ``problem`` says what is wrong (a body that is no moving link, a load off its body,
     a name given twice).
@@ -135,7 +219,7 @@ class LinkageError(ValueError):
         return type(self), (self.linkage, self.problem)
 
 
-class OutputError(ValueError):
+class OutputError(LinkageFmuError, ValueError):
     """An output a linkage cannot report: ``output`` is its name, ``problem`` says why.
 
     Examples
@@ -157,7 +241,7 @@ class OutputError(ValueError):
         return type(self), (self.output, self.problem)
 
 
-class LoadError(ValueError):
+class LoadError(LinkageFmuError, ValueError):
     """A load a linkage cannot take: ``load`` is its name, ``problem`` says why.
 
     Examples
@@ -178,7 +262,7 @@ class LoadError(ValueError):
         return type(self), (self.load, self.problem)
 
 
-class ParameterError(ValueError):
+class ParameterError(LinkageFmuError, ValueError):
     """A parameter declared as it cannot be: ``parameter`` is its name, ``problem`` says
     why.
 

@@ -28,6 +28,7 @@ import re
 from collections.abc import Callable, Mapping
 
 from . import numerics, units
+from .errors import InputError
 
 #: functions an expression may call
 #: (those of :mod:`~linkage_fmu.numerics`: on floats, or on traced parameters)
@@ -52,13 +53,13 @@ class Expression:
 
     def __init__(self, source: str | int | float):
         if isinstance(source, bool) or not isinstance(source, (str, int, float)):
-            raise ValueError(f"expected a number or an expression, got {source!r}")
+            raise InputError(f"expected a number or an expression, got {source!r}")
         self.source = source
         #: the numbers with units in the text (pint quantities), in order
         self.quantities: list = []
         if isinstance(source, (int, float)):
             if not math.isfinite(source):
-                raise ValueError(f"{source!r} is not a finite number")
+                raise InputError(f"{source!r} is not a finite number")
             self._tree = ast.Constant(float(source))
         else:
             text = source.strip()
@@ -67,7 +68,7 @@ class Expression:
             try:
                 self._tree = ast.parse(text, mode="eval").body
             except SyntaxError as err:
-                raise ValueError(f"{source!r} is not an expression: {err.msg}") from None
+                raise InputError(f"{source!r} is not an expression: {err.msg}") from None
         #: the SI value of each quantity, by its name in the parsed text
         self._si = {f"__q{k}__": units.si(q) for k, q in enumerate(self.quantities)}
         names: set = set()
@@ -123,10 +124,10 @@ class Expression:
     def _check(self, node, names: set) -> None:
         if isinstance(node, ast.Constant):
             if isinstance(node.value, bool) or not isinstance(node.value, (int, float)):
-                raise ValueError(f"{node.value!r} in {self.source!r} is not a number")
+                raise InputError(f"{node.value!r} in {self.source!r} is not a number")
         elif isinstance(node, ast.Name):
             if node.id in FUNCTIONS:
-                raise ValueError(f"{node.id!r} in {self.source!r} is a function: call it")
+                raise InputError(f"{node.id!r} in {self.source!r} is a function: call it")
             if node.id not in CONSTANTS and node.id not in self._si:
                 names.add(node.id)
         elif isinstance(node, ast.BinOp) and type(node.op) in _BINARY:
@@ -137,14 +138,14 @@ class Expression:
         elif isinstance(node, ast.Call):
             if not isinstance(node.func, ast.Name) or node.func.id not in FUNCTIONS:
                 called = node.func.id if isinstance(node.func, ast.Name) else ast.unparse(node.func)
-                raise ValueError(f"{called!r} is not a function an expression may call; the "
+                raise InputError(f"{called!r} is not a function an expression may call; the "
                                  f"functions are: {', '.join(sorted(FUNCTIONS))}")
             if node.keywords:
-                raise ValueError(f"keyword arguments are not allowed: {self.source!r}")
+                raise InputError(f"keyword arguments are not allowed: {self.source!r}")
             for arg in node.args:
                 self._check(arg, names)
         else:
-            raise ValueError(f"{ast.unparse(node)!r} in {self.source!r} is not allowed in an "
+            raise InputError(f"{ast.unparse(node)!r} in {self.source!r} is not allowed in an "
                              "expression (numbers, names, + - * / **, parentheses and "
                              "function calls only)")
 
@@ -196,7 +197,7 @@ class Expression:
             try:
                 return values[node.id] if node.id in values else self._si[node.id]
             except KeyError:
-                raise ValueError(f"unknown name {node.id!r} in {self.source!r}") from None
+                raise InputError(f"unknown name {node.id!r} in {self.source!r}") from None
         if isinstance(node, ast.BinOp):
             return _BINARY[type(node.op)](self._eval(node.left, values, functions),
                                           self._eval(node.right, values, functions))
@@ -230,7 +231,7 @@ def evaluate(source, unit: str, where: str, values: Mapping | None = None,
         expr = Expression(source)
         x = expr(values or {})
     except (ValueError, ZeroDivisionError, OverflowError, TypeError) as err:
-        raise ValueError(f"{where} = {source!r}: {err}") from None
+        raise InputError(f"{where} = {source!r}: {err}") from None
     if expr.has_units:
         check_units(expr, unit, where, units_of or {})
     return x
@@ -242,5 +243,5 @@ def check_units(expr: Expression, unit: str, where: str, units_of: Mapping) -> N
     try:
         measured = expr.measure(units_of)
     except (TypeError, ValueError, ArithmeticError, AttributeError) as err:  # 1 m + 1 s
-        raise ValueError(f"{where} = {expr.source!r}: its units do not agree: {err}") from None
+        raise InputError(f"{where} = {expr.source!r}: its units do not agree: {err}") from None
     units.check(measured, unit, where, expr.source)

@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING, NamedTuple
 import numpy as np
 
 from . import motion
+from .errors import ComputationError, InputError, InputTypeError
 from .expressions import evaluate
 from .numerics import finite_array, finite_float
 from .printing import number
@@ -106,15 +107,15 @@ def energy_fluctuation(theta, torque) -> Fluctuation:
     th = finite_array("theta", theta).astype(float)
     tq = finite_array("torque", torque).astype(float)
     if th.ndim != 1 or th.size < 2:
-        raise ValueError(f"theta must be a 1-d array of at least 2 angles, got shape "
+        raise InputError(f"theta must be a 1-d array of at least 2 angles, got shape "
                          f"{th.shape}")
     if tq.shape != th.shape:
-        raise ValueError(f"torque must have one value per angle: shape {th.shape}, got "
+        raise InputError(f"torque must have one value per angle: shape {th.shape}, got "
                          f"{tq.shape}")
     step = np.diff(th)
     if not (step > 0).all():
         k = int(np.argmin(step > 0)) + 1
-        raise ValueError(f"theta must be increasing: theta[{k}] = {float(th[k])!r} <= "
+        raise InputError(f"theta must be increasing: theta[{k}] = {float(th[k])!r} <= "
                          f"theta[{k - 1}] = {float(th[k - 1])!r}")
     parts = 0.5 * (tq[1:] + tq[:-1]) * step
     mean = math.fsum(parts) / float(th[-1] - th[0])
@@ -163,7 +164,7 @@ def flywheel_inertia(delta_E, omega_mean, Cs) -> float:
     """
     energy = _value(delta_E, "J", "delta_E")
     if energy < 0.0:
-        raise ValueError(f"delta_E must be >= 0 (an energy, J), got {energy!r}")
+        raise InputError(f"delta_E must be >= 0 (an energy, J), got {energy!r}")
     return energy / (_fraction(Cs) * _speed(omega_mean, "omega_mean") ** 2)
 
 
@@ -494,7 +495,7 @@ def periodic_motion(mech, omega_mean, flywheel=0.0, revolutions: int | None = No
     omega = _speed(mech.start["omega"] if omega_mean is None else omega_mean, "omega_mean")
     inertia = _value(flywheel, "kg.m2", "flywheel")
     if inertia < 0.0:
-        raise ValueError(f"flywheel must be >= 0 (a moment of inertia, kg m2), got {inertia!r}")
+        raise InputError(f"flywheel must be >= 0 (a moment of inertia, kg m2), got {inertia!r}")
     named = motion.constant_loads(mech, loads)
     cycle = _Cycle(mech, effort, omega, cycle_revolutions(mech, revolutions, named),
                    _count("intervals", intervals, 16), named)
@@ -537,7 +538,7 @@ class _Cycle:
         bad = ~np.isfinite(values)
         if bad.any():
             first = float(np.degrees(np.asarray(theta, dtype=float)[bad].min()))
-            raise ValueError(f"{self.mech.name} cannot be assembled (or is singular) at "
+            raise InputError(f"{self.mech.name} cannot be assembled (or is singular) at "
                              f"theta = {first:.6g} deg: the crank must turn through the whole "
                              f"cycle of {360 * self.revolutions} deg")
         return values
@@ -580,7 +581,7 @@ def _periodic(cycle: _Cycle, inertia: float, samples: int | None,
     total = cycle.J + inertia
     if not (total > 0.0).all():
         k = int(np.argmin(total > 0.0))
-        raise ValueError(f"{mech.name}: the inertia on the crank is {float(total[k])!r} at "
+        raise InputError(f"{mech.name}: the inertia on the crank is {float(total[k])!r} at "
                          f"theta = {math.degrees(cycle.theta[k]):.6g} deg; the motion is "
                          "not defined (add a flywheel)")
     target = cycle.span / omega
@@ -596,7 +597,7 @@ def _periodic(cycle: _Cycle, inertia: float, samples: int | None,
     while period(floor + gap) <= target:
         gap *= 0.5
         if gap <= 1e-300:  # pragma: no cover - the period grows without bound
-            raise RuntimeError(f"{mech.name}: no periodic motion at {omega!r} rad/s found")
+            raise ComputationError(f"{mech.name}: no periodic motion at {omega!r} rad/s found")
     c = brentq(lambda x: period(x) - target, floor + gap, c_hi, xtol=1e-15 * abs(c_hi),
                rtol=4.0 * np.finfo(float).eps)
     nodes = np.sqrt(2.0 * (c + work) / total)
@@ -655,9 +656,9 @@ def _periodic_with_friction(cycle: _Cycle, inertia: float, omega0: float, count:
         x = x - np.linalg.solve(jac, r)
         r = residual(x)
     else:
-        raise RuntimeError(f"{mech.name}: no periodic motion at {omega!r} rad/s found with "
-                           f"friction in {PERIODIC_STEPS} Newton steps (closes to "
-                           f"{float(np.max(np.abs(r))):.3g} relative)")
+        raise ComputationError(f"{mech.name}: no periodic motion at {omega!r} rad/s found with "
+                               f"friction in {PERIODIC_STEPS} Newton steps (closes to "
+                               f"{float(np.max(np.abs(r))):.3g} relative)")
     motion_ = run(x, count)
     t = motion_.index.to_numpy()
     w = motion_["omega"].to_numpy()
@@ -701,23 +702,23 @@ def _value(value, unit: str, name: str) -> float:
 def _speed(value, name: str) -> float:
     omega = _value(value, "rad/s", name)
     if not omega > 0.0:
-        raise ValueError(f"{name} must be > 0 (the crank's mean speed, rad/s), got {omega!r}")
+        raise InputError(f"{name} must be > 0 (the crank's mean speed, rad/s), got {omega!r}")
     return omega
 
 
 def _fraction(value) -> float:
     cs = _value(value, "1", "Cs")
     if not 0.0 < cs < 1.0:
-        raise ValueError(f"Cs must be between 0 and 1 ((omega_max - omega_min) / omega_mean, "
+        raise InputError(f"Cs must be between 0 and 1 ((omega_max - omega_min) / omega_mean, "
                          f"e.g. 0.02), got {cs!r}")
     return cs
 
 
 def _count(name: str, value, least: int) -> int:
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
-        raise TypeError(f"{name} must be an integer, got {type(value).__name__} {value!r}")
+        raise InputTypeError(f"{name} must be an integer, got {type(value).__name__} {value!r}")
     if value < least:
-        raise ValueError(f"{name} must be >= {least}, got {value!r}")
+        raise InputError(f"{name} must be >= {least}, got {value!r}")
     return int(value)
 
 

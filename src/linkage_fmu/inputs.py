@@ -24,6 +24,7 @@ from types import MappingProxyType
 import numpy as np
 
 from .drivers import Driver, input_names, input_units
+from .errors import InputTypeError
 from .expressions import evaluate
 
 #: the types the lean path takes besides floats, as floats (:func:`floats`)
@@ -116,17 +117,18 @@ class InputTable:
     def _named(self, omega, alpha, loads: Sequence, named: dict) -> tuple[list, tuple]:
         names = [load.name for load in self.input_loads]
         if len(loads) > len(names):
-            raise TypeError(f"{self.name} has {len(names)} input load(s) ({', '.join(names)}), "
-                            f"got {len(loads)} positional load values")
+            raise InputTypeError(f"{self.name} has {len(names)} input load(s) "
+                                 f"({', '.join(names)}), got {len(loads)} positional load "
+                                 "values")
         values = dict(zip(names, loads))
         known = {load.name for load in self.input_loads + self.computed_loads}
         for key, value in named.items():
             if key not in known:
-                raise TypeError(f"{self.name} has no input {key!r}; its inputs are: "
-                                + ", ".join(self.names + tuple(
-                                    ld.name for ld in self.computed_loads)))
+                raise InputTypeError(f"{self.name} has no input {key!r}; its inputs are: "
+                                     + ", ".join(self.names + tuple(
+                                         ld.name for ld in self.computed_loads)))
             if key in values:
-                raise TypeError(f"load {key} is given twice")
+                raise InputTypeError(f"load {key} is given twice")
             values[key] = value
         given = tuple(ld.name for ld in self.computed_loads if ld.name in values)
         speed, acceleration = self.motion[1], self.motion[2]

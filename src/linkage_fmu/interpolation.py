@@ -17,6 +17,7 @@ import math
 
 import numpy as np
 
+from .errors import InputError
 from .numerics import ARRAY, finite_array
 
 
@@ -51,11 +52,11 @@ class AngleTable:
 
     def __init__(self, mech, size: int = 4096, method: str = "closed_form"):
         if not isinstance(size, int) or size < 4:
-            raise ValueError(f"size must be an integer >= 4, got {size!r}")
+            raise InputError(f"size must be an integer >= 4, got {size!r}")
         if mech.friction.active:
             # |R| and the signs of motion: no sum of parts, and which states friction
             # locks depends on the whole state, not on its parts
-            raise ValueError(f"{mech.name}: friction in its joints makes the outputs "
+            raise InputError(f"{mech.name}: friction in its joints makes the outputs "
                              "nonlinear in omega**2, alpha and the loads, which an "
                              "AngleTable adds up: solve the states themselves (mech.solve), "
                              "or tabulate the linkage with every mu 0")

@@ -17,7 +17,7 @@ from types import MappingProxyType
 
 from . import diagnostics, evaluation, flywheel, inertia, motion, numerics
 from .bodies import Body, Effort
-from .errors import LinkageError
+from .errors import InputTypeError, LinkageError
 from .friction import Declared
 from .friction import outputs as friction_outputs
 from .friction import resolve as resolve_friction
@@ -87,8 +87,8 @@ class Mechanism:
         self.rebuild = rebuild
         for grp in groups:
             if not isinstance(grp, Group):
-                raise TypeError(f"{name}: {grp!r} is not a group (a subclass of "
-                                "linkage_fmu.groups.Group)")
+                raise InputTypeError(f"{name}: {grp!r} is not a group (a subclass of "
+                                     "linkage_fmu.groups.Group)")
         if not groups or not groups[0].DRIVER:
             raise LinkageError(name, "the first group must be the driver (a Crank)")
         if any(grp.DRIVER for grp in groups[1:]):  # its mobility: one per driver

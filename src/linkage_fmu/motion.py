@@ -23,7 +23,14 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .errors import AssemblyError, OverflowInputError, SelfLockingError, SingularPositionError
+from .errors import (
+    AssemblyError,
+    ComputationError,
+    InputError,
+    OverflowInputError,
+    SelfLockingError,
+    SingularPositionError,
+)
 from .expressions import evaluate
 from .numerics import finite_array, finite_float
 
@@ -186,11 +193,11 @@ def simulate(mech, tau, t, theta0=None, omega0=None, rtol: float = 1e-10,
     effort = crank_moment(mech, "simulate drives the crank with a moment")
     t = np.asarray(finite_array("t", t), dtype=float)
     if t.ndim != 1 or t.size < 2:
-        raise ValueError(f"t must be a 1-d array of at least 2 times, got shape {t.shape}")
+        raise InputError(f"t must be a 1-d array of at least 2 times, got shape {t.shape}")
     step = np.diff(t)
     if not (step > 0).all():
         k = int(np.argmin(step > 0)) + 1
-        raise ValueError(f"t must be strictly increasing: t[{k}] = {float(t[k])!r} <= "
+        raise InputError(f"t must be strictly increasing: t[{k}] = {float(t[k])!r} <= "
                          f"t[{k - 1}] = {float(t[k - 1])!r}")
     torque = _torque(tau, t)
     theta0 = _start(mech, "theta", theta0, "rad")
@@ -198,7 +205,7 @@ def simulate(mech, tau, t, theta0=None, omega0=None, rtol: float = 1e-10,
     extra = finite_float("flywheel", evaluate(flywheel, "kg.m2", "flywheel")
                          if isinstance(flywheel, str) else flywheel)
     if extra < 0.0:
-        raise ValueError(f"flywheel must be >= 0 (a moment of inertia, kg m2), got {extra!r}")
+        raise InputError(f"flywheel must be >= 0 (a moment of inertia, kg m2), got {extra!r}")
     named = constant_loads(mech, loads)
     if mech.friction.active:
         return _with_friction(mech, effort, torque, t, theta0, omega0, rtol, atol, extra,
@@ -214,7 +221,7 @@ def simulate(mech, tau, t, theta0=None, omega0=None, rtol: float = 1e-10,
                             f"(reached at t = {ti:.9g} s)") from None
         if not J > 0.0:
             with_flywheel = f" (a flywheel of {extra!r} kg m2 included)" if extra else ""
-            raise ValueError(f"{mech.name}: the inertia reduced to the crank is {J!r} at "
+            raise InputError(f"{mech.name}: the inertia reduced to the crank is {J!r} at "
                              f"theta = {th!r} rad{with_flywheel}; the motion is not defined")
         return (torque(ti, th, w) - m0) / J
 
@@ -225,7 +232,7 @@ def simulate(mech, tau, t, theta0=None, omega0=None, rtol: float = 1e-10,
     res = solve_ivp(rhs, (t[0], t[-1]), [theta0, omega0], method="DOP853", t_eval=t,
                     rtol=rtol, atol=atol)
     if res.status != 0:
-        raise RuntimeError(f"{mech.name}: the integration failed: {res.message}")
+        raise ComputationError(f"{mech.name}: the integration failed: {res.message}")
     theta, omega = res.y
     alpha = np.array([acceleration(*s) for s in zip(t, theta, omega)])
     sol = mech.solve(theta, omega, alpha, **named)
@@ -247,7 +254,7 @@ def crank_moment(mech, job: str) -> str:
     'Mb'
     """
     if not mech.effort_on_crank:
-        raise ValueError(f"{mech.name}: its balancing effort {mech.effort.name} does not act "
+        raise InputError(f"{mech.name}: its balancing effort {mech.effort.name} does not act "
                          f"on the crank; {job}")
     return mech.effort.name
 
@@ -292,7 +299,7 @@ def _torque(tau, t: np.ndarray):
         return lambda ti, th, w: value
     values = finite_array("tau", tau)
     if values.shape != t.shape:
-        raise ValueError(f"tau must be a number, a callable or one value per time: "
+        raise InputError(f"tau must be a number, a callable or one value per time: "
                          f"{t.size} values (t has {t.size}), got shape {values.shape}")
     return lambda ti, th, w: float(np.interp(ti, t, values))
 
@@ -428,7 +435,7 @@ def driven(mech, drive: float):
         return mech
     d = mech.description
     if d is None:
-        raise ValueError(f"{mech.name} was not built from a description: it cannot be "
+        raise InputError(f"{mech.name} was not built from a description: it cannot be "
                          "built again with the other drive direction")
     if str(d.drive).strip() in d.parameters:
         return d.build(**{**mech.parameters, str(d.drive).strip(): float(drive)})
@@ -468,7 +475,7 @@ class _Direction:
                 J = self.mech.reduced_inertia(th)[0] + extra
                 if not J > 0.0:  # no inertia at all: as without friction
                     with_flywheel = f" (a flywheel of {extra!r} kg m2 included)" if extra else ""
-                    raise ValueError(f"{self.mech.name}: the inertia reduced to the crank is "
+                    raise InputError(f"{self.mech.name}: the inertia reduced to the crank is "
                                      f"{J!r} at theta = {th!r} rad{with_flywheel}; the motion "
                                      f"is not defined (reached at t = {ti:.9g} s)")
                 raise SelfLockingError(
@@ -572,7 +579,7 @@ def _with_friction(mech, effort: str, torque, t: np.ndarray, theta0: float, omeg
         res = solve_ivp(rhs, (t0, end), [th0, w0], method="DOP853", t_eval=t[k:],
                         rtol=rtol, atol=atol, events=stops)
         if res.status == -1:
-            raise RuntimeError(f"{mech.name}: the integration failed: {res.message}")
+            raise ComputationError(f"{mech.name}: the integration failed: {res.message}")
         # no output time within the segment: scipy gives empty lists
         times = np.asarray(res.t, dtype=float)
         rows.extend((ti, th, w, d) for ti, th, w in zip(
@@ -629,16 +636,16 @@ def _with_friction(mech, effort: str, torque, t: np.ndarray, theta0: float, omeg
                 break
             ti, d = leave
         if len(switches) >= STALLED and switches[-STALLED].time == ti:
-            raise RuntimeError(f"{mech.name}: the motion switched between sticking and "
-                               f"moving {STALLED} times at t = {ti:.9g} s, theta = {th:.9g} "
-                               "rad without moving on (the torque touches the band's edge "
-                               "there)")
+            raise ComputationError(f"{mech.name}: the motion switched between sticking and "
+                                   f"moving {STALLED} times at t = {ti:.9g} s, theta = {th:.9g} "
+                                   "rad without moving on (the torque touches the band's edge "
+                                   "there)")
         switches.append(Switch(ti, th, d))
         if ti >= end:  # stopped or left exactly at the last time
             break
     else:
-        raise RuntimeError(f"{mech.name}: the motion switched between sticking and moving "
-                           f"{MAX_SWITCHES} times before t = {ti:.9g} s; it chatters")
+        raise ComputationError(f"{mech.name}: the motion switched between sticking and moving "
+                               f"{MAX_SWITCHES} times before t = {ti:.9g} s; it chatters")
     if k < t.size:  # the last output times at the very end of a stop
         rows.extend((float(s), th, 0.0, d if d else 0) for s in t[k:])
 

@@ -13,6 +13,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
+from .errors import InputError, InputTypeError
 from .kernels.trace import sign
 
 Number = float | np.ndarray
@@ -139,14 +140,14 @@ def finite_float(name: str, value: object) -> float:
     if type(value) is float and value - value == 0.0:  # the common case, finite
         return value
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.number)):
-        raise TypeError(f"{name} must be a real number, got {type(value).__name__} {value!r}")
+        raise InputTypeError(f"{name} must be a real number, got {type(value).__name__} {value!r}")
     try:
         x = float(value)
     except OverflowError:  # an int past float64's range
-        raise ValueError(f"{name} must be a finite number, got an integer of "
+        raise InputError(f"{name} must be a finite number, got an integer of "
                          f"{int(value).bit_length()} bits, past float64's range") from None
     if not math.isfinite(x):
-        raise ValueError(f"{name} must be a finite number, got {x!r}")
+        raise InputError(f"{name} must be a finite number, got {x!r}")
     return x
 
 
@@ -163,11 +164,11 @@ def finite_array(name: str, value: np.ndarray) -> np.ndarray:
     try:
         arr = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as err:
-        raise TypeError(f"{name} must be an array of real numbers: {err}") from None
+        raise InputTypeError(f"{name} must be an array of real numbers: {err}") from None
     except OverflowError:  # an int past float64's range
-        raise ValueError(f"{name} must be finite: an entry is an integer past float64's "
+        raise InputError(f"{name} must be finite: an entry is an integer past float64's "
                          "range") from None
     if not np.isfinite(arr).all():
         where = tuple(int(i) for i in np.argwhere(~np.isfinite(arr))[0])
-        raise ValueError(f"{name} must be finite: entry {where} is {float(arr[where])!r}")
+        raise InputError(f"{name} must be finite: entry {where} is {float(arr[where])!r}")
     return arr

@@ -39,6 +39,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pandas as pd
 
+from .errors import InputError, InputTypeError, LinkageFmuError
 from .presets import linkage
 from .printing import number
 from .sweep import STATES_PER_TASK, dask_client, sweep
@@ -65,7 +66,7 @@ POLISH_XTOL = 1e-4
 POLISH_STEP = 0.05
 
 
-class NoFeasibleDesignError(ValueError):
+class NoFeasibleDesignError(LinkageFmuError, ValueError):
     """No design evaluated met every constraint. ``result`` holds the search: its
     ``design`` is the one that broke them least (``feasible`` False), and its history."""
 
@@ -154,7 +155,7 @@ def parse_constraint(spec: str | Constraint | tuple) -> Constraint:
         return spec
     if isinstance(spec, tuple):
         if len(spec) != 3 or spec[1] not in OPERATORS or not isinstance(spec[0], str):
-            raise ValueError(f"constraint {spec!r}: expected (name, op, value) with op one "
+            raise InputError(f"constraint {spec!r}: expected (name, op, value) with op one "
                              f"of {', '.join(OPERATORS)}")
         name, op, text = spec
     elif isinstance(spec, str):
@@ -162,19 +163,19 @@ def parse_constraint(spec: str | Constraint | tuple) -> Constraint:
             return Constraint("valid")
         found = _CONSTRAINT.fullmatch(spec)
         if found is None:
-            raise ValueError(f"constraint {spec!r}: expected NAME OP VALUE with OP one of "
+            raise InputError(f"constraint {spec!r}: expected NAME OP VALUE with OP one of "
                              f"{', '.join(OPERATORS)} (as in 'gamma_C_min_deg >= 40'), or "
                              "'valid'")
         name, op, text = found.groups()
     else:
-        raise TypeError(f"constraint {spec!r}: expected text such as 'gamma_C_min_deg >= 40', "
-                        "'valid', or a tuple (name, op, value)")
+        raise InputTypeError(f"constraint {spec!r}: expected text such as 'gamma_C_min_deg >= 40', "
+                             "'valid', or a tuple (name, op, value)")
     try:
         value = float(text)
     except (TypeError, ValueError):
         value = math.nan
     if isinstance(text, bool) or not math.isfinite(value):
-        raise ValueError(f"constraint {spec!r}: the value {text!r} is not a finite number")
+        raise InputError(f"constraint {spec!r}: the value {text!r} is not a finite number")
     return Constraint(name, op, value)
 
 
@@ -340,20 +341,20 @@ def optimize(source, vary: Mapping[str, tuple], minimize: str,
     mech = linkage(source)
     names, lo, hi = _bounds(mech, vary)
     if method not in METHODS:
-        raise ValueError(f"method {method!r}: expected one of {', '.join(METHODS)}")
+        raise InputError(f"method {method!r}: expected one of {', '.join(METHODS)}")
     sign, objective = (-1.0, minimize[1:]) if minimize.startswith("-") else (1.0, minimize)
     constraints = tuple(parse_constraint(c) for c in subject_to)
     if isinstance(popsize, bool) or not isinstance(popsize, int) or popsize < 1:
-        raise ValueError(f"popsize must be an integer >= 1, got {popsize!r}")
+        raise InputError(f"popsize must be an integer >= 1, got {popsize!r}")
     if isinstance(maxiter, bool) or not isinstance(maxiter, int) or maxiter < 0:
-        raise ValueError(f"maxiter must be an integer >= 0, got {maxiter!r}")
+        raise InputError(f"maxiter must be an integer >= 0, got {maxiter!r}")
     if not (isinstance(tol, (int, float)) and not isinstance(tol, bool) and tol >= 0):
-        raise ValueError(f"tol must be a number >= 0, got {tol!r}")
+        raise InputError(f"tol must be a number >= 0, got {tol!r}")
     population = max(5, popsize * len(names))
     if budget is None:
         budget = population * (maxiter + 1)
     elif isinstance(budget, bool) or not isinstance(budget, (int, np.integer)) or budget < 1:
-        raise ValueError(f"budget must be an integer >= 1, got {budget!r}")
+        raise InputError(f"budget must be an integer >= 1, got {budget!r}")
     theta = (np.linspace(0.0, 2.0 * math.pi, 360, endpoint=False) if theta is None
              else np.asarray(theta, dtype=np.float64).reshape(-1))
     states = dict(omega=omega, alpha=alpha, loads=tuple(loads), named_loads=named_loads)
@@ -388,27 +389,27 @@ def _bounds(mech, vary: Mapping[str, tuple]) -> tuple[list, np.ndarray, np.ndarr
     """The names varied and their bounds in SI, checked."""
     specs = {p.name: p for p in mech.description.parameter_specs()}
     if not isinstance(vary, Mapping) or not vary:
-        raise ValueError(f"vary must map one or more parameters to bounds (lo, hi), got "
+        raise InputError(f"vary must map one or more parameters to bounds (lo, hi), got "
                          f"{vary!r}")
     lo, hi = [], []
     for name, bounds in vary.items():
         if name not in specs:
-            raise TypeError(f"vary: {mech.name} has no parameter {name!r}; its parameters "
-                            "are: " + ", ".join(specs))
+            raise InputTypeError(f"vary: {mech.name} has no parameter {name!r}; its parameters "
+                                 "are: " + ", ".join(specs))
         spec = specs[name]
         if spec.kind in _DISCRETE:
-            raise ValueError(f"vary: {name} is a {spec.kind} parameter (its values are "
+            raise InputError(f"vary: {name} is a {spec.kind} parameter (its values are "
                              "discrete), which cannot be varied within bounds")
         if isinstance(bounds, (str, bytes)) or not hasattr(bounds, "__len__") or \
                 len(bounds) != 2:
-            raise ValueError(f"vary: {name} needs bounds (lo, hi), got {bounds!r}")
+            raise InputError(f"vary: {name} needs bounds (lo, hi), got {bounds!r}")
         try:
             a, b = (spec.validate(v) for v in bounds)
         except (TypeError, ValueError) as err:
-            raise ValueError(f"vary: the bounds {tuple(bounds)!r} of {name} are not both "
+            raise InputError(f"vary: the bounds {tuple(bounds)!r} of {name} are not both "
                              f"valid values of it: {err}") from None
         if not a < b:
-            raise ValueError(f"vary: {name} needs lo < hi, got lo = {a!r}, hi = {b!r}")
+            raise InputError(f"vary: {name} needs lo < hi, got lo = {a!r}, hi = {b!r}")
         lo.append(a)
         hi.append(b)
     return list(vary), np.array(lo), np.array(hi)
@@ -426,12 +427,12 @@ def _check_names(mech, names, lo, hi, objective, minimize, constraints, theta,
     summaries = [c for c in table.columns if c not in names and c != "problem"]
     numbers = [c for c in summaries if c != "valid"]
     if objective not in numbers:
-        raise ValueError(f"minimize {minimize!r}: {objective!r} is not a numeric summary of "
+        raise InputError(f"minimize {minimize!r}: {objective!r} is not a numeric summary of "
                          f"the sweep of {mech.name}; they are: {', '.join(numbers)}")
     for c in constraints:
         allowed = ["valid"] if c.op is None else numbers
         if c.name not in allowed:
-            raise ValueError(f"constraint '{c}': {c.name!r} is not a summary of the sweep of "
+            raise InputError(f"constraint '{c}': {c.name!r} is not a summary of the sweep of "
                              f"{mech.name} to compare; they are: valid, {', '.join(numbers)}")
 
 
@@ -539,7 +540,7 @@ def _grid_axes(lo: np.ndarray, hi: np.ndarray, budget: int) -> list[np.ndarray]:
     while (k + 1) ** n <= budget:
         k += 1
     if k < 2:
-        raise ValueError(f"budget {budget} is too small for a grid of {n} parameters: it "
+        raise InputError(f"budget {budget} is too small for a grid of {n} parameters: it "
                          f"needs two values of each, {2 ** n} designs")
     counts = [k] * n
     for i in range(n):
@@ -555,7 +556,7 @@ def _evolve(search: _Search, population: int, budget: int, maxiter: int, popsize
 
     generations = min(maxiter, budget // population - 1)
     if generations < 0:
-        raise ValueError(f"budget {budget} is less than one population of differential "
+        raise InputError(f"budget {budget} is less than one population of differential "
                          f"evolution ({population} = max(5, popsize * {len(search.names)}))")
     bar = None
     if progress:

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 from typing import ClassVar
 
 from . import numerics
-from .errors import OutputError
+from .errors import InputTypeError, OutputError
 from .expressions import Expression
 
 
@@ -78,11 +78,12 @@ class Output(ABC):
         if cls.__dict__.get("kind"):  # a subclass that inherits its kind is no new kind
             problem = _contract_problem(cls)
             if problem:
-                raise TypeError(f"output kind {cls.__qualname__} (kind {cls.kind!r}) {problem}")
+                raise InputTypeError(f"output kind {cls.__qualname__} (kind {cls.kind!r}) "
+                                     f"{problem}")
             if cls.kind in Output.registry:
-                raise TypeError(f"output kind {cls.kind!r} is defined twice: "
-                                f"{Output.registry[cls.kind].__qualname__} and "
-                                f"{cls.__qualname__}")
+                raise InputTypeError(f"output kind {cls.kind!r} is defined twice: "
+                                     f"{Output.registry[cls.kind].__qualname__} and "
+                                     f"{cls.__qualname__}")
             Output.registry[cls.kind] = cls
 
     @abstractmethod

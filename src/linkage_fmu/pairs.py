@@ -26,6 +26,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import ClassVar
 
+from .errors import InputTypeError
+
 Vec = tuple  # (x, y) of floats or arrays
 
 
@@ -76,7 +78,7 @@ class Pair(ABC):
                     if getattr(getattr(cls, n, None), "__isabstractmethod__", False)]
         if missing:
             shown = ", ".join(missing[:3]) + (", ..." if len(missing) > 3 else "")
-            raise TypeError(f"pair kind {cls.__name__} leaves out {shown}")
+            raise InputTypeError(f"pair kind {cls.__name__} leaves out {shown}")
 
     def between(self, a: str) -> Pair:
         """The same pair with body ``a`` named (a description's placeholder resolved)."""

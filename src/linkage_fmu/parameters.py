@@ -6,7 +6,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from .errors import ParameterError
+from .errors import InputError, InputTypeError, ParameterError
 from .expressions import evaluate
 from .numerics import finite_float
 
@@ -68,7 +68,7 @@ def unit_and_rule(kind: str) -> tuple[str, str]:
         return unit, rule + (f" and <= {MU_MAX:g}" if kind == "friction" else "")
     if kind in _OTHER_KINDS:
         return "", _OTHER_KINDS[kind]
-    raise ValueError(f"unknown parameter kind {kind!r}; the kinds are {', '.join(KINDS)}")
+    raise InputError(f"unknown parameter kind {kind!r}; the kinds are {', '.join(KINDS)}")
 
 
 @dataclass(frozen=True)
@@ -126,12 +126,12 @@ class Parameter:
         """Return the checked value, or raise a ``TypeError``/``ValueError`` naming it."""
         if self.kind == "branch":
             if isinstance(value, bool) or value not in (1, -1):
-                raise ValueError(
+                raise InputError(
                     f"{self.name} must be +1 or -1 ({self.description}), got {value!r}")
             return int(value)
         if self.kind == "choice":
             if value not in self.choices:
-                raise ValueError(
+                raise InputError(
                     f"{self.name} must be one of {', '.join(map(repr, self.choices))}, "
                     f"got {value!r}"
                 )
@@ -141,12 +141,12 @@ class Parameter:
             value = evaluate(value, unit, self.name)
         x = finite_float(self.name, value)
         if not ok(x):
-            raise ValueError(f"{self.name} must be {rule} ({self.description}), got {x!r}")
+            raise InputError(f"{self.name} must be {rule} ({self.description}), got {x!r}")
         if self.minimum is not None and x < self.minimum:
-            raise ValueError(f"{self.name} must be >= {self.minimum!r} ({self.description}), "
+            raise InputError(f"{self.name} must be >= {self.minimum!r} ({self.description}), "
                              f"got {x!r}")
         if self.maximum is not None and x > self.maximum:
-            raise ValueError(f"{self.name} must be <= {self.maximum!r} ({self.description}), "
+            raise InputError(f"{self.name} must be <= {self.maximum!r} ({self.description}), "
                              f"got {x!r}")
         return x
 
@@ -167,7 +167,7 @@ def resolve(specs: tuple[Parameter, ...], given: Mapping[str, Any], preset: str)
     known = {p.name: p for p in specs}
     for name in given:
         if name not in known:
-            raise TypeError(
+            raise InputTypeError(
                 f"{preset} has no parameter {name!r}; its parameters are: {', '.join(known)}"
             )
     return {p.name: p.validate(given.get(p.name, p.default)) for p in specs}

@@ -28,6 +28,7 @@ import functools
 from pathlib import Path
 
 from .descriptions import Description
+from .errors import InputError, InputTypeError
 from .mechanism import Mechanism
 
 FOLDER = Path(__file__).with_name("linkages")
@@ -43,7 +44,7 @@ def names() -> tuple:
 def path(name: str) -> Path:
     """The description file of the preset ``name``."""
     if name not in NAMES:
-        raise ValueError(f"no preset {name!r}; the presets are: {', '.join(NAMES)}")
+        raise InputError(f"no preset {name!r}; the presets are: {', '.join(NAMES)}")
     return FOLDER / f"{name}.toml"
 
 
@@ -84,9 +85,9 @@ def linkage(source, **parameters) -> Mechanism:
     """
     if isinstance(source, Mechanism):
         if parameters:
-            raise TypeError("parameters apply to a description, not to a built Mechanism")
+            raise InputTypeError("parameters apply to a description, not to a built Mechanism")
         if source.description is None:
-            raise ValueError(f"{source.name} was not built from a description")
+            raise InputError(f"{source.name} was not built from a description")
         return source
     if isinstance(source, Description):
         return source.build(**parameters)

@@ -28,7 +28,13 @@ from typing import NamedTuple
 import numpy as np
 
 from . import diagnostics, evaluation, ranges
-from .errors import AssemblyError, OverflowInputError, SelfLockingError, SingularPositionError
+from .errors import (
+    AssemblyError,
+    InputError,
+    OverflowInputError,
+    SelfLockingError,
+    SingularPositionError,
+)
 from .expressions import evaluate
 from .kernels import TRACE, Kernel, trace
 from .kernels.trace import Reason
@@ -218,7 +224,7 @@ class Solver:
         wanted = (outputs,) if isinstance(outputs, str) else tuple(outputs)
         for name in wanted:
             if name not in self._all:
-                raise ValueError(f"{self.mech.name} has no output {name!r}; its outputs are: "
+                raise InputError(f"{self.mech.name} has no output {name!r}; its outputs are: "
                                  + ", ".join(self._all))
         self._valid.add(wanted)
         return wanted
@@ -309,7 +315,7 @@ class Solver:
             checked = tuple(i for i, n in enumerate(wanted) if n in plan.checked)
             return trace(outputs, (theta, omega, alpha, *loads), parameters, wanted, checked,
                          static, f"kernel of {mech.name}")
-        raise ValueError(f"{mech.name} cannot be assembled at any crank angle: {last}")
+        raise InputError(f"{mech.name} cannot be assembled at any crank angle: {last}")
 
     def _count(self, k) -> None:
         """A one-state call of the kernel ``k``: the :data:`HOT_CALLS`-th compiles it."""
@@ -381,7 +387,7 @@ class Solver:
         """
         mech = self.mech
         if method not in METHODS:
-            raise ValueError(f"method must be one of {METHODS}, got {method!r}")
+            raise InputError(f"method must be one of {METHODS}, got {method!r}")
         wanted = self.wanted(outputs)
         values, given = mech.input_table.values(omega, alpha, loads, named_loads)
         if isinstance(theta, str):  # a number with a unit, an expression
@@ -399,7 +405,7 @@ class Solver:
         try:
             arrays = np.broadcast_arrays(*arrays_given)
         except ValueError:
-            raise ValueError(", ".join(names) + " must broadcast to one shape, got "
+            raise InputError(", ".join(names) + " must broadcast to one shape, got "
                              + ", ".join(str(np.shape(a)) for a in arrays_given)) from None
         shape = arrays[0].shape
         flat = [a.reshape(-1) for a in arrays]  # views where possible: no scalar copied n times

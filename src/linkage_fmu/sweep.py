@@ -62,6 +62,7 @@ import pandas as pd
 
 from .ccompiler import find_compiler
 from .descriptions import Description
+from .errors import DependencyError, InputError, InputTypeError
 from .kernels.c_source import SUMMARY_HEAD
 from .parameters import resolve
 from .presets import linkage
@@ -139,24 +140,24 @@ def sweep(source, designs: pd.DataFrame | Mapping[str, Sequence], theta=None,
     if threads is None:
         threads = THREADS if scheduler is None else 1
     if isinstance(threads, bool) or not isinstance(threads, int) or threads < 1:
-        raise ValueError(f"threads must be a positive integer, got {threads!r}")
+        raise InputError(f"threads must be a positive integer, got {threads!r}")
     mech = linkage(source)
     designs = pd.DataFrame(designs).reset_index(drop=True)
     specs = {p.name: p for p in mech.description.parameter_specs()}
     for name in designs.columns:
         if name not in specs:
-            raise TypeError(f"{mech.name} has no parameter {name!r}; its parameters are: "
-                            + ", ".join(specs))
+            raise InputTypeError(f"{mech.name} has no parameter {name!r}; its parameters are: "
+                                 + ", ".join(specs))
     theta = np.linspace(0.0, 2.0 * math.pi, 360, endpoint=False) if theta is None else theta
     theta = np.asarray(theta, dtype=np.float64).reshape(-1)
     if not theta.size:
-        raise ValueError("theta must hold at least one crank angle: a design's summaries "
+        raise InputError("theta must hold at least one crank angle: a design's summaries "
                          "are over its angles")
     values, given = mech.inputs(omega, alpha, loads, named_loads)
     inputs = [theta] + [np.full(1, float(v)) for v in values]
     for name, a in zip(mech.input_names + given, inputs):
         if not np.isfinite(a).all():
-            raise ValueError(f"{name} must be finite")
+            raise InputError(f"{name} must be finite")
     text = mech.description.with_defaults(mech.parameters).to_toml()
     per = max(1, -(-states_per_task // max(theta.size, 1)))
     if fused and scheduler is None and not progress:
@@ -223,8 +224,8 @@ def dask_client(scheduler) -> Iterator:
     try:
         from dask.distributed import Client, LocalCluster
     except ImportError:
-        raise ImportError('a sweep on Dask needs dask.distributed: pip install '
-                          '"linkage_fmu[sweep]"') from None
+        raise DependencyError('a sweep on Dask needs dask.distributed: pip install '
+                              '"linkage_fmu[sweep]"') from None
     if isinstance(scheduler, Client):
         yield scheduler
         return

@@ -27,6 +27,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .errors import InputError
+
 
 class PeriodicTable:
     """The periodic cubic spline through the points ``(theta_deg[k], values[k])``, of
@@ -45,16 +47,16 @@ class PeriodicTable:
         x = np.asarray(theta_deg, dtype=float)
         y = np.asarray(values, dtype=float)
         if x.ndim != 1 or x.shape != y.shape or x.size < 3:
-            raise ValueError(f"{label}: needs three or more points (theta_deg, value), got "
+            raise InputError(f"{label}: needs three or more points (theta_deg, value), got "
                              f"{x.size}")
         if not (np.isfinite(x).all() and np.isfinite(y).all()):
-            raise ValueError(f"{label}: every angle and value must be a finite number")
+            raise InputError(f"{label}: every angle and value must be a finite number")
         if not (math.isfinite(period_deg) and period_deg > 0):
-            raise ValueError(f"{label}: period_deg = {period_deg!r} must be a number > 0")
+            raise InputError(f"{label}: period_deg = {period_deg!r} must be a number > 0")
         if not (np.diff(x) > 0).all():
-            raise ValueError(f"{label}: the angles must increase")
+            raise InputError(f"{label}: the angles must increase")
         if not x[-1] - x[0] < period_deg:
-            raise ValueError(f"{label}: the angles span {float(x[-1] - x[0])!r} deg, not less "
+            raise InputError(f"{label}: the angles span {float(x[-1] - x[0])!r} deg, not less "
                              f"than the period {float(period_deg)!r} deg (the point one period "
                              "on is the first one)")
         from scipy.interpolate import CubicSpline
@@ -185,17 +187,17 @@ def read_rows(path: str | Path) -> list[list[float]]:
         with open(path, newline="", encoding="utf-8") as f:
             rows = list(csv.DictReader(f))
     except OSError as err:
-        raise ValueError(f"{path}: cannot read it: {err.strerror}") from None
+        raise InputError(f"{path}: cannot read it: {err.strerror}") from None
     except (UnicodeDecodeError, csv.Error) as err:
-        raise ValueError(f"{path}: not a CSV file: {err}") from None
+        raise InputError(f"{path}: not a CSV file: {err}") from None
     if not rows or not {"theta_deg", "value"} <= set(rows[0]):
-        raise ValueError(f"{path}: needs a header with the columns theta_deg and value, and "
+        raise InputError(f"{path}: needs a header with the columns theta_deg and value, and "
                          "one row per point")
     out = []
     for k, r in enumerate(rows):
         try:
             out.append([float(r["theta_deg"]), float(r["value"])])
         except (TypeError, ValueError):
-            raise ValueError(f"{path}: row {k + 2}: theta_deg = {r['theta_deg']!r} and value "
+            raise InputError(f"{path}: row {k + 2}: theta_deg = {r['theta_deg']!r} and value "
                              f"= {r['value']!r} must be numbers") from None
     return out

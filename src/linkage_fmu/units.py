@@ -26,6 +26,8 @@ import functools
 import re
 from typing import NamedTuple
 
+from .errors import InputError
+
 #: degrees in a radian, the factor of the FMUs' display units of angles
 RAD2DEG = 57.29577951308232
 
@@ -117,7 +119,7 @@ def quantity(number: str, unit: str):
             return ureg.Quantity(float(number), ureg.parse_units(unit[:cut])), cut
         except (pint.errors.PintError, ValueError, TypeError, AttributeError) as err:
             last = err
-    raise ValueError(f"{unit!r} after {number} is not a unit ({last})")
+    raise InputError(f"{unit!r} after {number} is not a unit ({last})")
 
 
 def substitute(text: str) -> tuple[str, list]:
@@ -170,7 +172,7 @@ def check(value, unit: str, where: str, source) -> float:
     if not isinstance(value, ureg.Quantity):
         value = ureg.Quantity(value, "dimensionless")
     if value.dimensionality != target.dimensionality:
-        raise ValueError(f"{where} = {source!r} must be {NAMES.get(unit, unit)} ({unit}), but "
+        raise InputError(f"{where} = {source!r} must be {NAMES.get(unit, unit)} ({unit}), but "
                          f"it is {measures(value.dimensionality)}{suggestion(source, unit)}")
     return si(value) / si(ureg.Quantity(1.0, target))
 
@@ -230,7 +232,7 @@ def to_si(text, unit: str, where: str) -> float:
         return float(text)  # a plain number in text: SI
     q, cut = quantity(match.group(1), match.group(2))
     if cut != len(match.group(2)):
-        raise ValueError(f"{where} = {text!r}: {match.group(2)!r} is not a unit")
+        raise InputError(f"{where} = {text!r}: {match.group(2)!r} is not a unit")
     return check(q, unit, where, text)
 
 

@@ -51,6 +51,7 @@ import itertools
 import math
 from dataclasses import dataclass, field
 
+from ..errors import LinkageFmuError
 from ..expressions import Expression
 from ..groups import Group
 from .topology import Topology, inline
@@ -62,7 +63,7 @@ from .topology import Topology, inline
 SLIDE_TOLERANCE = 1e-6
 
 
-class DecompositionError(ValueError):
+class DecompositionError(LinkageFmuError, ValueError):
     """The linkage cannot be decomposed; ``problems`` says why, naming the links."""
 
     def __init__(self, problems: list[str]):

@@ -9,7 +9,7 @@ from pathlib import Path
 
 from .. import numerics
 from ..bodies import Body, Effort
-from ..errors import LinkageError, LoadError, NearSingularWarning, OutputError
+from ..errors import InputError, LinkageError, LoadError, NearSingularWarning, OutputError
 from ..expressions import Expression
 from ..friction import Declared, Friction
 from ..groups import Group, LinkJoints
@@ -56,7 +56,7 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
         try:
             x = _parsed(source)(numbers)
         except (ValueError, ZeroDivisionError, OverflowError) as err:
-            raise ValueError(f"{origin}: {where} = {source!r}: {err}") from None
+            raise InputError(f"{origin}: {where} = {source!r}: {err}") from None
         if hasattr(x, "traced"):  # recorded as checks of the parameter step
             abs(x) < math.inf  # noqa: B015 -- false for inf and NaN
             numerics.label(x, Reason("parameter", f"{where} = {source!r} is not finite"))
@@ -73,15 +73,15 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
         # an expression's value is said after it; a number's once
         said = f"{where} = {source!r}" + (f" = {x!r}" if isinstance(source, str) else "")
         if not math.isfinite(x):
-            raise ValueError(f"{origin}: {said} is not finite")
+            raise InputError(f"{origin}: {said} is not finite")
         if rule == "length" and not x > 0.0:
-            raise ValueError(f"{origin}: {said} must be > 0")
+            raise InputError(f"{origin}: {said} must be > 0")
         if rule == "branch" and x == 0.0 and isinstance(source, str):
             return x  # a mode drawn at a toggle: the group says which (groups.base.mode)
         if rule in ("branch", "sign") and x not in (1.0, -1.0):
-            raise ValueError(f"{origin}: {said} must be +1 or -1")
+            raise InputError(f"{origin}: {said} must be +1 or -1")
         if rule in ("friction", "distance") and not x >= 0.0:
-            raise ValueError(f"{origin}: {said} must be >= 0")
+            raise InputError(f"{origin}: {said} must be >= 0")
         return x
 
     def start(where: str, source) -> float:
@@ -89,7 +89,7 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
         try:
             return _parsed(source)(floats)
         except (ValueError, ZeroDivisionError, OverflowError) as err:
-            raise ValueError(f"{origin}: {where} = {source!r}: {err}") from None
+            raise InputError(f"{origin}: {where} = {source!r}: {err}") from None
 
     def vector(where: str, xy) -> tuple:
         return number(where + " x", xy[0]), number(where + " y", xy[1])
@@ -117,7 +117,7 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
         try:
             groups.append(cls.from_spec(spec, value))
         except ValueError as err:
-            raise ValueError(f"{origin}: {err}") from None
+            raise InputError(f"{origin}: {err}") from None
         placed.update(groups[-1].places)
 
     bodies = []
@@ -131,7 +131,7 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
         try:
             bodies.append(Body(link, mass, inertia, cg["from"], **place))
         except ValueError as err:  # written as joints and links: its [[links]] table
-            raise ValueError(f"{origin}: {body_table(d.drawn, link)}: {err}") from None
+            raise InputError(f"{origin}: {body_table(d.drawn, link)}: {err}") from None
 
     loads = []
     for spec in d.loads:
@@ -154,9 +154,9 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
                               direction, spec.get("fixed_in", "frame"), spec.get("unit", ""),
                               spec.get("description", ""), value, **over_cycle))
         except LoadError as err:  # the load's table: [[loads]] NAME
-            raise ValueError(f"{origin}: {where}: {err.problem}") from None
+            raise InputError(f"{origin}: {where}: {err.problem}") from None
         except ValueError as err:
-            raise ValueError(f"{origin}: {where}: {err}") from None
+            raise InputError(f"{origin}: {where}: {err}") from None
 
     chosen = None
     for when, spec in d.efforts.items():
@@ -164,7 +164,7 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
             chosen = spec
     if chosen is None:
         options = [w[1] for w in d.efforts]
-        raise ValueError(f"{origin}: no [effort] option for {next(iter(d.efforts))[0]} = "
+        raise InputError(f"{origin}: no [effort] option for {next(iter(d.efforts))[0]} = "
                          f"{params[next(iter(d.efforts))[0]]!r}; the options are "
                          + ", ".join(map(repr, options)))
     effort = Effort(chosen["name"], chosen["body"], chosen.get("at", ""),
@@ -191,13 +191,13 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
                          gravity, params, d, rebuild, inputs, declared)
     except OutputError as err:  # the output's table: [[outputs]] #3 (F03) for F03x
         text = f"{keys[err.output]}: {err.problem}" if err.output in keys else str(err)
-        raise ValueError(f"{origin}: {text}") from None
+        raise InputError(f"{origin}: {text}") from None
     except LinkageError as err:  # named by its description's file, not its name
-        raise ValueError(f"{origin}: {err.problem}") from None
+        raise InputError(f"{origin}: {err.problem}") from None
     except ValueError as err:
         if type(err) is not ValueError:
             raise
-        raise ValueError(f"{origin}: {err}") from None
+        raise InputError(f"{origin}: {err}") from None
     if d.drawn is not None and symbols:  # the parameter step refuses what the pose check does
         from .assur import SLIDE_TOLERANCE
 
@@ -210,7 +210,7 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
 
         problem = check_pose(mech, d.drawn, floats)
         if problem:
-            raise ValueError(f"{origin}: {problem}")
+            raise InputError(f"{origin}: {problem}")
         for note in near_toggles(mech, d.drawn, floats):
             warnings.warn(f"{origin}: {note}", NearSingularWarning, stacklevel=3)
     return mech
@@ -257,6 +257,6 @@ def _table(rows: tuple, period_deg: float, where: str) -> PeriodicTable:
 def _unit(v: tuple) -> tuple:
     n = numerics.hypot(*v)
     if not n > 0.0:
-        raise ValueError(f"direction {v!r} has no length")
+        raise InputError(f"direction {v!r} has no length")
     return v if n == 1.0 else (v[0] / n, v[1] / n)
 

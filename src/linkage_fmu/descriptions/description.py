@@ -57,6 +57,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from ..errors import InputError, InputTypeError, LinkageFmuError
 from ..expressions import Expression
 from ..parameters import Parameter
 from .checker import Checker, is_identifier
@@ -86,7 +87,7 @@ __all__ = ["Description", "DescriptionError", "BODY_KEYS", "CG_KEYS", "EFFORT_CH
            "PARAMETER_KEYS", "TABLE_DEFAULTS", "TABLES"]
 
 
-class DescriptionError(ValueError):
+class DescriptionError(LinkageFmuError, ValueError):
     """A description with problems; ``problems`` lists every one of them."""
 
     def __init__(self, source: str, problems: list[str]):
@@ -193,7 +194,7 @@ class Description:
             spec.update(table=table, period_deg=period_deg, table_unit=table_unit, scale=scale)
             problem = _read_table(spec, Path.cwd())
             if problem:
-                raise ValueError(f"load {name} table: {problem}")
+                raise InputError(f"load {name} table: {problem}")
         self.loads.append(spec)
         return self._changed()
 
@@ -591,5 +592,5 @@ def _toml(value) -> str:
         return "[" + ", ".join(_toml(v) for v in value) + "]"
     if isinstance(value, dict):
         return "{ " + ", ".join(f"{_key(k)} = {_toml(v)}" for k, v in value.items()) + " }"
-    raise TypeError(f"cannot write {value!r} to a description file")
+    raise InputTypeError(f"cannot write {value!r} to a description file")
 

@@ -53,6 +53,7 @@ import re
 from dataclasses import dataclass, field
 from typing import Any
 
+from ..errors import LinkageFmuError
 from ..expressions import Expression, check_units
 
 #: table -> (its header in a description file, what it holds), for the joints-and-links form
@@ -167,7 +168,7 @@ class Topology:
         return (self.pivot,)
 
 
-class CycleError(ValueError):
+class CycleError(LinkageFmuError, ValueError):
     """A drawn position that uses itself; ``cycle`` holds the joints around the loop."""
 
     def __init__(self, message: str, cycle: tuple):

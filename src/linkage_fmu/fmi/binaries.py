@@ -31,6 +31,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from ..errors import LinkageFmuError
+
 #: what zig's Mach-O linker exports from every dylib besides the code's own names
 LINKER_MADE = frozenset({"_mh_dylib_header", "__dso_handle"})
 
@@ -42,7 +44,7 @@ FAT_MAGIC, MACHO_MAGIC = 0xCAFEBABE, 0xFEEDFACF
 FAT_ALIGN = 14
 
 
-class BinaryError(ValueError):
+class BinaryError(LinkageFmuError, ValueError):
     """A file that is not a library of the formats read here, or is malformed."""
 
 

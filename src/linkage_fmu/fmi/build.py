@@ -37,7 +37,7 @@ from pathlib import Path
 
 from .. import ranges
 from ..ccompiler import CompilerError, compile_shared, find_compiler
-from ..errors import AssemblyError
+from ..errors import AssemblyError, InputError
 from ..presets import linkage
 from . import binaries, writers
 from .platforms import PLATFORMS, ZIG_FLAGS, Platform, folders, host, select
@@ -69,7 +69,7 @@ def fmi_headers() -> Path:
 
 def _check_version(fmi_version: int) -> None:
     if fmi_version not in (2, 3):
-        raise ValueError(f"fmi_version must be 2 or 3, got {fmi_version!r}")
+        raise InputError(f"fmi_version must be 2 or 3, got {fmi_version!r}")
 
 
 def _stage_sources(folder: Path, mech, flavour: str, fmi_version: int, guid: str,
@@ -151,7 +151,7 @@ def _assembling(source, parameters: dict):
             why = ""
         except AssemblyError as err:
             why = f" ({err.condition} at theta = 0)"
-        raise ValueError(f"{d.name} cannot be assembled at any crank angle{why}, so it has no "
+        raise InputError(f"{d.name} cannot be assembled at any crank angle{why}, so it has no "
                          "FMU; change its lengths")
     return d, mech
 

@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import ranges
-from ..errors import AssemblyError, SelfLockingError, SingularPositionError
+from ..errors import AssemblyError, InputError, SelfLockingError, SingularPositionError
 from ..mechanism import Mechanism
 from .run import fmu_kind, revolution, step_fmu
 
@@ -157,7 +157,7 @@ def check_fmu(fmu: str | Path, steps: int = 360) -> CheckResult:
     ref = reference(mech, u[:-1])
     valid = np.asarray(ref.valid)
     if not valid.any():
-        raise ValueError(f"{Path(fmu).name}: {mech.name} assembles at none of the {len(valid)} "
+        raise InputError(f"{Path(fmu).name}: {mech.name} assembles at none of the {len(valid)} "
                          "crank angles of the check")
     solved = rows["solved"].to_numpy()
     both = solved & valid
@@ -196,7 +196,7 @@ def check_drive(fmu: str | Path, mech: Mechanism, steps: int = 360) -> CheckResu
     turn = mech.solve(theta0 + np.linspace(0.0, 2.0 * np.pi, 360, endpoint=False), omega0,
                       0.0, **loads, outputs=["J_red"])
     if not np.asarray(turn.valid).any():
-        raise ValueError(f"{Path(fmu).name}: {mech.name} assembles at none of 360 crank "
+        raise InputError(f"{Path(fmu).name}: {mech.name} assembles at none of 360 crank "
                          "angles of a revolution")
     # over a revolution, tau's work is twice the start's kinetic energy: the speed rises
     # to about sqrt(3) omega0, where the linkage's own torques do not hold it

@@ -25,6 +25,8 @@ import platform as pyplatform
 from collections.abc import Iterable
 from dataclasses import dataclass
 
+from ..errors import InputError
+
 #: flags of every build by zig: no debug information (nor a .pdb beside a DLL), no
 #: run-time checks of undefined behaviour (zig's own defaults trap on it), and no
 #: warning for the adapters' ``"fmi3" #Name + 3`` (a pointer into a string literal, as
@@ -83,7 +85,7 @@ class Platform:
         if fmi_version == 3:
             return self.name
         if self.fmi2 is None:
-            raise ValueError(
+            raise InputError(
                 f"FMI 2.0 has no platform name for {self.name} (its platforms: "
                 f"{', '.join(sorted({p.fmi2 for p in PLATFORMS.values() if p.fmi2}))}); "
                 "build an FMI 3.0 FMU (--fmi 3) for it")
@@ -161,7 +163,7 @@ def select(spec: str | Iterable[str] | None, fmi_version: int) -> tuple[Platform
     if spec is None:
         this = host()
         if this is None:
-            raise ValueError(f"this machine ({pyplatform.system()} on {pyplatform.machine()}) is "
+            raise InputError(f"this machine ({pyplatform.system()} on {pyplatform.machine()}) is "
                              f"none of the platforms {', '.join(PLATFORMS)}")
         this.folder(fmi_version)
         return (this,)
@@ -171,10 +173,10 @@ def select(spec: str | Iterable[str] | None, fmi_version: int) -> tuple[Platform
         return tuple(p for p in PLATFORMS.values() if fmi_version == 3 or p.fmi2)
     for name in names:
         if name not in PLATFORMS:
-            raise ValueError(f"unknown platform {name!r}: the platforms are all, "
+            raise InputError(f"unknown platform {name!r}: the platforms are all, "
                              f"{', '.join(PLATFORMS)}")
     if not names:
-        raise ValueError("no platform named: give 'all' or names among "
+        raise InputError("no platform named: give 'all' or names among "
                          f"{', '.join(PLATFORMS)}")
     chosen = tuple(p for p in PLATFORMS.values() if p.name in names)
     for p in chosen:

@@ -29,6 +29,7 @@ import numpy as np
 import pandas as pd
 
 from ..descriptions import Description
+from ..errors import ComputationError, InputError, LinkageFmuError
 from ..mechanism import Mechanism
 
 #: fmpy's status of a discarded step (fmi2Discard, fmi3Discard)
@@ -63,15 +64,15 @@ def fmu_kind(fmu: str | Path) -> tuple[Mechanism, bool]:
             drive = f"resources/{model}.toml" not in names and model.endswith("Drive")
             name = f"resources/{model[:-len('Drive')] if drive else model}.toml"
             if name not in names:
-                raise ValueError(f"{fmu}: not an FMU of a linkage built by linkage_fmu (it has "
+                raise InputError(f"{fmu}: not an FMU of a linkage built by linkage_fmu (it has "
                                  f"no {name})")
             text = archive.read(name).decode("utf-8")
     except zipfile.BadZipFile:
-        raise ValueError(f"{fmu}: not an FMU (an FMU is a zip archive)") from None
+        raise InputError(f"{fmu}: not an FMU (an FMU is a zip archive)") from None
     except KeyError:
-        raise ValueError(f"{fmu}: not an FMU (it has no modelDescription.xml)") from None
+        raise InputError(f"{fmu}: not an FMU (it has no modelDescription.xml)") from None
     except ET.ParseError as err:
-        raise ValueError(f"{fmu}: its modelDescription.xml is not XML ({err})") from None
+        raise InputError(f"{fmu}: its modelDescription.xml is not XML ({err})") from None
     return Description.from_toml(text, f"{fmu}:{name}").build(), drive
 
 
@@ -108,7 +109,7 @@ def revolution(mech: Mechanism, steps: int = 360) -> np.ndarray:
     return u
 
 
-class FMURunError(RuntimeError):
+class FMURunError(LinkageFmuError, RuntimeError):
     """A run that ended before its last step: ``step`` (the row index of the inputs),
     ``time`` and the FMU's ``messages``."""
 
@@ -166,7 +167,7 @@ def step_fmu(fmu: str | Path, inputs: np.ndarray, start_values: dict | None = No
         if not fmi3:
             _default_logger()
         said = " ".join("; ".join(messages).split())  # one line
-        raise RuntimeError(f"the FMU cannot be instantiated: {said or err}") from None
+        raise ComputationError(f"the FMU cannot be instantiated: {said or err}") from None
     try:
         if fmi3:
             slave.enterInitializationMode(startTime=float(t[0]))
@@ -270,7 +271,7 @@ def run_fmu(fmu: str | Path, inputs: np.ndarray | None = None, steps: int = 360,
     """
     mech, drive = fmu_kind(fmu)
     if drive and inputs is None:  # revolution() gives the inverse FMU's inputs
-        raise ValueError(f"{fmu}: a drive FMU, whose inputs are tau and the loads: give "
+        raise InputError(f"{fmu}: a drive FMU, whose inputs are tau and the loads: give "
                          "them as inputs (or check it: linkage-fmu check)")
     u = revolution(mech, steps) if inputs is None else inputs
     rows, messages = step_fmu(fmu, u, start_values,

@@ -41,6 +41,7 @@ from pythonfmu.enums import Fmi2Status
 
 from .. import __version__
 from ..descriptions import Description
+from ..errors import ComputationError, DependencyError
 from .variables import variables
 
 #: the linkage_fmu package this module belongs to
@@ -81,11 +82,11 @@ def check_bundle(expected: str, resources: str | Path) -> None:
         return
     loaded = PACKAGE.resolve()
     if loaded.parent == Path(resources).resolve():
-        raise ImportError(
+        raise DependencyError(
             f"the linkage_fmu bundled in this FMU ({loaded}) was changed after the FMU was "
             f"built (source fingerprint {found[:12]}, built as {expected[:12]}); rebuild the "
             "FMU instead of editing its resources")
-    raise ImportError(
+    raise DependencyError(
         f"this FMU bundles linkage_fmu with source fingerprint {expected[:12]}, but the "
         f"process already imported linkage_fmu {__version__} from {loaded} (fingerprint "
         f"{found[:12]}); load the FMU in a process that has not imported another "
@@ -266,7 +267,7 @@ class LinkageSlave(Fmi2Slave):
         use; NaN and the reason, logged with fmi2Discard, where the state has none."""
         try:
             if self._mech is None:
-                raise RuntimeError("the outputs are read before a parameter set was taken")
+                raise ComputationError("the outputs are read before a parameter set was taken")
             solver = self._mech.solver
             r = solver.attempt(x, None, self._method)
             if self._method == "closed_form" and self._hot[static] is None:

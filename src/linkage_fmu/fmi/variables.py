@@ -34,6 +34,7 @@ import math
 from dataclasses import dataclass, replace
 from typing import Any
 
+from ..errors import InputError
 from ..mechanism import METHODS
 from ..units import MOTION_UNITS
 
@@ -237,7 +238,7 @@ def drive_variables(mech) -> list[Variable]:
         by one.
     """
     if not mech.effort_on_crank:
-        raise ValueError(f"{mech.name}: its balancing effort {mech.effort.name} is not a "
+        raise InputError(f"{mech.name}: its balancing effort {mech.effort.name} is not a "
                          "moment on the crank, so it cannot be driven by a torque (a drive "
                          "FMU needs a linkage whose effort is Mb)")
     table = [Variable("tau", "Real", "input", "continuous", "N.m", "",

@@ -33,6 +33,7 @@ from pathlib import Path
 import jinja2
 
 from .. import __version__
+from ..errors import InputError
 from ..kernels.c_source import c_literal
 from ..units import TABLE
 from .variables import (
@@ -100,7 +101,7 @@ def table_of(mech, flavour: str, drive: bool = False) -> list[Variable]:
     """The variable table of the FMU of ``mech``: the drive FMU's (native only), or the
     one of ``flavour``."""
     if drive and flavour != "native":
-        raise ValueError(f"a drive FMU is native, not {flavour}")
+        raise InputError(f"a drive FMU is native, not {flavour}")
     return drive_variables(mech) if drive else variables(mech, flavour)
 
 
@@ -282,7 +283,7 @@ def model_source(mech, rebuild, drive: bool = False,
             continue
         if k.parameters != mech.kernel_parameters or (kernels and k.outputs != kernels[0].outputs) \
                 or (r is not None and r.parameters != mech.kernel_parameters):
-            raise ValueError(f"{mech.name}: the structure {combo} has other parameters or "
+            raise InputError(f"{mech.name}: the structure {combo} has other parameters or "
                              "outputs than the one built")
         kernels.append(k)
         rhs.append(r)
@@ -301,7 +302,7 @@ def model_source(mech, rebuild, drive: bool = False,
                 plains.append(k0)
                 plain_rhs.append(g0)
     if not kernels:
-        raise ValueError(f"{mech.name} cannot be assembled in any structure, so it has no "
+        raise InputError(f"{mech.name} cannot be assembled in any structure, so it has no "
                          "kernel to build: " + "; ".join(errors))
     words = "; ".join(", ".join(f"{n} = {v}" for n, v in c.items()) for c in built)
     outputs = kernels[0].outputs
@@ -319,7 +320,7 @@ def model_source(mech, rebuild, drive: bool = False,
         rhs_sources = [r.c_source(array=False, prefix=f"r{s}", tangent=friction, settle=True,
                                   vary=2 if friction else None) for s, r in enumerate(rhs)]
         if friction and direction not in mech.kernel_parameters:
-            raise ValueError(f"{mech.name}: a drive FMU needs the friction's drive direction "
+            raise InputError(f"{mech.name}: a drive FMU needs the friction's drive direction "
                              f"as a parameter (its drive is {direction!r}): at rest, friction "
                              "opposes the motion the crank is pushed to, either way")
         drive_tables = dict(

@@ -33,6 +33,7 @@ import numpy as np
 
 from .. import numerics
 from ..drivers import Driver
+from ..errors import InputError, InputTypeError
 from ..kernels.trace import Reason
 from ..numerics import Number
 
@@ -161,7 +162,7 @@ def unit_vector(angle: float) -> Vec:
 
 
 def _raise_value_error(condition: str, what: str = "") -> None:
-    raise ValueError(condition)
+    raise InputError(condition)
 
 
 def fmt(x: Number) -> str:
@@ -188,7 +189,7 @@ def mode(branch, group: str):
     what = f"{group} is drawn at a toggle (its points in line): its assembly mode is undefined"
     if not hasattr(branch, "traced"):
         if branch == 0.0:
-            raise ValueError(what)
+            raise InputError(what)
         return int(branch)
     abs(branch) > 0.0  # noqa: B015 -- an order comparison of parameters: recorded
     numerics.label(branch, Reason("parameter", what))
@@ -289,7 +290,7 @@ class Field:
 
     def __post_init__(self) -> None:
         if self.role not in ROLES:
-            raise ValueError(f"unknown field role {self.role!r}; the roles are "
+            raise InputError(f"unknown field role {self.role!r}; the roles are "
                              f"{', '.join(ROLES)}")
 
     @property
@@ -345,10 +346,10 @@ class Drawing:
 
     def __post_init__(self) -> None:
         if self.size is not None and not (isinstance(self.size, int) and self.size >= 2):
-            raise ValueError(f"size = {self.size!r}: a group has 2 links or more (None: any "
+            raise InputError(f"size = {self.size!r}: a group has 2 links or more (None: any "
                              "number)")
         if self.size is not None and not (self.links and self.pairs):
-            raise ValueError(f"a group of {self.size} links says what its links and their "
+            raise InputError(f"a group of {self.size} links says what its links and their "
                              "pairs are (links, pairs), for the reference of the format")
 
 
@@ -452,10 +453,11 @@ class Group(ABC):
         if cls.__dict__.get("kind"):  # a subclass that inherits its kind is no new type
             problem = _contract_problem(cls)
             if problem:
-                raise TypeError(f"group type {cls.__qualname__} (kind {cls.kind!r}) {problem}")
+                raise InputTypeError(f"group type {cls.__qualname__} (kind {cls.kind!r}) {problem}")
             if cls.kind in Group.registry:
-                raise TypeError(f"group kind {cls.kind!r} is defined twice: "
-                                f"{Group.registry[cls.kind].__qualname__} and {cls.__qualname__}")
+                raise InputTypeError(f"group kind {cls.kind!r} is defined twice: "
+                                     f"{Group.registry[cls.kind].__qualname__} and "
+                                     f"{cls.__qualname__}")
             Group.registry[cls.kind] = cls
 
     @classmethod
@@ -527,7 +529,7 @@ class Group(ABC):
         >>> Crank("1", "A", "B", 0.1).driver("Mb").inputs
         ('theta', 'omega', 'alpha')
         """
-        raise TypeError(f"{type(self).__name__} is no driver (DRIVER = False)")
+        raise InputTypeError(f"{type(self).__name__} is no driver (DRIVER = False)")
 
     def attach(self, before: tuple, frame_points: dict) -> None:  # noqa: B027 (optional hook)
         """Called by the mechanism with the groups ``before`` this one (in order) and

@@ -17,7 +17,7 @@ from collections.abc import Collection, Mapping, Sequence
 import numpy as np
 
 from .. import linalg, newton, numerics
-from ..errors import NearSingularWarning
+from ..errors import InputError, NearSingularWarning
 from ..kernels.trace import Reason
 from ..numerics import SCALAR
 from ..pairs import Revolute
@@ -399,7 +399,7 @@ class Closure(Group):
             for grp in self.before:
                 grp.position(st)
         except ValueError as err:
-            raise ValueError(f"{self.name}: the linkage cannot be assembled at the drawn angle "
+            raise InputError(f"{self.name}: the linkage cannot be assembled at the drawn angle "
                              f"theta = {fmt(self.theta0)} rad: {err}") from None
         size = max([1e-300, *self.lengths])
         for p in self.needs:
@@ -408,13 +408,13 @@ class Closure(Group):
                 continue
             off = math.hypot(x - px, y - py)
             if not off <= 1e-9 * size:
-                raise ValueError(
+                raise InputError(
                     f"{self.name}: pose {p} = [{fmt(px)}, {fmt(py)}] is not where the groups "
                     f"before it place {p} at the drawn angle theta = {fmt(self.theta0)} rad, "
                     f"[{fmt(x)}, {fmt(y)}] ({off:.3g} m away)")
         cond = self.drawn_condition()
         if not math.isfinite(cond):
-            raise ValueError(f"{self.name}: its pose is drawn at a singular position (its "
+            raise InputError(f"{self.name}: its pose is drawn at a singular position (its "
                              "equations have no unique solution there): the drawing does "
                              "not fix its assembly mode; draw it in another pose")
         if cond > NEAR_SINGULAR:

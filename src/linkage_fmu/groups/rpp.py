@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from .. import numerics
+from ..errors import InputError
 from ..kernels.trace import Reason
 from ..numerics import SCALAR
 from ..pairs import Prismatic, Revolute
@@ -119,7 +120,7 @@ class RPP(Group):
         numerics.label(self.cross, Reason("parameter", "slot_angle and guide_angle must not "
                                                        "be parallel"))
         if parallel:
-            raise ValueError("slot_angle and guide_angle must not be parallel")
+            raise InputError("slot_angle and guide_angle must not be parallel")
         self.slot_joint, self.guide_joint = slot_joint, guide_joint
         self.needs = (E,)
         self.places = (ref,)

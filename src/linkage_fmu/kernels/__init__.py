@@ -22,6 +22,7 @@ import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 
+from ..errors import ComputationError, InputError
 from . import compiled
 from .c_source import SUMMARY_HEAD, c_source
 from .python_source import compile_source, python_source
@@ -202,7 +203,7 @@ class Kernel:
             for _, names in key:
                 for name in names:
                     if name not in self.index:
-                        raise ValueError(f"the kernel has no output {name!r}; its outputs "
+                        raise InputError(f"the kernel has no output {name!r}; its outputs "
                                          "are: " + ", ".join(self.outputs))
             used = list(dict.fromkeys(name for _, names in key for name in names))
             results = [self.results[self.index[name]] for name in used]
@@ -269,8 +270,8 @@ def trace(evaluate: Callable[[list, dict], list], inputs: Sequence[float],
     reasons = tuple(tape.reason(index) for index in prog.guards)
     frozen = make_prepare(*parameters.values())
     if type(frozen) is not tuple:
-        raise RuntimeError(f"{label}: the parameter step rejects the parameters it was traced "
-                           f"with: {reasons[frozen - 1].text}")
+        raise ComputationError(f"{label}: the parameter step rejects the parameters it was traced "
+                               f"with: {reasons[frozen - 1].text}")
     return Kernel(tuple(outputs), static, source, make_prepare, make, frozen,
                   tuple(parameters), prog.operations, time.perf_counter() - t0, tuple(checked),
                   {name: i for i, name in enumerate(outputs)}, reasons, tape, results,

@@ -14,6 +14,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 
+from ..errors import InputError
 from .printer import Printer, values
 from .tangent import needed as tangent_needed
 from .trace import COMPARE, SCALE, Sym, Tape, operand, program
@@ -317,11 +318,11 @@ def _derivative(tape: Tape, i: int, d) -> str | None:
             f"({a[0]} ? {da[1] or '0.0'} : {da[2] or '0.0'})"
     elif op == "extern":
         if len(a) != 1:
-            raise ValueError(f"no derivative of the outside function {node.value} of "
+            raise InputError(f"no derivative of the outside function {node.value} of "
                              f"{len(a)} arguments")
         e = times(f"{node.value}_d({a[0]})", da[0])
     else:
-        raise ValueError(f"no derivative rule for the operation {op!r}")
+        raise InputError(f"no derivative rule for the operation {op!r}")
     return e
 
 
@@ -863,11 +864,11 @@ def _summary_source(prefix: str, n_inputs: int, n_out: int, summary: list,
     init, update, final = [], [], []
     for i, (kind, args) in enumerate(summary):
         if kind not in SUMMARY_KINDS or len(args) != SUMMARY_KINDS[kind]:
-            raise ValueError(f"summary {i}: {kind!r} of {len(args)} outputs is not one of "
+            raise InputError(f"summary {i}: {kind!r} of {len(args)} outputs is not one of "
                              + ", ".join(f"{k} ({n})" for k, n in SUMMARY_KINDS.items()))
         for k in args:
             if not 0 <= k < n_out:
-                raise ValueError(f"summary {i}: output {k} is not one of the {n_out} results")
+                raise InputError(f"summary {i}: output {k} is not one of the {n_out} results")
         a, b, c = _reduction(i, kind, [f"yb[{k}][j]" for k in args])
         init += a
         update += b

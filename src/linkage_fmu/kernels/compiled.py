@@ -26,6 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from ..ccompiler import CompilerError, compile_shared, find_compiler
+from ..errors import InputError
 
 #: flags of every build: IEEE operations as written (no contraction into FMA), no errno
 FLAGS = ("-O2", "-ffp-contract=off", "-fno-math-errno")
@@ -161,7 +162,7 @@ class ArrayKernel:
         q = self._q if frozen is None else np.ascontiguousarray(
             np.append(np.asarray(frozen, dtype=np.float64), 0.0))
         if q.size != self._q.size:
-            raise ValueError(f"frozen has {q.size - 1} values, the kernel takes {self._q.size - 1}")
+            raise InputError(f"frozen has {q.size - 1} values, the kernel takes {self._q.size - 1}")
         arrays = [np.ascontiguousarray(a, dtype=np.float64) for a in inputs]
         x = (ctypes.c_void_p * len(arrays))(*(_address(a) for a in arrays))
         step = (ctypes.c_size_t * len(arrays))(*(0 if a.size == 1 else 1 for a in arrays))
@@ -171,7 +172,7 @@ class ArrayKernel:
         elif isinstance(out, np.ndarray):
             if (out.dtype != np.float64 or out.shape != (self.n_outputs, n)
                     or (n > 1 and out.strides[1] != 8) or (n and out.strides[0] < 8 * n)):
-                raise ValueError(f"out must be a float64 array of shape ({self.n_outputs}, "
+                raise InputError(f"out must be a float64 array of shape ({self.n_outputs}, "
                                  f"{n}) with contiguous rows apart, got {out.dtype} "
                                  f"{out.shape} with strides {out.strides}")
             y = _rows(out)
@@ -205,14 +206,14 @@ class SummaryKernel:
         which wait spinning after each call)."""
         p = np.ascontiguousarray(parameters, dtype=np.float64)
         if p.ndim != 2 or p.shape[1] != self.n_parameters:
-            raise ValueError(f"parameters must have shape (sets, {self.n_parameters}), got "
+            raise InputError(f"parameters must have shape (sets, {self.n_parameters}), got "
                              f"{p.shape}")
         if isinstance(threads, bool) or not isinstance(threads, int) or threads < 1:
-            raise ValueError(f"threads must be a positive integer, got {threads!r}")
+            raise InputError(f"threads must be a positive integer, got {threads!r}")
         arrays = [np.ascontiguousarray(a, dtype=np.float64).reshape(-1) for a in inputs]
         for k, a in enumerate(arrays):
             if a.size not in (1, n):
-                raise ValueError(f"input {k} has {a.size} values, not 1 or {n}")
+                raise InputError(f"input {k} has {a.size} values, not 1 or {n}")
         x = (ctypes.c_void_p * max(len(arrays), 1))(*(_address(a) for a in arrays))
         step = (ctypes.c_size_t * max(len(arrays), 1))(*(0 if a.size == 1 else 1
                                                          for a in arrays))
@@ -241,7 +242,7 @@ class TangentKernel:
         x = np.ascontiguousarray(x, dtype=np.float64)
         dx = np.ascontiguousarray(dx, dtype=np.float64)
         if x.shape != (self.n_inputs,) or dx.shape != (self.n_inputs,):
-            raise ValueError(f"x and dx must have {self.n_inputs} values each, got "
+            raise InputError(f"x and dx must have {self.n_inputs} values each, got "
                              f"{x.shape} and {dx.shape}")
         y, dy = np.empty(self.n_outputs + 1), np.empty(self.n_outputs + 1)
         code = self._tangent(_address(self._q), _address(x), _address(dx), _address(y),

@@ -37,6 +37,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from ..errors import InputError
 from .trace import COMPARE, LOOP_OPS, SCALE, Loop, Node, Sym, Tape, live_nodes, program
 
 
@@ -358,7 +359,7 @@ def _derivative(tape: Tape, op: str, node: Node, t: int, a: list, da: list) -> i
     if op == "extern":
         function = tape.externs[node.value]
         if len(a) != 1 or not hasattr(function, "derivative"):
-            raise ValueError(f"no derivative of the outside function {node.value} of "
+            raise InputError(f"no derivative of the outside function {node.value} of "
                              f"{len(a)} arguments")
         if da[0] is None:
             return None
@@ -369,7 +370,7 @@ def _derivative(tape: Tape, op: str, node: Node, t: int, a: list, da: list) -> i
         return mul(i, da[0])
     if op in LOOP_OPS:
         return None
-    raise ValueError(f"no derivative rule for the operation {op!r}")
+    raise InputError(f"no derivative rule for the operation {op!r}")
 
 
 class TangentFunction:
@@ -387,7 +388,7 @@ class TangentFunction:
     def __call__(self, x, dx) -> tuple | int:
         x, dx = [float(v) for v in x], [float(v) for v in dx]
         if len(x) != self.n_inputs or len(dx) != self.n_inputs:
-            raise ValueError(f"x and dx must have {self.n_inputs} values each, got "
+            raise InputError(f"x and dx must have {self.n_inputs} values each, got "
                              f"{len(x)} and {len(dx)}")
         r = self.function(*x, *dx)
         if type(r) is not tuple:

@@ -40,6 +40,8 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from types import SimpleNamespace
 
+from ..errors import InputError, InputTypeError, LinkageFmuError, Reason
+
 
 @dataclass(frozen=True)
 class Node:
@@ -51,36 +53,7 @@ class Node:
     value: object = None
 
 
-@dataclass(frozen=True)
-class Reason:
-    """Why a guard fails: ``kind`` is ``'assembly'`` (the state cannot be assembled),
-    ``'singular'`` (the reactions are unbounded), ``'locking'`` (friction locks the
-    linkage: no finite balancing effort), ``'parameter'`` (a check of the
-    parameter step) or ``'branch'`` (the state takes a branch the trace did not), and
-    ``what`` says which condition, without numbers.
-
-    Examples
-    --------
-    >>> Reason("assembly", "the dyad B-C-D cannot close").text
-    'the linkage cannot be assembled: the dyad B-C-D cannot close'
-    """
-
-    kind: str
-    what: str = ""
-
-    @property
-    def text(self) -> str:
-        """The reason as the FMUs log it, the same words in every flavour."""
-        head = {"assembly": "the linkage cannot be assembled",
-                "singular": "the linkage is at a singular position",
-                "parameter": "the parameter set is invalid",
-                "branch": "the state takes another branch than the kernel was traced on",
-                "locking": "friction locks the linkage",
-                "overflow": "the outputs overflow float64"}[self.kind]
-        return f"{head}: {self.what}" if self.what else head
-
-
-class TracingError(RuntimeError):
+class TracingError(LinkageFmuError, RuntimeError):
     """The formulas did what a kernel cannot record: a branch on a value computed inside
     a loop's body, or a value of a loop's body read outside it. A fault of the formulas,
     not of a state or a parameter (no ValueError, which the solver takes for a state that
@@ -220,7 +193,7 @@ class Tape:
         ``function.c_definition()`` for the generated code."""
         name = function.name
         if self.externs.setdefault(name, function) is not function:
-            raise ValueError(f"two functions named {name!r} in one trace")
+            raise InputError(f"two functions named {name!r} in one trace")
         syms = [o if isinstance(o, Sym) else self.const(o) for o in operands]
         witness = function(*(self.witness[s.index] for s in syms))
         return self.record(Node("extern", tuple(s.index for s in syms), name), witness,
@@ -295,7 +268,7 @@ class Tape:
         (1.414213562373095, True)
         """
         if not 0 <= minimum <= maximum or maximum < 1:
-            raise ValueError(f"a loop runs between minimum and maximum times, "
+            raise InputError(f"a loop runs between minimum and maximum times, "
                              f"0 <= {minimum} <= {maximum}, at least once")
         inits = [self._sym(v) for v in init]
         for s in inits:
@@ -550,7 +523,7 @@ class Sym:
     def __float__(self):
         # a formula that needs a plain float of a traced value (only error messages do,
         # and they are not traced: the guard before them hands the state back)
-        raise TypeError("a traced value has no float value")
+        raise InputTypeError("a traced value has no float value")
 
 
 def _unary(op: str, fn):

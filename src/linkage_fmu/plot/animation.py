@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .. import ranges
+from ..errors import InputError, LinkageFmuError
 from ..flywheel import cycle_revolutions
 from ..outputs import SHAKING
 from ..printing import number
@@ -67,7 +68,7 @@ def frame_pixels(dpi: float, figsize=FIGSIZE) -> tuple[int, int]:
     width, height = (float(v) * dpi for v in figsize)
     if not max(width, height) < MAX_PIXELS:
         most = math.floor((MAX_PIXELS - 1) / max(float(v) for v in figsize))
-        raise ValueError(f"dpi {dpi:g} draws frames of {width:.4g} x {height:.4g} pixels; a "
+        raise InputError(f"dpi {dpi:g} draws frames of {width:.4g} x {height:.4g} pixels; a "
                          f"frame is less than {MAX_PIXELS} pixels a side (matplotlib's and a "
                          f"GIF's limit): dpi {most} at most for {figsize[0]:g} x "
                          f"{figsize[1]:g} inches")
@@ -98,7 +99,7 @@ def motion_range(mech: "Mechanism", given=()) -> tuple[float, float, bool]:
     if where == [(0.0, 360.0)]:
         return 0.0, 360.0 * cycle_revolutions(mech, None, given), True
     if not where:
-        raise ValueError(f"{mech.name} cannot be assembled at any crank angle: nothing to "
+        raise InputError(f"{mech.name} cannot be assembled at any crank angle: nothing to "
                          "animate")
     if len(where) > 1 and where[0][0] == 0.0 and where[-1][1] == 360.0:  # one range over 0
         where = [(where[-1][0] - 360.0, where[0][1])] + where[1:-1]
@@ -108,7 +109,7 @@ def motion_range(mech: "Mechanism", given=()) -> tuple[float, float, bool]:
     grid = np.linspace(lo, hi, max(int(math.ceil((hi - lo) / TRIM_STEP_DEG)), 2) + 1)
     ok = np.flatnonzero(bounded(mech, mech.solve(np.radians(grid))))
     if not ok.size:
-        raise ValueError(f"{mech.name}: its forces have no bound (cond > {COND_BOUND:g}) "
+        raise InputError(f"{mech.name}: its forces have no bound (cond > {COND_BOUND:g}) "
                          f"anywhere in its range {number(lo, 6)}..{number(hi, 6)} deg: "
                          "nothing to animate")
     return float(grid[ok[0]]), float(grid[ok[-1]]), False
@@ -154,7 +155,7 @@ def frame_angles(mech: "Mechanism", frames: int, given=()) -> np.ndarray:
     if full:
         return hi * np.arange(frames) / frames
     if frames % 2:
-        raise ValueError(f"frames must be even for {mech.name}, whose crank cannot turn a "
+        raise InputError(f"frames must be even for {mech.name}, whose crank cannot turn a "
                          f"revolution and goes out and back over {number(lo, 4)}.."
                          f"{number(hi, 4)} deg, got {frames}")
     out = np.linspace(lo, hi, frames // 2 + 1)
@@ -212,14 +213,14 @@ class LinkageAnimation:
         return path
 
 
-class MissingFFmpegError(RuntimeError):
+class MissingFFmpegError(LinkageFmuError, RuntimeError):
     """An MP4 asked for where ffmpeg is not installed (raised before any work)."""
 
 
 def _suffix(path) -> str:
     suffix = Path(path).suffix.lower()
     if suffix not in SUFFIXES:
-        raise ValueError(f"{path}: an animation is written to a .gif or .mp4 file, not "
+        raise InputError(f"{path}: an animation is written to a .gif or .mp4 file, not "
                          f"{suffix or 'a file without a suffix'}")
     return suffix
 
@@ -230,7 +231,7 @@ def _writer(path: Path, fps: float):
     from matplotlib import animation, rcParams
 
     if not (math.isfinite(fps) and fps > 0):
-        raise ValueError(f"fps must be a number > 0, got {fps!r}")
+        raise InputError(f"fps must be a number > 0, got {fps!r}")
     if _suffix(path) == ".gif":
         return animation.PillowWriter(fps=fps)
     if not animation.FFMpegWriter.isAvailable():
@@ -321,14 +322,14 @@ def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int =
     90.0
     """
     if what not in WHATS:
-        raise ValueError(f"what={what!r}: expected one of {', '.join(WHATS)}")
+        raise InputError(f"what={what!r}: expected one of {', '.join(WHATS)}")
     if isinstance(frames, bool) or not isinstance(frames, (int, np.integer)) or frames < 2:
-        raise ValueError(f"frames must be a whole number >= 2, got {frames!r}")
+        raise InputError(f"frames must be a whole number >= 2, got {frames!r}")
     _positive("dpi", dpi)
     try:
         width, height = (float(v) for v in figsize)
     except (TypeError, ValueError):
-        raise ValueError(f"figsize must be (width, height) in inches, got {figsize!r}"
+        raise InputError(f"figsize must be (width, height) in inches, got {figsize!r}"
                          ) from None
     for value in (width, height):
         _positive("figsize", value, f"each of (width, height) in inches, got {figsize!r}")
@@ -336,7 +337,7 @@ def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int =
     if path is not None:
         _suffix(path)
         if not Path(path).resolve().parent.is_dir():
-            raise ValueError(f"{path}: there is no folder {Path(path).parent}")
+            raise InputError(f"{path}: there is no folder {Path(path).parent}")
         _writer(Path(path), fps)  # no ffmpeg: said before the work
     import matplotlib
 
@@ -463,7 +464,7 @@ def _positive(name: str, value, expected: str = "") -> None:
     except TypeError:
         good = False
     if not good:
-        raise ValueError(f"{name} must be {expected or f'a finite number > 0, got {value!r}'}")
+        raise InputError(f"{name} must be {expected or f'a finite number > 0, got {value!r}'}")
 
 
 def _unbounded(scene: Scene) -> Scene:
@@ -507,13 +508,13 @@ def _curves(mech: "Mechanism", what: str, sol, n: int) -> tuple[dict, str, str]:
     if what == "torque":
         name = mech.effort.name
         if name not in mech.output_names:
-            raise ValueError(f"{mech.name} has no output of its balancing effort {name}: "
+            raise InputError(f"{mech.name} has no output of its balancing effort {name}: "
                              "animate what='forces' or 'shaking'")
         unit, description = mech.output_info[name]
         return {name: get(name)}, unit, description
     if what == "shaking":
         if not set(SHAKING[:2]) <= set(mech.output_names):
-            raise ValueError(f"{mech.name} has no shaking force outputs "
+            raise InputError(f"{mech.name} has no shaking force outputs "
                              f"{', '.join(SHAKING[:2])}")
         x, y = get(SHAKING[0]), get(SHAKING[1])
         return ({SHAKING[0]: x, SHAKING[1]: y, "|shake|": np.hypot(x, y)}, "N",
@@ -522,7 +523,7 @@ def _curves(mech: "Mechanism", what: str, sol, n: int) -> tuple[dict, str, str]:
 
     pairs = force_pairs(mech)
     if not pairs:
-        raise ValueError(f"{mech.name} has no force output with x and y components: "
+        raise InputError(f"{mech.name} has no force output with x and y components: "
                          "animate what='torque'")
     return ({f"|{p.name}|": np.hypot(get(p.x), get(p.y)) for p in pairs}, "N",
             "the magnitude of each joint force")

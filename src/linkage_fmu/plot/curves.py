@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..errors import InputError, InputTypeError
 from ..outputs import SHAKING
 from ..printing import ZERO_FRACTION, number  # noqa: F401 (re-exported)
 from .figures import degree_axis, figure_axes, greek, pyplot
@@ -64,7 +65,7 @@ def _peak(values: np.ndarray) -> int:
     """Index of the largest finite ``|values|`` (the first if several)."""
     magnitude = np.abs(values)
     if not np.isfinite(magnitude).any():
-        raise ValueError("no finite value: the linkage cannot be assembled at any of the angles")
+        raise InputError("no finite value: the linkage cannot be assembled at any of the angles")
     return int(np.nanargmax(np.where(np.isfinite(magnitude), magnitude, np.nan)))
 
 
@@ -76,7 +77,7 @@ def _output(mech: "Mechanism", output: str | None) -> str:
         return mech.effort.name
     choices = mech.output_names + mech.diagnostic_names
     if output not in choices:
-        raise ValueError(f"{mech.name} has no output {output!r}; its outputs are: "
+        raise InputError(f"{mech.name} has no output {output!r}; its outputs are: "
                          + ", ".join(choices))
     return output
 
@@ -318,8 +319,8 @@ def shaking(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
         try:
             force_ax, moment_ax = ax
         except (TypeError, ValueError):
-            raise TypeError("ax must be a pair of Axes: (the force's, the moment's), "
-                            f"got {ax!r}") from None
+            raise InputTypeError("ax must be a pair of Axes: (the force's, the moment's), "
+                                 f"got {ax!r}") from None
     rad, deg = crank_angles(theta, theta_deg)
     inputs = input_values(mech, omega, alpha, loads, named_loads)
     sol = solve_at(mech, rad, inputs)
@@ -393,14 +394,14 @@ def loss(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta_de
     ['eta', 'ideal', 'min']
     """
     if "P_loss" not in mech.output_names:
-        raise ValueError(f"{mech.name} has no friction in its joints (no [friction.J] "
+        raise InputError(f"{mech.name} has no friction in its joints (no [friction.J] "
                          "table): no P_loss or eta to draw")
     if ax is not None:
         try:
             power_ax, eta_ax = ax
         except (TypeError, ValueError):
-            raise TypeError("ax must be a pair of Axes: (P_loss's, eta's), "
-                            f"got {ax!r}") from None
+            raise InputTypeError("ax must be a pair of Axes: (P_loss's, eta's), "
+                                 f"got {ax!r}") from None
     rad, deg = crank_angles(theta, theta_deg)
     inputs = input_values(mech, omega, alpha, loads, named_loads)
     sol = solve_at(mech, rad, inputs)

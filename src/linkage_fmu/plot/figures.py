@@ -8,6 +8,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..errors import DependencyError
+
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
@@ -21,7 +23,7 @@ def pyplot():
     try:
         import matplotlib.pyplot as plt
     except ImportError as err:
-        raise ImportError(_INSTALL) from err
+        raise DependencyError(_INSTALL) from err
     return plt
 
 

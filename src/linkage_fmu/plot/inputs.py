@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..errors import InputError, InputTypeError
 from ..printing import number
 from ..solver import UNASSEMBLED
 
@@ -23,21 +24,21 @@ def crank_angles(theta, theta_deg, scalar: bool = False) -> tuple[np.ndarray, np
     """``(radians, degrees)`` of the crank angles: ``theta`` [rad] or ``theta_deg``
     [deg], a revolution of :data:`N_ANGLES` if neither."""
     if theta is not None and theta_deg is not None:
-        raise TypeError("give the crank angle as theta [rad] or as theta_deg [deg], not both")
+        raise InputTypeError("give the crank angle as theta [rad] or as theta_deg [deg], not both")
     if theta is None and theta_deg is None:
         if scalar:
-            raise TypeError("give the crank angle: theta [rad] or theta_deg [deg]")
+            raise InputTypeError("give the crank angle: theta [rad] or theta_deg [deg]")
         deg = np.linspace(0.0, 360.0, N_ANGLES)
         return np.radians(deg), deg
     given = theta if theta is not None else theta_deg
     if scalar and np.ndim(given) != 0:
-        raise ValueError(f"the crank angle must be one number, got shape {np.shape(given)}")
+        raise InputError(f"the crank angle must be one number, got shape {np.shape(given)}")
     values = np.atleast_1d(np.asarray(given, dtype=float))
     if values.ndim != 1 or not values.size:
-        raise ValueError(f"the crank angles must be a non-empty 1-D array, got shape "
+        raise InputError(f"the crank angles must be a non-empty 1-D array, got shape "
                          f"{np.shape(given)}")
     if not np.isfinite(values).all():
-        raise ValueError("the crank angles must be finite")
+        raise InputError("the crank angles must be finite")
     if theta is not None:
         return values, np.degrees(values)
     return np.radians(values), values
@@ -74,6 +75,6 @@ def finite_or_fail(mech: "Mechanism", values: np.ndarray, deg: np.ndarray, sol=N
         problems = getattr(sol, "problems", None) or {}
         if problems and UNASSEMBLED not in problems:
             first = min(problems.values(), key=lambda p: p.first)
-            raise ValueError(f"{mech.name} has no outputs at any of the {angles}: "
+            raise InputError(f"{mech.name} has no outputs at any of the {angles}: "
                              f"{first.message}")
-        raise ValueError(f"{mech.name} cannot be assembled at any of the {angles}")
+        raise InputError(f"{mech.name} cannot be assembled at any of the {angles}")

@@ -7,6 +7,7 @@ import re
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, NamedTuple
 
+from ..errors import InputError
 from ..outputs import SHAKING, joint_between
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -74,13 +75,13 @@ def find_pair(mech: "Mechanism", force: str | None) -> ForcePair:
     """The pair named ``force`` (its name or a component's), the first if None."""
     pairs = force_pairs(mech)
     if not pairs:
-        raise ValueError(f"{mech.name} has no force output with x and y components")
+        raise InputError(f"{mech.name} has no force output with x and y components")
     if force is None:
         return pairs[0]
     for p in pairs:
         if force in (p.name, p.x, p.y):
             return p
-    raise ValueError(f"{mech.name} has no force pair {force!r}; its force pairs are: "
+    raise InputError(f"{mech.name} has no force pair {force!r}; its force pairs are: "
                      + ", ".join(f"{p.name} ({p.x}, {p.y})" for p in pairs))
 
 

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
+from ..errors import InputError
 from ..printing import number
 from .figures import figure_axes
 from .inputs import crank_angles, input_values, inputs_text, solve_at
@@ -217,7 +218,7 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     if scale is None:
         scale = ARROW_FRACTION * size / largest if largest > 0.0 else 1.0
     elif not (math.isfinite(scale) and scale > 0.0):
-        raise ValueError(f"scale must be a finite number > 0 [m/N], got {scale!r}")
+        raise InputError(f"scale must be a finite number > 0 [m/N], got {scale!r}")
 
     fig, ax = figure_axes(ax, figsize=(8.0, 6.5))
     tips = draw_scene(ax, mech, scene, scale, size, largest)

@@ -7,6 +7,8 @@ import math
 
 import numpy as np
 
+from ..errors import InputError
+
 
 def _overlapping(boxes: np.ndarray, taken: np.ndarray, pad: float) -> np.ndarray:
     """For each of ``boxes`` (rows ``x0, y0, x1, y1``), whether it comes within ``pad``
@@ -63,7 +65,7 @@ def place_boxes(anchors, sizes, toward, taken=(), frame=None, gap: float = 1.0,
     ([[3.0, 0.0], [3.828, 3.828]], [1.0, 4.0])
     """
     if not gap > 0.0:
-        raise ValueError(f"gap must be > 0, got {gap!r}")
+        raise InputError(f"gap must be > 0, got {gap!r}")
     anchors = np.asarray(anchors, dtype=float).reshape(-1, 2)
     sizes = np.asarray(sizes, dtype=float).reshape(-1, 2)
     boxes = [np.asarray(taken, dtype=float).reshape(-1, 4)]

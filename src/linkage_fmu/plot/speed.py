@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..errors import InputTypeError
 from ..flywheel import flywheel as size_flywheel
 from ..flywheel import periodic_motion
 from ..printing import number
@@ -85,7 +86,7 @@ def speed(mech: "Mechanism", omega=None, *loads, Cs=None, flywheel=None,
     'mean 10 rad/s (95.49 rpm)'
     """
     if Cs is not None and flywheel is not None:
-        raise TypeError("give Cs (to size the flywheel) or flywheel (its inertia), not both")
+        raise InputTypeError("give Cs (to size the flywheel) or flywheel (its inertia), not both")
     inputs = input_values(mech, omega, None, loads, named_loads)
     named = {k: v for k, v in inputs.items() if k not in ("omega", "alpha")}
     if Cs is not None:

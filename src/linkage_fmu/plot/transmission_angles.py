@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..errors import InputError
 from ..printing import number
 from .figures import degree_axis, figure_axes, greek
 from .inputs import crank_angles, finite_or_fail
@@ -132,7 +133,7 @@ def transmission(mech: "Mechanism", theta=None, *, theta_deg=None,
     """
     names = [n for n in mech.diagnostic_names if n.startswith("gamma_")]
     if not names:
-        raise ValueError(f"{mech.name} has no dyad, so no transmission angle")
+        raise InputError(f"{mech.name} has no dyad, so no transmission angle")
     rad, deg = crank_angles(theta, theta_deg)
     sol = mech.solve(rad, outputs=tuple(names))
     valid = np.broadcast_to(np.asarray(sol.valid, dtype=bool), rad.shape)
