@@ -30,7 +30,7 @@ class Body:
     >>> Body("2", mass=-1.0, ref="B")
     Traceback (most recent call last):
     ...
-    ValueError: mass of body '2' must be a finite number >= 0, got -1.0
+    linkage_fmu.errors.InputError: mass of body '2' must be a finite number >= 0, got -1.0
     """
 
     name: str

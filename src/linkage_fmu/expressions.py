@@ -15,7 +15,8 @@ Examples
 >>> Expression("__import__('os')")
 Traceback (most recent call last):
 ...
-ValueError: '__import__' is not a function an expression may call; the functions are: abs, acos,
+linkage_fmu.errors.InputError:
+'__import__' is not a function an expression may call; the functions are: abs, acos,
 asin, atan, atan2, cos, degrees, hypot, max, min, radians, sign, sin, sqrt, tan
 """
 
@@ -225,7 +226,7 @@ def evaluate(source, unit: str, where: str, values: Mapping | None = None,
     >>> evaluate("4 kN", "N.m", "T")
     Traceback (most recent call last):
     ...
-    ValueError: T = '4 kN' must be a moment (N.m), but it is a force (N)
+    linkage_fmu.errors.InputError: T = '4 kN' must be a moment (N.m), but it is a force (N)
     """
     try:
         expr = Expression(source)

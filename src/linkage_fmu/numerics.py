@@ -135,7 +135,7 @@ def finite_float(name: str, value: object) -> float:
     >>> finite_float("omega", float("nan"))
     Traceback (most recent call last):
     ...
-    ValueError: omega must be a finite number, got nan
+    linkage_fmu.errors.InputError: omega must be a finite number, got nan
     """
     if type(value) is float and value - value == 0.0:  # the common case, finite
         return value
@@ -159,7 +159,7 @@ def finite_array(name: str, value: np.ndarray) -> np.ndarray:
     >>> finite_array("theta", np.array([0.0, np.inf]))
     Traceback (most recent call last):
     ...
-    ValueError: theta must be finite: entry (1,) is inf
+    linkage_fmu.errors.InputError: theta must be finite: entry (1,) is inf
     """
     try:
         arr = np.asarray(value, dtype=np.float64)

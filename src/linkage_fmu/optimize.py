@@ -148,7 +148,8 @@ def parse_constraint(spec: str | Constraint | tuple) -> Constraint:
     >>> parse_constraint("F21_peak == 500")
     Traceback (most recent call last):
     ...
-    ValueError: constraint 'F21_peak == 500': expected NAME OP VALUE with OP one of
+    linkage_fmu.errors.InputError:
+    constraint 'F21_peak == 500': expected NAME OP VALUE with OP one of
     <=, >=, <, > (as in 'gamma_C_min_deg >= 40'), or 'valid'
     """
     if isinstance(spec, Constraint):

@@ -52,7 +52,8 @@ class Output(ABC):
     ...     kind = "speed_example"
     Traceback (most recent call last):
     ...
-    TypeError: output kind Speed (kind 'speed_example') must declare REPORTS, what its outputs
+    linkage_fmu.errors.InputTypeError:
+    output kind Speed (kind 'speed_example') must declare REPORTS, what its outputs
     report, for the reference of the format; it has none
 
     Attributes

@@ -48,7 +48,8 @@ class Pair(ABC):
     ...     components = ("Fx", "Fy")
     Traceback (most recent call last):
     ...
-    TypeError: pair kind Half leaves out friction_prefix, friction_unit, column_scale, ...
+    linkage_fmu.errors.InputTypeError:
+    pair kind Half leaves out friction_prefix, friction_unit, column_scale, ...
     """
 
     name: str

@@ -92,7 +92,7 @@ class Parameter:
     >>> p.validate(-1)
     Traceback (most recent call last):
     ...
-    ValueError: l_AB must be > 0 (crank length), got -1.0
+    linkage_fmu.errors.InputError: l_AB must be > 0 (crank length), got -1.0
     >>> p.validate("120 mm")
     0.12
     """
@@ -162,7 +162,7 @@ def resolve(specs: tuple[Parameter, ...], given: Mapping[str, Any], preset: str)
     >>> resolve(specs, {"G": 0}, "demo")
     Traceback (most recent call last):
     ...
-    TypeError: demo has no parameter 'G'; its parameters are: g
+    linkage_fmu.errors.InputTypeError: demo has no parameter 'G'; its parameters are: g
     """
     known = {p.name: p for p in specs}
     for name in given:

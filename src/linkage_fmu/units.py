@@ -17,7 +17,8 @@ Examples
 >>> to_si("1800 rpm", "m", "l_AB")
 Traceback (most recent call last):
 ...
-ValueError: l_AB = '1800 rpm' must be a length (m), but it is an angular speed (rad/s)
+linkage_fmu.errors.InputError:
+l_AB = '1800 rpm' must be a length (m), but it is an angular speed (rad/s)
 """
 
 from __future__ import annotations

@@ -157,7 +157,8 @@ def select(spec: str | Iterable[str] | None, fmi_version: int) -> tuple[Platform
     >>> select("win32", 3)
     Traceback (most recent call last):
     ...
-    ValueError: unknown platform 'win32': the platforms are all, x86_64-linux, aarch64-linux,
+    linkage_fmu.errors.InputError:
+    unknown platform 'win32': the platforms are all, x86_64-linux, aarch64-linux,
     x86_64-windows, x86_64-darwin, aarch64-darwin
     """
     if spec is None:

@@ -183,7 +183,8 @@ def mode(branch, group: str):
     >>> mode(0.0, "the dyad B-C-D")
     Traceback (most recent call last):
     ...
-    ValueError: the dyad B-C-D is drawn at a toggle (its points in line): its assembly mode is
+    linkage_fmu.errors.InputError:
+    the dyad B-C-D is drawn at a toggle (its points in line): its assembly mode is
     undefined
     """
     what = f"{group} is drawn at a toggle (its points in line): its assembly mode is undefined"
@@ -281,7 +282,8 @@ class Field:
     >>> Field("mass", "mass of the link")
     Traceback (most recent call last):
     ...
-    ValueError: unknown field role 'mass'; the roles are new link, link, point, new point, new
+    linkage_fmu.errors.InputError:
+    unknown field role 'mass'; the roles are new link, link, point, new point, new
     joint, length, angle, coordinate, vector, branch, link joints, pose
     """
 
@@ -335,7 +337,8 @@ class Drawing:
     >>> Drawing(1, 2)
     Traceback (most recent call last):
     ...
-    ValueError: a group of 2 links says what its links and their pairs are (links, pairs), for
+    linkage_fmu.errors.InputError:
+    a group of 2 links says what its links and their pairs are (links, pairs), for
     the reference of the format
     """
 
@@ -393,7 +396,8 @@ class Group(ABC):
     ...     kind = "no_fields_example"
     Traceback (most recent call last):
     ...
-    TypeError: group type NoFields (kind 'no_fields_example') must declare FIELDS, a dict of field
+    linkage_fmu.errors.InputTypeError:
+    group type NoFields (kind 'no_fields_example') must declare FIELDS, a dict of field
     name -> Field; it has none
 
     Attributes

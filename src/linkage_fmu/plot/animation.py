@@ -62,7 +62,8 @@ def frame_pixels(dpi: float, figsize=FIGSIZE) -> tuple[int, int]:
     >>> frame_pixels(1e9)
     Traceback (most recent call last):
     ...
-    ValueError: dpi 1e+09 draws frames of 1.1e+10 x 4.8e+09 pixels; a frame is less than
+    linkage_fmu.errors.InputError:
+    dpi 1e+09 draws frames of 1.1e+10 x 4.8e+09 pixels; a frame is less than
     65536 pixels a side (matplotlib's and a GIF's limit): dpi 5957 at most for 11 x 4.8 inches
     """
     width, height = (float(v) * dpi for v in figsize)
