@@ -17,7 +17,8 @@ Examples
 >>> presets.get("four_bar", l_ab=0.12)
 Traceback (most recent call last):
 ...
-linkage_fmu.errors.InputTypeError: four_bar has no parameter 'l_ab'; its parameters are: l_AB, l_BC,
+linkage_fmu.errors.InputTypeError:
+four_bar has no parameter 'l_ab'; its parameters are: l_AB, l_BC,
 l_CD, l_AD, m1, J1, l_AS1, beta1, m2, J_S2, l_BS2, beta2, m3, J_S3, l_DS3,
 beta3, g, branch, mu_A, r_A, mu_B, r_B, mu_C, r_C, mu_D, r_D, drive
 """

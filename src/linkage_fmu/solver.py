@@ -381,7 +381,8 @@ class Solver:
         The scotch yoke worked example's state, given as text with units:
 
         >>> from linkage_fmu import presets
-        >>> sol = presets.get("scotch_yoke").solver.solve("60 deg", "10 rad/s", load="0.4 kN")
+        >>> solver = presets.get("scotch_yoke").solver
+        >>> sol = solver.solve("60 deg", "10 rad/s", load="0.4 kN")
         >>> round(sol["Mb"], 4), round(sol["F23y"], 4)
         (15.6699, 313.3975)
         """

@@ -260,7 +260,8 @@ def build_native_fmu(source, out: str | Path | None = None, fmi_version: int = 2
     >>> build_native_fmu("four_bar", platforms="x86_64-windows,linux64")
     Traceback (most recent call last):
     ...
-    linkage_fmu.errors.InputError: unknown platform 'linux64': the platforms are all, x86_64-linux,
+    linkage_fmu.errors.InputError:
+    unknown platform 'linux64': the platforms are all, x86_64-linux,
     aarch64-linux, x86_64-windows, x86_64-darwin, aarch64-darwin
     """
     _check_version(fmi_version)

@@ -216,7 +216,8 @@ def polar(mech: "Mechanism", force: str | None = None, theta=None, omega=None, a
     >>> plot.polar(presets.get("four_bar"), "F99")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    linkage_fmu.errors.InputError: four_bar has no force pair 'F99'; its force pairs are: F21 (F21x,
+    linkage_fmu.errors.InputError:
+    four_bar has no force pair 'F99'; its force pairs are: F21 (F21x,
     F21y), ...
     """
     pair = find_pair(mech, force)
