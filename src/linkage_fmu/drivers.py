@@ -64,6 +64,16 @@ class Driver:
         ------
         ValueError
             A kind that is none of :data:`KINDS`.
+
+        Examples
+        --------
+        >>> Driver.named("A", "angle", "Mb_A", alone=False).inputs
+        ('theta_A', 'omega_A', 'alpha_A')
+        >>> Driver.named("A", "rotary", "Mb")
+        Traceback (most recent call last):
+        ...
+        linkage_fmu.errors.InputError: the driver of A: a driver's kind is one of angle,
+        travel, not 'rotary'
         """
         if kind not in KINDS:
             raise InputError(f"the driver of {pair}: a driver's kind is one of "
