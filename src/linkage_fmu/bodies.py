@@ -89,9 +89,19 @@ class Body:
 @dataclass(frozen=True)
 class Effort:
     """The balancing effort: a moment on link ``body`` (``direction=None``), or a force
-    on ``body`` at ``point`` along the unit vector ``direction``."""
+    on ``body`` at ``point`` along the unit vector ``direction`` (fixed in the frame) or
+    along a link's direction (``direction`` its name: a cylinder's force along its
+    barrel); a driver's reaction acts on ``base`` (a motor's base link, a cylinder's
+    barrel; '' for a balancing effort, which the frame takes).
+
+    Examples
+    --------
+    >>> Effort("Fb_P", "rod", "C", "barrel", "barrel").direction
+    'barrel'
+    """
 
     name: str
     body: str
     point: str = ""
-    direction: tuple | None = None
+    direction: tuple | str | None = None
+    base: str = ""

@@ -29,6 +29,8 @@ KINDS: dict[str, tuple[tuple[str, str, str], tuple[str, str, str]]] = {
     "angle": (tuple(MOTION_UNITS), tuple(MOTION_UNITS.values())),
     "travel": (("s", "v", "a"), ("m", "m/s", "m/s2")),
 }
+#: kind -> the name of its effort: a moment for an angle, a force for a travel
+EFFORTS: dict[str, str] = {"angle": "Mb", "travel": "Fb"}
 
 
 @dataclass(frozen=True)
@@ -55,10 +57,11 @@ class Driver:
     kinds: ClassVar[tuple[str, ...]] = tuple(KINDS)
 
     @classmethod
-    def named(cls, pair: str, kind: str, effort: str, alone: bool = True) -> Driver:
+    def named(cls, pair: str, kind: str, effort: str | None, alone: bool = True) -> Driver:
         """The driver of ``pair`` with its inputs named: a linkage's only driver
         (``alone``) takes its kind's names as they are (``theta``, ``omega``,
-        ``alpha``), one of several adds its pair's (``theta_A``).
+        ``alpha``), one of several adds its pair's (``theta_A``); an ``effort`` None
+        is named likewise (``Mb``, ``Mb_A``, ``Fb_P``: :data:`EFFORTS`).
 
         Raises
         ------
@@ -69,6 +72,8 @@ class Driver:
         --------
         >>> Driver.named("A", "angle", "Mb_A", alone=False).inputs
         ('theta_A', 'omega_A', 'alpha_A')
+        >>> Driver.named("P", "travel", None, alone=False).effort
+        'Fb_P'
         >>> Driver.named("A", "rotary", "Mb")
         Traceback (most recent call last):
         ...
@@ -80,6 +85,8 @@ class Driver:
                              f"{', '.join(KINDS)}, not {kind!r}")
         names, units = KINDS[kind]
         inputs = names if alone else tuple(f"{n}_{pair}" for n in names)
+        if effort is None:
+            effort = EFFORTS[kind] if alone else f"{EFFORTS[kind]}_{pair}"
         return cls(pair, kind, inputs, units, effort)
 
 

@@ -93,7 +93,19 @@ class DependencyError(LinkageFmuError, ImportError):
     package that differs from the one the process runs."""
 
 
-def _angle(theta: float) -> str:
+def _angle(theta: float | dict) -> str:
+    """The state in words: the crank angle, or each driver's coordinate by its name (a
+    dict: an angle ``theta_<j>`` in rad, a travel in m).
+
+    Examples
+    --------
+    >>> _angle({"theta_A": 0.5, "s_P": 0.02})
+    'theta_A = 0.5 rad (28.65 deg), s_P = 0.02 m'
+    """
+    if isinstance(theta, dict):
+        return ", ".join(f"{n} = {v:.6g} rad ({math.degrees(v):.4g} deg)"
+                         if n.startswith("theta") else f"{n} = {v:.6g} m"
+                         for n, v in theta.items())
     return f"theta = {theta:.6g} rad ({math.degrees(theta):.4g} deg)"
 
 

@@ -23,13 +23,50 @@ from __future__ import annotations
 import numpy as np
 
 from . import diagnostics, friction, kinetostatics
-from .errors import AssemblyError
+from .errors import AssemblyError, InputError
 from .groups import KinematicState
 from .loads import powers, wrenches
 from .numerics import ARRAY, SCALAR, finite_array, finite_float
 
 
-def kinematics(mech, theta, order: int = 2, xp=None) -> KinematicState:
+def split(mech, values) -> tuple:
+    """``(theta, omega, alpha, loads)`` of a state's values in ``mech``'s input order:
+    the crank's three inputs, or, for a linkage driven by time
+    (:attr:`KinematicState.rates <linkage_fmu.groups.KinematicState>`), the tuples of
+    the drivers' coordinates, speeds and accelerations.
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets
+    >>> split(presets.get("four_bar"), [0.5, 10.0, 0.0, 3.0])
+    (0.5, 10.0, 0.0, [3.0])
+    """
+    if not mech.rates:
+        return values[0], values[1], values[2], values[3:]
+    n = 3 * len(mech.drivers)
+    return (tuple(values[0:n:3]), tuple(values[1:n:3]), tuple(values[2:n:3]),
+            list(values[n:]))
+
+
+def still(mech, values) -> bool:
+    """Whether the state ``values`` (floats or arrays) is static: every driver's speed
+    and acceleration zero."""
+    if not mech.rates:
+        return not (np.any(values[1]) or np.any(values[2]))
+    n = 3 * len(mech.drivers)
+    return not any(np.any(values[k]) for k in range(n) if k % 3)
+
+
+def state_words(mech, theta) -> float | dict:
+    """The state for an error's message: the crank angle, or each driver's coordinate
+    by name (its first value over arrays)."""
+    if not mech.rates:
+        return theta
+    names = [d.inputs[0] for d in mech.drivers]
+    return {n: float(np.asarray(q).flat[0]) for n, q in zip(names, theta)}
+
+
+def kinematics(mech, theta, order: int = 2, xp=None, rates=None) -> KinematicState:
     """The position of every point and link of ``mech`` at the crank angle(s)
     ``theta``, and their first and second derivatives with respect to ``theta``.
 
@@ -65,6 +102,11 @@ def kinematics(mech, theta, order: int = 2, xp=None) -> KinematicState:
         alpha)``), a link's angular speed ``w1 omega``. For arrays, ``st.invalid``
         marks the angles the linkage cannot be assembled at (NaN there).
 
+    rates : tuple, optional
+        For a linkage driven by time (several drivers, a motor, a cylinder): each
+        driver's ``(speed, acceleration)``, ``theta`` then the tuple of their
+        coordinates; ``d1`` and ``d2`` are then velocities and accelerations.
+
     Raises
     ------
     AssemblyError
@@ -96,7 +138,13 @@ def kinematics(mech, theta, order: int = 2, xp=None) -> KinematicState:
     >>> [round(v, 6) for v in kinematics(mech, 0.0, order=0).p["C"]]
     [0.304167, 0.284282]
     """
-    if xp is None:
+    if mech.rates:
+        if rates is None:
+            raise InputError(f"{mech.name} is driven by {_drivers(mech)}: its kinematics "
+                             "take each driver's coordinate, and its speed and acceleration "
+                             "(rates)")
+        theta, rates, xp = _by_time(mech, theta, rates, xp)
+    elif xp is None:
         if np.ndim(theta) == 0:
             xp = SCALAR
             theta = finite_float("theta", theta.item() if isinstance(theta, np.ndarray)
@@ -106,9 +154,9 @@ def kinematics(mech, theta, order: int = 2, xp=None) -> KinematicState:
             theta = finite_array("theta", theta)
 
     def fail(condition: str, what: str = ""):
-        raise AssemblyError(mech.name, theta, condition, what)
+        raise AssemblyError(mech.name, state_words(mech, theta), condition, what)
 
-    st = KinematicState(theta, xp, fail)
+    st = KinematicState(theta, xp, fail, rates)
     zero = (0.0, 0.0)
     for p, xy in mech.frame_points.items():
         st.p[p], st.d1[p], st.d2[p] = xy, zero, zero
@@ -121,6 +169,31 @@ def kinematics(mech, theta, order: int = 2, xp=None) -> KinematicState:
         for grp in mech.groups:
             grp.second(st)
     return st
+
+
+def _drivers(mech) -> str:
+    return ", ".join(f"{d.kind} {d.inputs[0]}" for d in mech.drivers)
+
+
+def _by_time(mech, theta, rates, xp) -> tuple:
+    """The coordinates and rates of a linkage driven by time, checked: one per driver,
+    finite, and of one kind of number (floats, or arrays of one shape)."""
+    names = [d.inputs for d in mech.drivers]
+    if len(theta) != len(names) or len(rates) != len(names):
+        raise InputError(f"{mech.name} is driven by {_drivers(mech)}: give "
+                         f"{len(names)} coordinate(s) and (speed, acceleration) pair(s), "
+                         f"got {len(theta)} and {len(rates)}")
+    values = [v for q, (w, a) in zip(theta, rates) for v in (q, w, a)]
+    flat = [n for three in names for n in three]
+    if xp is None:
+        if all(np.ndim(v) == 0 for v in values):
+            xp = SCALAR
+            values = [finite_float(n, v.item() if isinstance(v, np.ndarray) else v)
+                      for n, v in zip(flat, values)]
+        else:
+            xp = ARRAY
+            values = np.broadcast_arrays(*(finite_array(n, v) for n, v in zip(flat, values)))
+    return (tuple(values[0::3]), tuple(zip(values[1::3], values[2::3])), xp)
 
 
 def order(mech, plan) -> int:
@@ -171,7 +244,7 @@ def reactions(mech, st: KinematicState, W: dict, plan, omega, xp):
     if plan.reactions and plan.method == "direct":
         n = 1 if xp.scalar else np.size(st.theta)
         R, effort = kinetostatics.direct(mech, st, W, xp, n)
-    elif plan.reactions:
+    elif plan.reactions or mech.rates:
         R, effort = kinetostatics.closed_form(mech, st, W)
     else:
         R, effort = {}, kinetostatics.virtual_effort(mech, st, W)
@@ -192,7 +265,11 @@ def evaluate(mech, plan, theta, omega, alpha, loads, xp) -> tuple[dict, Kinemati
     the loads over the cycle the plan's ``given`` names. ``mech.solve`` and
     ``mech.table`` make the plan (``mech.solver.plan``) and call this; use them.
     """
-    st = kinematics(mech, theta, order(mech, plan), xp)
+    if mech.rates:  # d1, d2 are the velocities and accelerations: unit speed, time
+        st = kinematics(mech, theta, order(mech, plan), xp, tuple(zip(omega, alpha)))
+        omega, alpha = 1.0, 0.0
+    else:
+        st = kinematics(mech, theta, order(mech, plan), xp)
     R, effort = {}, 0.0
     if plan.reactions or plan.effort:
         if mech.computed_loads:  # each computed load: given, or None (computed)

@@ -24,7 +24,7 @@ from types import MappingProxyType
 import numpy as np
 
 from .drivers import Driver, input_names, input_units
-from .errors import InputTypeError
+from .errors import InputError, InputTypeError
 from .expressions import evaluate
 
 #: the types the lean path takes besides floats, as floats (:func:`floats`)
@@ -136,6 +136,51 @@ class InputTable:
                 self.defaults[acceleration] if alpha is None else alpha,
                 *(values.get(n, self.defaults[n]) for n in names),
                 *(values[n] for n in given)], given
+
+    def every(self, positional: Sequence, named: dict) -> tuple[list, tuple]:
+        """Every input of a linkage driven by time, in :attr:`names` order (then the
+        computed loads given), from ``positional`` values in that order (None: not given)
+        and ``named`` ones: each driver's coordinate is required, every other input not
+        given takes its start value; text is taken in SI.
+
+        Raises
+        ------
+        TypeError
+            Too many values, an unknown name, or an input given twice.
+        ValueError
+            A driver's coordinate not given.
+
+        Examples
+        --------
+        >>> from linkage_fmu.drivers import Driver
+        >>> table = InputTable("arm", (Driver.named("P", "travel", None, False),), ())
+        >>> table.every(("20 mm",), {"v_P": 0.1})
+        ([0.02, 0.1, 0.0], ())
+        """
+        if len(positional) > len(self.names):
+            raise InputTypeError(f"{self.name} has {len(self.names)} inputs "
+                                 f"({', '.join(self.names)}), got {len(positional)} "
+                                 "positional values")
+        values = {n: v for n, v in zip(self.names, positional) if v is not None}
+        computed = {ld.name for ld in self.computed_loads}
+        for key, value in named.items():
+            if key not in self.names and key not in computed:
+                raise InputTypeError(f"{self.name} has no input {key!r}; its inputs are: "
+                                     + ", ".join(self.names))
+            if key in values:
+                raise InputTypeError(f"input {key} is given twice")
+            values[key] = value
+        missing = [n for n in self.motion[0::3] if n not in values]
+        if missing:
+            raise InputError(f"{self.name}: give each driver's coordinate; missing: "
+                             + ", ".join(missing))
+        given = tuple(ld.name for ld in self.computed_loads if ld.name in values)
+        out = [values.get(n, self.defaults[n]) for n in self.names + given]
+        for k, value in enumerate(out):
+            if isinstance(value, str):
+                name = (self.names + given)[k]
+                out[k] = evaluate(value, self.units[name], name)
+        return out, given
 
     def lean_loads(self, loads: tuple, named: dict) -> tuple | list | None:
         """The input loads of the lean path from those given positionally (``loads``)

@@ -61,6 +61,13 @@ def closed_form(mech, st: KinematicState, W: dict):
     >>> round(Mb, 4), round(R["slot"][0], 4)
     (15.6699, 313.3975)
     """
+    if mech.rates:  # each driver's effort, from its own group's equations
+        R, efforts = {}, [None] * len(mech.drivers)
+        for g in reversed(mech.groups):
+            effort = g.statics(mech, st, W, R)
+            if g.DRIVER:
+                efforts[g.index] = effort
+        return R, tuple(efforts)
     effort = None
     if not mech.effort_on_crank:
         effort = virtual_effort(mech, st, W)
@@ -110,8 +117,9 @@ def equilibrium_entries(mech, st: KinematicState, W: dict | None = None):
 
     Rows: per moving body, forces x, y and the moment about its centre of mass divided
     by the mechanism's length scale ``L``. Columns: the joint reactions in
-    ``mech.joints`` order (couples of prismatic pairs divided by ``L``), then the
-    balancing effort (divided by ``L`` if it is a moment). This scaling keeps every
+    ``mech.joints`` order (couples of prismatic pairs divided by ``L``), then each of
+    ``mech.efforts`` (divided by ``L`` if it is a moment; a driver's reaction on its
+    base with the opposite sign). This scaling keeps every
     entry of ``A`` of order one. Values are whatever ``st`` and ``W`` hold (floats,
     arrays over states, or mpmath numbers).
 
@@ -145,14 +153,20 @@ def equilibrium_entries(mech, st: KinematicState, W: dict | None = None):
                 continue
             a += j.entries(st, rows[body], col, sign, arm(j.point, body))
         col += 2
-    e = mech.effort
-    r = rows[e.body]
-    if e.direction is None:
-        a.append((r + 2, col, 1.0))
-    else:
-        dx, dy = e.direction
-        ax, ay = arm(e.point, e.body)
-        a += [(r, col, dx), (r + 1, col, dy), (r + 2, col, ax * dy - ay * dx)]
+    for e in mech.efforts:
+        # the effort on its body, its reaction (a driver's) on its base
+        for body, sign in ((e.body, 1.0), (e.base, -1.0)):
+            if not body or body == mech.frame:
+                continue
+            r = rows[body]
+            if e.direction is None:
+                a.append((r + 2, col, sign))
+                continue
+            dx, dy = st.u[e.direction] if isinstance(e.direction, str) else e.direction
+            ax, ay = arm(e.point, body)
+            a += [(r, col, sign * dx), (r + 1, col, sign * dy),
+                  (r + 2, col, sign * (ax * dy - ay * dx))]
+        col += 1
     b = []
     if W is not None:
         for body in mech.bodies:
@@ -201,7 +215,9 @@ def unknowns(mech, x) -> tuple[dict, object]:
     for j in mech.joints:
         R[j.name] = (x[col], x[col + 1] * j.column_scale(L))
         col += 2
-    return R, x[col] * (L if mech.effort.direction is None else 1.0)
+    efforts = tuple(x[col + k] * (L if e.direction is None else 1.0)
+                    for k, e in enumerate(mech.efforts))
+    return R, (efforts if mech.rates else efforts[0])
 
 
 def direct(mech, st: KinematicState, W: dict, xp, n_states: int = 1):
@@ -232,5 +248,5 @@ def direct(mech, st: KinematicState, W: dict, xp, n_states: int = 1):
     R, effort = unknowns(mech, linalg.solve_batch(A, b).T)
     if xp.scalar:
         R = {k: (float(a[0]), float(b[0])) for k, (a, b) in R.items()}
-        effort = float(effort[0])
+        effort = tuple(float(e[0]) for e in effort) if mech.rates else float(effort[0])
     return R, effort

@@ -24,7 +24,7 @@ from .friction import resolve as resolve_friction
 from .groups import FRAME, OWNER, Group, KinematicState
 from .inputs import LEAN, InputTable, floats
 from .loads import Load
-from .outputs import SHAKING, EffortOutput, Shaking
+from .outputs import SHAKING, EffortOutput, Shaking, shaking_pivot
 from .pairs import Pair
 from .solver import METHODS, Solution, Solver
 
@@ -43,12 +43,18 @@ class Mechanism:
     frame_points : dict
         Frame point name -> (x, y).
     groups : sequence of Group
-        The :class:`~linkage_fmu.groups.Crank` first, then groups and link points in
-        an order in which each one's points are already placed.
+        The drivers (a :class:`~linkage_fmu.groups.Crank` first), then groups and link
+        points in an order in which each one's points are already placed. A linkage
+        with several drivers, or one driven by a motor between two links or by a
+        :class:`~linkage_fmu.groups.Cylinder`, is driven by time: its inputs are each
+        driver's coordinate, speed and acceleration (``theta_<j>``, ``omega_<j>``,
+        ``alpha_<j>``; ``s_<j>``, ``v_<j>``, ``a_<j>``) and its efforts each driver's
+        (``Mb_<j>``, ``Fb_<j>``).
     bodies : sequence of Body
         One per moving link.
-    effort : Effort
-        Where the balancing effort acts.
+    effort : Effort or None
+        Where the balancing effort acts; None for a linkage driven by time, whose
+        drivers apply the efforts.
     outputs : sequence
         Output declarations (:mod:`linkage_fmu.outputs`), in output order; the shaking
         force and moment (:data:`~linkage_fmu.outputs.SHAKING`) follow them.
@@ -71,7 +77,7 @@ class Mechanism:
     """
 
     def __init__(self, name: str, frame: str, frame_points: dict, groups: Sequence,
-                 bodies: Sequence[Body], effort: Effort, outputs: Sequence,
+                 bodies: Sequence[Body], effort: Effort | None, outputs: Sequence,
                  loads: Sequence[Load], g: float, parameters: dict | None = None,
                  description=None, rebuild: Callable[[dict], "Mechanism"] | None = None,
                  start: dict | None = None, friction: Declared = Declared()):
@@ -90,10 +96,13 @@ class Mechanism:
                 raise InputTypeError(f"{name}: {grp!r} is not a group (a subclass of "
                                      "linkage_fmu.groups.Group)")
         if not groups or not groups[0].DRIVER:
-            raise LinkageError(name, "the first group must be the driver (a Crank)")
-        if any(grp.DRIVER for grp in groups[1:]):  # its mobility: one per driver
-            raise LinkageError(name, "only the first group drives the linkage: its later "
-                               "groups have mobility 0, so it has one driver")
+            raise LinkageError(name, "the first group must be a driver (a Crank)")
+        driving = [grp for grp in groups if grp.DRIVER]
+        #: driven by time: several drivers, or one whose kinematics take its speed
+        #: (:attr:`KinematicState.rates <linkage_fmu.groups.KinematicState>`)
+        self.rates = len(driving) > 1 or driving[0].by_time
+        if self.rates:
+            _check_by_time(name, groups, effort, loads, friction)
         owner = _place(name, frame, self.frame_points, groups)
         links = [link for grp in groups for link in grp.links]
         body_names = [b.name for b in self.bodies]
@@ -111,13 +120,18 @@ class Mechanism:
         _check_load_points(name, self.loads, self.bodies, owner, self.joints)
         #: the friction in its joints (:class:`~linkage_fmu.friction.LinkageFriction`)
         self.friction = resolve_friction(self, friction)
-        self.effort_on_crank = effort.direction is None and effort.body == groups[0].link
+        #: what drives it: one :class:`~linkage_fmu.drivers.Driver` per degree of freedom
+        self.drivers = tuple(grp.driver(effort.name) for grp in driving) if not self.rates \
+            else tuple(grp.driver(None, alone=False) for grp in driving)
+        #: the efforts it needs: the balancing effort, or each driver's
+        self.efforts = (effort,) if not self.rates else tuple(
+            _effort(frame, d.effort, grp.acts()) for d, grp in zip(self.drivers, driving))
+        self.effort_on_crank = self.rates or (effort.direction is None and
+                                              effort.body == groups[0].link)
         self.crank = groups[0]
         self.length_scale = _length_scale(groups, self.frame_points)
         self.offset_scale = _offset_scale(self.bodies, self.length_scale)
         self.dyads = tuple(grp for grp in groups if grp.key)
-        #: what drives it: one :class:`~linkage_fmu.drivers.Driver` per degree of freedom
-        self.drivers = (groups[0].driver(effort.name),)
         #: its inputs: names, units, start values, a call's values
         #: (:class:`~linkage_fmu.inputs.InputTable`)
         self.input_table = table = InputTable(name, self.drivers, self.loads, start)
@@ -126,7 +140,10 @@ class Mechanism:
         #: input name -> its unit (the loads over the cycle included)
         self.input_units = table.units
         # every linkage reports what its moving links put on the frame
-        outputs = tuple(outputs) + friction_outputs(self) + tuple(
+        named = {o.name for o in outputs if isinstance(o, EffortOutput)}
+        outputs = tuple(outputs) + tuple(  # every driver's effort is reported
+            _effort_output(e) for e in self.efforts if self.rates and e.name not in named)
+        outputs += friction_outputs(self) + tuple(
             Shaking(n, c) for n, c in zip(SHAKING, "xyM"))
         #: (name, fn(R, effort, st)) of every output, in output order
         self.output_functions = tuple((o.name, o.bind(self)) for o in outputs)
@@ -137,8 +154,8 @@ class Mechanism:
         #: the outputs that may be NaN at a state that has outputs (eta: no power enters)
         self.partial_outputs = frozenset(o.name for o in outputs
                                          if not getattr(o, "finite", True))
-        self._diagnostic_names = tuple(f"gamma_{d.key}" for d in self.dyads) + \
-            diagnostics.NAMES
+        self._diagnostic_names = tuple(f"gamma_{d.key}" for d in self.dyads) + (
+            ("cond",) if self.rates else diagnostics.NAMES)
         _check_names(name, {"input": self.input_names, "parameter": tuple(self.parameters),
                             "output": self.output_names,
                             "diagnostic output": self.diagnostic_names})
@@ -148,7 +165,13 @@ class Mechanism:
         self.kernel_parameters = () if rebuild is None else tuple(
             n for n, v in self.parameters.items() if type(v) is float and (
                 friction.active or n not in friction.parameters))
-        self.output_info.update(diagnostics.info(self))
+        self.output_info.update((k, v) for k, v in diagnostics.info(self).items()
+                                if k in self._diagnostic_names)
+        if self.rates:
+            self.output_info["shake_M"] = (
+                "N.m", f"shaking moment: moment about {shaking_pivot(self)} of what the "
+                "moving links exert on the frame (joints and drivers), counter-clockwise "
+                "positive")
         #: solves it: plans, kernels, methods (:class:`~linkage_fmu.solver.Solver`)
         self.solver = Solver(self)
         # the lean path of solve: [static, moving] hot kernels, the inputs' start values
@@ -267,10 +290,11 @@ class Mechanism:
         return f"<Mechanism {self.name}({params})>"
 
     # -- kinematics -------------------------------------------------------------
-    def kinematics(self, theta, order: int = 2, xp=None) -> KinematicState:
-        """The position of every point and link at the crank angle(s) ``theta`` and
+    def kinematics(self, theta, order: int = 2, xp=None, rates=None) -> KinematicState:
+        """The position of every point and link at the crank angle(s) ``theta`` (a
+        linkage driven by time: its drivers' coordinates, and their ``rates``) and
         their derivatives up to ``order``: :func:`linkage_fmu.evaluation.kinematics`."""
-        return evaluation.kinematics(self, theta, order, xp)
+        return evaluation.kinematics(self, theta, order, xp, rates)
 
     def reduced_inertia(self, theta, xp=None) -> tuple:
         """The moment of inertia reduced to the crank and its derivative by the crank
@@ -300,14 +324,15 @@ class Mechanism:
         return self.input_table.values(omega, alpha, loads, named)
 
     # -- solving (the solver's public interface, here for convenience) -----------
-    def solve(self, theta, omega=None, alpha=None, *loads, method: str = "closed_form",
+    def solve(self, theta=None, omega=None, alpha=None, *loads, method: str = "closed_form",
               outputs: Iterable[str] | None = None, **named_loads) -> Solution:
         """Joint reactions, balancing effort and diagnostics at one or many states.
 
         Each input is a float, text with a unit (one state) or an array; the
         parameters, what it returns and what it raises are those of
         :meth:`Solver.solve <linkage_fmu.solver.Solver.solve>`, which serves every call
-        this method's fast path (a hot compiled kernel, plain numbers) does not.
+        this method's fast path (a hot compiled kernel, plain numbers) does not. A
+        linkage driven by time takes its :attr:`input_names` positionally or by name.
 
         Examples
         --------
@@ -320,7 +345,7 @@ class Mechanism:
         >>> yoke.solve([0.0, math.pi / 2], omega=10.0, load=400.0)["F23y"].round(4)
         array([400., 300.])
         """
-        if outputs is None and method == "closed_form":
+        if outputs is None and method == "closed_form" and not self.rates:
             # the lean path, the one fast path: plain numbers, every output, the compiled
             # kernel once hot (Solver.hot). It returns only the kernel's Solution, the
             # floats the general path returns for the same inputs; anything else (text,
@@ -362,6 +387,47 @@ class Mechanism:
     def kernel(self, outputs: Iterable[str] | None = None, static: bool = False):
         """The traced kernel of the plan ``(outputs, static)``: :meth:`.Solver.kernel`."""
         return self.solver.kernel(outputs, static)
+
+
+def _check_by_time(name: str, groups: Sequence, effort, loads: Sequence[Load],
+                   friction: Declared) -> None:
+    """Refuse what a linkage driven by time (several drivers, a motor, a cylinder)
+    cannot take: a balancing effort besides its drivers', a load given over a crank's
+    cycle, friction, and a class III group (whose continuation follows one crank)."""
+    drivers = ", ".join(f"{type(g).__name__} at {g.driver(None, False).name}"
+                        for g in groups if g.DRIVER)
+    head = f"it is driven by time ({drivers}):"
+    if effort is not None:
+        raise LinkageError(name, f"{head} each driver applies its own effort (Mb_<j>, "
+                           f"Fb_<j>), so it takes no balancing effort {effort.name!r}")
+    computed = [ld.name for ld in loads if ld.computed]
+    if computed:
+        raise LinkageError(name, f"{head} a load over a crank's cycle ({', '.join(computed)}) "
+                           "has no crank angle to follow; give it as an input")
+    if friction.frictions:
+        raise LinkageError(name, f"{head} friction in its pairs is solved for linkages "
+                           "driven by one crank only, so far")
+    closures = [g.key or type(g).__name__ for g in groups if g.kind == "closure"]
+    if closures:
+        raise LinkageError(name, f"{head} a class III group (at {', '.join(closures)}) is "
+                           "solved for linkages driven by one crank only, so far")
+
+
+def _effort(frame: str, name: str, acts: tuple) -> Effort:
+    """A driver's effort, where its group says it acts (:meth:`Group.acts
+    <linkage_fmu.groups.Group.acts>`), its base the frame by name."""
+    body, point, direction, base = acts
+    return Effort(name, body, point, direction, frame if base == FRAME else base)
+
+
+def _effort_output(e: Effort) -> EffortOutput:
+    """The output of a driver's effort ``e``."""
+    if e.direction is None:
+        return EffortOutput(e.name, "N.m", f"moment the driver applies to link {e.body} "
+                            f"(its reaction on {e.base}), counter-clockwise positive")
+    return EffortOutput(e.name, "N", f"force the cylinder applies to its rod {e.body} "
+                        "along its axis, from its barrel's pin to its rod's (> 0 pushes "
+                        "them apart)")
 
 
 def _place(name: str, frame: str, frame_points: dict, groups: Sequence) -> dict:

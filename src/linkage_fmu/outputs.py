@@ -349,9 +349,20 @@ class EffortOutput(Output):
             if unit == "N.m" else "balancing force"))]
 
     def bind(self, mech) -> Callable:
-        if mech.effort.name == self.name:
-            return lambda R, E, st: E
-        return lambda R, E, st: 0.0
+        return effort_value(mech, self.name)
+
+
+def effort_value(mech, name: str) -> Callable:
+    """``fn(R, E, st)``: the effort ``name`` of ``mech`` (one of its drivers' in a
+    linkage driven by time, where ``E`` is the tuple of them), zero for the name of an
+    effort a choice of its description did not make the effort."""
+    if mech.rates:
+        for k, e in enumerate(mech.efforts):
+            if e.name == name:
+                return lambda R, E, st: E[k]
+    elif mech.effort.name == name:
+        return lambda R, E, st: E
+    return lambda R, E, st: 0.0
 
 
 @dataclass(frozen=True)
@@ -397,8 +408,8 @@ class Derived(Output):
             if name in by_name:
                 joint, i = by_name[name]
                 return lambda R, E, st: R[joint][i]
-            if name == mech.effort.name:
-                return lambda R, E, st: E
+            if name in {e.name for e in mech.efforts}:
+                return effort_value(mech, name)
             if name in mech.parameters:  # a float, or a traced parameter
                 return numerics.real(mech.parameters[name])
             return lambda R, E, st: 0.0  # another effort's name: not this linkage's effort
@@ -408,6 +419,12 @@ class Derived(Output):
 
 #: the names of the shaking outputs every linkage has
 SHAKING = ("shake_x", "shake_y", "shake_M")
+
+
+def shaking_pivot(mech) -> str:
+    """The point the shaking moment is taken about: the crank's pivot, or, for a
+    linkage driven by time, its first frame point."""
+    return next(iter(mech.frame_points)) if mech.rates else mech.crank.pivot
 
 
 @dataclass(frozen=True)
@@ -440,14 +457,25 @@ class Shaking(Output):
         # the frame, -1 where it is the frame's on the link
         joints = [(j, 1.0 if j.b == mech.frame else -1.0) for j in mech.joints
                   if mech.frame in (j.a, j.b)]
-        pivot, effort = mech.crank.pivot, mech.effort
+        pivot, effort = shaking_pivot(mech), mech.effort
         rubbing = {j.name for j, _ in joints if has_friction(mech, j.name)}
+        # a linkage driven by time: the reactions of its drivers that act on the frame
+        grounded = [(k, e) for k, e in enumerate(mech.efforts) if e.base == mech.frame] \
+            if mech.rates else ()
 
         def forces(R, E, st):
             """(fx, fy, point or None, couple) of each action on the frame."""
             for j, sign in joints:
                 yield j.action(R, st, sign, j.name in rubbing)
-            if effort.direction is None:  # the driver's reaction: a couple
+            if mech.rates:
+                for k, e in grounded:
+                    if e.direction is None:
+                        yield 0.0, 0.0, None, -E[k]
+                    else:
+                        dx, dy = st.u[e.direction] if isinstance(e.direction, str) \
+                            else e.direction
+                        yield -E[k] * dx, -E[k] * dy, e.point, 0.0
+            elif effort.direction is None:  # the driver's reaction: a couple
                 yield 0.0, 0.0, None, -E
             else:
                 yield -E * effort.direction[0], -E * effort.direction[1], effort.point, 0.0

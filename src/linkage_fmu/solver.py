@@ -31,6 +31,7 @@ from . import diagnostics, evaluation, ranges
 from .errors import (
     AssemblyError,
     InputError,
+    InputTypeError,
     OverflowInputError,
     SelfLockingError,
     SingularPositionError,
@@ -262,6 +263,11 @@ class Solver:
             state to trace the formulas at (asked again, at once, without tracing).
         """
         wanted = self.wanted(outputs)
+        if self.mech.rates:
+            raise InputError(f"{self.mech.name} is driven by time (its drivers: "
+                             f"{', '.join(d.inputs[0] for d in self.mech.drivers)}): its "
+                             "formulas are not traced into kernels yet; solve and table "
+                             "evaluate them")
         key = (wanted, static, given)
         k = self._kernels.get(key)
         if k is None:
@@ -390,13 +396,18 @@ class Solver:
         if method not in METHODS:
             raise InputError(f"method must be one of {METHODS}, got {method!r}")
         wanted = self.wanted(outputs)
-        values, given = mech.input_table.values(omega, alpha, loads, named_loads)
-        if isinstance(theta, str):  # a number with a unit, an expression
-            theta = evaluate(theta, "rad", "theta")
-        args = (theta, *values)
+        if mech.rates:  # every input positionally or by name
+            args, given = mech.input_table.every((theta, omega, alpha, *loads), named_loads)
+            args = tuple(args)
+        else:
+            if theta is None:
+                raise InputTypeError(f"{mech.name}: solve takes the crank angle theta")
+            values, given = mech.input_table.values(omega, alpha, loads, named_loads)
+            if isinstance(theta, str):  # a number with a unit, an expression
+                theta = evaluate(theta, "rad", "theta")
+            args = (theta, *values)
         names = mech.input_names + given
-        if type(theta) is float and all(type(a) is float for a in values) and \
-                math.isfinite(sum(args)):
+        if all(type(a) is float for a in args) and math.isfinite(sum(args)):
             return self._one(args, method, wanted, given)  # finite floats: FMU steps
         if all(np.ndim(a) == 0 for a in args):
             values = [finite_float(n, a.item() if isinstance(a, np.ndarray) else a)
@@ -486,7 +497,7 @@ class Solver:
     # -- one state ------------------------------------------------------------------
     def _one(self, values, method: str, wanted: tuple, given: tuple = ()) -> Solution:
         """One state of finite floats: the kernel's tuple, or the interpreted formulas."""
-        if method == "closed_form":
+        if method == "closed_form" and not self.mech.rates:
             r, k = self._kernel_call(values, wanted, given)
             if wanted is self._all and k.compiled and \
                     self.hot[values[1] != 0.0 or values[2] != 0.0] is None:
@@ -517,11 +528,11 @@ class Solver:
         """One state of finite floats ``(theta, omega, alpha, *loads)`` by the formulas;
         raises the error of a state without outputs."""
         mech = self.mech
-        static = values[1] == 0.0 and values[2] == 0.0
+        static = evaluation.still(mech, values) if mech.rates else \
+            values[1] == 0.0 and values[2] == 0.0
         plan = self.plan(wanted, static, method, given)
         try:
-            out, _ = evaluation.evaluate(mech, plan, values[0], values[1], values[2],
-                                         values[3:], SCALAR)
+            out, _ = evaluation.evaluate(mech, plan, *evaluation.split(mech, values), SCALAR)
             # one finite sum: every term is finite (a sum that overflows is checked term
             # by term); a non-finite output means singular or overflowing
             if math.isfinite(sum(out[n] for n in plan.checked)) or \
@@ -535,10 +546,12 @@ class Solver:
         """The error of a state that assembles but whose outputs are not finite: an
         overflow if the position is well conditioned, else a singular position."""
         mech = self.mech
-        theta = values[0]
+        theta, speeds, accelerations, _ = evaluation.split(mech, values)
+        rates = tuple(zip(speeds, accelerations)) if mech.rates else None
         inputs = ", ".join(f"{n} = {v!r}" for n, v in zip(mech.input_names + given, values))
         try:
-            st = evaluation.kinematics(mech, theta, 0 if mech.effort_on_crank else 1, SCALAR)
+            st = evaluation.kinematics(mech, theta, 0 if mech.effort_on_crank else 1, SCALAR,
+                                       rates)
         except OverflowError:  # the position itself overflows
             return OverflowInputError(mech.name, f"the arithmetic overflows float64 at "
                                       f"{inputs}: {_largest(mech, values, given)}")
@@ -551,7 +564,8 @@ class Solver:
                               for ld in mech.computed_loads if ld.name not in given)
             return OverflowInputError(mech.name, f"the outputs overflow float64 at {inputs}: "
                                       f"{_largest(mech, values, given)}")
-        return SingularPositionError(mech.name, theta, diagnostics.singular_detail(mech, st),
+        return SingularPositionError(mech.name, evaluation.state_words(mech, theta),
+                                     diagnostics.singular_detail(mech, st),
                                      diagnostics.singular_what(mech, st))
 
     def attempt(self, values: list, outputs: Iterable[str] | None = None,
@@ -569,7 +583,7 @@ class Solver:
         'the linkage cannot be assembled: the dyad B-C-D cannot close'
         """
         wanted = self.wanted(outputs)
-        if method == "closed_form":
+        if method == "closed_form" and not self.mech.rates:
             r, k = self._kernel_call(values, wanted)
             if type(r) is tuple and (math.isfinite(sum(r)) or finite([r[i] for i in k.checked])):
                 return r
@@ -595,10 +609,10 @@ class Solver:
             parts = (rows[i:i + CHUNK] for i in range(0, rows.size, CHUNK))
         with np.errstate(divide="ignore", invalid="ignore"):
             for part in parts:
-                omega, alpha = flat[1][part], flat[2][part]
-                plan = self.plan(wanted, not (omega.any() or alpha.any()), method, given)
-                values, st = evaluation.evaluate(self.mech, plan, flat[0][part], omega, alpha,
-                                                [a[part] for a in flat[3:]], ARRAY)
+                state = [a[part] for a in flat]
+                plan = self.plan(wanted, evaluation.still(self.mech, state), method, given)
+                values, st = evaluation.evaluate(self.mech, plan,
+                                                 *evaluation.split(self.mech, state), ARRAY)
                 valid[part] = _solved(st)
                 for name in wanted:
                     out[name][part] = values[name]
@@ -606,6 +620,8 @@ class Solver:
     def _compiled_arrays(self, arrays, flat, n, wanted, given=()):
         """The compiled kernel of the plan over every state, the interpreted formulas for
         the states it hands back: ``(outputs, valid)``; None without a compiled kernel."""
+        if self.mech.rates:  # no kernels yet for a linkage driven by time
+            return None
         omega, alpha = flat[1], flat[2]
         static = not (omega.any() or alpha.any())
         k = self._kernels.get((wanted, static, given)) or self._kernel_or_none(
@@ -671,7 +687,7 @@ class Solver:
         that assemble and whose friction has no solution."""
         with np.errstate(all="ignore"):
             plan = self.plan(wanted, False, "interpreted", given)
-            _, st = evaluation.evaluate(self.mech, plan, flat[0], flat[1], flat[2], flat[3:], ARRAY)
+            _, st = evaluation.evaluate(self.mech, plan, *evaluation.split(self.mech, flat), ARRAY)
         locked = np.zeros(flat[0].size, bool) if st.locked is None else st.locked.copy()
         if st.invalid is not None:
             locked &= ~st.invalid

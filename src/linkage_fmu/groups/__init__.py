@@ -13,7 +13,7 @@ Examples
 --------
 >>> from linkage_fmu import groups
 >>> sorted(groups.Group.registry)
-['RPP', 'RPR', 'RRP', 'RRR', 'closure', 'crank', 'point']
+['RPP', 'RPR', 'RRP', 'RRR', 'closure', 'crank', 'cylinder', 'point']
 """
 
 from .base import (
@@ -29,6 +29,7 @@ from .base import (
 )
 from .closure import Closure
 from .crank import Crank
+from .cylinder import Cylinder
 from .point import LinkPoint
 from .rpp import RPP
 from .rpr import RPR
@@ -36,5 +37,5 @@ from .rrp import RRP
 from .rrr import RRR
 
 __all__ = ["Group", "Field", "ROLES", "ROLE_MEANINGS", "KinematicState", "FRAME",
-           "OWNER", "LinkJoints", "Crank", "RRR", "RRP", "RPP", "RPR", "LinkPoint", "Closure",
+           "OWNER", "LinkJoints", "Crank", "Cylinder", "RRR", "RRP", "RPP", "RPR", "LinkPoint", "Closure",
            "Drawing"]

@@ -64,13 +64,22 @@ class KinematicState:
     on_invalid : callable
         ``on_invalid(condition, what)`` raises for a scalar state (set by the mechanism):
         ``condition`` says what failed with its numbers, ``what`` without them.
+    rates : tuple or None
+        None for a linkage driven by one crank on the frame, whose coefficients are
+        derivatives by its angle. For any other (several drivers, a motor between two
+        links, a cylinder): each driver's ``(speed, acceleration)``, in the order of
+        ``mech.drivers``; ``theta`` is then the tuple of the drivers' coordinates, and
+        ``d1``, ``d2``, ``w1``, ``w2`` are the velocities and accelerations themselves
+        (the coefficients at unit speed and zero acceleration of one coordinate, time).
     """
 
     __slots__ = ("theta", "xp", "p", "d1", "d2", "u", "w1", "w2", "invalid", "locked",
-                 "on_invalid")
+                 "on_invalid", "rates")
 
-    def __init__(self, theta: Number, xp, on_invalid: Callable[[str], None] | None = None):
+    def __init__(self, theta: Number, xp, on_invalid: Callable[[str], None] | None = None,
+                 rates: tuple | None = None):
         self.theta = theta
+        self.rates = rates
         self.xp = xp
         self.p: dict = {}
         self.d1: dict = {}
@@ -410,10 +419,11 @@ class Group(ABC):
     OPTIONAL : tuple of str
         The fields that may be left out.
     DRIVER : bool
-        True for the driver: the first group of a linkage, and only the first. A linkage
-        has mobility 1: its driver's angle, speed and acceleration are the linkage's
-        inputs ``theta``, ``omega`` and ``alpha`` (its :meth:`driver` says so), and
-        every later group follows from the points placed before it.
+        True for a driver: a group whose coordinate is an input (a crank's or a motor's
+        angle, a cylinder's travel). A linkage has one driver per degree of freedom,
+        before the groups that use what they place; its coordinate, speed and
+        acceleration are the linkage's inputs (its :meth:`driver` names them), and every
+        other group follows from the points placed before it.
     DRAWING : Drawing or None
         How the type is drawn as joints and links, declared by the type itself (a new
         kind does not take its parent's); None for a type the decomposition of such a
@@ -451,6 +461,12 @@ class Group(ABC):
     fixed_size: bool = True
     owners: dict = {}
     key: str | None = None
+    #: a driver whose speed and acceleration its kinematics take as they are, even
+    #: alone (a motor, a cylinder): its linkage's state is then one of time
+    #: (:attr:`KinematicState.rates`)
+    by_time: bool = False
+    #: a driver's place among its linkage's drivers (set when it is attached)
+    index: int = 0
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)
@@ -535,6 +551,21 @@ class Group(ABC):
         """
         raise InputTypeError(f"{type(self).__name__} is no driver (DRIVER = False)")
 
+    def acts(self) -> tuple:
+        """Where a driving group's effort acts, as
+        :class:`~linkage_fmu.bodies.Effort` takes it: ``(body, point, direction,
+        base)``, a moment on ``body`` (``point`` '' and ``direction`` None) or a force at
+        ``point`` along the link ``direction``'s direction, its reaction on ``base``.
+        A type with ``DRIVER = True`` implements it (checked when the class is defined).
+
+        Examples
+        --------
+        >>> from linkage_fmu.groups import Crank
+        >>> Crank("1", "A", "B", 0.1).acts()
+        ('1', '', None, '<frame>')
+        """
+        raise InputTypeError(f"{type(self).__name__} is no driver (DRIVER = False)")
+
     def attach(self, before: tuple, frame_points: dict) -> None:  # noqa: B027 (optional hook)
         """Called by the mechanism with the groups ``before`` this one (in order) and
         its frame points (name -> ``(x, y)``): a group that needs to place the points
@@ -559,7 +590,8 @@ class Group(ABC):
         ``(Fx, Fy)`` or ``(N, M)``), from the wrenches ``W`` of its links (body name ->
         ``[Fx, Fy, M]`` about the centre of mass). Adds the reactions on the links it is
         attached to into their wrenches (groups are solved from the last back to the
-        crank). Returns the balancing moment for the crank, else None."""
+        crank). Returns a driver's effort (the moment or force it must apply), else
+        None."""
 
     @abstractmethod
     def transmission(self, st: KinematicState, scale: float):
@@ -600,6 +632,9 @@ def _contract_problem(cls: type) -> str:
     if cls.DRIVER and cls.driver is Group.driver:
         return ("is a DRIVER but does not implement driver(effort, alone): the mechanism "
                 "asks it which pair it drives and how its inputs are named")
+    if cls.DRIVER and cls.acts is Group.acts:
+        return ("is a DRIVER but does not implement acts(): the mechanism asks it where "
+                "its effort acts")
     drawing = cls.__dict__.get("DRAWING")
     if drawing is not None and not isinstance(drawing, Drawing):
         return f"DRAWING = {drawing!r} must be a Drawing or None"
