@@ -489,16 +489,18 @@ def test_start_values_cannot_go_stale():
     assert twin.start == mech.start
 
 
-def test_a_second_driving_group_is_refused_with_the_reason():
-    """A linkage of groups has one driver, its first group: a later crank is refused
-    before anything is built, saying why (its later groups have mobility 0)."""
+def test_a_second_driver_refuses_a_balancing_effort_with_the_reason():
+    """A second crank makes the linkage one driven by time, each driver with its own
+    effort: a balancing effort given besides is refused, naming the drivers and it."""
     from linkage_fmu import Mechanism
     from linkage_fmu.errors import LinkageError
     from linkage_fmu.groups import Crank
 
     m = presets.get("four_bar")
-    with pytest.raises(LinkageError, match="four_bar: only the first group drives the "
-                                           "linkage: its later groups have mobility 0"):
+    with pytest.raises(LinkageError, match=r"four_bar: it is driven by time \(Crank at A, "
+                                           r"Crank at D\): each driver applies its own "
+                                           r"effort \(Mb_<j>, Fb_<j>\), so it takes no "
+                                           "balancing effort 'Mb'"):
         Mechanism("four_bar", m.frame, m.frame_points, (*m.groups, Crank("9", "D", "Z", 0.1)),
                   m.bodies, m.effort, [], [], 0.0)
     assert [d.name for d in m.drivers] == ["A"] and m.drivers[0].effort == "Mb"

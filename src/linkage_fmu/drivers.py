@@ -111,3 +111,20 @@ def input_units(drivers: tuple[Driver, ...]) -> dict[str, str]:
     {'s': 'm', 'v': 'm/s', 'a': 'm/s2'}
     """
     return {n: u for d in drivers for n, u in zip(d.inputs, d.units)}
+
+
+def one_crank(mech, job: str) -> None:
+    """Refuse, saying why, a ``job`` that takes a linkage driven by one crank on the
+    frame for the linkage ``mech`` driven by time (several drivers, a motor, a
+    cylinder), which its ``solve`` serves.
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets
+    >>> one_crank(presets.get("four_bar"), "the reduced inertia")
+    """
+    if mech.rates:
+        drivers = ", ".join(d.inputs[0] for d in mech.drivers)
+        raise InputError(f"{mech.name} is driven by time ({drivers}): {job} takes a linkage "
+                         "driven by one crank on the frame, so far; solve gives its outputs "
+                         "and efforts")

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .drivers import one_crank
 from .expressions import evaluate
 from .numerics import ARRAY, finite_array
 
@@ -60,6 +61,7 @@ def reduced_inertia(mech, theta, xp=None) -> tuple:
     >>> yoke.reduced_inertia([0.0, math.pi / 2])[0].round(12)
     array([0.14, 0.04])
     """
+    one_crank(mech, "the inertia reduced to the crank")
     if isinstance(theta, str):  # a number with a unit, an expression
         theta = evaluate(theta, "rad", "theta")
     if xp is None and np.ndim(theta) != 0:

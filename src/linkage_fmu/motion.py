@@ -23,6 +23,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .drivers import one_crank
 from .errors import (
     AssemblyError,
     ComputationError,
@@ -253,6 +254,7 @@ def crank_moment(mech, job: str) -> str:
     >>> crank_moment(presets.get("four_bar"), "simulate drives the crank with a moment")
     'Mb'
     """
+    one_crank(mech, job.split(";")[0])
     if not mech.effort_on_crank:
         raise InputError(f"{mech.name}: its balancing effort {mech.effort.name} does not act "
                          f"on the crank; {job}")

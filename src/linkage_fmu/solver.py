@@ -28,6 +28,7 @@ from typing import NamedTuple
 import numpy as np
 
 from . import diagnostics, evaluation, ranges
+from .drivers import one_crank
 from .errors import (
     AssemblyError,
     InputError,
@@ -490,6 +491,7 @@ class Solver:
         >>> rocker.table([0.0, 3.0], omega=10.0, outputs=["Mb"])["Mb"].isna().tolist()
         [False, True]
         """
+        one_crank(self.mech, "a table over crank angles")
         theta = np.atleast_1d(np.asarray(theta, dtype=float))
         return frame(self.solve(theta, omega, alpha, *loads, method=method, outputs=outputs,
                                 **named_loads), theta)

@@ -37,5 +37,6 @@ from .rrp import RRP
 from .rrr import RRR
 
 __all__ = ["Group", "Field", "ROLES", "ROLE_MEANINGS", "KinematicState", "FRAME",
-           "OWNER", "LinkJoints", "Crank", "Cylinder", "RRR", "RRP", "RPP", "RPR", "LinkPoint", "Closure",
+           "OWNER", "LinkJoints", "Crank", "Cylinder", "RRR", "RRP", "RPP", "RPR", "LinkPoint",
+           "Closure",
            "Drawing"]

@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 from ..drivers import Driver
-from ..pairs import Revolute
 from ..errors import InputError
+from ..pairs import Revolute
 from .base import FRAME, Field, Group, KinematicState, moment_about, names_in, push
 
 
