@@ -374,7 +374,8 @@ def test_the_first_group_is_the_driver_and_only_the_first(registry):
     d.groups.reverse()
     with pytest.raises(DescriptionError) as info:
         reread(d)
-    assert "[[groups]] #1 (RRR): the first group must be the crank" in info.value.problems
+    assert "[[groups]] #1 (RRR): the first group must be the crank or cylinder" in \
+        info.value.problems
     assert "[[groups]] #2 (crank): " + only_one_driver("crank") in info.value.problems
 
     class Motor(groups.Crank):
@@ -390,11 +391,12 @@ def test_the_first_group_is_the_driver_and_only_the_first(registry):
     with pytest.raises(DescriptionError) as info:
         reread(d)
     problems = info.value.problems
-    assert "[[groups]] #1 (RRR): the first group must be the crank or motor" in problems
+    assert "[[groups]] #1 (RRR): the first group must be the crank or cylinder or motor" in \
+        problems
     assert "[[groups]] #2 (crank): " + only_one_driver("crank") in problems
     assert "[[groups]] #3 (motor): " + only_one_driver("motor") in problems
     with pytest.raises(DescriptionError, match="there are none; the first must be the crank or "
-                                               "motor"):
+                                               "cylinder or motor"):
         Description("empty", model="Empty").point("A", 0, 0).check()
 
 

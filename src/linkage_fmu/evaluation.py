@@ -88,6 +88,10 @@ def kinematics(mech, theta, order: int = 2, xp=None, rates=None) -> KinematicSta
         The numbers to compute on (:data:`~linkage_fmu.numerics.SCALAR`,
         :data:`~linkage_fmu.numerics.ARRAY`, :data:`linkage_fmu.precise.MP`); default
         floats for one angle, numpy arrays for many.
+    rates : tuple, optional
+        For a linkage driven by time (several drivers, a motor, a cylinder): each
+        driver's ``(speed, acceleration)``, ``theta`` then the tuple of their
+        coordinates; ``d1`` and ``d2`` are then velocities and accelerations.
 
     Returns
     -------
@@ -102,10 +106,6 @@ def kinematics(mech, theta, order: int = 2, xp=None, rates=None) -> KinematicSta
         alpha)``), a link's angular speed ``w1 omega``. For arrays, ``st.invalid``
         marks the angles the linkage cannot be assembled at (NaN there).
 
-    rates : tuple, optional
-        For a linkage driven by time (several drivers, a motor, a cylinder): each
-        driver's ``(speed, acceleration)``, ``theta`` then the tuple of their
-        coordinates; ``d1`` and ``d2`` are then velocities and accelerations.
 
     Raises
     ------

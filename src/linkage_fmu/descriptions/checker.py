@@ -63,7 +63,7 @@ class Checker:
     >>> d = Description("demo", model="Demo").point("A", 0, 0)
     >>> for problem in Checker(d).problems():
     ...     print(problem)
-    [[groups]]: there are none; the first must be the crank
+    [[groups]]: there are none; the first must be the crank or cylinder
     [effort]: missing: where does the balancing effort act?
     [[outputs]]: there are none
     """
