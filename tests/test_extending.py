@@ -105,6 +105,9 @@ def toys(registry):
 
             return Driver.named(self.pivot, "angle", effort, alone)
 
+        def acts(self):
+            return self.link, "", None, FRAME
+
         def position(self, st):
             c, s = st.xp.cos(st.theta), st.xp.sin(st.theta)
             x0, y0 = st.p[self.pivot]

@@ -23,13 +23,16 @@ from typing import ClassVar
 from .errors import InputError
 from .units import MOTION_UNITS
 
-#: kind -> the names of its coordinate, speed and acceleration (a linkage's one angle
-#: driver takes them as they are; several drivers add their pair's name) and their units
+#: kind -> the names of its coordinate, speed and acceleration (a linkage's one crank
+#: takes them as they are; a linkage driven by time, by several drivers, a motor between
+#: two links or a cylinder, adds each driver's pair: ``theta_A``, ``s_P``) and their units
 KINDS: dict[str, tuple[tuple[str, str, str], tuple[str, str, str]]] = {
     "angle": (tuple(MOTION_UNITS), tuple(MOTION_UNITS.values())),
     "travel": (("s", "v", "a"), ("m", "m/s", "m/s2")),
 }
-#: kind -> the name of its effort: a moment for an angle, a force for a travel
+#: kind -> the name of its effort: a moment for an angle (``Mb``, ``Mb_A``: on the
+#: driver's second link), a force for a travel (``Fb_P``: on a cylinder's rod, > 0
+#: pushing its pins apart)
 EFFORTS: dict[str, str] = {"angle": "Mb", "travel": "Fb"}
 
 

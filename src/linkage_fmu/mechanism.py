@@ -43,13 +43,9 @@ class Mechanism:
     frame_points : dict
         Frame point name -> (x, y).
     groups : sequence of Group
-        The drivers (a :class:`~linkage_fmu.groups.Crank` first), then groups and link
-        points in an order in which each one's points are already placed. A linkage
-        with several drivers, or one driven by a motor between two links or by a
-        :class:`~linkage_fmu.groups.Cylinder`, is driven by time: its inputs are each
-        driver's coordinate, speed and acceleration (``theta_<j>``, ``omega_<j>``,
-        ``alpha_<j>``; ``s_<j>``, ``v_<j>``, ``a_<j>``) and its efforts each driver's
-        (``Mb_<j>``, ``Fb_<j>``).
+        A driver first, then groups and link points in an order in which each one's
+        points are already placed; several drivers (or a motor, a cylinder): see
+        :data:`~linkage_fmu.drivers.KINDS` for the inputs and efforts then named.
     bodies : sequence of Body
         One per moving link.
     effort : Effort or None
@@ -165,13 +161,7 @@ class Mechanism:
         self.kernel_parameters = () if rebuild is None else tuple(
             n for n, v in self.parameters.items() if type(v) is float and (
                 friction.active or n not in friction.parameters))
-        self.output_info.update((k, v) for k, v in diagnostics.info(self).items()
-                                if k in self._diagnostic_names)
-        if self.rates:
-            self.output_info["shake_M"] = (
-                "N.m", f"shaking moment: moment about {shaking_pivot(self)} of what the "
-                "moving links exert on the frame (joints and drivers), counter-clockwise "
-                "positive")
+        self.output_info.update(_info(self))
         #: solves it: plans, kernels, methods (:class:`~linkage_fmu.solver.Solver`)
         self.solver = Solver(self)
         # the lean path of solve: [static, moving] hot kernels, the inputs' start values
@@ -387,6 +377,17 @@ class Mechanism:
     def kernel(self, outputs: Iterable[str] | None = None, static: bool = False):
         """The traced kernel of the plan ``(outputs, static)``: :meth:`.Solver.kernel`."""
         return self.solver.kernel(outputs, static)
+
+
+def _info(mech) -> dict:
+    """(unit, description) of the diagnostics of ``mech``, and of its shaking moment
+    where it is driven by time (about its first frame point)."""
+    out = {k: v for k, v in diagnostics.info(mech).items() if k in mech.diagnostic_names}
+    if mech.rates:
+        out["shake_M"] = ("N.m", f"shaking moment: moment about {shaking_pivot(mech)} of "
+                          "what the moving links exert on the frame (joints and drivers), "
+                          "counter-clockwise positive")
+    return out
 
 
 def _check_by_time(name: str, groups: Sequence, effort, loads: Sequence[Load],
