@@ -250,3 +250,39 @@ def test_a_job_for_one_crank_is_refused_naming_the_drivers(job, call):
                                          rf"{job} takes a linkage driven by one crank on the "
                                          "frame, so far; solve gives its outputs and efforts"):
         call(five_bar())
+
+
+EXAMPLES = __import__("pathlib").Path(__file__).resolve().parents[1] / "examples"
+
+
+@pytest.mark.parametrize("name, build, state", [
+    ("five_bar", five_bar, dict(theta_A=1.9, theta_E=1.2, omega_A=2.0, omega_E=-1.0,
+                                alpha_A=3.0, alpha_E=0.5, P=10.0)),
+    ("dump_body", dump_body, dict(s_P=0.2, v_P=0.05, a_P=0.01, W=20000.0)),
+])
+def test_the_example_files_are_the_linkages_built_from_groups(name, build, state):
+    """The group-form files examples/five_bar.toml and dump_body.toml describe the
+    linkages built above: the same efforts and frame forces, to 1e-12 relative."""
+    import linkage_fmu
+
+    mech, ref = linkage_fmu.load(EXAMPLES / f"{name}.toml"), build()
+    assert mech.input_names == ref.input_names
+    a, b = mech.solve(**state), ref.solve(**state)
+    for e in ref.efforts:
+        assert a[e.name] == pytest.approx(b[e.name], rel=1e-12)
+    for k in ("shake_x", "shake_y", "shake_M"):
+        assert a[k] == pytest.approx(b[k], rel=1e-12, abs=1e-12)
+
+
+def test_the_command_line_lists_the_drivers_and_refuses_what_takes_one_crank(capsys):
+    from linkage_fmu.cli import main
+
+    assert main(["info", str(EXAMPLES / "dump_body.toml")]) == 0
+    out = capsys.readouterr().out
+    assert "  driver P (travel), effort Fb_P [N]:\n    s_P       [m] travel from the drawn " \
+           "length (start 0.0)\n    v_P       [m/s] speed (start 0.05)" in out
+    for command in (["table"], ["build", "--out", "unused"]):
+        assert main([*command[:1], str(EXAMPLES / "five_bar.toml"), *command[1:]]) == 2
+        err = capsys.readouterr().err
+        assert "five_bar is driven by time (theta_A, theta_E): " in err
+        assert "takes a linkage driven by one crank on the frame, so far" in err

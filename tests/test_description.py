@@ -359,24 +359,23 @@ def test_a_new_group_type_is_one_class(registry):
     assert sorted(j.name for j in reread(d).build().joints) == ["A", "B", "C", "D", "E", "F", "M"]
 
 
-def only_one_driver(kind: str) -> str:
-    """Why a driver after the first group is refused, in the checker's words."""
-    return (f"only one {kind} (the first group) drives the linkage: a linkage has mobility 1, "
-            "so one driver moves it, with the inputs theta, omega and alpha (its angle, speed "
-            "and acceleration), and every later group follows from the points placed before "
-            "it (a group type that is no driver has DRIVER = False)")
+def several_drivers(*efforts: str) -> str:
+    """Why an [effort] is refused beside several drivers, in the checker's words."""
+    return (f"[effort]: the linkage is driven by {len(efforts)} driver(s), each with its own "
+            f"effort ({', '.join(efforts)}): it takes no [effort]")
 
 
-def test_the_first_group_is_the_driver_and_only_the_first(registry):
+def test_the_first_group_is_a_driver_and_later_drivers_take_no_effort(registry):
     """The rule follows DRIVER, not the name of a kind: a second driver type is a
-    driver too."""
+    driver too, and a linkage of several drivers takes each one's effort, not an
+    [effort]."""
     d = presets.preset("four_bar").copy()
     d.groups.reverse()
     with pytest.raises(DescriptionError) as info:
         reread(d)
     assert "[[groups]] #1 (RRR): the first group must be the crank or cylinder" in \
         info.value.problems
-    assert "[[groups]] #2 (crank): " + only_one_driver("crank") in info.value.problems
+    assert several_drivers("Mb_A") not in info.value.problems  # one driver: its [effort]
 
     class Motor(groups.Crank):
         kind = "motor"
@@ -393,8 +392,12 @@ def test_the_first_group_is_the_driver_and_only_the_first(registry):
     problems = info.value.problems
     assert "[[groups]] #1 (RRR): the first group must be the crank or cylinder or motor" in \
         problems
-    assert "[[groups]] #2 (crank): " + only_one_driver("crank") in problems
-    assert "[[groups]] #3 (motor): " + only_one_driver("motor") in problems
+    assert "[[groups]] #3 (motor): the pair A is driven twice (also by [[groups]] #2): a " \
+        "pair has one driver" in problems
+    d.groups[2]["pivot"] = "D"
+    with pytest.raises(DescriptionError) as info:
+        reread(d)
+    assert several_drivers("Mb_A", "Mb_D") in info.value.problems
     with pytest.raises(DescriptionError, match="there are none; the first must be the crank or "
                                                "cylinder or motor"):
         Description("empty", model="Empty").point("A", 0, 0).check()

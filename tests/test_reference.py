@@ -134,7 +134,7 @@ def test_every_parameter_kind_with_its_unit_and_rule(text):
 
 def test_every_group_type_and_every_field_in_its_section(text):
     part = section(text, "## `[[groups]]`")
-    assert "driver (`crank`)" in part
+    assert "driver (`crank` or `cylinder`)" in part
     assert keys_listed(part.split("The group types:")[0]) == list(groups.ROLES)
     assert set(groups.ROLE_MEANINGS) == set(groups.ROLES)
     assert part.index("### `crank`") < part.index("### `RRR`")  # the driver first
@@ -182,10 +182,10 @@ def test_a_group_type_defined_elsewhere_is_in_the_reference(registry, text):
     assert "| `offset` | angle | `rad` | yes | the link's angle at the motor's zero |" in own
     assert "| `pivot` | point |  |  | the placed point the crank turns about |" in own
     assert "In the shipped linkages" not in own
-    assert "driver (`crank` or `geared_motor`)" in new
+    assert "driver (`crank` or `cylinder` or `geared_motor`)" in new
     # the new type's section is the only change
     assert new.replace("### `geared_motor`\n" + own + "\n", "").replace(
-        "(`crank` or `geared_motor`)", "(`crank`)") == text
+        "(`crank` or `cylinder` or `geared_motor`)", "(`crank` or `cylinder`)") == text
 
 
 def test_every_load_key_with_its_default(text):

@@ -34,6 +34,8 @@ import numpy as np
 from . import __version__, presets, ranges
 from .descriptions import Description, DescriptionError
 from .descriptions.assur import outline
+from .descriptions.checker import driver_efforts
+from .drivers import one_crank
 from .errors import LinkageFmuError
 from .expressions import evaluate
 from .printing import number
@@ -554,6 +556,8 @@ def _main(argv: list[str] | None) -> int:
         d = description(args.linkage)
         if args.command == "info":
             return _info(d)
+        if args.command != "build" and driver_efforts(d.groups):  # driven by time
+            one_crank(d.build(), f"linkage-fmu {args.command}")
         if args.command == "sweep":
             return _sweep(d, args)
         if args.command == "optimize":
@@ -676,6 +680,17 @@ def _reference(args) -> int:
     return 0
 
 
+def _drivers(mech) -> None:
+    """Print the drivers of a linkage driven by time: each one's inputs and effort."""
+    words = {"angle": ("angle", "speed", "acceleration"),
+             "travel": ("travel from the drawn length", "speed", "acceleration")}
+    for driver, effort in zip(mech.drivers, mech.efforts):
+        print(f"  driver {driver.name} ({driver.kind}), effort {effort.name} "
+              f"[{mech.output_info[effort.name][0]}]:")
+        for name, unit, word in zip(driver.inputs, driver.units, words[driver.kind]):
+            print(f"    {name:9s} [{unit}] {word} (start {mech.start[name]!r})")
+
+
 def _info(d: Description) -> int:
     mech = d.build()
     print(f"{d.name}: {d.title}" + (f" (FMU model {d.model})" if d.model else ""))
@@ -693,9 +708,13 @@ def _info(d: Description) -> int:
         print(f"  {p.name:8s} = {mech.parameters[p.name]!r:8} {p.unit:6s} {p.description}")
     print("inputs (angles in rad):")
     start = mech.start
-    print(f"  theta    [rad]    crank angle from +x, counter-clockwise (start {start['theta']!r})")
-    print(f"  omega    [rad/s]  crank speed (start {start['omega']!r})")
-    print(f"  alpha    [rad/s2] crank acceleration (start {start['alpha']!r})")
+    if mech.rates:
+        _drivers(mech)
+    else:
+        print(f"  theta    [rad]    crank angle from +x, counter-clockwise (start "
+              f"{start['theta']!r})")
+        print(f"  omega    [rad/s]  crank speed (start {start['omega']!r})")
+        print(f"  alpha    [rad/s2] crank acceleration (start {start['alpha']!r})")
     for load in mech.loads:
         where = (f"moment on link {load.body}" if load.kind == "moment" else
                  f"force on link {load.body} at {load.at}, direction "

@@ -137,7 +137,10 @@ class Mechanism:
         self.input_units = table.units
         # every linkage reports what its moving links put on the frame
         named = {o.name for o in outputs if isinstance(o, EffortOutput)}
-        outputs = tuple(outputs) + tuple(  # every driver's effort is reported
+        by_name = {e.name: e for e in self.efforts}
+        outputs = tuple(_effort_output(by_name[o.name]) if self.rates and isinstance(
+            o, EffortOutput) and not o.description and o.name in by_name else o
+            for o in outputs) + tuple(  # every driver's effort is reported
             _effort_output(e) for e in self.efforts if self.rates and e.name not in named)
         outputs += friction_outputs(self) + tuple(
             Shaking(n, c) for n, c in zip(SHAKING, "xyM"))

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 from typing import ClassVar
 
 from . import numerics
+from .drivers import EFFORTS
 from .errors import InputTypeError, OutputError
 from .expressions import Expression
 
@@ -342,8 +343,11 @@ class EffortOutput(Output):
     def from_spec(cls, spec: dict, d) -> list[Output]:
         name = spec["name"]
         moment = any(s.get("name") == name and "direction" not in s
-                     for s in d.efforts.values())
+                     for s in d.efforts.values()) or (  # a driver's moment, Mb_<j>
+            not d.efforts and name.split("_")[0] == EFFORTS["angle"])
         unit = spec.get("unit") or ("N.m" if moment else "N")
+        if not d.efforts:  # a driver's: the mechanism words it from the driver
+            return [cls(name, unit, spec.get("description", ""))]
         return [cls(name, unit, spec.get("description", "") or (
             "balancing moment on the driver link, counter-clockwise positive"
             if unit == "N.m" else "balancing force"))]

@@ -536,7 +536,8 @@ def decompose(t: Topology, values: dict, branches: tuple = (), at_points: set = 
 def outline(groups: list[dict]) -> list[tuple[str, str, tuple, tuple]]:
     """For each group-form table: (class, type, its new links, its joints or points).
 
-    The class is ``crank`` for the driver, ``II`` for a dyad, ``III`` for a closure of
+    The class is ``crank`` for a crank or motor, ``driver`` for another driver (a
+    cylinder: a dyad of driven length), ``II`` for a dyad, ``III`` for a closure of
     four links with one ternary link (Assur's class III triad), ``IV`` for one with two
     ternary links, ``n links`` for another closure, and ``point`` for a point on a link
     (its link is the one it is on, not a new one).
@@ -570,8 +571,10 @@ def outline(groups: list[dict]) -> list[tuple[str, str, tuple, tuple]]:
             rows.append(("?", str(kind), (), ()))
             continue
         links = tuple(spec[k] for k, f in group.FIELDS.items() if f.role == "new link")
-        if group.DRIVER:
+        if group.DRIVER and kind == "crank":
             rows.append(("crank", kind, links, (spec.get("pivot"), spec.get("tip"))))
+        elif group.DRIVER:  # a cylinder: a dyad of driven length
+            rows.append(("driver", kind, links, tuple(group.pairs(spec))))
         else:
             rows.append(("II", kind, links, tuple(group.pairs(spec))))
     return rows

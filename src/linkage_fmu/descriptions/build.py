@@ -20,6 +20,8 @@ from ..outputs import EffortOutput, Output
 from ..parameters import resolve
 from ..tables import PeriodicTable
 from .assur import body_table
+from .checker import driver_efforts
+from .schema import INPUT_NAMES
 
 
 def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -> Mechanism:
@@ -158,7 +160,9 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
         except ValueError as err:
             raise InputError(f"{origin}: {where}: {err}") from None
 
-    chosen = None
+    chosen, effort = None, None
+    if driver_efforts(d.groups):  # its drivers apply the efforts
+        chosen = {}
     for when, spec in d.efforts.items():
         if when is None or params[when[0]] == when[1]:
             chosen = spec
@@ -167,9 +171,10 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
         raise InputError(f"{origin}: no [effort] option for {next(iter(d.efforts))[0]} = "
                          f"{params[next(iter(d.efforts))[0]]!r}; the options are "
                          + ", ".join(map(repr, options)))
-    effort = Effort(chosen["name"], chosen["body"], chosen.get("at", ""),
-                    _unit(vector("[effort] direction", chosen["direction"]))
-                    if "direction" in chosen else None)
+    if chosen:
+        effort = Effort(chosen["name"], chosen["body"], chosen.get("at", ""),
+                        _unit(vector("[effort] direction", chosen["direction"]))
+                        if "direction" in chosen else None)
 
     outputs, keys = [], {}  # keys: output name -> where the description declares it
     for k, spec in enumerate(d.outputs):
@@ -185,7 +190,8 @@ def build(d, given: dict, symbols: dict | None = None, friction: bool = False) -
         return build(d, given, traced, declared.active)
 
     gravity = number("[linkage] gravity", d.gravity)
-    inputs = {k: start(f"[inputs] {k}", v) for k, v in d.inputs.items()}
+    inputs = {k: start(f"[inputs] {k}", v) for k, v in d.inputs.items()
+              if not (effort is None and k in INPUT_NAMES)}  # a crank's, not the drivers
     try:
         mech = Mechanism(d.name, d.frame, frame_points, groups, bodies, effort, outputs, loads,
                          gravity, params, d, rebuild, inputs, declared)

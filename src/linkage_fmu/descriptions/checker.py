@@ -12,6 +12,8 @@ import re
 import warnings
 from typing import Any
 
+from ..drivers import EFFORTS
+from ..drivers import KINDS as DRIVER_KINDS
 from ..errors import ParameterError
 from ..expressions import Expression, check_units
 from ..groups import OWNER, Field, Group, LinkJoints
@@ -29,6 +31,33 @@ from .schema import (
 )
 
 _IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
+
+
+#: a driver's input's name (before ``_<j>``) -> its unit
+DRIVER_INPUTS = {n: u for names, units in DRIVER_KINDS.values() for n, u in zip(names, units)}
+
+
+def driver_efforts(groups: list) -> dict:
+    """Effort name -> unit of each driver of the group tables ``groups`` when they
+    drive the linkage by time (several drivers, a motor, a cylinder: ``Mb_<j>`` in N.m,
+    ``Fb_<j>`` in N); empty for one crank on the frame, whose effort an [effort] names.
+
+    Examples
+    --------
+    >>> driver_efforts([{"type": "crank", "pivot": "A"}, {"type": "crank", "pivot": "E"}])
+    {'Mb_A': 'N.m', 'Mb_E': 'N.m'}
+    >>> driver_efforts([{"type": "crank", "pivot": "A"}, {"type": "RRR"}])
+    {}
+    """
+    drives = []
+    for spec in groups:
+        cls = Group.registry.get(spec.get("type")) if isinstance(spec, dict) else None
+        if cls is not None and cls.DRIVER and cls.drives(spec) is not None:
+            drives.append(cls.drives(spec))
+    if len(drives) < 2 and not any(timed for _, _, timed in drives):
+        return {}
+    return {f"{EFFORTS[kind]}_{pair}": ("N.m" if kind == "angle" else "N")
+            for pair, kind, _ in drives}
 
 
 def _finite(value: Any) -> bool:
@@ -195,6 +224,8 @@ class Checker:
         for key, value in self.d.inputs.items():
             if key in INPUT_UNITS:
                 self.expr(f"[inputs] {key}", value, unit=INPUT_UNITS[key])
+            elif "_" in key and key.split("_")[0] in DRIVER_INPUTS:
+                self.expr(f"[inputs] {key}", value, unit=DRIVER_INPUTS[key.split("_")[0]])
 
     def points(self) -> None:
         for name, xy in self.d.points.items():
@@ -221,7 +252,13 @@ class Checker:
             self.load(k, spec)
 
     def effort(self) -> None:
-        if not self.d.efforts:
+        by_time = driver_efforts(self.d.groups)
+        if by_time and self.d.efforts:
+            self.found.append(f"[effort]: the linkage is driven by {len(by_time)} driver(s), "
+                              f"each with its own effort ({', '.join(by_time)}): it takes "
+                              "no [effort]")
+            return
+        if not self.d.efforts and not by_time:
             self.found.append("[effort]: missing: where does the balancing effort act?")
         for when, spec in self.d.efforts.items():
             self.effort_option(when, spec)
@@ -250,13 +287,15 @@ class Checker:
         before = frozenset(self.placed)
         if k == 0 and not cls.DRIVER:
             self.found.append(f"{where}: the first group must be the {self.drivers()}")
-        if k > 0 and cls.DRIVER:
-            self.found.append(
-                f"{where}: only one {kind} (the first group) drives the linkage: a linkage "
-                "has mobility 1, so one driver moves it, with the inputs theta, omega and "
-                "alpha (its angle, speed and acceleration), and every later group follows "
-                "from the points placed before it (a group type that is no driver has "
-                "DRIVER = False)")
+        if cls.DRIVER and cls.drives(spec) is not None:
+            pair = cls.drives(spec)[0]
+            earlier = [f"[[groups]] #{i + 1}" for i, s in enumerate(self.d.groups[:k])
+                       if Group.registry.get(s.get("type")) is not None and
+                       Group.registry[s["type"]].DRIVER and
+                       (Group.registry[s["type"]].drives(s) or ("",))[0] == pair]
+            if earlier:
+                self.found.append(f"{where}: the pair {pair} is driven twice (also by "
+                                  f"{earlier[0]}): a pair has one driver")
         for key in spec:
             if key != "type" and key not in cls.FIELDS:
                 self.found.append(f"{where} {key}: unknown field; a {kind} has "
@@ -554,8 +593,9 @@ class Checker:
             used.append(n)
 
     def effort_names(self) -> set:
-        """The names of the efforts of [effort]."""
-        return {spec.get("name") for spec in self.d.efforts.values() if isinstance(spec, dict)}
+        """The names of the efforts of [effort], or of the drivers'."""
+        return {spec.get("name") for spec in self.d.efforts.values() if isinstance(spec, dict)
+                } | set(driver_efforts(self.d.groups))
 
     def unit(self, where: str, unit: Any) -> str:
         """An output's unit, which must be one of the package's (the output is computed

@@ -555,7 +555,8 @@ def _read_tables(d: Description, data: dict) -> list[str]:
         d.friction[joint] = dict(spec)
     inputs = table("inputs")
     for key, value in inputs.items():
-        if key not in INPUT_NAMES:
+        head = key.split("_")[0] if isinstance(key, str) and "_" in key else None
+        if key not in INPUT_NAMES and head not in ("theta", "omega", "alpha", "s", "v", "a"):
             problems.append(f"[inputs] {key}: unknown input; the inputs with start values here "
                             "are theta, omega, alpha (a load's start value is in its table)")
         d.inputs[key] = value

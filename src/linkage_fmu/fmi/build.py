@@ -37,6 +37,7 @@ from pathlib import Path
 
 from .. import ranges
 from ..ccompiler import CompilerError, compile_shared, find_compiler
+from ..drivers import one_crank
 from ..errors import AssemblyError, InputError
 from ..presets import linkage
 from . import binaries, writers
@@ -143,6 +144,7 @@ def _assembling(source, parameters: dict):
     """The description (its defaults the parameters given) and linkage of an FMU; a
     ValueError, saying why at theta = 0, if the linkage assembles at no crank angle."""
     mech = linkage(source, **parameters)
+    one_crank(mech, "an FMU")
     d = mech.description.with_defaults(mech.parameters)
     mech = d.fmu_build()
     if not ranges.assembles(mech):

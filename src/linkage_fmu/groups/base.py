@@ -551,6 +551,21 @@ class Group(ABC):
         """
         raise InputTypeError(f"{type(self).__name__} is no driver (DRIVER = False)")
 
+    @classmethod
+    def drives(cls, spec: dict) -> tuple | None:
+        """What a driving group of the fields ``spec`` drives, as a description's
+        checker needs it before anything is built: ``(pair, kind, by_time)``, None where
+        the fields do not name it (the checker reports them). For a type that is no
+        driver it is an error.
+
+        Examples
+        --------
+        >>> from linkage_fmu.groups import Crank, Cylinder
+        >>> Crank.drives({"pivot": "A"}), Cylinder.drives({"pair": "P"})
+        (('A', 'angle', False), ('P', 'travel', True))
+        """
+        raise InputTypeError(f"{cls.__name__} is no driver (DRIVER = False)")
+
     def acts(self) -> tuple:
         """Where a driving group's effort acts, as
         :class:`~linkage_fmu.bodies.Effort` takes it: ``(body, point, direction,

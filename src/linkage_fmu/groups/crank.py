@@ -80,6 +80,12 @@ class Crank(Group):
         """Its angle about the pivot drives the linkage (see :meth:`Group.driver`)."""
         return Driver.named(self.pivot, "angle", effort, alone)
 
+    @classmethod
+    def drives(cls, spec: dict) -> tuple | None:
+        """Its pivot's angle; by time with a ``base`` (see :meth:`Group.drives`)."""
+        pivot = spec.get("pivot")
+        return (pivot, "angle", bool(spec.get("base"))) if isinstance(pivot, str) else None
+
     def acts(self) -> tuple:
         """A moment on the crank, its reaction on the base (see :meth:`Group.acts`)."""
         return self.link, "", None, self.base or FRAME

@@ -112,6 +112,12 @@ class Cylinder(Group):
         """Its travel drives the linkage (see :meth:`Group.driver`)."""
         return Driver.named(self.pair, "travel", effort, alone)
 
+    @classmethod
+    def drives(cls, spec: dict) -> tuple | None:
+        """Its pair's travel, by time (see :meth:`Group.drives`)."""
+        pair = spec.get("pair")
+        return (pair, "travel", True) if isinstance(pair, str) else None
+
     def acts(self) -> tuple:
         """A force on the rod at ``middle`` along the barrel, its reaction on the
         barrel (see :meth:`Group.acts`)."""

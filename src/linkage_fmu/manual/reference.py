@@ -240,12 +240,17 @@ def _groups() -> str:
     drivers = " or ".join(f"`{kind}`" for kind, cls in types if cls.DRIVER)
     out = [f"""## `[[groups]]`
 
-One table per group, `type = "..."` and the type's fields. The first group is the
-driver ({drivers}), and only the first; each later group places points and adds links
-from points already placed, so the order of the tables is an order in which every point
-is placed before it is used. A field's value is a name, or a number (a number with a
-unit, an expression of the parameters) in the field's unit; a field whose key is not
-optional must be given.
+One table per group, `type = "..."` and the type's fields. The first group is a
+driver ({drivers}). A later driver (a second crank, a motor between two links with
+`base`, a cylinder) makes the linkage one driven by time: its inputs are then each
+driver's coordinate, speed and acceleration (`theta_<j>`, `omega_<j>`, `alpha_<j>` for
+an angle about the pair `j`, `s_<j>`, `v_<j>`, `a_<j>` for a travel), its efforts each
+driver's (`Mb_<j>`, the moment on the driver's link; `Fb_<j>`, a cylinder's force on its
+rod, > 0 pushing its pins apart), and it takes no `[effort]`. Each group places points
+and adds links from points already placed, so the order of the tables is an order
+in which every point is placed before it is used. A field's value is a name, or a
+number (a number with a unit, an expression of the parameters) in the field's unit; a
+field whose key is not optional must be given.
 
 Each field has a role, which says what its value must be:
 
@@ -269,7 +274,7 @@ def _group_type(kind: str, cls: type) -> str:
     if summary:
         lines += [_cell(_rst_to_markdown(summary)), ""]
     if cls.DRIVER:
-        lines += ["It drives the linkage: the first group, and only the first.", ""]
+        lines += ["It drives the linkage: its coordinate is an input.", ""]
     lines.append(_table(("key", "role", "unit", "optional", "description"), rows))
     if shipped:
         lines += ["", "In the shipped linkages " + ", ".join(f"`{n}`" for n in shipped) + "."]
