@@ -105,6 +105,10 @@ def toys(registry):
 
             return Driver.named(self.pivot, "angle", effort, alone)
 
+        @classmethod
+        def drives(cls, spec):
+            return spec.get("pivot"), "angle", False
+
         def acts(self):
             return self.link, "", None, FRAME
 

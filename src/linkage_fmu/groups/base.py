@@ -647,6 +647,9 @@ def _contract_problem(cls: type) -> str:
     if cls.DRIVER and cls.driver is Group.driver:
         return ("is a DRIVER but does not implement driver(effort, alone): the mechanism "
                 "asks it which pair it drives and how its inputs are named")
+    if cls.DRIVER and cls.drives.__func__ is Group.drives.__func__:
+        return ("is a DRIVER but does not implement drives(spec): a description's checker "
+                "asks it which pair it drives")
     if cls.DRIVER and cls.acts is Group.acts:
         return ("is a DRIVER but does not implement acts(): the mechanism asks it where "
                 "its effort acts")
