@@ -18,6 +18,7 @@ from .base import (
     moment_about,
     push,
 )
+from .rrr import dyad_middle
 
 
 class Cylinder(Group):
@@ -147,13 +148,8 @@ class Cylinder(Group):
     def position(self, st: KinematicState) -> None:
         (x1, y1), (x2, y2) = st.p[self.E1], st.p[self.E2]
         L1, L2 = self.L1, self.length(st)
-        dx, dy = x2 - x1, y2 - y1
-        d2 = dx * dx + dy * dy
-        hd2 = ((L1 + L2) ** 2 - d2) * (d2 - (L1 - L2) ** 2)
-        hd = st.root(hd2, lambda: self._condition(d2, L2), self._cannot_close)
-        f = (L1 * L1 - L2 * L2 + d2) / (2.0 * d2)
-        g = self.branch * hd / (2.0 * d2)
-        cx, cy = x1 + f * dx - g * dy, y1 + f * dy + g * dx
+        cx, cy = dyad_middle(st, (x1, y1), (x2, y2), L1, L2, self.branch,
+                             lambda d2: self._condition(d2, L2), self._cannot_close)
         st.p[self.C] = (cx, cy)
         st.u[self.link] = ((cx - x1) / L1, (cy - y1) / L1)
         st.u[self.barrel] = st.u[self.rod] = ((cx - x2) / L2, (cy - y2) / L2)

@@ -21,6 +21,21 @@ from .base import (
 )
 
 
+def dyad_middle(st: KinematicState, E1, E2, L1, L2, branch, condition, what: str):
+    """The middle joint of a dyad of arms ``L1`` from ``E1`` and ``L2`` from ``E2``
+    (``branch`` +1: left of E1 -> E2); one that cannot close fails the state, with
+    ``condition(d2)`` saying why (``d2 = |E1 E2|**2``) and ``what`` without numbers."""
+    (x1, y1), (x2, y2) = E1, E2
+    dx, dy = x2 - x1, y2 - y1
+    d2 = dx * dx + dy * dy
+    # (2*d*h)^2 as a product of two factors: no cancellation near a toggle
+    hd2 = ((L1 + L2) ** 2 - d2) * (d2 - (L1 - L2) ** 2)
+    hd = st.root(hd2, lambda: condition(d2), what)
+    f = (L1 * L1 - L2 * L2 + d2) / (2.0 * d2)
+    g = branch * hd / (2.0 * d2)
+    return x1 + f * dx - g * dy, y1 + f * dy + g * dx
+
+
 class RRR(Group):
     """Dyad of two links joined at ``middle`` (the argument ``C``): ``link1`` from
     ``end1`` (``E1``) to ``middle`` and ``link2`` from ``end2`` (``E2``) to ``middle``.
@@ -140,14 +155,8 @@ class RRR(Group):
     def position(self, st: KinematicState) -> None:
         (x1, y1), (x2, y2) = st.p[self.E1], st.p[self.E2]
         L1, L2 = self.L1, self.L2
-        dx, dy = x2 - x1, y2 - y1
-        d2 = dx * dx + dy * dy
-        # (2*d*h)^2 as a product of two factors: no cancellation near a toggle
-        hd2 = ((L1 + L2) ** 2 - d2) * (d2 - (L1 - L2) ** 2)
-        hd = st.root(hd2, lambda: self._condition(d2), self._cannot_close)
-        f = (L1 * L1 - L2 * L2 + d2) / (2.0 * d2)
-        g = self.branch * hd / (2.0 * d2)
-        cx, cy = x1 + f * dx - g * dy, y1 + f * dy + g * dx
+        cx, cy = dyad_middle(st, (x1, y1), (x2, y2), L1, L2, self.branch, self._condition,
+                             self._cannot_close)
         st.p[self.C] = (cx, cy)
         st.u[self.link1] = ((cx - x1) / L1, (cy - y1) / L1)
         st.u[self.link2] = ((cx - x2) / L2, (cy - y2) / L2)
