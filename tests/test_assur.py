@@ -1253,3 +1253,62 @@ def test_a_drawing_and_its_recognise_come_together(registry):
     assert "quiet" in registry and Quiet not in recognisers()
     with pytest.raises(ValueError, match="a group has 2 links or more"):
         groups.Drawing(0, 1, "a link", "a pin")
+
+
+#: a five-bar: a crank at A, and a motor at C between its links 2 and 3
+MOTOR_INSIDE = """
+[linkage]
+name = "drawn"
+
+[joints]
+A = [0, 0]
+B = [0.1, 0.1]
+C = [0.2, 0.3]
+D = [0.3, 0.1]
+E = [0.4, 0]
+
+[[links]]
+name = "1"
+joints = ["A", "B"]
+
+[[links]]
+name = "2"
+joints = ["B", "C"]
+
+[[links]]
+name = "3"
+joints = ["C", "D"]
+
+[[links]]
+name = "4"
+joints = ["D", "E"]
+
+[[drivers]]
+joint = "A"
+
+[[drivers]]
+joint = "C"
+"""
+
+
+def test_a_driver_inside_a_group_is_refused_naming_it():
+    assert problems(MOTOR_INSIDE) == [
+        "[[drivers]] #2 (C): the decomposition cannot place this driver (a motor is placed "
+        "once its first link 2 and its joint are, before its second link 3); a driver moves "
+        "links that no group holds yet (not one inside a class III group or a closure)"]
+
+
+def test_a_motor_follows_its_first_link_its_zero_that_link_s_direction():
+    """A motor at B between the crank 1 and the link 2: its angle is 2's (B -> C)
+    relative to 1's (B -> A), the crank's base turned by pi."""
+    text = MOTOR_INSIDE.replace('joint = "C"', 'joint = "B"')
+    d = Description.from_toml(text, "drawn.toml")
+    crank, motor, dyad = d.groups
+    assert (motor["type"], motor["link"], motor["pivot"], motor["tip"], motor["base"]) == (
+        "crank", "2", "B", "C", "1")
+    assert motor["offset"] == pytest.approx(math.pi, abs=1e-15)
+    # B -> A is (-0.1, -0.1), B -> C (0.1, 0.2)
+    want = math.atan2(-0.1 * 0.2 + 0.1 * 0.1, -0.1 * 0.1 - 0.1 * 0.2)
+    assert d.inputs["theta_B"] == pytest.approx(want, abs=1e-15)
+    assert dyad["type"] == "RRR" and (dyad["end1"], dyad["middle"], dyad["end2"]) == (
+        "C", "D", "E")

@@ -9,7 +9,7 @@ import math
 import pytest
 
 from linkage_fmu.descriptions import Description, DescriptionError
-from linkage_fmu.descriptions.topology import Joint, Link, Topology
+from linkage_fmu.descriptions.topology import Drive, Joint, Link, Topology
 
 #: a four-bar drawn at theta = 0: crank 1 = AB, coupler 2 = BC, rocker 3 = CD
 FOUR_BAR = """
@@ -163,7 +163,7 @@ def test_gruebler_counts_a_compound_joint_as_k_minus_one_pairs():
     joints = {n: Joint(n, (0, 0)) for n in "ABCDE"}
     links = {"1": Link("1", ("A", "B")), "2": Link("2", ("B", "C")),
              "3": Link("3", ("C", "D")), "4": Link("4", ("C", "E"))}
-    t = Topology("0", joints, links, "1", "A")
+    t = Topology("0", joints, links, (Drive("A", "angle", "0", "1"),))
     # pairs: A, B, C (two), D, E = 6; 3 x 4 - 2 x 6 = 0
     assert (t.on("C"), t.pair_count(), t.mobility()) == (("2", "3", "4"), 6, 0)
 
@@ -252,3 +252,146 @@ def test_a_negative_mass_or_inertia_names_its_links_table(key, value, unit):
                                          r"body '3' must be a finite number >= 0, got "
                                          r"-0\.3\d*$"):
         d.build(l=0.02)
+
+
+#: a five-bar (two cranks on the frame at A and E) drawn as joints and links
+FIVE_BAR = """
+[linkage]
+name = "drawn"
+
+[joints]
+A = [0, 0]
+B = [0.1, 0.1]
+C = [0.2, 0.3]
+D = [0.3, 0.1]
+E = [0.4, 0]
+
+[[links]]
+name = "1"
+joints = ["A", "B"]
+
+[[links]]
+name = "2"
+joints = ["B", "C"]
+
+[[links]]
+name = "3"
+joints = ["C", "D"]
+
+[[links]]
+name = "4"
+joints = ["D", "E"]
+"""
+DRIVERS = '[[drivers]]\njoint = "A"\n\n[[drivers]]\njoint = "E"\n'
+
+
+def test_the_drivers_name_the_inputs_and_efforts_and_start_where_drawn():
+    d = Description.from_toml(FIVE_BAR + DRIVERS, "drawn.toml")
+    assert d.inputs["theta_A"] == pytest.approx(math.pi / 4, abs=1e-15)
+    assert d.inputs["theta_E"] == pytest.approx(math.atan2(0.1, -0.1), abs=1e-15)
+    assert [o["name"] for o in d.outputs][-2:] == ["Mb_A", "Mb_E"]
+    assert d.build().input_names == ("theta_A", "omega_A", "alpha_A", "theta_E", "omega_E",
+                                     "alpha_E")
+
+
+def test_a_mobility_other_than_the_number_of_drivers_gives_both_counts():
+    assert problems(FIVE_BAR + '[[drivers]]\njoint = "A"\n') == [
+        "[[links]]: the linkage's mobility is 2, not 1, the number of its drivers: 3 x 4 "
+        "moving links - 2 x 5 pairs (Gruebler's count; a joint on one link is a pair with "
+        "the frame, a joint on k links k - 1 pairs)"]
+
+
+@pytest.mark.parametrize("extra, message", [
+    ('[[drivers]]\njoint = "A"\n\n[[drivers]]\njoint = "Q"\n',
+     "[[drivers]] #2 joint: 'Q' is no joint of [joints]; the joints are A, B, C, D, E"),
+    ('[[drivers]]\njoint = "A"\n\n[[drivers]]\njoint = "A"\n',
+     "[[drivers]] #2 (A): the pair A is driven twice (first by [[drivers]] #1 (A)); a pair "
+     "takes one driver"),
+    ('[crank]\nlink = "1"\npivot = "A"\n\n[[drivers]]\njoint = "E"\n',
+     "[crank], [[drivers]]: a linkage is driven either by [crank] (its one crank) or by "
+     "[[drivers]] (each driven pair), not both"),
+    ('[[drivers]]\njoint = "A"\nlinks = ["1", "3"]\n\n[[drivers]]\njoint = "E"\n',
+     "[[drivers]] #1 (A) links: ['1', '3'] are not the links of the pair A, which joins "
+     "0, 1"),
+    ('[[drivers]]\njoint = "A"\nlinks = ["1", "0"]\n\n[[drivers]]\njoint = "E"\n',
+     "[[drivers]] #1 (A) links: the frame is first: a crank's angle is the link's on the "
+     "frame, links = ['0', '1']"),
+    ('[[drivers]]\njoint = "A"\nangle = 1\n\n[[drivers]]\njoint = "E"\n',
+     "[[drivers]] #1: unknown key(s) angle; the keys are joint, links"),
+    ("[drivers]\njoint = \"A\"\n",
+     "[[drivers]]: must be a list of tables, one per driven pair, { joint = \"A\" }"),
+])
+def test_a_bad_driver_is_named_with_the_reason(extra, message):
+    assert message in problems(FIVE_BAR + extra)
+
+
+def test_without_a_driver_the_message_names_both_forms():
+    assert problems(FIVE_BAR)[0] == (
+        "[crank]: missing: the driven link and its pivot, { link = \"1\", pivot = \"A\" } "
+        "(or [[drivers]], each driven pair)")
+
+
+def test_an_effort_or_a_crank_s_inputs_beside_drivers_are_refused():
+    found = problems(FIVE_BAR + DRIVERS + '\n[inputs]\ntheta = 0.3\ns_A = 0.1\n')
+    names = "theta_A, omega_A, alpha_A, theta_E, omega_E, alpha_E"
+    assert found == [f"[inputs] theta: no input of this linkage; its drivers' inputs are {names}",
+                     f"[inputs] s_A: no input of this linkage; its drivers' inputs are {names}"]
+    found = problems(FIVE_BAR + DRIVERS + '\n[effort]\nname = "T"\nbody = "1"\n')
+    assert any("[effort]" in p and "Mb_A, Mb_E" in p for p in found), found
+
+
+CYLINDER = """
+[linkage]
+name = "drawn"
+
+[joints]
+O = [0, 0]
+E = [1.0, -0.5]
+D = [1.2, 0.9]
+P = { at = [1.2, 0.9], slide = [0.2, 1.4], guide = "barrel" }
+
+[[links]]
+name = "body"
+joints = ["O", "D"]
+
+[[links]]
+name = "barrel"
+joints = ["E", "P"]
+
+[[links]]
+name = "rod"
+joints = ["P", "D"]
+
+[[drivers]]
+joint = "P"
+"""
+
+
+def test_a_cylinder_is_a_barrel_and_a_rod_each_pinned_at_one_end():
+    d = Description.from_toml(CYLINDER, "drawn.toml")
+    assert [g["type"] for g in d.groups] == ["cylinder"]
+    assert d.inputs["s_P"] == 0.0 and d.groups[0]["length0"] == pytest.approx(
+        math.hypot(0.2, 1.4), abs=1e-15)
+    text = CYLINDER.replace('joints = ["P", "D"]', 'joints = ["P", "D", "O"]')
+    assert ("[[drivers]] #1 (P): the cylinder's rod rod is pinned at one end: it lists P and "
+            "one revolute joint, not P, D, O") in problems(text)
+    text = CYLINDER.replace('links = ', 'x = ').replace('joint = "P"',
+                                                         'joint = "P"\nlinks = ["rod", "barrel"]')
+    assert ("[[drivers]] #1 (P) links: a cylinder's first link is its barrel, the guide "
+            "'barrel': links = ['barrel', 'rod']") in problems(text)
+
+
+def test_a_cylinder_drawn_against_its_slide_is_refused():
+    text = CYLINDER.replace("slide = [0.2, 1.4]", "slide = [-0.2, -1.4]")
+    assert problems(text) == [
+        "[joints] P slide: a cylinder's slide points from its barrel's pin E to its rod's "
+        "pin D (its travel is positive along it); it is drawn the other way"]
+
+
+def test_a_driven_slider_on_a_frame_guide_is_refused_with_the_way_to_draw_it():
+    text = FOUR_BAR.replace("D = [0.4, 0]", 'D = { at = [0.4, 0], slide = [1, 0] }').replace(
+        '[crank]\nlink = "1"\npivot = "A"', '[[drivers]]\njoint = "D"')
+    assert ("[[drivers]] #1 (D): a driven prismatic pair is a cylinder between two links, "
+            "its barrel and its rod; D joins link 3 to the frame (a driven slider on a frame "
+            "guide is not one yet: draw the actuator as a cylinder, barrel and rod, pinned to "
+            "the frame and to the slider)") in problems(text)

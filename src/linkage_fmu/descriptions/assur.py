@@ -85,8 +85,12 @@ class Decomposition:
     pose : dict
         Point -> (x, y, where): the drawn position of each point a group places, and the
         group that places it (``[[groups]] #k (type)``).
-    theta : str or float
-        The drawn crank angle.
+    theta : str, float or tuple
+        The drawn crank angle; for a linkage driven by time (several drivers, a motor,
+        a cylinder), each driver's coordinate where drawn, in the drivers' order.
+    starts : dict
+        For a linkage driven by time, each driver's coordinate input (``theta_<j>``,
+        ``s_<j>``) -> its value where drawn; else empty.
     links : tuple of str
         The moving links, in the order of [[links]].
     tables : dict
@@ -107,6 +111,7 @@ class Decomposition:
     pairs: list = field(default_factory=list)
     pose: dict = field(default_factory=dict)
     theta: object = 0.0
+    starts: dict = field(default_factory=dict)
     links: tuple = ()
     checks: list = field(default_factory=list)
     tables: dict = field(default_factory=dict)
@@ -366,26 +371,141 @@ class Decomposer:
                 self.owner[j] = self.first[j] = t.frame
             if joint.prismatic:
                 self.out.slides[j] = tuple(fold(v) for v in self.slide(j))
-        self.crank()
-        while len(self.placed_links) < len(t.links):
-            self.step()
+        pending, starts = list(t.driven), {}
+        while pending or len(self.placed_links) < len(t.links):
+            ready = next((d for d in pending if self.drive(d, starts)), None)
+            if ready is not None:
+                pending.remove(ready)
+                continue
+            if len(self.placed_links) == len(t.links) or not self.step(pending):
+                self.unplaced(pending)
+            taken = [d for d in pending if d.second in self.placed_links]
+            if taken:
+                self.unplaced(taken)
+        timed = len(t.driven) > 1 or any(d.first != t.frame or d.kind != "angle"
+                                         for d in t.driven)
+        self.out.theta = tuple(starts.values()) if timed else next(iter(starts.values()))
+        self.out.starts = starts if timed else {}
         return self.out
 
-    def crank(self) -> None:
-        t, link, pivot = self.t, self.t.crank, self.t.pivot
-        others = [j for j in t.links[link].joints if j != pivot]
-        tip = others[0]
+    def unplaced(self, drives: list) -> None:
+        """Refuse the drivers ``drives``, which the decomposition cannot place."""
+        def why(d):
+            if d.kind == "travel":
+                return (f"a cylinder is placed with a link it moves, its barrel's pin "
+                        f"placed first and its rod's pin not: links {d.first}, {d.second}")
+            if d.first == self.t.frame:
+                return f"link {d.second} is placed by a group around it"
+            return (f"a motor is placed once its first link {d.first} and its joint are, "
+                    f"before its second link {d.second}")
+        self.refuse(*(f"{d.where}: the decomposition cannot place this driver ({why(d)}); "
+                      "a driver moves links that no group holds yet (not one inside a "
+                      "class III group or a closure)" for d in drives))
+
+    def drive(self, d, starts: dict) -> bool:
+        """Place the driver ``d`` where what it needs is placed: whether it is. Its
+        coordinate where drawn goes into ``starts`` (input name -> expression)."""
+        t = self.t
+        if d.kind == "travel":
+            return self.cylinder(d, starts)
+        if d.first != t.frame and not (d.first in self.placed_links and self.placed(d.joint)):
+            return False
+        link, pivot = d.second, d.joint
+        tip = next(j for j in t.links[link].joints if j != pivot)
         if t.joints[tip].prismatic:
-            raise DecompositionError([f"[crank] link: the crank's first other joint {tip} is "
-                                      "a prismatic pair; list a revolute joint after the pivot"])
+            whose = ("[crank] link: the crank's" if d.where == "[crank]" else
+                     f"{d.where}: the driven link {link}'s")
+            raise DecompositionError([f"{whose} first other joint {tip} is a prismatic "
+                                      f"pair; list a revolute joint after the "
+                                      f"{'pivot' if d.where == '[crank]' else 'driven one'}"])
+        if self.placed(tip):
+            return False
+        pin = self.attach(pivot, link)
         (px, py), (bx, by) = self.xy(pivot), self.xy(tip)
-        self.out.theta = fold(f"atan2({by} - {py}, {bx} - {px})")
-        self.group({"type": "crank", "link": link, "pivot": pivot, "tip": tip,
-                    "length": f"hypot({bx} - {px}, {by} - {py})"}, {tip: (bx, by)})
-        self.pair(pivot, t.frame, link)
+        angle = f"atan2({by} - {py}, {bx} - {px})"
+        spec = {"type": "crank", "link": link, "pivot": pin, "tip": tip,
+                "length": f"hypot({bx} - {px}, {by} - {py})"}
+        if d.first != t.frame:  # a motor: its zero is the first link's direction
+            ref, (ux, uy) = self.frame_[d.first]
+            other = next(j for j in t.links[d.first].joints if j != pivot)
+            ox, oy = self.xy(other)
+            fx, fy = f"({ox} - {px})", f"({oy} - {py})"
+            spec["base"] = d.first
+            spec["offset"] = f"atan2({ux} * {fy} - {uy} * {fx}, {ux} * {fx} + {uy} * {fy})"
+            angle = (f"atan2({fx} * ({by} - {py}) - {fy} * ({bx} - {px}), "
+                     f"{fx} * ({bx} - {px}) + {fy} * ({by} - {py}))")
+        self.group(spec, {tip: (bx, by)})
+        if not starts:  # the angle a closure is drawn at, with one crank
+            self.out.theta = fold(angle)
+        self.pair(pin, self.owner[pin] if d.first != t.frame else t.frame, link)
+        starts[f"theta_{pin}"] = fold(angle)
         self.owner[tip] = self.first[tip] = link
-        self.frame_[link] = (pivot, (f"({bx} - {px})", f"({by} - {py})"))
+        self.frame_[link] = (pin, (f"({bx} - {px})", f"({by} - {py})"))
         self.finish(link)
+        return True
+
+    def cylinder(self, d, starts: dict) -> bool:
+        """Place the cylinder ``d`` (barrel ``d.first``, rod ``d.second``) with the link
+        its rod's pin moves, where its barrel's pin is placed: whether it is."""
+        t, barrel, rod = self.t, d.first, d.second
+        e2 = next(j for j in t.links[barrel].joints if j != d.joint)
+        c = next(j for j in t.links[rod].joints if j != d.joint)
+        if not self.placed(e2) or self.placed(c):
+            return False
+        moved = self.moved(c, rod)
+        if moved is None:
+            return False
+        link, end = moved
+        p1, p2 = self.attach(end, link), self.attach(e2, barrel)
+        (x1, y1), (x2, y2), (cx, cy) = self.pose_of(p1), self.pose_of(p2), self.xy(c)
+        sx, sy = self.slide(d.joint)
+        along = self.num(f"({sx}) * (({cx}) - ({x2})) + ({sy}) * (({cy}) - ({y2}))")
+        off = self.num(f"(({sx}) * (({cy}) - ({y2})) - ({sy}) * (({cx}) - ({x2}))) / "
+                       f"(hypot({sx}, {sy}) * hypot(({cx}) - ({x2}), ({cy}) - ({y2})))")
+        if not (along > 0.0 and abs(off) <= SLIDE_TOLERANCE):
+            self.refuse(f"[joints] {d.joint} slide: a cylinder's slide points from its "
+                        f"barrel's pin {e2} to its rod's pin {c} (its travel is positive "
+                        "along it); it is drawn "
+                        + ("the other way" if abs(off) <= SLIDE_TOLERANCE else
+                           f"off that line (sine {off:.3g})"))
+
+        def sign(v):
+            n = lambda s: self.num(s, v)  # noqa: E731
+            return ((n(x2) - n(x1)) * (n(cy) - n(y1)) - (n(y2) - n(y1)) * (n(cx) - n(x1)))
+
+        b = self.branch(sign, f"({x2} - {x1}) * ({cy} - {y1}) - ({y2} - {y1}) * ({cx} - {x1})")
+        if b is None:
+            self.refuse(f"[joints] {c}: the cylinder dyad {p1}-{c}-{p2} (link {link}, "
+                        f"cylinder {barrel}, {rod}) is drawn at a toggle (in line): its "
+                        "assembly mode is undefined; draw it apart")
+        self.group({"type": "cylinder", "link": link, "barrel": barrel, "rod": rod,
+                    "end1": p1, "middle": c, "end2": p2, "pair": d.joint,
+                    "length1": f"hypot({cx} - {x1}, {cy} - {y1})",
+                    "length0": f"hypot({cx} - {x2}, {cy} - {y2})", "branch": b},
+                   {c: (cx, cy)})
+        self.pair(p1, self.owner[p1], link)
+        self.pair(c, link, rod)
+        self.pair(p2, self.owner[p2], barrel)
+        self.pair(d.joint, barrel, rod)
+        starts[f"s_{d.joint}"] = 0.0
+        self.owner[c], self.first[c] = None, link
+        self.frame_[link] = (p1, (f"({cx} - {x1})", f"({cy} - {y1})"))
+        self.frame_[barrel] = (p2, (f"({cx} - {x2})", f"({cy} - {y2})"))
+        self.frame_[rod] = (c, (f"({cx} - {x2})", f"({cy} - {y2})"))
+        for placed in (link, barrel, rod):
+            self.finish(placed)
+        return True
+
+    def moved(self, joint: str, rod: str) -> tuple | None:
+        """``(link, its pin)``: the first link not placed at ``joint`` besides the rod
+        ``rod`` that is pinned to a placed joint and to nothing else placed, else None."""
+        for link in self.t.on(joint):
+            if link == rod or link in self.placed_links:
+                continue
+            to_placed, shared = self.anchors(link, rod)
+            if shared == [joint] and len(to_placed) == 1 and to_placed[0][0] == "pin":
+                return link, to_placed[0][1]
+        return None
 
     def anchors(self, link: str, partner: str) -> tuple[list, list] | None:
         """(the link's pairs to placed bodies, each (kind, joint): kind ``pin``,
@@ -417,11 +537,12 @@ class Decomposer:
             return None
         return ax[0], sx[0], ay[0]
 
-    def step(self) -> bool:
+    def step(self, pending: list = ()) -> bool:
         """Add the next group: the first that a group type recognises among the links not
         yet placed, trying each size of group smallest first (every set of that many
         links in the order of [[links]], and for each set the types in their order),
-        then the types of any size (:func:`recognisers`)."""
+        then the types of any size (:func:`recognisers`); False where none is found and
+        drivers are ``pending`` (not placed yet)."""
         free = [n for n in self.t.links if n not in self.placed_links]
         types = recognisers()
         for size in sorted({cls.DRAWING.size for cls in types} - {None}):
@@ -431,6 +552,8 @@ class Decomposer:
                     return True
         if any(cls.recognise(self, tuple(free)) for cls in types if cls.DRAWING.size is None):
             return True
+        if pending:
+            return False
         raise DecompositionError([
             f"[[links]]: a group the decomposition cannot solve: links {', '.join(free)} are "
             "left, and no connected set of them is held by the placed links with mobility 0"])
@@ -647,6 +770,19 @@ def default_outputs(pairs: list, efforts: dict, declared: list = ()) -> list[dic
 POSE_TOLERANCE = 1e-12
 
 
+def drawn_coordinates(drawn: Decomposition, values: dict) -> tuple:
+    """``(theta, rates, where)``: the drivers' coordinates where drawn (the crank angle;
+    for a linkage driven by time their tuple, and their rates, zero), at the
+    parameters' ``values``, and words saying where that is."""
+    if not isinstance(drawn.theta, tuple):
+        theta = Expression(drawn.theta)(values)
+        return theta, None, f"at the drawn crank angle {math.degrees(theta):.6g} deg"
+    theta = tuple(Expression(v)(values) for v in drawn.theta)
+    words = ", ".join(f"{name} = {math.degrees(v):.6g} deg" if name.startswith("theta_")
+                      else f"{name} = {v:.6g} m" for name, v in zip(drawn.starts, theta))
+    return theta, tuple((0.0, 0.0) for _ in theta), f"at the drivers' drawn {words}"
+
+
 def check_pose(mech, drawn: Decomposition, values: dict) -> str:
     """What is wrong when ``mech``, solved at the drawn crank angle, does not reproduce
     every drawn point to :data:`POSE_TOLERANCE` m (its parameters' ``values``), or ''.
@@ -667,19 +803,18 @@ def check_pose(mech, drawn: Decomposition, values: dict) -> str:
     angle 0 deg it places C at (0.304166667, 0.284281502), 0.569 m from where C is drawn
     (0.304166667, -0.284281502); the tolerance is 1e-12 m
     """
-    theta = Expression(drawn.theta)(values)
+    theta, rates, at = drawn_coordinates(drawn, values)
     try:
-        st = mech.kinematics(theta, order=0)
+        st = mech.kinematics(theta, order=0, rates=rates)
     except ValueError as err:
-        return (f"a drawn pose from which a group cannot be assembled: at the drawn crank "
-                f"angle {math.degrees(theta):.6g} deg: {err}")
+        return f"a drawn pose from which a group cannot be assembled: {at}: {err}"
     for p, (x, y, where) in drawn.pose.items():
         dx, dy = Expression(x)(values), Expression(y)(values)
         px, py = st.p[p]
         distance = math.hypot(px - dx, py - dy)
         if not distance <= POSE_TOLERANCE:
-            return (f"{where}: a drawn pose from which a group cannot be assembled: at the "
-                    f"drawn crank angle {math.degrees(theta):.6g} deg it places {p} at "
+            return (f"{where}: a drawn pose from which a group cannot be assembled: {at} "
+                    f"it places {p} at "
                     f"({px:.9g}, {py:.9g}), {distance:.3g} m from where {p} is drawn "
                     f"({dx:.9g}, {dy:.9g}); the tolerance is {POSE_TOLERANCE:g} m")
     pairs = {j.name: j for j in mech.joints}
@@ -691,10 +826,9 @@ def check_pose(mech, drawn: Decomposition, values: dict) -> str:
         off = abs(nx * tx + ny * ty) / math.hypot(tx, ty)
         if not off <= SLIDE_TOLERANCE:
             return (f"[joints] {name} slide: a drawn pose from which a group cannot be "
-                    f"assembled: at the drawn crank angle {math.degrees(theta):.6g} deg the "
-                    f"pair slides along ({-ny:.9g}, {nx:.9g}), not along its drawn slide "
-                    f"({tx:.9g}, {ty:.9g}) (sine of the angle between them {off:.3g}; the "
-                    f"tolerance is {SLIDE_TOLERANCE:g})")
+                    f"assembled: {at} the pair slides along ({-ny:.9g}, {nx:.9g}), not "
+                    f"along its drawn slide ({tx:.9g}, {ty:.9g}) (sine of the angle "
+                    f"between them {off:.3g}; the tolerance is {SLIDE_TOLERANCE:g})")
     return ""
 
 
@@ -743,8 +877,8 @@ def near_toggles(mech, drawn: Decomposition, values: dict) -> list[str]:
     there is 2e+04 (above 1000), so the drawing barely fixes its assembly mode; draw it farther
     from where its joints line up
     """
-    theta = Expression(drawn.theta)(values)
-    st = mech.kinematics(theta, order=0)
+    theta, rates, _ = drawn_coordinates(drawn, values)
+    st = mech.kinematics(theta, order=0, rates=rates)
     found = []
     for grp in mech.groups:
         if grp.kind not in ("RRR", "RRP"):

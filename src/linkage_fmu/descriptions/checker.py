@@ -37,6 +37,34 @@ _IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 DRIVER_INPUTS = {n: u for names, units in DRIVER_KINDS.values() for n, u in zip(names, units)}
 
 
+def driver_inputs(groups: list) -> tuple[str, ...]:
+    """The names of the inputs of the drivers of the group tables ``groups``:
+    ``theta``, ``omega``, ``alpha`` for one crank on the frame, else each driver's
+    three named after its pair.
+
+    Examples
+    --------
+    >>> driver_inputs([{"type": "cylinder", "pair": "P"}, {"type": "RRR"}])
+    ('s_P', 'v_P', 'a_P')
+    >>> driver_inputs([{"type": "crank", "pivot": "A"}])
+    ('theta', 'omega', 'alpha')
+    """
+    if not driver_efforts(groups):
+        return INPUT_NAMES
+    return tuple(f"{name}_{pair}" for pair, kind, _ in _drives(groups)
+                 for name in DRIVER_KINDS[kind][0])
+
+
+def _drives(groups: list) -> list:
+    """What each driver of the group tables ``groups`` drives, (pair, kind, by time)."""
+    drives = []
+    for spec in groups:
+        cls = Group.registry.get(spec.get("type")) if isinstance(spec, dict) else None
+        if cls is not None and cls.DRIVER and cls.drives(spec) is not None:
+            drives.append(cls.drives(spec))
+    return drives
+
+
 def driver_efforts(groups: list) -> dict:
     """Effort name -> unit of each driver of the group tables ``groups`` when they
     drive the linkage by time (several drivers, a motor, a cylinder: ``Mb_<j>`` in N.m,
@@ -49,11 +77,7 @@ def driver_efforts(groups: list) -> dict:
     >>> driver_efforts([{"type": "crank", "pivot": "A"}, {"type": "RRR"}])
     {}
     """
-    drives = []
-    for spec in groups:
-        cls = Group.registry.get(spec.get("type")) if isinstance(spec, dict) else None
-        if cls is not None and cls.DRIVER and cls.drives(spec) is not None:
-            drives.append(cls.drives(spec))
+    drives = _drives(groups)
     if len(drives) < 2 and not any(timed for _, _, timed in drives):
         return {}
     return {f"{EFFORTS[kind]}_{pair}": ("N.m" if kind == "angle" else "N")

@@ -60,7 +60,7 @@ from typing import Any
 from ..errors import InputError, InputTypeError, LinkageFmuError
 from ..expressions import Expression
 from ..parameters import Parameter
-from .checker import Checker, is_identifier
+from .checker import DRIVER_INPUTS, Checker, driver_efforts, driver_inputs, is_identifier
 from .schema import (
     BODY_KEYS,
     CG_KEYS,
@@ -273,6 +273,11 @@ class Description:
             drawn = _read_joints_form(d, data)
             if drawn:  # the group form it makes is incomplete: its checks would mislead
                 raise DescriptionError(source, problems + drawn)
+        names = driver_inputs(d.groups)
+        problems += [f"[inputs] {k}: no input of this linkage; its drivers' inputs are "
+                     f"{', '.join(names)}" for k in _table(data, "inputs")
+                     if isinstance(k, str) and k not in names and
+                     (k in INPUT_NAMES or k.split("_")[0] in DRIVER_INPUTS)]
         checker = Checker(d)
         problems += _as_links(d, checker.problems())  # every problem at once
         checker.warn()
@@ -403,7 +408,9 @@ class Description:
                       for w, spec in self.efforts.items()]
         for spec in self.outputs:
             lines += ["", "[[outputs]]"] + [f"{_key(k)} = {_toml(v)}" for k, v in spec.items()]
-        lines += ["", "[inputs]"] + [f"{k} = {_toml(v)}" for k, v in self.inputs.items()]
+        names = driver_inputs(self.groups)  # a crank's defaults are none of the drivers'
+        lines += ["", "[inputs]"] + [f"{k} = {_toml(v)}" for k, v in self.inputs.items()
+                                     if k in names or k not in INPUT_NAMES]
         for joint, spec in self.friction.items():
             lines += ["", f"[friction.{_key(joint)}]"] + [f"{k} = {_toml(v)}"
                                                           for k, v in spec.items()]
@@ -411,6 +418,12 @@ class Description:
 
 
 # -- reading the tables --------------------------------------------------------------
+def _table(data: dict, key: str) -> dict:
+    """The table ``key`` of ``data``, empty where it is none (its reading says why)."""
+    value = data.get(key, {})
+    return value if isinstance(value, dict) else {}
+
+
 def _as_links(d: Description, problems: list[str]) -> list[str]:
     """The problems, those of a link's mass or inertia named as its [[links]] table
     gives them where the description is written as joints and links."""
@@ -469,12 +482,15 @@ def _read_joints_form(d: Description, data: dict) -> list[str]:
     d.drawn = dec
     if "model" not in data.get("linkage", {}) and is_identifier(d.name):
         d.model = d.name
-    if not d.efforts:
-        d.efforts[None] = {"name": "Mb", "body": t.crank}
-    if "theta" not in data.get("inputs", {}):  # it starts where it is drawn
-        d.inputs["theta"] = dec.theta
+    timed = driver_efforts(dec.groups)  # several drivers, a motor, a cylinder
+    if not d.efforts and not timed:
+        d.efforts[None] = {"name": "Mb", "body": t.driven[0].second}
+    given = data.get("inputs", {})
+    starts = dec.starts or {"theta": dec.theta}
+    d.inputs.update({k: v for k, v in starts.items() if k not in given})  # as drawn
     if data.get("linkage", {}).get("default_outputs", True) is not False:
-        d.outputs.extend(assur.default_outputs(dec.pairs, d.efforts, d.outputs))
+        efforts = d.efforts or {name: {"name": name} for name in timed}
+        d.outputs.extend(assur.default_outputs(dec.pairs, efforts, d.outputs))
     return []
 
 

@@ -44,7 +44,7 @@ class _PerKind(Mapping):
 INPUT_NAMES = ("theta", "omega", "alpha")
 #: the tables of a description written as joints and links (:mod:`.topology`), which
 #: take the place of [points], [[groups]] and [bodies]
-JOINT_TABLES = ("joints", "links", "crank")
+JOINT_TABLES = ("joints", "links", "crank", "drivers")
 
 #: table -> (its header in a description file, what it holds), in the order of a file
 TABLES: dict[str, tuple[str, str]] = {

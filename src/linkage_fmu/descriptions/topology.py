@@ -10,7 +10,8 @@ names every joint where it is drawn and every moving link by the joints it carri
     [[links]]   name, joints = [...] (>= 2), mass, inertia, cg = [x, y],
                 points = { P = [x, y] }                    a moving link
                 name = FRAME, joints = [...]               the frame's entry (optional)
-    [crank]     link, pivot
+    [crank]     link, pivot                                the one crank, or
+    [[drivers]] joint, links = [first, second]             each driven pair
 
 A joint listed by one moving link joins it to the frame; by two, joins them; by k >= 3,
 it is a compound joint of k - 1 revolute pairs. A joint the frame's entry lists (the
@@ -19,7 +20,8 @@ list it is pinned to the frame there (k pairs), as PMKS+ draws one ground pin wi
 several links. A coordinate may be an expression of the
 parameters and of the coordinates ``x_J``, ``y_J`` of the joints (their drawn ones).
 :func:`read` checks the tables and the topology (every joint on a moving link, every
-link on two joints, the crank's pivot on the frame, mobility 1, by Gruebler's count);
+link on two joints, the crank's pivot on the frame or each driver's pair one it can
+drive, a mobility equal to the number of drivers, by Gruebler's count);
 :mod:`~linkage_fmu.descriptions.assur` decomposes it into the group form.
 
 Examples
@@ -64,6 +66,9 @@ TABLES: dict[str, tuple[str, str]] = {
                            "centre of mass where drawn; and, optionally, the frame's entry: "
                            "its name and its joints"),
     "crank": ("[crank]", "the driven link and its pivot on the frame"),
+    "drivers": ("[[drivers]]", "instead of [crank], each driven pair: a revolute pair's "
+                               "angle (a crank, a motor between two links) or a prismatic "
+                               "pair's travel (a cylinder)"),
 }
 #: key of a prismatic joint's table in [joints] -> what it is
 JOINT_KEYS = {
@@ -97,6 +102,19 @@ CRANK_KEYS = {
     "pivot": "its joint with the frame it turns about (required); theta is the angle of "
              "the line from the pivot to the link's first other joint",
 }
+#: key of a [[drivers]] table -> what it is
+DRIVER_KEYS = {
+    "joint": "the driven pair, a joint of [joints] (required). A revolute joint's angle: on "
+             "the frame a crank, its angle absolute as [crank]'s; between two moving links a "
+             "motor, the angle of the second link relative to the first, each link's "
+             "direction the line from the joint to its first other joint. A prismatic "
+             "pair's travel: a cylinder, its barrel (the guide) and its rod each pinned at "
+             "its far end, slide pointing from the barrel's pin to the rod's; the travel is "
+             "0 as drawn, positive along slide",
+    "links": "[first, second]: the pair's links, the frame's name for the frame (default: "
+             "the frame first, then the links in the order of [[links]]; a cylinder's "
+             "barrel first)",
+}
 _COORDINATE = re.compile(r"\b([xy])_([A-Za-z_][A-Za-z0-9_]*)\b")
 
 
@@ -129,16 +147,30 @@ class Link:
 
 
 @dataclass(frozen=True)
+class Drive:
+    """A driven pair: the angle (``kind`` "angle") of link ``second`` relative to
+    ``first`` (the frame's name for a crank) at the revolute joint ``joint``, or the
+    travel ("travel") of the rod ``second`` in the barrel ``first`` at the prismatic
+    pair ``joint``; ``where`` names its table."""
+
+    joint: str
+    kind: str
+    first: str
+    second: str
+    where: str = "[crank]"
+
+
+@dataclass(frozen=True)
 class Topology:
-    """A checked joints-and-links linkage (see :func:`read`): ``on_frame`` holds the
+    """A checked joints-and-links linkage (see :func:`read`): ``driven`` holds its
+    drivers (:class:`Drive`, the [crank] or each [[drivers]] table), ``on_frame`` the
     joints the frame's entry in [[links]] lists, ``tables`` each moving link's number
     in [[links]] (from 1, the frame's entry counted)."""
 
     frame: str
     joints: dict
     links: dict
-    crank: str
-    pivot: str
+    driven: tuple
     on_frame: frozenset = frozenset()
     tables: dict = field(default_factory=dict)
 
@@ -163,9 +195,8 @@ class Topology:
 
     @property
     def drivers(self) -> tuple[str, ...]:
-        """The pairs that drive it, one per degree of freedom its mobility must have:
-        the [crank]'s pivot."""
-        return (self.pivot,)
+        """The pairs that drive it, one per degree of freedom its mobility must have."""
+        return tuple(d.joint for d in self.driven)
 
 
 class CycleError(LinkageFmuError, ValueError):
@@ -254,12 +285,14 @@ def read(data: dict, values: dict, frame: str = "0", measures: dict | None = Non
                              f"frame {frame!r} carries its guide, not {joint.guide!r}")
         elif joint.guide:
             found.append(f"{where} guide: only a prismatic pair (with slide) has a guide")
-    crank, pivot = _crank(data.get("crank"), joints, links, on, on_frame, found)
-    t = Topology(frame, joints, links, crank, pivot, on_frame, ground.get("tables", {}))
+    driven = _driven(data, joints, links, on, on_frame, frame, found)
+    t = Topology(frame, joints, links, driven, on_frame, ground.get("tables", {}))
     if not found and t.mobility() != len(t.drivers):
         n, p = len(links), t.pair_count()
+        count = (f"{len(t.drivers)}, the number of its drivers" if "drivers" in data
+                 else "1")
         found.append(f"[[links]]: the linkage's mobility is {t.mobility()}, not "
-                     f"{len(t.drivers)}: 3 x {n} "
+                     f"{count}: 3 x {n} "
                      f"moving links - 2 x {p} pairs (Gruebler's count; a joint on one link "
                      "is a pair with the frame, a joint on k links k - 1 pairs"
                      + (", a joint of the frame's entry on k links k pairs)" if on_frame
@@ -487,11 +520,118 @@ def _links(table: Any, joints: dict | None, broken: tuple, values: dict, frame: 
     return links if ok and joints is not None else None
 
 
+def _driven(data: dict, joints: dict, links: dict, on: dict, on_frame: frozenset,
+            frame: str, found: list) -> tuple:
+    """The drivers of [crank] or [[drivers]] (one form, not both), each checked."""
+    if "crank" in data and "drivers" in data:
+        found.append("[crank], [[drivers]]: a linkage is driven either by [crank] (its one "
+                     "crank) or by [[drivers]] (each driven pair), not both")
+        return ()
+    if "drivers" not in data:
+        link, pivot = _crank(data.get("crank"), joints, links, on, on_frame, found)
+        return (Drive(pivot, "angle", frame, link),) if link else ()
+    table = data["drivers"]
+    if not isinstance(table, list) or not table or \
+            not all(isinstance(spec, dict) for spec in table):
+        found.append("[[drivers]]: must be a list of tables, one per driven pair, "
+                     "{ joint = \"A\" }")
+        return ()
+    out, seen = [], {}
+    for k, spec in enumerate(table):
+        where = f"[[drivers]] #{k + 1}"
+        unknown = set(spec) - set(DRIVER_KEYS)
+        if unknown:
+            found.append(f"{where}: unknown key(s) {', '.join(sorted(unknown))}; the keys "
+                         f"are {', '.join(DRIVER_KEYS)}")
+        joint = spec.get("joint")
+        if not isinstance(joint, str) or joint not in joints:
+            found.append(f"{where} joint: {joint!r} is no joint of [joints]; the joints are "
+                         f"{', '.join(joints)}")
+            continue
+        where += f" ({joint})"
+        if joint in seen:
+            found.append(f"{where}: the pair {joint} is driven twice (first by {seen[joint]}); "
+                         "a pair takes one driver")
+            continue
+        seen[joint] = where
+        drive = _drive(where, joint, spec.get("links"), joints, links, on, on_frame, frame,
+                       found)
+        if drive is not None:
+            out.append(drive)
+    return tuple(out)
+
+
+def _drive(where: str, joint: str, given: Any, joints: dict, links: dict, on: dict,
+           on_frame: frozenset, frame: str, found: list) -> Drive | None:
+    """The driver of the pair ``joint`` (its [[drivers]] table ``where``, its ``links``
+    key ``given``), or None with the problem in ``found``."""
+    listed, prismatic = on[joint], joints[joint].prismatic
+    grounded = joint in on_frame or len(listed) == 1
+    if given is not None:
+        if not (isinstance(given, list) and len(given) == 2 and
+                all(isinstance(n, str) for n in given) and given[0] != given[1]):
+            found.append(f"{where} links: must be [first, second], two links' names, got "
+                         f"{given!r}")
+            return None
+        bodies = set(listed) | ({frame} if grounded and not prismatic else set())
+        if not set(given) <= bodies:
+            found.append(f"{where} links: {given!r} are not the links of the pair {joint}, "
+                         f"which joins {', '.join(sorted(bodies))}")
+            return None
+        if given[1] == frame:
+            found.append(f"{where} links: the frame is first: a crank's angle is the link's "
+                         f"on the frame, links = [{frame!r}, {given[0]!r}]")
+            return None
+    if prismatic:
+        return _cylinder(where, joint, given, joints, links, on, frame, found)
+    if given is not None:
+        first, second = given
+    elif grounded and len(listed) == 1:
+        first, second = frame, listed[0]
+    elif len(listed) == 2 and not grounded:
+        first, second = listed
+    else:
+        found.append(f"{where} links: the joint {joint} joins "
+                     f"{', '.join(([frame] if grounded else []) + list(listed))}: say which "
+                     "pair is driven, links = [first, second]")
+        return None
+    if len(links[second].joints) < 2:
+        return None  # [[links]] says why
+    return Drive(joint, "angle", first, second, where)
+
+
+def _cylinder(where: str, joint: str, given: Any, joints: dict, links: dict, on: dict,
+              frame: str, found: list) -> Drive | None:
+    """The travel driver of the prismatic pair ``joint``: a cylinder, its barrel (the
+    guide) and its rod each pinned at its far end; or None with the problem."""
+    listed = on[joint]
+    if len(listed) != 2:
+        found.append(f"{where}: a driven prismatic pair is a cylinder between two links, "
+                     f"its barrel and its rod; {joint} joins link {listed[0]} to the frame "
+                     "(a driven slider on a frame guide is not one yet: draw the actuator as "
+                     "a cylinder, barrel and rod, pinned to the frame and to the slider)")
+        return None
+    barrel = joints[joint].guide
+    rod = next(n for n in listed if n != barrel)
+    if given is not None and tuple(given) != (barrel, rod):
+        found.append(f"{where} links: a cylinder's first link is its barrel, the guide "
+                     f"{barrel!r}: links = [{barrel!r}, {rod!r}]")
+        return None
+    for name, what in ((barrel, "barrel"), (rod, "rod")):
+        others = [j for j in links[name].joints if j != joint]
+        if len(others) != 1 or joints[others[0]].prismatic:
+            found.append(f"{where}: the cylinder's {what} {name} is pinned at one end: it "
+                         f"lists {joint} and one revolute joint, not "
+                         f"{', '.join(links[name].joints)}")
+            return None
+    return Drive(joint, "travel", barrel, rod, where)
+
+
 def _crank(spec: Any, joints: dict, links: dict, on: dict, on_frame: frozenset,
            found: list) -> tuple:
     if not isinstance(spec, dict):
         found.append("[crank]: missing: the driven link and its pivot, "
-                     "{ link = \"1\", pivot = \"A\" }")
+                     "{ link = \"1\", pivot = \"A\" } (or [[drivers]], each driven pair)")
         return "", ""
     unknown = set(spec) - set(CRANK_KEYS)
     if unknown:

@@ -397,19 +397,52 @@ The crank angle `theta` is absolute: the angle from +x of the line from the pivo
 crank's first other joint (which must be revolute), as in the group form. The drawn crank
 angle is that line's angle in the drawn pose.
 
+### `[[drivers]]`
+
+Instead of `[crank]`, a linkage may list its drivers, one table per driven pair (a
+linkage with several degrees of freedom lists one per degree):
+
+{_keys(topology.DRIVER_KEYS)}
+
+- **A revolute pair's angle.** On the frame it is a crank, as `[crank]`'s. Between two
+  moving links it is a motor at an elbow: its angle is that of the second link relative
+  to the first, each link's direction the line from the joint to the link's first other
+  joint (the second's revolute), counter-clockwise positive. Its inputs are `theta_<j>`,
+  `omega_<j>` and `alpha_<j>` (rad, rad/s, rad/s2) and its effort `Mb_<j>` (N.m), the
+  moment it applies to its second link; the first (or the frame) takes the reaction.
+- **A prismatic pair's travel: a cylinder.** Its barrel and its rod are two links, each
+  with the pair and one revolute joint (their pins); the pair's `guide` is the barrel, and
+  its `slide` points from the barrel's pin to the rod's. The travel is 0 as drawn and
+  positive along `slide`: the cylinder is its drawn length plus the travel. Its inputs
+  are `s_<j>`, `v_<j>` and `a_<j>` (m, m/s, m/s2) and its effort `Fb_<j>` (N), the force
+  the barrel applies to the rod along `slide` (> 0 pushes the pins apart). A cylinder is
+  a binary link of driven length: with the link its rod's pin moves (pinned to a placed
+  joint), it is a `cylinder` group, its barrel's pin placed before it.
+
+A linkage with one crank on the frame keeps `theta`, `omega`, `alpha` and `Mb`, and
+`[[drivers]]` with one such table is `[crank]`. With several drivers, a motor or a
+cylinder, the linkage is driven by time: each driver's coordinate starts where it is
+drawn, and each effort is an output (`[effort]` is refused).
+
 ### What the reader checks
 
 The mobility, by Gruebler's count `3 n - 2 p` (n moving links, p pairs: one per joint
 on one link, k - 1 per joint on k links, k per joint of the frame's entry on k links),
-must be 1, and the message gives the count. Every joint is on a moving link, every link
-carries two joints or more, the crank's pivot is a revolute joint on the frame (no other
-link lists it, or the frame's entry lists it), every name a link lists is a joint,
-every slide has a length, a prismatic pair of two links says which carries the guide.
+must be 1 (with `[[drivers]]`, their number), and the message gives both counts. Every
+joint is on a moving link, every link carries two joints or more, the crank's pivot is a
+revolute joint on the frame (no other link lists it, or the frame's entry lists it),
+every name a link lists is a joint, every slide has a length, a prismatic pair of two
+links says which carries the guide. A driver names a joint of `[joints]`, a pair takes
+one driver, a joint with more than two bodies says which pair is driven (`links`), a
+cylinder's barrel and rod are each pinned at one end, and a driven slider on a frame
+guide is refused (draw the actuator as a cylinder).
 
 ### The decomposition
 
-The crank comes first. Then, as long as a link is not placed, the first dyad the library
-solves is taken off, trying the links two by two in the order of `[[links]]`:
+The drivers come first, each as soon as what it needs is placed (a motor its first
+link, a cylinder its barrel's pin). Then, as long as a link is not placed, the first
+dyad the library solves is taken off, trying the links two by two in the order of
+`[[links]]`, and the drivers that it lets be placed follow:
 
 {_drawn_groups()}
 
@@ -419,7 +452,10 @@ its centre of mass becomes its `cg = {{ from, along, across }}` in the group typ
 What no dyad resolves is the smallest connected set of the links left that the placed links hold
 with mobility 0, solved as one `closure` group (its pairs revolute: a group of more than
 two links with a prismatic pair, or a dyad with one that the table above does not list,
-is refused as a group the decomposition cannot solve).
+is refused as a group the decomposition cannot solve). A driver that no step can place
+(one inside a class III group or a closure, or a cylinder whose rod's pin is placed
+first) is refused, naming its `[[drivers]]` table; a closure in a linkage driven by
+time is refused, so far.
 
 An `RPR` lever's guide runs from its pin through the block's, as its own geometry makes
 it: a `slide` drawn within {assur.SLIDE_TOLERANCE:g} of that line (the sine of the angle
