@@ -490,11 +490,11 @@ def test_an_empty_or_missing_model_is_refused():
 
 @pytest.mark.parametrize("kind, unit, message", [
     ("expression", "ZZ", "'ZZ' is not a unit (pint knows no 'ZZ'); the units of an output "
-                         "are rad, rad/s, rad/s2, m, m/s2, kg, kg/m, kg.m2, N, N.m, W, J, Pa, "
+                         "are rad, rad/s, rad/s2, m, m/s, m/s2, kg, kg/m, kg.m2, N, N.m, W, J, Pa, "
                          "m2, s, 1"),
     ("expression", "kN", "'kN' is not SI, and the output is computed in SI: write 'N'"),
     ("effort", "ZZ", "'ZZ' is not a unit (pint knows no 'ZZ'); the units of an output "
-                     "are rad, rad/s, rad/s2, m, m/s2, kg, kg/m, kg.m2, N, N.m, W, J, Pa, "
+                     "are rad, rad/s, rad/s2, m, m/s, m/s2, kg, kg/m, kg.m2, N, N.m, W, J, Pa, "
                      "m2, s, 1"),
     ("effort", "N", "'N': Mb is a moment, in N.m"),
 ])

@@ -35,7 +35,7 @@ from . import __version__, presets, ranges
 from .descriptions import Description, DescriptionError
 from .descriptions.assur import outline
 from .descriptions.checker import driver_efforts
-from .drivers import one_crank
+from .drivers import MEANINGS, one_crank
 from .errors import LinkageFmuError
 from .expressions import evaluate
 from .printing import number
@@ -589,7 +589,8 @@ def _main(argv: list[str] | None) -> int:
             except CompilerError as err:
                 print(f"linkage-fmu: {err}", file=sys.stderr)
                 return 2
-            where = ranges.assembles(d.build(**dict(args.params)))
+            built = d.build(**dict(args.params))
+            where = [(0.0, 360.0)] if built.rates else ranges.assembles(built)
             if where != [(0.0, 360.0)]:
                 print(f"linkage-fmu: {d.name} assembles over theta = {ranges.text(where)} "
                       "only; the FMU discards the steps at other angles", file=sys.stderr)
@@ -682,12 +683,11 @@ def _reference(args) -> int:
 
 def _drivers(mech) -> None:
     """Print the drivers of a linkage driven by time: each one's inputs and effort."""
-    words = {"angle": ("angle", "speed", "acceleration"),
-             "travel": ("travel from the drawn length", "speed", "acceleration")}
     for driver, effort in zip(mech.drivers, mech.efforts):
         print(f"  driver {driver.name} ({driver.kind}), effort {effort.name} "
               f"[{mech.output_info[effort.name][0]}]:")
-        for name, unit, word in zip(driver.inputs, driver.units, words[driver.kind]):
+        for k, (name, unit) in enumerate(zip(driver.inputs, driver.units)):
+            word = MEANINGS[driver.kind][k]
             print(f"    {name:9s} [{unit}] {word} (start {mech.start[name]!r})")
 
 

@@ -30,6 +30,13 @@ KINDS: dict[str, tuple[tuple[str, str, str], tuple[str, str, str]]] = {
     "angle": (tuple(MOTION_UNITS), tuple(MOTION_UNITS.values())),
     "travel": (("s", "v", "a"), ("m", "m/s", "m/s2")),
 }
+#: kind -> what its coordinate, speed and acceleration are, in words
+MEANINGS: dict[str, tuple[str, str, str]] = {
+    "angle": ("angle of the driven link (from +x, or from its first link's direction for "
+              "a motor), counter-clockwise", "angular speed", "angular acceleration"),
+    "travel": ("travel from the drawn length, > 0 extending", "speed of travel",
+               "acceleration of travel"),
+}
 #: kind -> the name of its effort: a moment for an angle (``Mb``, ``Mb_A``: on the
 #: driver's second link), a force for a travel (``Fb_P``: on a cylinder's rod, > 0
 #: pushing its pins apart)
@@ -92,6 +99,16 @@ class Driver:
             effort = EFFORTS[kind] if alone else f"{EFFORTS[kind]}_{pair}"
         return cls(pair, kind, inputs, units, effort)
 
+    def meaning(self, k: int) -> str:
+        """What its input ``k`` (0 the coordinate, 1 the speed, 2 the acceleration) is.
+
+        Examples
+        --------
+        >>> Driver.named("P", "travel", None, alone=False).meaning(0)
+        'travel from the drawn length, > 0 extending, of the driver at P'
+        """
+        return f"{MEANINGS[self.kind][k]}, of the driver at {self.name}"
+
 
 def input_names(drivers: tuple[Driver, ...]) -> tuple[str, ...]:
     """The drivers' inputs in a linkage's order: each driver's coordinate, speed and
@@ -129,5 +146,5 @@ def one_crank(mech, job: str) -> None:
     if mech.rates:
         drivers = ", ".join(d.inputs[0] for d in mech.drivers)
         raise InputError(f"{mech.name} is driven by time ({drivers}): {job} takes a linkage "
-                         "driven by one crank on the frame, so far; solve gives its outputs "
-                         "and efforts")
+                         "driven by one crank on the frame, so far; solve (its kernels, its "
+                         "FMUs), mass_matrix and simulate take this one")

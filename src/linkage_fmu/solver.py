@@ -264,11 +264,6 @@ class Solver:
             state to trace the formulas at (asked again, at once, without tracing).
         """
         wanted = self.wanted(outputs)
-        if self.mech.rates:
-            raise InputError(f"{self.mech.name} is driven by time (its drivers: "
-                             f"{', '.join(d.inputs[0] for d in self.mech.drivers)}): its "
-                             "formulas are not traced into kernels yet; solve and table "
-                             "evaluate them")
         key = (wanted, static, given)
         k = self._kernels.get(key)
         if k is None:
@@ -298,17 +293,22 @@ class Solver:
         last = None
 
         def witnesses():
-            yield from WITNESS_ANGLES
+            if mech.rates:  # where the drivers start (a drawn linkage: where drawn)
+                yield [v for d in mech.drivers
+                       for v in (float(mech.start[d.inputs[0]]), omega, alpha)]
+                return
+            for theta in WITNESS_ANGLES:
+                yield [theta, omega, alpha]
             try:
                 found = ranges.assembles(mech)  # a linkage that turns part of a revolution
             except OverflowError:  # its parameters overflow: no state to trace
                 found = ()
             for a, b in found:
-                yield math.radians(0.5 * (a + b))
+                yield [math.radians(0.5 * (a + b)), omega, alpha]
 
-        for theta in witnesses():
+        for state in witnesses():
             try:  # a witness must be solvable
-                evaluation.evaluate(mech, plan, theta, omega, alpha, loads, SCALAR)
+                evaluation.evaluate(mech, plan, *evaluation.split(mech, state + loads), SCALAR)
             except (ValueError, ArithmeticError, np.linalg.LinAlgError) as err:
                 last = err  # an overflow at these parameters: no witness here either
                 continue
@@ -316,13 +316,14 @@ class Solver:
 
             def outputs(x: list, symbols: dict) -> list:
                 twin = mech.rebuild(symbols) if symbols else mech
-                out, _ = evaluation.evaluate(twin, plan, x[0], x[1], x[2], x[3:], TRACE)
+                out, _ = evaluation.evaluate(twin, plan, *evaluation.split(twin, x), TRACE)
                 return [out[n] for n in wanted]
 
             checked = tuple(i for i, n in enumerate(wanted) if n in plan.checked)
-            return trace(outputs, (theta, omega, alpha, *loads), parameters, wanted, checked,
+            return trace(outputs, (*state, *loads), parameters, wanted, checked,
                          static, f"kernel of {mech.name}")
-        raise InputError(f"{mech.name} cannot be assembled at any crank angle: {last}")
+        where = "where its drivers start" if mech.rates else "at any crank angle"
+        raise InputError(f"{mech.name} cannot be assembled {where}: {last}")
 
     def _count(self, k) -> None:
         """A one-state call of the kernel ``k``: the :data:`HOT_CALLS`-th compiles it."""
@@ -499,9 +500,9 @@ class Solver:
     # -- one state ------------------------------------------------------------------
     def _one(self, values, method: str, wanted: tuple, given: tuple = ()) -> Solution:
         """One state of finite floats: the kernel's tuple, or the interpreted formulas."""
-        if method == "closed_form" and not self.mech.rates:
+        if method == "closed_form":
             r, k = self._kernel_call(values, wanted, given)
-            if wanted is self._all and k.compiled and \
+            if wanted is self._all and k.compiled and not self.mech.rates and \
                     self.hot[values[1] != 0.0 or values[2] != 0.0] is None:
                 self.hot[values[1] != 0.0 or values[2] != 0.0] = k.instances(
                     Solution, ("_values", "_index", "valid"), (k.index, True))
@@ -515,7 +516,8 @@ class Solver:
     def _kernel_call(self, values, wanted: tuple, given: tuple = ()):
         """The plan's kernel at one state: its answer (a tuple, a guard's code, or None)
         and the kernel."""
-        static = values[1] == 0.0 and values[2] == 0.0
+        static = evaluation.still(self.mech, values) if self.mech.rates else \
+            values[1] == 0.0 and values[2] == 0.0
         k = self._kernels.get((wanted, static, given)) or self._kernel_or_none(
             wanted, static, given)
         try:
@@ -585,7 +587,7 @@ class Solver:
         'the linkage cannot be assembled: the dyad B-C-D cannot close'
         """
         wanted = self.wanted(outputs)
-        if method == "closed_form" and not self.mech.rates:
+        if method == "closed_form":
             r, k = self._kernel_call(values, wanted)
             if type(r) is tuple and (math.isfinite(sum(r)) or finite([r[i] for i in k.checked])):
                 return r
@@ -622,10 +624,7 @@ class Solver:
     def _compiled_arrays(self, arrays, flat, n, wanted, given=()):
         """The compiled kernel of the plan over every state, the interpreted formulas for
         the states it hands back: ``(outputs, valid)``; None without a compiled kernel."""
-        if self.mech.rates:  # no kernels yet for a linkage driven by time
-            return None
-        omega, alpha = flat[1], flat[2]
-        static = not (omega.any() or alpha.any())
+        static = evaluation.still(self.mech, flat)
         k = self._kernels.get((wanted, static, given)) or self._kernel_or_none(
             wanted, static, given)
         array = k.array()

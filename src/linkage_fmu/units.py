@@ -59,6 +59,7 @@ TABLE = (
     Unit("rad/s2", "rad/s**2", "an angular acceleration", {"rad": 1, "s": -2},
          (("deg/s2", RAD2DEG),)),
     Unit("m", "m", "a length", {"m": 1}),
+    Unit("m/s", "m/s", "a speed", {"m": 1, "s": -1}),
     Unit("m/s2", "m/s**2", "an acceleration", {"m": 1, "s": -2}),
     Unit("kg", "kg", "a mass", {"kg": 1}),
     Unit("kg/m", "kg/m", "a mass per length", {"kg": 1, "m": -1}),

@@ -37,7 +37,6 @@ from pathlib import Path
 
 from .. import ranges
 from ..ccompiler import CompilerError, compile_shared, find_compiler
-from ..drivers import one_crank
 from ..errors import AssemblyError, InputError
 from ..presets import linkage
 from . import binaries, writers
@@ -144,10 +143,16 @@ def _assembling(source, parameters: dict):
     """The description (its defaults the parameters given) and linkage of an FMU; a
     ValueError, saying why at theta = 0, if the linkage assembles at no crank angle."""
     mech = linkage(source, **parameters)
-    one_crank(mech, "an FMU")
     d = mech.description.with_defaults(mech.parameters)
     mech = d.fmu_build()
-    if not ranges.assembles(mech):
+    if mech.rates:  # driven by time: it must assemble where its drivers start
+        start = tuple(float(mech.start[dr.inputs[0]]) for dr in mech.drivers)
+        try:
+            mech.kinematics(start, order=0, rates=tuple((0.0, 0.0) for _ in start))
+        except AssemblyError as err:
+            raise InputError(f"{d.name} cannot be assembled where its drivers start, so it "
+                             f"has no FMU: {err.condition}") from None
+    elif not ranges.assembles(mech):
         try:
             mech.kinematics(0.0, order=0)
             why = ""

@@ -80,7 +80,8 @@ def revolution(mech: Mechanism, steps: int = 360) -> np.ndarray:
     """Inputs over a revolution, or over as many as the longest period of the linkage's
     loads given by a table (two for a four-stroke engine's 720 deg): speed +-20 %, each
     input load +-50 % around its start value (a load whose start value is zero varies
-    around 100 N or 10 N.m), ``steps`` steps per revolution.
+    around 100 N or 10 N.m), ``steps`` steps per revolution. For a linkage driven by
+    time, each driver's motion about its start over 1 s (:func:`_strokes`).
 
     Returns a structured array with fields ``time`` and the linkage's inputs, one row
     per communication point, as fmpy's ``simulate_fmu`` takes it.
@@ -92,6 +93,8 @@ def revolution(mech: Mechanism, steps: int = 360) -> np.ndarray:
     >>> u.dtype.names, round(float(u["theta"][-1]), 12) == round(2 * math.pi, 12)
     (('time', 'theta', 'omega', 'alpha', 'load'), True)
     """
+    if mech.rates:
+        return _strokes(mech, steps)
     turns = max([1] + [math.ceil(ld.table.period_deg / 360.0 - 1e-9)
                        for ld in mech.computed_loads if ld.table is not None])
     w0 = mech.start["omega"] or 2.0 * math.pi
@@ -106,6 +109,30 @@ def revolution(mech: Mechanism, steps: int = 360) -> np.ndarray:
     for j, load in enumerate(mech.input_loads):
         load0 = load.start or _NOMINAL_LOAD.get(load.unit, 1.0)
         u[load.name] = load0 * (1.0 + 0.5 * np.sin((2.0 + j) * k * t))
+    return u
+
+
+#: the amplitude of each driver's motion in :func:`revolution`: of an angle (rad) and a
+#: travel (m)
+STROKES = {"angle": 0.2, "travel": 0.05}
+
+
+def _strokes(mech: Mechanism, steps: int) -> np.ndarray:
+    """For a linkage driven by time: over 1 s in ``steps`` steps, each driver ``k``
+    swings about its start by :data:`STROKES` as ``sin(2 pi (k + 1) t)`` (its speed and
+    acceleration the derivatives), each input load as in :func:`revolution`."""
+    t = np.linspace(0.0, 1.0, steps + 1)
+    u = np.zeros(t.size, dtype=[(n, np.float64) for n in ("time",) + mech.input_names])
+    u["time"] = t
+    for k, driver in enumerate(mech.drivers):
+        w, amplitude = 2.0 * math.pi * (k + 1), STROKES[driver.kind]
+        q, v, a = driver.inputs
+        u[q] = mech.start[q] + amplitude * np.sin(w * t)
+        u[v] = amplitude * w * np.cos(w * t)
+        u[a] = -amplitude * w * w * np.sin(w * t)
+    for j, load in enumerate(mech.input_loads):
+        load0 = load.start or _NOMINAL_LOAD.get(load.unit, 1.0)
+        u[load.name] = load0 * (1.0 + 0.5 * np.sin((2.0 + j) * 2.0 * math.pi * t))
     return u
 
 

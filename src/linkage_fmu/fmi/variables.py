@@ -34,6 +34,7 @@ import math
 from dataclasses import dataclass, replace
 from typing import Any
 
+from ..drivers import one_crank
 from ..errors import InputError
 from ..mechanism import METHODS
 from ..units import MOTION_UNITS
@@ -133,7 +134,12 @@ def variables(mech, flavour: str = "pythonfmu") -> list[Variable]:
     table = []
     motion = mech.input_table.motion  # the driver's inputs
     for k, name in enumerate(motion):
-        unit, display, text = _MOTION_INFO[name]
+        if mech.rates:  # each driver's coordinate, speed, acceleration
+            driver = mech.drivers[k // 3]
+            unit, text = driver.units[k % 3], driver.meaning(k % 3)
+            display = "deg" if unit == "rad" else ""
+        else:
+            unit, display, text = _MOTION_INFO[name]
         table.append(Variable(name, "Real", "input", "continuous", unit, display, text,
                               float(mech.start[name]), index=k))
     # a load over the cycle is computed inside: no input
@@ -155,7 +161,8 @@ def _output(mech, name: str, inputs: tuple, index: int) -> Variable:
     """The output ``name`` of the linkage, computed from ``inputs``."""
     unit, text = mech.output_info[name]
     # a diagnostic is a function of the position only
-    depends = ("theta",) if name in mech.diagnostic_names else inputs
+    coordinates = tuple(d.inputs[0] for d in mech.drivers)
+    depends = coordinates if name in mech.diagnostic_names else inputs
     return Variable(name, "Real", "output", "continuous", unit, "deg" if unit == "rad" else "",
                     text, None, depends, index=index)
 
@@ -235,8 +242,10 @@ def drive_variables(mech) -> list[Variable]:
     ------
     ValueError
         The linkage's balancing effort is not a moment on its crank: it cannot be driven
-        by one.
+        by one; a linkage driven by time (several drivers, a motor, a cylinder: so far,
+        ``simulate`` moves it).
     """
+    one_crank(mech, "a drive FMU")
     if not mech.effort_on_crank:
         raise InputError(f"{mech.name}: its balancing effort {mech.effort.name} is not a "
                          "moment on the crank, so it cannot be driven by a torque (a drive "

@@ -123,7 +123,10 @@ _C, _XML = _environment(False), _environment(True)
 
 
 def _stop(mech) -> float:
-    """A revolution at the start speed (1 s for a linkage that starts at rest)."""
+    """A revolution at the start speed (1 s for a linkage that starts at rest, or one
+    driven by time)."""
+    if mech.rates:
+        return 1.0
     w0 = abs(mech.start["omega"])
     return 2.0 * math.pi / w0 if w0 else 1.0
 
