@@ -230,7 +230,7 @@ LAYERS = (
     ("the parts of a linkage", {"pairs", "drivers", "groups", "parameters", "bodies",
                                 "loads", "outputs", "inertia"}),
     ("the physics", {"kinetostatics", "friction", "diagnostics", "ranges", "motion",
-                     "flywheel"}),
+                     "driven_motion", "flywheel"}),
     ("the formula sequence", {"inputs", "evaluation"}),
     ("solving", {"solver", "precise"}),
     ("the mechanism", {"mechanism"}),

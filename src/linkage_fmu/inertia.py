@@ -1,6 +1,7 @@
 """The inertia of a linkage reduced to its crank, and its derivative: what the equation
 of motion of a crank-driven linkage (Eksergian's) needs, from the linkage's own
-kinematics.
+kinematics; and, for a linkage with several drivers, its mass matrix reduced to their
+coordinates.
 """
 
 from __future__ import annotations
@@ -8,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from .drivers import one_crank
+from .errors import InputError
 from .expressions import evaluate
 from .numerics import ARRAY, finite_array
 
@@ -106,3 +108,71 @@ def at_state(mech, st, derivative: bool = True) -> tuple:
         if derivative:
             dJ = np.where(st.invalid, np.nan, dJ)
     return J, dJ
+
+
+def mass_matrix(mech, q) -> np.ndarray:
+    """The mass matrix ``M(q)`` reduced to the drivers' coordinates: the kinetic energy
+    of the moving links is ``T = qdot @ M @ qdot / 2`` for the drivers' speeds
+    ``qdot``, with ``M[k, l] = sum(m_i v_Si,k . v_Si,l + J_Si w_i,k w_i,l)``, the
+    velocities at unit speed of driver ``k`` alone (from the linkage's own kinematics:
+    exact, no finite differences). With one crank on the frame it is ``[[J_red]]``.
+
+    Parameters
+    ----------
+    mech : Mechanism
+        The linkage.
+    q : float or sequence
+        The drivers' coordinates (the crank angle, for one crank), each a float or an
+        array (of one shape).
+
+    Returns
+    -------
+    ndarray
+        ``(n, n)`` for n drivers, or ``(..., n, n)`` for arrays of coordinates (NaN
+        where the linkage cannot be assembled); symmetric.
+
+    Raises
+    ------
+    AssemblyError
+        Scalar coordinates at which the linkage cannot be assembled.
+    InputError
+        Not one coordinate per driver.
+
+    Examples
+    --------
+    Two cranks of a five-bar at rest: the coupler's mass couples them.
+
+    >>> from pathlib import Path
+    >>> import linkage_fmu
+    >>> five = linkage_fmu.load(Path(linkage_fmu.__file__).parents[2] /
+    ...                         "examples/five_bar.toml")
+    >>> M = five.mass_matrix((1.9, 1.2))
+    >>> M.shape, bool(abs(M[0, 1] - M[1, 0]) < 1e-15), bool(M[0, 1] != 0.0)
+    ((2, 2), True, True)
+    """
+    n = len(mech.drivers)
+    if not mech.rates:
+        J, _ = reduced_inertia(mech, q[0] if np.ndim(q) and n == 1 and
+                               not isinstance(q, np.ndarray) else q)
+        return np.asarray(J, dtype=float)[..., None, None]
+    if isinstance(q, (str, bytes)) or not hasattr(q, "__len__") or len(q) != n:
+        raise InputError(f"{mech.name}: the mass matrix takes one coordinate per driver "
+                         f"({', '.join(d.inputs[0] for d in mech.drivers)}), got {q!r}")
+    q = tuple(q)
+    columns = []  # per driver: each body's (v_S, w) at its unit speed
+    for k in range(n):
+        rates = tuple((1.0 if j == k else 0.0, 0.0) for j in range(n))
+        st = mech.kinematics(q, order=1, rates=rates)
+        columns.append([(st.d1[b.cg], st.w1[b.name]) for b in mech.bodies])
+    shape = np.broadcast(*q).shape if any(np.ndim(v) for v in q) else ()
+    M = np.zeros(shape + (n, n))
+    for k in range(n):
+        for j in range(k, n):
+            total = 0.0
+            for body, (vk, wk), (vj, wj) in zip(mech.bodies, columns[k], columns[j]):
+                total = total + body.mass * (vk[0] * vj[0] + vk[1] * vj[1]) + \
+                    body.inertia * wk * wj
+            M[..., k, j] = M[..., j, k] = total
+    if shape and st.invalid is not None:
+        M[np.asarray(st.invalid)] = np.nan
+    return M

@@ -158,9 +158,8 @@ class Mechanism:
         _check_names(name, {"input": self.input_names, "parameter": tuple(self.parameters),
                             "output": self.output_names,
                             "diagnostic output": self.diagnostic_names})
-        #: the real-valued parameters, the arguments of its kernels (a branch or a choice
-        #: is structure, as is a friction with every mu 0); none for a linkage built
-        #: without a description
+        #: the real-valued parameters, its kernels' arguments (a branch, a choice, a friction
+        #: with every mu 0 are structure); none for a linkage built without a description
         self.kernel_parameters = () if rebuild is None else tuple(
             n for n, v in self.parameters.items() if type(v) is float and (
                 friction.active or n not in friction.parameters))
@@ -284,15 +283,17 @@ class Mechanism:
 
     # -- kinematics -------------------------------------------------------------
     def kinematics(self, theta, order: int = 2, xp=None, rates=None) -> KinematicState:
-        """The position of every point and link at the crank angle(s) ``theta`` (a
-        linkage driven by time: its drivers' coordinates, and their ``rates``) and
-        their derivatives up to ``order``: :func:`linkage_fmu.evaluation.kinematics`."""
+        """Positions and their derivatives to ``order`` at the crank angle(s) ``theta`` (or
+        drivers' coordinates and ``rates``): :func:`linkage_fmu.evaluation.kinematics`."""
         return evaluation.kinematics(self, theta, order, xp, rates)
 
     def reduced_inertia(self, theta, xp=None) -> tuple:
-        """The moment of inertia reduced to the crank and its derivative by the crank
-        angle: :func:`linkage_fmu.inertia.reduced_inertia`."""
+        """J_red and dJ_red/dtheta: :func:`linkage_fmu.inertia.reduced_inertia`."""
         return inertia.reduced_inertia(self, theta, xp)
+
+    def mass_matrix(self, q):
+        """The mass matrix reduced to the drivers: :func:`linkage_fmu.inertia.mass_matrix`."""
+        return inertia.mass_matrix(self, q)
 
     def simulate(self, tau, t, theta0=None, omega0=None, **options):
         """The motion under the crank torque ``tau``: :func:`linkage_fmu.motion.simulate`."""
@@ -372,8 +373,7 @@ class Mechanism:
 
     def table(self, theta, omega=None, alpha=None, *loads, method: str = "closed_form",
               outputs: Iterable[str] | None = None, **named_loads):
-        """:meth:`solve` over the crank angles ``theta`` as a pandas DataFrame, one
-        column per output: :meth:`Solver.table <linkage_fmu.solver.Solver.table>`."""
+        """:meth:`solve` as a DataFrame: :meth:`Solver.table <linkage_fmu.solver.Solver.table>`."""
         return self.solver.table(theta, omega, alpha, *loads, method=method, outputs=outputs,
                                  **named_loads)
 

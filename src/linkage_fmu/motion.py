@@ -23,6 +23,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from . import driven_motion
 from .drivers import one_crank
 from .errors import (
     AssemblyError,
@@ -191,15 +192,13 @@ def simulate(mech, tau, t, theta0=None, omega0=None, rtol: float = 1e-10,
     import pandas as pd
     from scipy.integrate import solve_ivp
 
+    if mech.rates:  # several drivers, a motor, a cylinder: one effort each
+        if flywheel != 0.0:
+            raise InputError(f"{mech.name}: a flywheel is on a crank driven alone; "
+                             "this linkage is driven by time")
+        return driven_motion.simulate(mech, tau, t, theta0, omega0, rtol, atol, **loads)
     effort = crank_moment(mech, "simulate drives the crank with a moment")
-    t = np.asarray(finite_array("t", t), dtype=float)
-    if t.ndim != 1 or t.size < 2:
-        raise InputError(f"t must be a 1-d array of at least 2 times, got shape {t.shape}")
-    step = np.diff(t)
-    if not (step > 0).all():
-        k = int(np.argmin(step > 0)) + 1
-        raise InputError(f"t must be strictly increasing: t[{k}] = {float(t[k])!r} <= "
-                         f"t[{k - 1}] = {float(t[k - 1])!r}")
+    t = driven_motion.times(t)
     torque = _torque(tau, t)
     theta0 = _start(mech, "theta", theta0, "rad")
     omega0 = _start(mech, "omega", omega0, "rad/s")
