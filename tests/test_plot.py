@@ -1074,3 +1074,35 @@ def test_linkage_draws_points_on_one_line_as_a_bar(name, link, ends, inner):
     (ax_, ay), (bx, by), (kx, ky) = (np.array(st.p[p], float) for p in (*ends, inner))
     t = ((kx - ax_) * (bx - ax_) + (ky - ay) * (by - ay)) / ((bx - ax_) ** 2 + (by - ay) ** 2)
     assert 0.0 < t < 1.0
+
+
+@pytest.mark.parametrize("name, state", [
+    ("excavator", dict(s_cyl1=0.2, s_cyl2=0.1, s_cyl3=0.1, v_cyl1=0.05, F_T=15000.0)),
+    ("five_bar", dict(theta_A=1.9, theta_E=1.2, omega_A=2.0, P=10.0)),
+])
+def test_a_linkage_driven_by_time_is_drawn_at_its_drivers_state(tmp_path, name, state):
+    """The arrows are the joint forces of ``solve`` at the drivers' state, to scale,
+    from the joints' points there; the title gives each driver's coordinate, its
+    nonzero speeds and every effort."""
+    mech = linkage_fmu.load(Path(__file__).resolve().parents[1] / "examples" / f"{name}.toml")
+    pairs = plot.force_pairs(mech)
+    q = tuple(state[d.inputs[0]] for d in mech.drivers)
+    st = mech.kinematics(q, order=0, rates=tuple((0.0, 0.0) for _ in q))
+    sol = mech.solve(**state)
+    fig = plot.linkage(mech, scale=1e-5, **state)
+    saved_png(fig, tmp_path / f"{name}.png")
+    arrows = quiver_of(fig.axes[0])
+    drawn = [p for p in pairs if p.point is not None]
+    np.testing.assert_allclose(np.c_[arrows.X, arrows.Y],
+                               np.array([st.p[p.point] for p in drawn], float), atol=1e-12)
+    np.testing.assert_allclose(np.c_[arrows.U, arrows.V],
+                               1e-5 * np.array([(sol[p.x], sol[p.y]) for p in drawn]),
+                               rtol=1e-12, atol=0)
+    title = fig.axes[0].get_title()
+    for d in mech.drivers:
+        assert f"{d.inputs[0]} = " in title and f"{d.effort} = " in title, title
+    assert f"{mech.drivers[0].inputs[1]} = " in title  # a nonzero speed
+    assert f"{mech.drivers[1].inputs[2]} = " not in title  # a zero acceleration is not
+    with pytest.raises(linkage_fmu.errors.InputTypeError, match="driven by time: give its "
+                                                                "inputs by name"):
+        plot.linkage(mech, 0.5, **state)

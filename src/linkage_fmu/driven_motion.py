@@ -58,11 +58,11 @@ def simulate(mech, efforts, t, q0=None, v0=None, rtol: float = 1e-10, atol: floa
     Raises
     ------
     InputError
-        A bad ``t``, effort, start or load, naming it; a mass matrix that is not
-        positive definite (no inertia on a driver).
+        A bad ``t``, effort, start or load, naming it; a driver that moves no inertia.
     AssemblyError, SingularPositionError
-        The motion reaches a pose at which the linkage cannot be assembled, naming it
-        and the time; no rows are returned.
+        The motion reaches a pose at which the linkage cannot be assembled, or at which
+        its mass matrix is not finite or not positive definite to rounding (a singular
+        position), naming it and the time; no rows are returned.
 
     Examples
     --------
@@ -99,12 +99,22 @@ def simulate(mech, efforts, t, q0=None, v0=None, rtol: float = 1e-10, atol: floa
             raise type(err)(mech.name, err.theta, f"{why} (reached at t = {ti:.9g} s)") \
                 from None
         u = np.array([f(ti, q, v) for f in applied])
+        if not np.isfinite(M).all():  # a velocity without bound: at a toggle
+            raise SingularPositionError(
+                mech.name, {d.inputs[0]: float(x) for d, x in zip(drivers, q)},
+                f"its mass matrix reduced to the drivers is not finite (reached at t = "
+                f"{ti:.9g} s)")
         try:
             chol = np.linalg.cholesky(M)
         except np.linalg.LinAlgError:
-            raise InputError(f"{mech.name}: its mass matrix reduced to the drivers is not "
-                             f"positive definite at {_words(drivers, q)} (a driver that "
-                             "moves no inertia); the motion is not defined") from None
+            if np.any(np.diag(M) <= 0.0):
+                raise InputError(f"{mech.name}: its mass matrix reduced to the drivers is "
+                                 f"not positive definite at {_words(drivers, q)}: a driver "
+                                 "moves no inertia; the motion is not defined") from None
+            raise SingularPositionError(
+                mech.name, {d.inputs[0]: float(x) for d, x in zip(drivers, q)},
+                f"its mass matrix reduced to the drivers is not positive definite to "
+                f"rounding (a singular position; reached at t = {ti:.9g} s)") from None
         rhs = u - np.array([sol[e] for e in names])
         return np.linalg.solve(chol.T, np.linalg.solve(chol, rhs))
 

@@ -400,7 +400,7 @@ def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int =
             text += ", forces unbounded (a singular position)"
         elif s.effort is not None:
             arm = size if mech.effort.direction is None else 1.0
-            text += (f", {effort} = {number(s.effort, 4, scale=largest * arm)} "
+            text += (f", {effort} = {number(s.effort[effort], 4, scale=largest * arm)} "
                      f"{mech.output_info[effort][0]}")
         link_ax.set_title(text, fontsize=10)
         cursor(k)

@@ -60,9 +60,15 @@ def solve_at(mech: "Mechanism", theta, inputs: dict):
 
 
 def inputs_text(mech: "Mechanism", inputs: dict) -> str:
-    """``inputs`` as a title gives them: ``ω = 10 rad/s, α = 0 rad/s², ...``."""
+    """``inputs`` as a title gives them: ``ω = 10 rad/s, α = 0 rad/s², ...``; for a
+    linkage driven by time each driver's coordinate, and its speed and acceleration
+    where they are not 0."""
     units = {"omega": "rad/s", "alpha": "rad/s²", **{load.name: load.unit for load in mech.loads}}
     greek = {"omega": "ω", "alpha": "α"}
+    if mech.rates:
+        rates = {n for d in mech.drivers for n in d.inputs[1:]}
+        units.update((n, u) for d in mech.drivers for n, u in zip(d.inputs, d.units))
+        inputs = {k: v for k, v in inputs.items() if k not in rates or v != 0.0}
     return ", ".join(f"{greek.get(k, k)} = {number(v, 6)} {units[k]}" for k, v in inputs.items())
 
 

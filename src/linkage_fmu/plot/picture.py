@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, InputTypeError
 from ..printing import number
 from .figures import figure_axes
 from .inputs import crank_angles, input_values, inputs_text, solve_at
@@ -207,12 +207,24 @@ def linkage(mech: "Mechanism", theta=None, omega=None, alpha=None, *loads, theta
     ...  if t.get_gid() == "load label:load"]
     ['load = 5 N.m']
     """
-    rad, deg = crank_angles(theta, theta_deg, scalar=True)
-    inputs = input_values(mech, omega, alpha, loads, named_loads)
-    th = float(rad[0])
-    st = mech.kinematics(th, order=0)  # raises where it cannot be assembled
-    sol = solve_at(mech, th, inputs)
-    scene = _scene(mech, st, lambda name: float(sol[name]), float(deg[0]), inputs)
+    if mech.rates:  # driven by time: the drivers' inputs and the loads by name
+        if theta is not None or theta_deg is not None or omega is not None or \
+                alpha is not None or loads:
+            raise InputTypeError(f"{mech.name} is driven by time: give its inputs by name "
+                                 f"({', '.join(mech.input_names)})")
+        values, given = mech.input_table.every((), named_loads)
+        inputs = dict(zip(mech.input_names + tuple(given), map(float, values)))
+        sol = mech.solve(**inputs)  # raises where it cannot be assembled
+        q = tuple(inputs[d.inputs[0]] for d in mech.drivers)
+        st = mech.kinematics(q, order=0, rates=tuple((0.0, 0.0) for _ in q))
+        scene = _scene(mech, st, lambda name: float(sol[name]), math.nan, inputs)
+    else:
+        rad, deg = crank_angles(theta, theta_deg, scalar=True)
+        inputs = input_values(mech, omega, alpha, loads, named_loads)
+        th = float(rad[0])
+        st = mech.kinematics(th, order=0)  # raises where it cannot be assembled
+        sol = solve_at(mech, th, inputs)
+        scene = _scene(mech, st, lambda name: float(sol[name]), float(deg[0]), inputs)
     size = linkage_size([scene.pos[p] for p in drawn_points(mech)], mech.length_scale)
     largest = scene.largest
     if scale is None:
@@ -234,8 +246,8 @@ class Scene(NamedTuple):
     """The linkage at one state, what :func:`draw_scene` draws: the crank angle
     ``theta_deg`` [deg], the points' positions ``pos`` [m], the links' unit directions
     ``u``, the :func:`force_pairs` forces that act at a point (``forces``, shape
-    ``(n, 2)`` [N], their ``pairs``), the loads and the balancing effort (None if it
-    is not an output)."""
+    ``(n, 2)`` [N], their ``pairs``), the loads and the efforts (name -> value; None
+    where none is an output). A linkage driven by time has no crank angle: NaN."""
 
     theta_deg: float
     pos: dict
@@ -325,22 +337,27 @@ def _scene(mech: "Mechanism", st, value, theta_deg: float, inputs: dict,
     if pairs is None:
         pairs = tuple(p for p in force_pairs(mech) if p.point is not None)
     forces = np.array([(value(p.x), value(p.y)) for p in pairs], dtype=float).reshape(-1, 2)
-    effort = mech.effort.name if mech.effort.name in mech.output_names else None
+    efforts = {e.name: value(e.name) for e in mech.efforts if e.name in mech.output_names}
     return Scene(theta_deg, {p: (float(x), float(y)) for p, (x, y) in st.p.items()},
                  {n: (float(c), float(s)) for n, (c, s) in st.u.items()}, pairs, forces,
-                 _loads_at(mech, st, inputs), None if effort is None else value(effort))
+                 _loads_at(mech, st, inputs), efforts or None)
 
 
 def scene_title(mech: "Mechanism", scene: Scene, inputs: dict, scale: float, largest: float,
                 size: float) -> str:
     """The picture's title: the angle, the inputs, the effort, the scale."""
-    title = f"{mech.name} at θ = {number(scene.theta_deg)}°, {inputs_text(mech, inputs)}\n"
-    if scene.effort is not None:
+    at = "" if math.isnan(scene.theta_deg) else f" at θ = {number(scene.theta_deg)}°"
+    title = f"{mech.name}{at}, {inputs_text(mech, inputs)}\n"
+    for e in mech.efforts:
+        if scene.effort is None or e.name not in scene.effort:
+            continue
         # a sum of forces times lengths: what rounding leaves of a zero is 0 (the scotch
         # yoke's Mb at 90 deg, 1.8e-15 N m beside 260 N on a 0.1 m crank)
-        arm = size if mech.effort.direction is None else 1.0
-        title += (f"{mech.effort.name} = {number(scene.effort, scale=largest * arm)} "
-                  f"{mech.output_info[mech.effort.name][0]}; ")
+        arm = size if e.direction is None else 1.0
+        title += (f"{e.name} = {number(scene.effort[e.name], scale=largest * arm)} "
+                  f"{mech.output_info[e.name][0]}; ")
+    if len(mech.efforts) > 1:  # the efforts fill a line
+        title = title[:-2] + "\n"
     return title + f"forces to scale {number(scale)} m/N (1 N = {number(1000 * scale, 3)} mm)"
 
 
