@@ -12,11 +12,14 @@ both flavours)::
     python tests/fmu_fuzz.py DIR_OF_DRIVE_FMUS --drive --steps 100000
     python tests/fmu_fuzz.py DIR_OF_DRIVE_FMUS --drive --energy --steps 10000
     python tests/fmu_fuzz.py DIST_DIR --memory 6 5000   # windows, cycles of FourBar.fmu
+    python tests/fmu_fuzz.py DIR_OF_DRIVEN_FMUS --driven --steps 10000
 
-``generate_drive`` does the same for the drive FMUs (with ``preset``, random friction in
-half the episodes); ``generate_energy`` and ``check_energy`` hold the slider-crank's drive
-FMU with friction to its energy balance over random-moment steps (``--energy``: that and
-the fuzz with friction, on ``SliderCrankDrive.fmu`` in DIR).
+``generate_driven`` does the same for the FMUs of the examples driven by several
+actuators (``--driven``). ``generate_drive`` does the same for the drive FMUs (with
+``preset``, random friction in half the episodes); ``generate_energy`` and
+``check_energy`` hold the slider-crank's drive FMU with friction to its energy balance
+over random-moment steps (``--energy``: that and the fuzz with friction, on
+``SliderCrankDrive.fmu`` in DIR).
 """
 
 from __future__ import annotations
@@ -238,8 +241,104 @@ def generate(fmu: Path, preset: str, steps: int, seed: int) -> Plan:
 
 @functools.lru_cache(maxsize=16)
 def _mechanism(preset: str, params: tuple):
-    """The preset with an episode's parameters, built once per episode."""
-    return presets.get(preset, **dict(params))
+    """The preset (or the description file) with an episode's parameters, built once
+    per episode."""
+    return presets.linkage(preset, **dict(params))
+
+
+def generate_driven(fmu: Path, source: str, steps: int, seed: int) -> Plan:
+    """Random calls to the FMU of a linkage driven by time (``source``, its description
+    file) totalling ``steps`` doStep calls, in episodes of 500 steps: each driver's
+    coordinate about its start (by 0.6 rad or 0.4 m, some states it cannot assemble
+    at), speeds and accelerations, the loads, 10 % of the sets with a value not finite
+    or huge; inputs mixed with an output's or an unknown reference, bad step sizes and
+    times, FMU states saved, serialized, corrupted and restored, and (where the FMU
+    provides them) the directional derivative of each effort by its own driver's
+    acceleration, which is the mass matrix's diagonal entry ``M[k, k]`` there."""
+    rng = np.random.default_rng(seed)
+    v = _variables(fmu)
+    mech = _mechanism(source, ())
+    outs = [vr for vr, t, c, _ in v.values() if c == "output"]
+    out_names = [n for n, (vr, t, c, _) in v.items() if c == "output"]
+    inputs = [v[n][0] for n in mech.input_names]
+    n_vars = len(v)
+    provides = read_model_description(str(fmu)).coSimulation.providesDirectionalDerivative
+    start = [float(mech.start[n]) for n in mech.input_names]
+    spans = [(0.6 if d.kind == "angle" else 0.4, 2.0, 5.0) for d in mech.drivers]
+    nominal = [2.0 * (ld.start or {"N": 100.0, "N.m": 10.0}.get(ld.unit, 1.0))
+               for ld in mech.input_loads]
+    plan = Plan()
+    add = plan.add
+    done = episode = 0
+
+    def random_inputs():
+        u = []
+        for k, (dq, dv, da) in enumerate(spans):
+            u += [start[3 * k] + float(rng.uniform(-dq, dq)), float(rng.uniform(-dv, dv)),
+                  float(rng.uniform(-da, da))]
+        return u + [float(rng.uniform(-a, a)) for a in nominal]
+
+    while done < steps:
+        name = f"e{episode}"
+        episode += 1
+        for op in ("new", "setup", "enter", "exit"):
+            add([name, op, "M"] if op == "new" else [name, op, 0.0, None] if op == "setup"
+                else [name, op], ("status", OK))
+        u, saved, t = list(start), {}, 0.0
+        for _ in range(min(500, steps - done)):
+            r = rng.random()
+            if r < 0.75:
+                u = random_inputs()
+                if rng.random() < 0.1:
+                    u[int(rng.integers(len(u)))] = float(rng.choice(BAD_VALUES))
+                add([name, "setReal", inputs, u], ("set", list(u)))
+                add([name, "doStep", t, 0.01], ("step", source, {}, list(u)))
+                t += 0.01
+                done += 1
+                add([name, "getReal", outs], ("read", source, {}, list(u), out_names))
+            elif r < 0.79:
+                bad_vr = int(rng.choice([outs[0], n_vars + int(rng.integers(1, 100))]))
+                add([name, "setReal", [inputs[0], bad_vr], [start[0], 1.0]], ("status", ERROR))
+            elif r < 0.83:
+                h, t0 = [(0.0, t), (-0.01, t), (math.nan, t), (0.01, math.nan), (math.inf, t)][
+                    int(rng.integers(5))]
+                add([name, "doStep", t0, h], ("status", ERROR))
+            elif r < 0.88:
+                slot = f"{name}:s{int(rng.integers(3))}"
+                add([name, "getState", slot], ("status", OK))
+                add([name, "serialize", slot, slot], ("status", OK))
+                saved[slot] = list(u)
+            elif r < 0.91 and saved:
+                slot = str(rng.choice(sorted(saved)))
+                edit = [None, ["flip", int(rng.integers(0, 10_000)), int(rng.integers(1, 256))],
+                        ["cut", -int(rng.integers(1, 100))]][int(rng.integers(3))]
+                add([name, "deserialize", slot, "d", edit], ("status", OK if edit is None
+                                                              else ERROR))
+                if edit is None:
+                    add([name, "setState", "d"], ("status", OK))
+                    add([name, "freeState", "d"], ("status", OK))
+                    u = list(saved[slot])
+                    add([name, "getReal", outs], ("read", source, {}, list(u), out_names))
+            elif r < 0.95:
+                k = int(rng.integers(len(mech.drivers)))
+                d = mech.drivers[k]
+                add([name, "derivative", [v[d.effort][0]], [v[d.inputs[2]][0]], [1.0]],
+                    ("mass", provides, source, list(u), k))
+            else:  # direct feedthrough: a value read is as set
+                u = random_inputs()
+                add([name, "setReal", inputs, u], ("status", OK))
+                add([name, "getReal", outs], ("read", source, {}, list(u), out_names))
+                add([name, "getReal", inputs], ("values", list(u)))
+        add([name, "terminate"], ("status", OK))
+        add([name, "free"], ("status", OK))
+    return plan
+
+
+def run_driven(fmu: Path, source: str, steps: int, seed: int) -> tuple[Counter, dict]:
+    """:func:`generate_driven`, run in a fresh host process, :func:`check`."""
+    plan = generate_driven(fmu, source, steps, seed)
+    out = _host(fmu, plan)
+    return check(plan, out["results"]), out
 
 
 def _solvable(preset, params, u, names):
@@ -299,6 +398,22 @@ def check(plan: Plan, results: list) -> Counter:
             names = list(_mechanism(preset, tuple(sorted(params.items()))).output_names)
             solvable = _solvable(preset, params, u, names)[0]
             assert status == (OK if solvable else DISCARD), (i, plan.ops[i], u, status)
+        elif c[0] == "mass":  # dE_k/da_k, the mass matrix's diagonal entry
+            _, provides, source, u, k = c
+            if not provides:
+                assert status == ERROR, (i, plan.ops[i], status)
+                continue
+            values = _solvable(source, {}, u, list(_mechanism(source, ()).output_names))[0]
+            got = payload[0] if payload else None
+            if values is None:
+                assert status == WARNING and (got is None or math.isnan(got)), (i, u, status)
+                tally["derivative nan"] += 1
+                continue
+            mech = _mechanism(source, ())
+            q = tuple(u[3 * j] for j in range(len(mech.drivers)))
+            want = float(mech.mass_matrix(q)[k, k])
+            assert status == OK and abs(got - want) <= 1e-9 * abs(want), (i, u, got, want)
+            tally["derivative"] += 1
         elif c[0] == "derivative":  # refused by an FMU without them, or a bad request
             _, provides, kind, preset, params, u = c
             if not provides or kind in (1, 2, 3):
@@ -345,7 +460,7 @@ def check(plan: Plan, results: list) -> Counter:
                               | (np.isnan(got) & np.isnan(ref))), (
                     i, u, list(zip(names, got, ref)))
                 tally["read equal to the direct solver"] += 1
-                if any(params.get(k, 0.0) for k in FRICTION[preset]):
+                if any(params.get(k, 0.0) for k in FRICTION.get(preset, ())):
                     tally["read with friction"] += 1
     return tally
 
@@ -682,6 +797,9 @@ def main(argv=None) -> int:
                         help="with --drive: the energy balance of SliderCrankDrive.fmu with "
                              "friction over STEPS random-moment steps, and the fuzz with "
                              "friction")
+    parser.add_argument("--driven", action="store_true",
+                        help="DIST holds the FMUs of the examples driven by time "
+                             "(FiveBar, DumpBody, Excavator): fuzz each")
     parser.add_argument("--memory", type=int, nargs=2, metavar=("WINDOWS", "CYCLES"),
                         help="the resident memory of a host over WINDOWS windows of CYCLES "
                              "instantiate/free cycles of FourBar.fmu in DIST, after 500")
@@ -694,6 +812,21 @@ def main(argv=None) -> int:
               f"{windows} x {cycles} instantiate/free cycles (window growth "
               f"{', '.join(f'{b - a:+d}' for a, b in zip(rss, rss[1:]))} KiB); "
               f"{time.perf_counter() - start:.0f} s")
+        return 0
+    if args.driven:
+        examples = Path(__file__).resolve().parents[1] / "examples"
+        for name in ("five_bar", "dump_body", "excavator"):
+            source = examples / f"{name}.toml"
+            fmu = Path(args.dist) / f"{presets.linkage(str(source)).description.model}.fmu"
+            start = time.perf_counter()
+            tally, out = run_driven(fmu, str(source), args.steps, args.seed)
+            statuses = "/".join(str(tally[("status", k)]) for k in range(5))
+            print(f"{fmu.name}: {sum(tally[('status', k)] for k in range(5))} calls, "
+                  f"statuses OK/Warning/Discard/Error/Fatal = {statuses}; "
+                  f"{tally['read equal to the direct solver']} reads equal to the direct "
+                  f"solver, {tally['derivative']} derivatives equal to M[k, k], "
+                  f"{tally['derivative nan']} NaN; {time.perf_counter() - start:.0f} s",
+                  flush=True)
         return 0
     if args.drive and args.energy:
         fmu = Path(args.dist) / "SliderCrankDrive.fmu"

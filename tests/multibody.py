@@ -35,6 +35,13 @@ Forces: ``M qddot + Phi_q^T lam = Q`` (``M`` = diag(m, m, J); ``Q`` the weights
 is ``lam`` (of the frame on a frame pin's link: ``-lam``). A driver's effort on its
 second link is ``-lam``: the moment ``Mb`` of a revolute driver, the force ``Fb`` along
 the slide of a cylinder.
+
+Coulomb friction (``[friction.J]``: ``mu``, and a revolute pair's ``radius``): at a pin,
+a moment ``mu r |lam|`` (its pin force's magnitude) against the relative rotation of
+its two bodies; at a prismatic pair, a force ``mu |lam_n|`` (its normal force) along the
+guide against the relative sliding, at the slider's point of the pair on both bodies;
+none where the bodies do not move relative to each other. The friction enters ``Q``
+and depends on the multipliers: they are iterated to a fixed point.
 """
 
 from __future__ import annotations
@@ -166,6 +173,12 @@ class Model:
             self.loads.append((spec["name"], self.index[spec["body"]], spec["kind"],
                                spec.get("at", ""), d / (np.hypot(*d) or 1.0)))
         self.n = 3 * len(self.links)
+        self.friction = {}
+        for j, spec in data.get("friction", {}).items():
+            if "length" in spec:
+                raise ReferenceError(f"[friction.{j}]: a slider's length is not modelled")
+            self.friction[j] = (evaluate(spec["mu"], names),
+                                evaluate(spec.get("radius", 0.0), names))
 
     def on(self, joint: str) -> list:
         return [i for i, link in enumerate(self.links) if joint in link.joints]
@@ -283,10 +296,65 @@ class Model:
             force[3 * i:3 * i + 2] += f
             force[3 * i + 2] += r[0] * f[1] - r[1] * f[0]
         lam = np.linalg.solve(jac.T, force - mass * qdd)
+        for _ in range(500 if self.friction else 0):  # to the friction's fixed point
+            last = lam
+            lam = np.linalg.solve(jac.T, force - mass * qdd + self._friction(q, qd, lam))
+            if np.max(np.abs(lam - last)) <= 1e-15 * np.max(np.abs(lam)):
+                break
+        else:
+            if self.friction:
+                raise ReferenceError("the friction's fixed point was not reached")
         return {"q": q, "qd": qd, "qdd": qdd, "lam": lam,
                 "pins": self._pins(lam),
                 "efforts": [-v for v in lam[self.n - len(self.drivers):]],
                 "hessian": self._hessian(jac, mass)}
+
+    def _velocity(self, i: int, at: np.ndarray, q, qd) -> np.ndarray:
+        """The velocity of the material point of link ``i`` now at ``at``."""
+        r = at - (self.links[i].cg + q[3 * i:3 * i + 2])
+        return qd[3 * i:3 * i + 2] + qd[3 * i + 2] * np.array([-r[1], r[0]])
+
+    def _friction(self, q, qd, lam) -> np.ndarray:
+        """The generalised forces of the friction at the multipliers ``lam``."""
+        out = np.zeros(self.n)
+
+        def put(i, f, at, couple=0.0):
+            if i is None:
+                return
+            r = at - (self.links[i].cg + q[3 * i:3 * i + 2])
+            out[3 * i:3 * i + 2] += f
+            out[3 * i + 2] += r[0] * f[1] - r[1] * f[0] + couple
+
+        def omega(i):
+            return 0.0 if i is None else qd[3 * i + 2]
+
+        k = 0
+        for j in self.at:
+            on = self.on(j)
+            mu, radius = self.friction.get(j, (0.0, 0.0))
+            if j in self.slides:
+                if len(on) == 1:
+                    a, b = None, on[0]
+                else:
+                    a = self.index[self.slides[j][1]]
+                    b = next(i for i in on if i != a)
+                t0 = self.slides[j][0]
+                t = t0 if a is None else _rot(q[3 * a + 2]) @ t0
+                at = self.point(self.links[b].name, j, q)
+                slide = t @ (self._velocity(b, at, q, qd) -
+                             (0.0 if a is None else self._velocity(a, at, q, qd)))
+                f = -mu * abs(lam[k + (0 if a is None else 1)]) * np.sign(slide) * t
+                put(b, f, at)
+                put(a, -f, at)
+                k += 2
+                continue
+            pairs = [(None, i) for i in on] if self.grounded(j) else [(on[0], i) for i in on[1:]]
+            for a, b in pairs:
+                m = -mu * radius * np.hypot(*lam[k:k + 2]) * np.sign(omega(b) - omega(a))
+                put(b, np.zeros(2), np.zeros(2), m)
+                put(a, np.zeros(2), np.zeros(2), -m)
+                k += 2
+        return out
 
     def _pins(self, lam) -> dict:
         """(by, on) -> the force of body ``by`` (a link's name, the frame's) on ``on``

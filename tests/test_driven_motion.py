@@ -11,6 +11,7 @@ import pytest
 
 import linkage_fmu
 import multibody
+from linkage_fmu.descriptions import Description
 from linkage_fmu.errors import InputError
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
@@ -79,3 +80,11 @@ def test_a_pose_the_motion_cannot_reach_is_an_error_naming_the_time():
     dump = linkage_fmu.load(EXAMPLES / "dump_body.toml")
     with pytest.raises(linkage_fmu.AssemblyError, match=r"reached at t = "):
         dump.simulate([2e6], np.linspace(0.0, 2.0, 3), [0.0], [0.0])
+
+
+def test_friction_is_refused_with_the_reason():
+    text = (EXAMPLES / "dump_body.toml").read_text() + "\n[friction.P]\nmu = 0.1\n"
+    dump = Description.from_toml(text, "dump_body.toml").build()
+    with pytest.raises(InputError, match="dump_body: simulate moves a linkage driven by "
+                                         "time without friction, so far"):
+        dump.simulate([60000.0], [0.0, 0.1], [0.0], [0.02])

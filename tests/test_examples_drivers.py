@@ -7,7 +7,8 @@ same files and shares nothing with the library.
 At 20 states each, across the drivers' ranges, with nonzero speeds and accelerations,
 g 9.81 and the example's load: every effort and every pin's force equal the
 reference's to 1e-9 of the largest effort (in N.m or N; the reference's own rounding
-is of order 1e-15 of it).
+is of order 1e-15 of it); and so with Coulomb friction in every pair (mu 0.1, each pin's
+radius :data:`RADIUS`), the cylinders' guides included.
 """
 
 from __future__ import annotations
@@ -18,7 +19,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import linkage_fmu
 import multibody
 from linkage_fmu.descriptions import Description
 
@@ -87,13 +87,20 @@ direction = [0.6, -0.8]
 """
 
 
-def linkage(name: str):
-    """The library's linkage and the reference's, from one file."""
-    if name == "elbow":
-        return (Description.from_toml(ELBOW, "elbow.toml").build(),
-                multibody.Model(tomllib.loads(ELBOW)))
-    path = EXAMPLES / f"{name}.toml"
-    return linkage_fmu.load(path), multibody.read(path)
+#: the pin radius of each example with friction, m
+RADIUS = {"five_bar": 0.005, "dump_body": 0.03, "excavator": 0.04, "elbow": 0.005}
+
+
+def linkage(name: str, friction: bool = False):
+    """The library's linkage and the reference's, from one file; with ``friction``,
+    mu 0.1 in every pair and each pin of radius :data:`RADIUS`."""
+    text = ELBOW if name == "elbow" else (EXAMPLES / f"{name}.toml").read_text()
+    if friction:
+        for joint, at in tomllib.loads(text)["joints"].items():
+            pin = "" if isinstance(at, dict) else f"\nradius = {RADIUS[name]}"
+            text += f"\n[friction.{joint}]\nmu = 0.1{pin}\n"
+    return (Description.from_toml(text, f"{name}.toml").build(),
+            multibody.Model(tomllib.loads(text)))
 
 
 def states(ranges, n=20, seed=7):
@@ -112,10 +119,12 @@ def named(mech, q, v, a) -> dict:
     return out
 
 
+@pytest.mark.parametrize("friction", [False, True], ids=["", "friction"])
 @pytest.mark.parametrize("name", CASES)
-def test_every_effort_and_pin_force_is_the_reference_s(name):
+def test_every_effort_and_pin_force_is_the_reference_s(name, friction):
     ranges, loads = CASES[name]
-    mech, ref = linkage(name)
+    mech, ref = linkage(name, friction)
+    assert bool(ref.friction) == friction and mech.friction.active == friction
     forces = {(o["by"], o["on"]): o["name"] for o in mech.description.outputs
               if o["kind"] == "force"}
     checked = 0
@@ -123,6 +132,8 @@ def test_every_effort_and_pin_force_is_the_reference_s(name):
         got = mech.solve(**named(mech, q, v, a), **loads)
         want = ref.solve(q, v, a, loads)
         scale = max(abs(e) for e in want["efforts"])
+        if friction:  # it dissipates: the friction is there
+            assert got["P_loss"] > 1e-6 * scale and 0.0 < got["eta"] < 1.0, q
         for d, e in zip(mech.drivers, want["efforts"]):
             assert got[d.effort] == pytest.approx(e, abs=TOL * scale), (d.effort, q)
         for (by, on, joint), f in want["pins"].items():

@@ -76,3 +76,21 @@ def test_the_native_excavator_fmu_gives_the_library_s_cylinder_forces(tmp_path):
     assert np.all(scale > 1000.0), scale  # forces of a 20 t machine, not rounding
     error = np.max(np.abs(np.array(got) - want), axis=0) / scale
     assert np.all(error <= 1e-12), dict(zip(names, error))
+
+
+def test_the_dump_body_fmu_with_friction_passes_the_check(tmp_path, capsys):
+    """Friction in every pair, the cylinder's guide included (a parameter ``mu``, 0.1):
+    the native FMU equals the direct solver with friction to 1e-12."""
+    text = (EXAMPLES / "dump_body.toml").read_text().replace(
+        "[parameters]\n", '[parameters]\nmu = { default = 0.1, kind = "friction", '
+        'description = "friction in every pair" }\n')
+    text += "".join(f'\n[friction.{j}]\nmu = "mu"\nradius = 0.03\n' for j in "ODE")
+    text += '\n[friction.P]\nmu = "mu"\n'
+    source = tmp_path / "dump_body.toml"
+    source.write_text(text)
+    fmu = fmu_cache.build_native_fmu(str(source), tmp_path)
+    assert main(["check", "--json", str(fmu)]) == 0
+    result = json.loads(capsys.readouterr().out.splitlines()[-1])
+    assert result["steps"] == 360 and result["mismatched"] == 0, result
+    assert result["max_rel_error"] <= TOLERANCE["native"], result
+    assert linkage_fmu.load(source).friction.active

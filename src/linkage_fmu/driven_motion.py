@@ -29,7 +29,7 @@ def simulate(mech, efforts, t, q0=None, v0=None, rtol: float = 1e-10, atol: floa
     Parameters
     ----------
     mech : Mechanism
-        A linkage driven by time (``mech.rates``), without friction.
+        A linkage driven by time (``mech.rates``), without friction (refused so far).
     efforts : sequence or dict
         One effort per driver, in the drivers' order (or a dict by effort name,
         ``{"Mb_A": ..., "Fb_P": ...}``): the moment a crank or motor applies to its
@@ -58,7 +58,8 @@ def simulate(mech, efforts, t, q0=None, v0=None, rtol: float = 1e-10, atol: floa
     Raises
     ------
     InputError
-        A bad ``t``, effort, start or load, naming it; a driver that moves no inertia.
+        A bad ``t``, effort, start or load, naming it; a driver that moves no inertia;
+        friction.
     AssemblyError, SingularPositionError
         The motion reaches a pose at which the linkage cannot be assembled, or at which
         its mass matrix is not finite or not positive definite to rounding (a singular
@@ -82,6 +83,10 @@ def simulate(mech, efforts, t, q0=None, v0=None, rtol: float = 1e-10, atol: floa
 
     drivers = mech.drivers
     n = len(drivers)
+    if mech.friction.active:  # E is then not affine in the accelerations
+        raise InputError(f"{mech.name}: simulate moves a linkage driven by time without "
+                         "friction, so far (with friction its efforts are not affine in "
+                         "the accelerations); set every mu to 0")
     t = times(t)
     applied = _efforts(mech, efforts, t)
     q0 = _starts(mech, "q0", q0, 0)

@@ -242,9 +242,7 @@ def reactions(mech, st: KinematicState, W: dict, plan, omega, xp):
     if mech.friction.active:
         return friction.solve(mech, st, W, plan, omega, xp)
     if plan.reactions and plan.method == "direct":
-        n = 1 if xp.scalar else np.broadcast(*st.theta).size if mech.rates else \
-            np.size(st.theta)
-        R, effort = kinetostatics.direct(mech, st, W, xp, n)
+        R, effort = kinetostatics.direct(mech, st, W, xp, kinetostatics.state_count(mech, st))
     elif plan.reactions or mech.rates:
         R, effort = kinetostatics.closed_form(mech, st, W)
     else:

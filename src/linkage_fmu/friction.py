@@ -316,9 +316,17 @@ def _failure(mech, st: KinematicState, what: str):
     def fail(bad=None):
         if bad is None:
             from .errors import SelfLockingError
-            raise SelfLockingError(mech.name, st.theta, what)
+            raise SelfLockingError(mech.name, _where(mech, st), what)
         st.locked = bad if st.locked is None else st.locked | bad
     return fail
+
+
+def _where(mech, st: KinematicState):
+    """The state of an error: the crank angle, or each driver's coordinate by name."""
+    if not mech.rates:
+        return st.theta
+    return {d.inputs[0]: float(np.asarray(q).reshape(-1)[0])
+            for d, q in zip(mech.drivers, st.theta)}
 
 
 def solve(mech, st: KinematicState, W: dict, plan, omega, xp):
@@ -330,9 +338,9 @@ def solve(mech, st: KinematicState, W: dict, plan, omega, xp):
     """
     if plan.method == "direct":
         return direct(mech, st, W, omega, plan.static, xp,
-                      1 if xp.scalar else np.size(st.theta))
+                      kinetostatics.state_count(mech, st))
     R, effort = closed_form(mech, st, W, omega, plan.static)
-    if not plan.reactions:
+    if not plan.reactions and not mech.rates:
         c, _ = motion_signs(mech, st, omega, plan.static)
         q1 = kinetostatics.effort_coefficient(mech, st)
         effort = R.ideal - virtual_power(R.friction, c) / q1
@@ -360,10 +368,12 @@ def closed_form(mech, st: KinematicState, W: dict, omega, static: bool):
     def through(Wc: dict):
         R = Reactions()
         R.friction = {}
-        moment = None
+        moment, efforts = None, [None] * len(mech.drivers)
         for (grp, pairs), K in zip(order, responses):
             moment = solve_group(mech, st, grp, pairs, Wc, R, s, K)
-        return R, moment
+            if mech.rates and grp.DRIVER:  # each driver's effort, from its own group
+                efforts[grp.index] = moment
+        return R, (tuple(efforts) if mech.rates else moment)
 
     if mech.effort_on_crank:
         R, effort = through(W)
@@ -403,7 +413,7 @@ def closed_form(mech, st: KinematicState, W: dict, omega, static: bool):
             R, _ = through(W)
         else:  # one loop of the kernel, one solve through the groups per run
             effort, R = _effort_loop(tape, xp, run, ideal, fail, Reason("locking", what))
-    R.ideal = frictionless(mech, st, effort, R.friction, c)
+    R.ideal = None if mech.rates else frictionless(mech, st, effort, R.friction, c)
     R.direction = direction(fr.drive, omega, static, xp)
     R.P_loss = 0.0 if static else -omega * virtual_power(R.friction, c)
     return R, effort
@@ -571,7 +581,7 @@ def direct(mech, st: KinematicState, W: dict, omega, static: bool, xp, n_states:
         ok |= ~np.isfinite(x).all(axis=0)
     if xp.scalar and not ok[0]:
         from .errors import SelfLockingError
-        raise SelfLockingError(mech.name, st.theta, "friction locks the linkage")
+        raise SelfLockingError(mech.name, _where(mech, st), "friction locks the linkage")
     if not precise and not ok.all():
         _failure(mech, st, "friction locks the linkage")(~ok)
         x = np.where(ok, x, np.nan)
@@ -583,8 +593,9 @@ def direct(mech, st: KinematicState, W: dict, omega, static: bool, xp, n_states:
     if xp.scalar and not precise:  # one state: floats
         out.update({k: (float(a[0]), float(b[0])) for k, (a, b) in R.items()})
         out.friction = {k: float(np.asarray(v).reshape(-1)[0]) for k, v in out.friction.items()}
-        effort = float(effort[0])
-    out.ideal = frictionless(mech, st, effort, out.friction, c)
+        effort = tuple(float(np.asarray(e).reshape(-1)[0]) for e in effort) if mech.rates \
+            else float(effort[0])
+    out.ideal = None if mech.rates else frictionless(mech, st, effort, out.friction, c)
     out.direction = direction(fr.drive, omega, static, xp)
     out.P_loss = 0.0 if static else -omega * virtual_power(out.friction, c)
     return out, effort
@@ -669,7 +680,10 @@ class LossOutput:
             # no comparison (the kernels trace it as it is): max(x, 0) picks the powers
             # that enter (d: the sign of the crank's motion makes coefficients powers)
             xp, d = st.xp, R.direction
-            rates = [E * kinetostatics.effort_coefficient(mech, st), *R.sources]
+            if mech.rates:  # each driver's effort times its speed
+                rates = [e * rate[0] for e, rate in zip(E, st.rates)] + list(R.sources)
+            else:
+                rates = [E * kinetostatics.effort_coefficient(mech, st), *R.sources]
             taken = 0.0  # P_out: what the sources whose power is negative take
             for r in rates:
                 taken = taken + xp.maximum(-d * r, 0.0)
@@ -694,8 +708,9 @@ def unsolved(mech, st: KinematicState, R: dict, effort, omega, static: bool) -> 
     """The frictionless reactions ``R`` as :class:`Reactions` with no friction: what a
     linkage whose every ``mu`` is 0 reports."""
     out = Reactions(R)
-    zero = 0.0 * effort  # NaN where the state has no outputs
+    # NaN where the state has no outputs: of the efforts, for a linkage driven by time
+    zero = sum(0.0 * e for e in effort) if mech.rates else 0.0 * effort
     out.friction = dict.fromkeys((jf.joint.name for jf in mech.friction.joints), zero)
-    out.P_loss, out.ideal = zero, effort
+    out.P_loss, out.ideal = zero, None if mech.rates else effort
     out.direction = direction(mech.friction.drive, omega, static, st.xp)
     return out

@@ -37,6 +37,14 @@ def add_effort(mech, st: KinematicState, W: dict, effort: Number) -> None:
         push(mech, st, W, e.body, e.point, effort * e.direction[0], effort * e.direction[1])
 
 
+def state_count(mech, st: KinematicState) -> int:
+    """How many states ``st`` holds: 1 on numbers, the size of its coordinates' arrays
+    (broadcast together, for several drivers)."""
+    if st.xp.scalar:
+        return 1
+    return np.broadcast(*st.theta).size if mech.rates else np.size(st.theta)
+
+
 def closed_form(mech, st: KinematicState, W: dict):
     """Reactions and balancing effort, group by group from the last back to the crank.
 

@@ -397,7 +397,7 @@ def _check_by_time(name: str, groups: Sequence, effort, loads: Sequence[Load],
                    friction: Declared) -> None:
     """Refuse what a linkage driven by time (several drivers, a motor, a cylinder)
     cannot take: a balancing effort besides its drivers', a load given over a crank's
-    cycle, friction, and a class III group (whose continuation follows one crank)."""
+    cycle, and a class III group (whose continuation follows one crank)."""
     drivers = ", ".join(f"{type(g).__name__} at {g.driver(None, False).name}"
                         for g in groups if g.DRIVER)
     head = f"it is driven by time ({drivers}):"
@@ -408,9 +408,6 @@ def _check_by_time(name: str, groups: Sequence, effort, loads: Sequence[Load],
     if computed:
         raise LinkageError(name, f"{head} a load over a crank's cycle ({', '.join(computed)}) "
                            "has no crank angle to follow; give it as an input")
-    if friction.frictions:
-        raise LinkageError(name, f"{head} friction in its pairs is solved for linkages "
-                           "driven by one crank only, so far")
     closures = [g.key or type(g).__name__ for g in groups if g.kind == "closure"]
     if closures:
         raise LinkageError(name, f"{head} a class III group (at {', '.join(closures)}) is "

@@ -390,11 +390,6 @@ class Closure(Group):
         is undefined) and warn where it is drawn near one (:data:`NEAR_SINGULAR`)."""
         self.before, self.frame_points = tuple(before), dict(frame_points)
         self._drawn = None
-        drivers = [grp for grp in before if grp.DRIVER]
-        if len(drivers) > 1 or any(grp.by_time for grp in drivers):
-            raise InputError(f"{self.name}: a closure group (a class III group or larger) "
-                             "is solved in a linkage driven by one crank on the frame, so "
-                             f"far; this one is driven by {len(drivers)} driver(s) by time")
         numbers = [self.theta0, *self.lengths, *(v for xy in self.pose.values() for v in xy)]
         if any(hasattr(v, "traced") for v in numbers):
             return  # checked when built on the parameters' values
