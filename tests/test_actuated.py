@@ -296,7 +296,7 @@ def test_the_command_line_lists_the_drivers_and_refuses_what_takes_one_crank(cap
     assert "  driver P (travel), effort Fb_P [N]:\n    s_P       [m] travel from the drawn " \
            "length, > 0 extending (start 0.0)\n    v_P       [m/s] speed of travel (start " \
            "0.05)" in out
-    assert main(["table", str(EXAMPLES / "five_bar.toml")]) == 2
+    assert main(["sweep", str(EXAMPLES / "five_bar.toml")]) == 2
     err = capsys.readouterr().err
     assert "five_bar is driven by time (theta_A, theta_E): " in err
     assert "takes a linkage driven by one crank on the frame, so far" in err

@@ -770,3 +770,48 @@ def test_check_of_an_fmu_that_cannot_be_instantiated_is_one_line(tmp_path):
     assert err.startswith(f"linkage-fmu: {other}: the check failed: the FMU cannot be "
                           "instantiated: ")
     assert "fingerprint" in err
+
+
+def test_the_table_of_a_linkage_driven_by_time_takes_its_inputs_row_by_row(tmp_path):
+    """``table FILE --inputs ROWS.csv``: a row per row of the file, indexed by its time
+    column, each output the library's at that row's inputs (a driver's coordinate not
+    given at its start); a row that cannot be solved is NaN with a warning, or exit 2
+    with ``--strict``; what the command cannot take is refused with the reason."""
+    from pathlib import Path
+
+    import linkage_fmu
+
+    source = str(Path(__file__).resolve().parents[1] / "examples" / "excavator.toml")
+    rows = tmp_path / "dig.csv"
+    t = np.linspace(0.0, 2.0, 5)
+    pd.DataFrame({"time": t, "s_cyl1": 0.1 * t, "v_cyl1": 0.1, "s_cyl3": -0.05 * t,
+                  "v_cyl3": -0.05}).to_csv(rows, index=False)
+    out = tmp_path / "out.csv"
+    status, _, _ = run(["table", source, "--inputs", str(rows), "--F_T", "15000", "-o",
+                        str(out)])
+    got = pd.read_csv(out, index_col="time")
+    want = linkage_fmu.load(source).solve(s_cyl1=0.1 * t, v_cyl1=0.1, s_cyl2=0.0,
+                                          s_cyl3=-0.05 * t, v_cyl3=-0.05, F_T=15000.0)
+    assert status == 0 and got.index.tolist() == t.tolist()
+    for name in ("Fb_cyl1", "Fb_cyl2", "Fb_cyl3", "F0_boomx", "shake_M"):
+        assert got[name].to_numpy() == pytest.approx(want[name], rel=1e-15), name
+    far = tmp_path / "far.csv"
+    pd.DataFrame({"s_cyl1": [0.1, 2.0]}).to_csv(far, index=False)
+    status, out_text, err = run(["table", source, "--inputs", str(far), "--csv"])
+    assert status == 0 and "cannot be solved at 1 of 2 rows (first row 1)" in err
+    assert out_text.splitlines()[2].split(",")[1] == ""  # NaN
+    status, _, err = run(["table", source, "--inputs", str(far), "--strict"])
+    assert status == 2 and "the cylinder dyad O-D1-E1 cannot close" in err
+    for argv, message in [
+        ([], "excavator is driven by time (s_cyl1, s_cyl2, s_cyl3): give its inputs row by "
+             "row, --inputs FILE.csv with a column per input (s_cyl1, v_cyl1"),
+        (["--inputs", str(rows), "--omega", "3"], "--omega: excavator is driven by time"),
+    ]:
+        status, _, err = run(["table", source, *argv])
+        assert status == 2 and message in err, err
+    bad = tmp_path / "bad.csv"
+    pd.DataFrame({"s_cyl1": [0.1], "theta": [1.0]}).to_csv(bad, index=False)
+    status, _, err = run(["table", source, "--inputs", str(bad)])
+    assert status == 2 and "bad.csv: theta: no input of excavator" in err
+    status, _, err = run(["table", "four_bar", "--inputs", str(rows)])
+    assert status == 2 and "--inputs is for a linkage driven by time" in err

@@ -361,6 +361,10 @@ def build_parser() -> Parser:
                        help="exit with status 2 if an angle cannot be solved (default: its "
                             "row is NaN, with a warning)")
     table.add_argument("-o", "--output", help="write the table to FILE.csv or FILE.parquet")
+    table.add_argument("--inputs", metavar="FILE.csv",
+                       help="a linkage driven by time (several drivers, a motor, a "
+                            "cylinder): its inputs row by row, a column per input (one not "
+                            "given takes its start value), a time column as the index")
 
     sweep = sub.add_parser("sweep", help="many designs over a revolution, summarised",
                            epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -556,8 +560,8 @@ def _main(argv: list[str] | None) -> int:
         d = description(args.linkage)
         if args.command == "info":
             return _info(d)
-        if args.command != "build" and driver_efforts(d.groups):  # driven by time
-            one_crank(d.build(), f"linkage-fmu {args.command}")
+        if args.command not in ("build", "table") and driver_efforts(d.groups):
+            one_crank(d.build(), f"linkage-fmu {args.command}")  # driven by time
         if args.command == "sweep":
             return _sweep(d, args)
         if args.command == "optimize":
@@ -734,6 +738,8 @@ def _info(d: Description) -> int:
 
 def _table(d: Description, args) -> int:
     mech = d.build(**dict(args.params))
+    if mech.rates or args.inputs is not None:
+        return _driven_table(mech, args)
     theta = angles(args.theta, args.n, args.deg)
     omega, alpha = speeds(args)
     sol = mech.solve(theta, omega, alpha, method=args.method, outputs=args.outputs,
@@ -749,6 +755,45 @@ def _table(d: Description, args) -> int:
         where = ranges.text(ranges.runs(np.degrees(theta), bad), digits=6)
         message = (f"{mech.name} cannot be solved at {int(bad.sum())} of {theta.size} angles "
                    f"(theta = {where}): {first.message}")
+        if args.strict:
+            raise UsageError(message)
+        print(f"linkage-fmu: {message}; their rows are NaN", file=sys.stderr)
+    return _emit(df, args)
+
+
+def _driven_table(mech, args) -> int:
+    """The table of a linkage driven by time over the rows of ``--inputs``."""
+    import pandas as pd
+
+    names = ", ".join(mech.input_names)
+    if not mech.rates:
+        raise UsageError(f"--inputs is for a linkage driven by time; {mech.name} is driven by "
+                         "one crank: give --theta (and --omega, --alpha)")
+    drivers = ", ".join(d.inputs[0] for d in mech.drivers)
+    if args.inputs is None:
+        raise UsageError(f"{mech.name} is driven by time ({drivers}): give its inputs row by "
+                         f"row, --inputs FILE.csv with a column per input ({names})")
+    given = [f"--{n}" for n in ("theta", "omega", "alpha") if getattr(args, n) is not None]
+    if given:
+        raise UsageError(f"{', '.join(given)}: {mech.name} is driven by time ({drivers}); "
+                         f"its inputs come from --inputs ({names})")
+    rows = pd.read_csv(args.inputs)
+    unknown = [c for c in rows.columns if c != "time" and c not in mech.input_names]
+    if unknown:
+        raise UsageError(f"{args.inputs}: {', '.join(map(str, unknown))}: no input of "
+                         f"{mech.name}; its inputs are {names} (and a time column)")
+    columns = {d.inputs[0]: float(mech.start[d.inputs[0]]) for d in mech.drivers}
+    columns.update((c, rows[c].to_numpy(dtype=float)) for c in rows.columns if c != "time")
+    sol = mech.solve(**columns, **loads(args), method=args.method, outputs=args.outputs)
+    df = pd.DataFrame({k: np.broadcast_to(np.asarray(v, float), (len(rows),))
+                       for k, v in sol.items()})
+    df.index = pd.Index(rows["time"], name="time") if "time" in rows else \
+        pd.Index(range(len(rows)), name="row")
+    if sol.problems:
+        bad = np.flatnonzero(sol.status.reshape(-1) != 0)
+        first = min(sol.problems.values(), key=lambda p: p.first)
+        message = (f"{mech.name} cannot be solved at {bad.size} of {len(rows)} rows (first "
+                   f"row {int(bad[0])}): {first.message}")
         if args.strict:
             raise UsageError(message)
         print(f"linkage-fmu: {message}; their rows are NaN", file=sys.stderr)
