@@ -504,3 +504,16 @@ def test_a_second_driver_refuses_a_balancing_effort_with_the_reason():
         Mechanism("four_bar", m.frame, m.frame_points, (*m.groups, Crank("9", "D", "Z", 0.1)),
                   m.bodies, m.effort, [], [], 0.0)
     assert [d.name for d in m.drivers] == ["A"] and m.drivers[0].effort == "Mb"
+
+
+def test_a_linkage_driven_by_one_crank_without_its_effort_is_refused():
+    from linkage_fmu.errors import LinkageError
+    from linkage_fmu.groups import RRR, Crank
+    from linkage_fmu.mechanism import Body, Mechanism
+
+    with pytest.raises(LinkageError, match="four: it is driven by one crank: give its "
+                                           "balancing effort"):
+        Mechanism("four", "0", {"A": (0.0, 0.0), "D": (0.4, 0.0)},
+                  [Crank("1", "A", "B", 0.1), RRR("2", "3", "B", "C", "D", 0.35, 0.3, 1)],
+                  [Body("1", 1.0, 0.01, "A"), Body("2", 1.0, 0.01, "B"),
+                   Body("3", 1.0, 0.01, "D")], None, [], [], 9.81)

@@ -97,8 +97,7 @@ class Mechanism:
         #: driven by time: several drivers, or one whose kinematics take its speed
         #: (:attr:`KinematicState.rates <linkage_fmu.groups.KinematicState>`)
         self.rates = len(driving) > 1 or driving[0].by_time
-        if self.rates:
-            _check_by_time(name, groups, effort, loads, friction)
+        _check_drivers(name, groups, effort, loads, self.rates)
         owner = _place(name, frame, self.frame_points, groups)
         links = [link for grp in groups for link in grp.links]
         body_names = [b.name for b in self.bodies]
@@ -393,11 +392,18 @@ def _info(mech) -> dict:
     return out
 
 
-def _check_by_time(name: str, groups: Sequence, effort, loads: Sequence[Load],
-                   friction: Declared) -> None:
-    """Refuse what a linkage driven by time (several drivers, a motor, a cylinder)
-    cannot take: a balancing effort besides its drivers', a load given over a crank's
-    cycle, and a class III group (whose continuation follows one crank)."""
+def _check_drivers(name: str, groups: Sequence, effort, loads: Sequence[Load],
+                   rates: bool) -> None:
+    """Refuse a linkage driven by one crank without its balancing effort, and what a
+    linkage driven by time (several drivers, a motor, a cylinder) cannot take: a
+    balancing effort besides its drivers', a load given over a crank's cycle, and a
+    class III group (whose continuation follows one crank)."""
+    if not rates:
+        if effort is None:
+            raise LinkageError(name, "it is driven by one crank: give its balancing effort "
+                               "(an Effort: a moment on the crank, Effort(\"Mb\", link), or "
+                               "another)")
+        return
     drivers = ", ".join(f"{type(g).__name__} at {g.driver(None, False).name}"
                         for g in groups if g.DRIVER)
     head = f"it is driven by time ({drivers}):"
