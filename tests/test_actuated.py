@@ -256,6 +256,10 @@ class _Value:
     ("the inertia reduced to the crank", lambda m: m.reduced_inertia(1.0)),
     ("a flywheel is sized for a moment on the crank", lambda m: m.flywheel(10.0, 0.05)),
     ("a table over crank angles", lambda m: m.table([1.0, 2.0])),
+    ("a plot over crank angles", lambda m: __import__("linkage_fmu.plot").plot.torque(m)),
+    ("a plot over crank angles", lambda m: __import__("linkage_fmu.plot").plot.animate(m)),
+    ("a plot over crank angles",
+     lambda m: __import__("linkage_fmu.plot").plot.transmission(m)),
 ])
 def test_a_job_for_one_crank_is_refused_naming_the_drivers(job, call):
     with pytest.raises(InputError, match=rf"five_bar is driven by time \(theta_A, theta_E\): "
@@ -300,3 +304,17 @@ def test_the_command_line_lists_the_drivers_and_refuses_what_takes_one_crank(cap
     err = capsys.readouterr().err
     assert "five_bar is driven by time (theta_A, theta_E): " in err
     assert "takes a linkage driven by one crank on the frame, so far" in err
+
+
+def test_a_sweep_or_an_optimisation_over_crank_angles_is_refused(tmp_path):
+    from linkage_fmu.optimize import optimize
+    from linkage_fmu.sweep import sweep
+
+    source = EXAMPLES / "dump_body.toml"
+    for job, call in [("a sweep over crank angles",
+                       lambda: sweep(source, {"m_body": [800.0, 900.0]})),
+                      ("an optimisation over crank angles",
+                       lambda: optimize(source, {"m_body": (800.0, 900.0)}, "Fb_P_peak"))]:
+        with pytest.raises(InputError, match=rf"dump_body is driven by time \(s_P\): {job} "
+                                             "takes a linkage driven by one crank"):
+            call()

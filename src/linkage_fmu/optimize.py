@@ -39,6 +39,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pandas as pd
 
+from .drivers import one_crank
 from .errors import InputError, InputTypeError, LinkageFmuError
 from .presets import linkage
 from .printing import number
@@ -340,6 +341,7 @@ def optimize(source, vary: Mapping[str, tuple], minimize: str,
     """
     start = time.perf_counter()
     mech = linkage(source)
+    one_crank(mech, "an optimisation over crank angles")
     names, lo, hi = _bounds(mech, vary)
     if method not in METHODS:
         raise InputError(f"method {method!r}: expected one of {', '.join(METHODS)}")

@@ -62,6 +62,7 @@ import pandas as pd
 
 from .ccompiler import find_compiler
 from .descriptions import Description
+from .drivers import one_crank
 from .errors import DependencyError, InputError, InputTypeError
 from .kernels.c_source import SUMMARY_HEAD
 from .parameters import resolve
@@ -142,6 +143,7 @@ def sweep(source, designs: pd.DataFrame | Mapping[str, Sequence], theta=None,
     if isinstance(threads, bool) or not isinstance(threads, int) or threads < 1:
         raise InputError(f"threads must be a positive integer, got {threads!r}")
     mech = linkage(source)
+    one_crank(mech, "a sweep over crank angles")
     designs = pd.DataFrame(designs).reset_index(drop=True)
     specs = {p.name: p for p in mech.description.parameter_specs()}
     for name in designs.columns:

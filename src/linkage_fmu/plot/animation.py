@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .. import ranges
+from ..drivers import one_crank
 from ..errors import InputError, LinkageFmuError
 from ..flywheel import cycle_revolutions
 from ..outputs import SHAKING
@@ -322,6 +323,7 @@ def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int =
     >>> float(cursor.get_xdata()[0])
     90.0
     """
+    one_crank(mech, "a plot over crank angles")
     if what not in WHATS:
         raise InputError(f"what={what!r}: expected one of {', '.join(WHATS)}")
     if isinstance(frames, bool) or not isinstance(frames, (int, np.integer)) or frames < 2:

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..drivers import one_crank
 from ..errors import InputError, InputTypeError
 from ..outputs import SHAKING
 from ..printing import ZERO_FRACTION, number  # noqa: F401 (re-exported)
@@ -73,6 +74,7 @@ def _peak(values: np.ndarray) -> int:
 def _output(mech: "Mechanism", output: str | None) -> str:
     """``output`` checked against the outputs and diagnostics; the balancing effort if
     None."""
+    one_crank(mech, "a plot over crank angles")
     if output is None:
         return mech.effort.name
     choices = mech.output_names + mech.diagnostic_names

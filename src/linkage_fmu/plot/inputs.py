@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..drivers import one_crank
 from ..errors import InputError, InputTypeError
 from ..printing import number
 from ..solver import UNASSEMBLED
@@ -46,7 +47,8 @@ def crank_angles(theta, theta_deg, scalar: bool = False) -> tuple[np.ndarray, np
 
 def input_values(mech: "Mechanism", omega, alpha, loads: Sequence, named: dict) -> dict:
     """``{omega, alpha, <input load>: value}``: what is given, else the start values
-    (a load over the cycle given by name too)."""
+    (a load over the cycle given by name too); a linkage driven by time is refused."""
+    one_crank(mech, "a plot over crank angles")
     values, given = mech.inputs(omega, alpha, tuple(loads), named)
     return dict(zip(mech.input_names[1:] + given, map(float, values)))
 

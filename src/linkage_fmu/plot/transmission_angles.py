@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..drivers import one_crank
 from ..errors import InputError
 from ..printing import number
 from .figures import degree_axis, figure_axes, greek
@@ -131,6 +132,7 @@ def transmission(mech: "Mechanism", theta=None, *, theta_deg=None,
     ...  if line.get_gid() == "toggle:gamma_C"]
     [135.951, 224.049]
     """
+    one_crank(mech, "a plot over crank angles")
     names = [n for n in mech.diagnostic_names if n.startswith("gamma_")]
     if not names:
         raise InputError(f"{mech.name} has no dyad, so no transmission angle")
