@@ -107,6 +107,22 @@ def _forged_bytes(rng) -> str:
     return bytes(rng.integers(0, 256, int(rng.integers(1, 9)), dtype=np.uint8)).hex()
 
 
+def _bad_step(add, name: str, t: float, rng) -> None:
+    """A doStep of a bad size or from a bad time: refused."""
+    h, t0 = [(0.0, t), (-0.01, t), (math.nan, t), (0.01, math.nan), (math.inf, t)][
+        int(rng.integers(5))]
+    add([name, "doStep", t0, h], ("status", ERROR))
+
+
+def _save(add, name: str, rng, saved: dict, u: list) -> None:
+    """Save and serialize the instance's state in one of its three slots (a state is
+    its instance's), the inputs ``u`` in force kept for the read after its restore."""
+    slot = f"{name}:s{int(rng.integers(3))}"
+    add([name, "getState", slot], ("status", OK))
+    add([name, "serialize", slot, slot], ("status", OK))
+    saved[slot] = list(u)
+
+
 def generate(fmu: Path, preset: str, steps: int, seed: int) -> Plan:
     """Random calls to ``fmu`` totalling ``steps`` doStep calls, in episodes of 500 steps,
     each a fresh instance with its own parameters."""
@@ -186,14 +202,9 @@ def generate(fmu: Path, preset: str, steps: int, seed: int) -> Plan:
                 else:
                     add([name, "getReal", [0, n_vars + int(rng.integers(0, 9))]], ("status", ERROR))
             elif r < 0.83:  # bad step sizes and times
-                h, t0 = [(0.0, t), (-0.01, t), (math.nan, t), (0.01, math.nan), (math.inf, t)][
-                    int(rng.integers(5))]
-                add([name, "doStep", t0, h], ("status", ERROR))
+                _bad_step(add, name, t, rng)
             elif r < 0.88:  # save, serialize, restore (checked by the next read)
-                slot = f"{name}:s{int(rng.integers(3))}"  # a state is its instance's
-                add([name, "getState", slot], ("status", OK))
-                add([name, "serialize", slot, slot], ("status", OK))
-                saved[slot] = list(u)
+                _save(add, name, rng, saved, u)
             elif r < 0.91 and saved:
                 slot = str(rng.choice(sorted(saved)))
                 edit = [None, ["flip", int(rng.integers(0, 10_000)), int(rng.integers(1, 256))],
@@ -300,14 +311,9 @@ def generate_driven(fmu: Path, source: str, steps: int, seed: int) -> Plan:
                 bad_vr = int(rng.choice([outs[0], n_vars + int(rng.integers(1, 100))]))
                 add([name, "setReal", [inputs[0], bad_vr], [start[0], 1.0]], ("status", ERROR))
             elif r < 0.83:
-                h, t0 = [(0.0, t), (-0.01, t), (math.nan, t), (0.01, math.nan), (math.inf, t)][
-                    int(rng.integers(5))]
-                add([name, "doStep", t0, h], ("status", ERROR))
+                _bad_step(add, name, t, rng)
             elif r < 0.88:
-                slot = f"{name}:s{int(rng.integers(3))}"
-                add([name, "getState", slot], ("status", OK))
-                add([name, "serialize", slot, slot], ("status", OK))
-                saved[slot] = list(u)
+                _save(add, name, rng, saved, u)
             elif r < 0.91 and saved:
                 slot = str(rng.choice(sorted(saved)))
                 edit = [None, ["flip", int(rng.integers(0, 10_000)), int(rng.integers(1, 256))],

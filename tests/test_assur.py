@@ -15,6 +15,7 @@ from linkage_fmu.descriptions import Description, DescriptionError
 from linkage_fmu.descriptions.assur import decompose, outline, recognisers
 from linkage_fmu.descriptions.topology import read
 from linkage_fmu.manual import reference
+from test_topology import FIVE_BAR
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -1256,39 +1257,7 @@ def test_a_drawing_and_its_recognise_come_together(registry):
 
 
 #: a five-bar: a crank at A, and a motor at C between its links 2 and 3
-MOTOR_INSIDE = """
-[linkage]
-name = "drawn"
-
-[joints]
-A = [0, 0]
-B = [0.1, 0.1]
-C = [0.2, 0.3]
-D = [0.3, 0.1]
-E = [0.4, 0]
-
-[[links]]
-name = "1"
-joints = ["A", "B"]
-
-[[links]]
-name = "2"
-joints = ["B", "C"]
-
-[[links]]
-name = "3"
-joints = ["C", "D"]
-
-[[links]]
-name = "4"
-joints = ["D", "E"]
-
-[[drivers]]
-joint = "A"
-
-[[drivers]]
-joint = "C"
-"""
+MOTOR_INSIDE = FIVE_BAR + '[[drivers]]\njoint = "A"\n\n[[drivers]]\njoint = "C"\n'
 
 
 def test_a_driver_inside_a_group_is_refused_naming_it():
