@@ -4,7 +4,9 @@
 
 Each picture is the project's own plot (:func:`linkage_fmu.plot.linkage`) of an example
 driven by several actuators, at the state :data:`PICTURES` gives it; the page shows the
-call under each picture.
+call under each picture. ``docs/excavator_dig.gif`` is the excavator over the digging
+cycle of ``examples/excavator_cosim/run.py`` (:func:`linkage_fmu.plot.animate` over
+its cylinders' motion).
 """
 
 from __future__ import annotations
@@ -32,6 +34,17 @@ def main() -> None:
         fig = plot.linkage(linkage_fmu.load(ROOT / "examples" / f"{name}.toml"), **state)
         fig.savefig(ROOT / "docs" / picture, dpi=90)
         print(f"docs/{picture}")
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(
+        "excavator_cosim", ROOT / "examples" / "excavator_cosim" / "run.py")
+    run = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(run)
+    rows = run.cycle(0.25)
+    plot.animate(linkage_fmu.load(ROOT / "examples" / "excavator.toml"),
+                 ROOT / "docs" / "excavator_dig.gif", what="efforts", t=rows.pop("time"),
+                 motion=rows, fps=6, dpi=60)
+    print("docs/excavator_dig.gif")
 
 
 if __name__ == "__main__":

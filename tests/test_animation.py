@@ -460,3 +460,45 @@ def test_cli_other_runtime_errors_are_not_called_an_output_error(monkeypatch):
     monkeypatch.setattr(animation, "animate", broken)
     with pytest.raises(RuntimeError, match="the solver broke"):
         main(["animate", "four_bar", "-o", "x.gif"])
+
+
+def test_a_linkage_driven_by_time_moves_over_its_motion(tmp_path):
+    """The excavator over a motion of its cylinders (arrays over the times, one a
+    function of the time): a frame per time, each frame's arrows the forces of solve at
+    that time's inputs, the curves each driver's effort against the time with the
+    cursor at the frame's; what it cannot take is refused with the reason."""
+    from pathlib import Path
+
+    import linkage_fmu
+
+    mech = linkage_fmu.load(Path(__file__).resolve().parents[1] / "examples" /
+                            "excavator.toml")
+    t = np.linspace(0.0, 2.0, 6)
+    motion = {"s_cyl1": 0.1 * t, "v_cyl1": np.full(6, 0.1), "s_cyl3": lambda x: -0.05 * x,
+              "v_cyl3": lambda x: np.full_like(x, -0.05)}
+    anim = plot.animate(mech, tmp_path / "dig.gif", what="efforts", t=t, motion=motion,
+                        F_T=15000.0)
+    assert len(anim) == 6 and anim.t.tolist() == t.tolist()
+    assert (tmp_path / "dig.gif").stat().st_size > 0
+    sol = mech.solve(s_cyl1=0.1 * t, v_cyl1=0.1, s_cyl2=0.0, s_cyl3=-0.05 * t,
+                     v_cyl3=-0.05, F_T=15000.0)
+    curve_ax = anim.figure.axes[1]
+    for name in ("Fb_cyl1", "Fb_cyl2", "Fb_cyl3"):
+        (line,) = [a for a in curve_ax.lines if a.get_gid() == name]
+        np.testing.assert_allclose(line.get_ydata(), sol[name], rtol=1e-12)
+    anim.draw(3)
+    cursor = next(a for a in curve_ax.lines if a.get_gid() == "cursor")
+    assert float(cursor.get_xdata()[0]) == t[3]
+    forces = next(c for c in anim.figure.axes[0].collections if c.get_gid() == "forces")
+    pair = plot.force_pairs(mech)[0]
+    assert forces.U[0] == pytest.approx(anim.scale * sol[pair.x][3], rel=1e-12)
+    assert "t = 1.2 s, s_cyl1 = 0.12 m" in anim.figure.axes[0].get_title()
+    for kwargs, message in [
+        ({}, "excavator is driven by time: animate it over a motion, t (the frames' times)"),
+        ({"t": t, "motion": {"theta": t}}, "motion: theta: no input of excavator"),
+        ({"t": t, "motion": motion, "what": "torque"}, "what='torque': expected one of "
+                                                       "forces, efforts, shaking"),
+        ({"t": [0.0, 0.0], "motion": motion}, "t must hold at least 2 times, strictly"),
+    ]:
+        with pytest.raises(linkage_fmu.errors.InputError, match=re.escape(message)):
+            plot.animate(mech, **kwargs)

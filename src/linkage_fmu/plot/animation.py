@@ -175,6 +175,8 @@ class LinkageAnimation:
                  what: str):
         self.figure = figure
         self.theta_deg = np.array([s.theta_deg for s in scenes_])
+        #: the frames' times [s] of a linkage driven by time (its theta_deg NaN), or None
+        self.t: np.ndarray | None = None
         self.scale = scale
         self.what = what
         self._draw = draw_frame
@@ -247,7 +249,7 @@ def _writer(path: Path, fps: float):
 
 def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int = N_FRAMES,
             omega=None, alpha=None, fps: float = 12.0, dpi: float = 80.0,
-            figsize=FIGSIZE, **named_loads) -> LinkageAnimation:
+            figsize=FIGSIZE, t=None, motion=None, **named_loads) -> LinkageAnimation:
     """The linkage moving over a revolution (or the cycle of several a load's table
     needs, as a four-stroke engine's; where the crank cannot turn round, out and back
     over its range: :func:`motion_range`, :func:`frame_angles`), with its joint forces
@@ -281,6 +283,12 @@ def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int =
     fps, dpi : float
         Frames a second, and pixels an inch of the figure (``figsize`` inches), of the
         file written.
+    t, motion : array_like and dict, for a linkage driven by time
+        The frames' times [s], and its inputs over them by name, each an array of one
+        value per time or a function of the time; an input not in ``motion`` is given
+        by name in ``named_loads`` or takes its start value. ``what`` is then
+        ``"forces"``, ``"efforts"`` (each driver's) or ``"shaking"``, the curves
+        against the time, and ``frames`` is the number of times.
 
     Returns
     -------
@@ -323,27 +331,14 @@ def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int =
     >>> float(cursor.get_xdata()[0])
     90.0
     """
+    if mech.rates:
+        return _over_time(mech, path, what, t, motion, fps, dpi, figsize, named_loads)
     one_crank(mech, "a plot over crank angles")
     if what not in WHATS:
         raise InputError(f"what={what!r}: expected one of {', '.join(WHATS)}")
     if isinstance(frames, bool) or not isinstance(frames, (int, np.integer)) or frames < 2:
         raise InputError(f"frames must be a whole number >= 2, got {frames!r}")
-    _positive("dpi", dpi)
-    try:
-        width, height = (float(v) for v in figsize)
-    except (TypeError, ValueError):
-        raise InputError(f"figsize must be (width, height) in inches, got {figsize!r}"
-                         ) from None
-    for value in (width, height):
-        _positive("figsize", value, f"each of (width, height) in inches, got {figsize!r}")
-    frame_pixels(dpi, (width, height))
-    if path is not None:
-        _suffix(path)
-        if not Path(path).resolve().parent.is_dir():
-            raise InputError(f"{path}: there is no folder {Path(path).parent}")
-        _writer(Path(path), fps)  # no ffmpeg: said before the work
-    import matplotlib
-
+    _check_output(path, fps, dpi, figsize)
     inputs = input_values(mech, omega, alpha, (), named_loads)
     deg = frame_angles(mech, int(frames), named_loads)
     lo, hi, full = motion_range(mech, named_loads)
@@ -367,6 +362,134 @@ def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int =
                       UserWarning, stacklevel=2)
     limits = _limits(curves, ok, deg, curve_deg, full)
 
+    effort = mech.effort.name
+
+    def label(k: int, s, size: float, largest: float) -> str:
+        text = f"θ = {number(deg[k], 1, fixed=True)}°"
+        if not ok[k]:
+            text += ", forces unbounded (a singular position)"
+        elif s.effort is not None:
+            arm = size if mech.effort.direction is None else 1.0
+            text += (f", {effort} = {number(s.effort[effort], 4, scale=largest * arm)} "
+                     f"{mech.output_info[effort][0]}")
+        return text
+
+    def curves_on(ax):
+        cursor = _draw_curves(ax, mech, curves, deg, curve_deg, unit, title)
+        if limits is not None:
+            ax.set_ylim(*limits)
+        return cursor
+
+    return _assembled(mech, frames_, curves_on, label, inputs, figsize, what, path, fps, dpi)
+
+
+def _check_output(path, fps: float, dpi: float, figsize) -> None:
+    """Refuse, naming it, a ``dpi``, ``figsize`` or ``path`` that the animation cannot
+    be drawn with or written to (before any work)."""
+    _positive("dpi", dpi)
+    try:
+        width, height = (float(v) for v in figsize)
+    except (TypeError, ValueError):
+        raise InputError(f"figsize must be (width, height) in inches, got {figsize!r}"
+                         ) from None
+    for value in (width, height):
+        _positive("figsize", value, f"each of (width, height) in inches, got {figsize!r}")
+    frame_pixels(dpi, (width, height))
+    if path is not None:
+        _suffix(path)
+        if not Path(path).resolve().parent.is_dir():
+            raise InputError(f"{path}: there is no folder {Path(path).parent}")
+        _writer(Path(path), fps)  # no ffmpeg: said before the work
+
+
+#: the curves an animation over time draws
+OVER_TIME = ("forces", "efforts", "shaking")
+
+
+def _over_time(mech: "Mechanism", path, what: str, t, motion, fps: float, dpi: float,
+               figsize, named: dict) -> LinkageAnimation:
+    """:func:`animate` of a linkage driven by time over its inputs ``motion`` at the
+    times ``t``."""
+    from ..numerics import finite_array
+    from .picture import driven_scenes
+
+    if what not in OVER_TIME:
+        raise InputError(f"what={what!r}: expected one of {', '.join(OVER_TIME)} (a linkage "
+                         "driven by time)")
+    if t is None or motion is None:
+        raise InputError(f"{mech.name} is driven by time: animate it over a motion, t (the "
+                         "frames' times) and motion (its inputs over them by name: "
+                         f"{', '.join(mech.input_names)})")
+    t = np.asarray(finite_array("t", t), dtype=float).reshape(-1)
+    if t.size < 2 or not (np.diff(t) > 0).all():
+        raise InputError("t must hold at least 2 times, strictly increasing")
+    unknown = [n for n in motion if n not in mech.input_names]
+    if unknown:
+        raise InputError(f"motion: {', '.join(map(str, unknown))}: no input of {mech.name}; "
+                         f"its inputs are {', '.join(mech.input_names)}")
+    _check_output(path, fps, dpi, figsize)
+    values, given = mech.input_table.every((), {
+        **{d.inputs[0]: mech.start[d.inputs[0]] for d in mech.drivers}, **named})
+    rows = {n: np.full(t.size, float(v)) for n, v in zip(mech.input_names + tuple(given),
+                                                        values)}
+    for name, spec in motion.items():
+        column = np.asarray(spec(t) if callable(spec) else spec, dtype=float)
+        rows[name] = np.broadcast_to(finite_array(f"motion[{name!r}]", column), t.shape)
+    sol = mech.solve(**rows)
+    if not np.asarray(sol.valid).any():
+        raise InputError(f"{mech.name} cannot be assembled at any of the {t.size} times")
+    ok = bounded(mech, sol)
+    frames_ = [s._replace(loads=[ld for ld in s.loads if ld.value != 0.0]) if good else
+               _unbounded(s) for s, good in zip(driven_scenes(mech, rows, sol), ok)]
+    if what == "efforts":
+        curves = {e.name: np.asarray(sol[e.name], float) for e in mech.efforts}
+        units = {mech.output_info[e.name][0] for e in mech.efforts}
+        unit, title = ", ".join(sorted(units)), "each driver's effort"
+    else:
+        curves, unit, title = _curves(mech, what, sol, 0)
+    curves = {n: np.where(ok, np.broadcast_to(v, t.shape), np.nan) for n, v in curves.items()}
+    constant = {n: v[0] for n, v in rows.items() if n not in motion}
+
+    def label(k: int, s, size: float, largest: float) -> str:
+        text = f"t = {number(t[k], 4)} s"
+        if not ok[k]:
+            return text + ", forces unbounded (a singular position)"
+        return text + "".join(f", {d.inputs[0]} = {number(rows[d.inputs[0]][k], 4)} "
+                              f"{d.units[0]}" for d in mech.drivers)
+
+    def curves_on(ax):
+        for j, (name, values) in enumerate(curves.items()):
+            ax.plot(t, values, color=f"C{j}", lw=1.4, label=name, gid=name)
+        ax.set_xlabel("t [s]")
+        ax.set_ylabel(f"[{unit}]")
+        ax.set_title(title, fontsize=10)
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
+        line = ax.axvline(t[0], color="0.3", lw=1.0, ls=":", gid="cursor")
+        dots = {name: ax.plot([t[0]], [v[0]], "o", ms=6, mfc="white", mec=f"C{j}",
+                              mew=1.8, zorder=6, gid=f"cursor:{name}")[0]
+                for j, (name, v) in enumerate(curves.items())}
+
+        def cursor(k: int) -> None:
+            line.set_xdata([t[k], t[k]])
+            for name, dot in dots.items():
+                dot.set_data([t[k]], [curves[name][k]])
+        return cursor
+
+    anim = _assembled(mech, frames_, curves_on, label, constant, figsize, what, path, fps,
+                      dpi)
+    anim.t = t
+    return anim
+
+
+def _assembled(mech, frames_: list, curves_on, label, inputs: dict, figsize, what: str,
+               path, fps: float, dpi: float) -> LinkageAnimation:
+    """The animation of the scenes ``frames_``: the linkage's panel to one scale and
+    view for every frame, beside the curves ``curves_on(ax)`` draws (it returns the
+    cursor, ``cursor(k)``), each frame titled ``label(k, scene, size, largest)`` (the
+    linkage's size over the motion and the largest force); written to ``path`` if
+    given."""
+    import matplotlib
+
     drawn = drawn_points(mech)
     size = linkage_size([s.pos[p] for s in frames_ for p in drawn
                   if all(map(math.isfinite, s.pos[p]))], mech.length_scale)
@@ -375,7 +498,8 @@ def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int =
 
     fig, (link_ax, curve_ax) = pyplot().subplots(1, 2, figsize=figsize, width_ratios=(1.1, 1.0),
                                                  layout="constrained")
-    fig.suptitle(f"{mech.name}: {inputs_text(mech, inputs)}; forces to scale "
+    given = inputs_text(mech, inputs)
+    fig.suptitle(f"{mech.name}: {given + '; ' if given else ''}forces to scale "
                  f"{number(scale)} m/N (1 N = {number(1000 * scale, 3)} mm)", fontsize=10)
     tips = []
     for s in frames_:  # the view holds every frame
@@ -386,10 +510,7 @@ def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int =
     lo_xy, hi_xy = tips.min(axis=0) - VIEW_MARGIN * size, tips.max(axis=0) + VIEW_MARGIN * size
     lo_xy[1] -= (2.2 * 0.025 + VIEW_MARGIN) * size  # the ground's hatching, the scale's band
 
-    cursor = _draw_curves(curve_ax, mech, curves, deg, curve_deg, unit, title)
-    if limits is not None:
-        curve_ax.set_ylim(*limits)
-    effort = mech.effort.name
+    cursor = curves_on(curve_ax)
 
     def draw_frame(k: int) -> list:
         s = frames_[k]
@@ -397,14 +518,7 @@ def animate(mech: "Mechanism", path=None, *, what: str = "forces", frames: int =
         draw_scene(link_ax, mech, s, scale, size, largest)
         link_ax.set_xlim(lo_xy[0], hi_xy[0])
         link_ax.set_ylim(lo_xy[1], hi_xy[1])
-        text = f"θ = {number(deg[k], 1, fixed=True)}°"
-        if not ok[k]:
-            text += ", forces unbounded (a singular position)"
-        elif s.effort is not None:
-            arm = size if mech.effort.direction is None else 1.0
-            text += (f", {effort} = {number(s.effort[effort], 4, scale=largest * arm)} "
-                     f"{mech.output_info[effort][0]}")
-        link_ax.set_title(text, fontsize=10)
+        link_ax.set_title(label(k, s, size, largest), fontsize=10)
         cursor(k)
         return []
 

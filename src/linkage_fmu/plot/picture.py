@@ -330,6 +330,35 @@ def scenes(mech: "Mechanism", theta: np.ndarray, inputs: dict, count: int | None
             for k in range(n)], sol
 
 
+def driven_scenes(mech: "Mechanism", rows: dict, sol) -> list[Scene]:
+    """The :class:`Scene` at each row of a linkage driven by time: ``rows`` holds each
+    input's values, one per row (arrays of one length), ``sol`` the solution there.
+
+    Examples
+    --------
+    >>> from pathlib import Path
+    >>> import linkage_fmu
+    >>> dump = linkage_fmu.load(Path(linkage_fmu.__file__).parents[2] /
+    ...                         "examples/dump_body.toml")
+    >>> rows = {"s_P": np.array([0.0, 0.2]), "v_P": np.zeros(2), "a_P": np.zeros(2),
+    ...         "W": np.full(2, 1000.0)}
+    >>> frames = driven_scenes(dump, rows, dump.solve(**rows))
+    >>> [round(f.effort["Fb_P"], 3) for f in frames] == [
+    ...     round(dump.solve(s_P=s, v_P=0.0, W=1000.0)["Fb_P"], 3) for s in (0.0, 0.2)]
+    True
+    """
+    q = tuple(rows[d.inputs[0]] for d in mech.drivers)
+    st = mech.kinematics(q, order=0, rates=tuple((0.0, 0.0) for _ in q))
+    n = len(q[0])
+    pairs = tuple(p for p in force_pairs(mech) if p.point is not None)
+
+    def at(k: int):
+        return lambda name: float(np.broadcast_to(np.asarray(sol[name], float), (n,))[k])
+
+    return [_scene(mech, _StateAt(st, k), at(k), math.nan, {i: v[k] for i, v in rows.items()},
+                   pairs) for k in range(n)]
+
+
 def _scene(mech: "Mechanism", st, value, theta_deg: float, inputs: dict,
            pairs: tuple | None = None) -> Scene:
     """The :class:`Scene` at the state ``st`` (floats), ``value(name)`` giving each
