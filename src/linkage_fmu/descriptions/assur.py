@@ -1,10 +1,13 @@
-"""A joints-and-links linkage decomposed into the group form: the crank, then Assur groups.
+"""A joints-and-links linkage decomposed into the group form: the drivers, then Assur
+groups.
 
 :func:`decompose` takes a checked :class:`~linkage_fmu.descriptions.topology.Topology` and
 returns the group-form tables that describe the same linkage (``[points]``,
 ``[[groups]]``, ``[bodies.L]``), which the description's checker and builder take as
-they take a hand-written file. The crank comes first; then, as long as a link is not
-placed, the first group a group type recognises is peeled off (each type that declares
+they take a hand-written file. The drivers come first, each once what it needs is
+placed (a crank on the frame at once, a motor after its first link, a cylinder with the
+link its rod moves after its barrel's pin); then, as long as a link is not placed, the
+first group a group type recognises is peeled off (each type that declares
 its ``DRAWING`` recognises its own: :func:`recognisers`), trying the links two by two in
 the order of [[links]] for the dyads (RRR, RRP: a rod and a slider on a frame guide, RPR:
 a block sliding on a lever through the lever's pivot, RPP: a block in the slot of a yoke
@@ -426,7 +429,7 @@ class Decomposer:
         spec = {"type": "crank", "link": link, "pivot": pin, "tip": tip,
                 "length": f"hypot({bx} - {px}, {by} - {py})"}
         if d.first != t.frame:  # a motor: its zero is the first link's direction
-            ref, (ux, uy) = self.frame_[d.first]
+            _, (ux, uy) = self.frame_[d.first]
             other = next(j for j in t.links[d.first].joints if j != pivot)
             ox, oy = self.xy(other)
             fx, fy = f"({ox} - {px})", f"({oy} - {py})"
