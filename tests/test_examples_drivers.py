@@ -172,3 +172,24 @@ def test_the_mass_matrix_is_the_hessian_of_the_kinetic_energy(name):
         M, H = mech.mass_matrix(q), ref.solve(q, v, a)["hessian"]
         assert M == pytest.approx(H, abs=1e-10 * np.max(np.abs(H))), q
         assert np.array_equal(M, M.T)
+
+
+def test_friction_that_locks_is_an_error_naming_the_drivers_or_a_locked_state():
+    """The elbow five-bar with mu 0.9 and pins of 0.2 m (as large as its links): friction
+    locks the dyad CDE. One state raises SelfLockingError naming both drivers'
+    coordinates, by the closed form and the direct solver alike; arrays give the status
+    LOCKED and NaN."""
+    from linkage_fmu.errors import SelfLockingError
+    from linkage_fmu.solver import LOCKED
+
+    text = ELBOW + "".join(f"\n[friction.{j}]\nmu = 0.9\nradius = 0.2\n" for j in "ABCDE")
+    mech = Description.from_toml(text, "elbow.toml").build()
+    state = dict(theta_A=0.1, theta_B=-2.6, omega_A=1.0, omega_B=-0.5, F=20.0)
+    for method, what in (("closed_form", "friction at C, D, E locks the group of link 3"),
+                         ("direct", "friction locks the linkage")):
+        with pytest.raises(SelfLockingError, match=r"elbow locks at theta_A = 0.1 rad "
+                                                   r"\(5.73 deg\), theta_B = -2.6 rad "
+                                                   rf"\(-149 deg\): {what}"):
+            mech.solve(**state, method=method)
+    sol = mech.solve(**{**state, "theta_A": np.array([0.0, 0.1, 0.2])})
+    assert (np.asarray(sol.status) == LOCKED).all() and np.isnan(sol["Mb_A"]).all()
