@@ -257,7 +257,6 @@ class _Value:
     ("a flywheel is sized for a moment on the crank", lambda m: m.flywheel(10.0, 0.05)),
     ("a table over crank angles", lambda m: m.table([1.0, 2.0])),
     ("a plot over crank angles", lambda m: __import__("linkage_fmu.plot").plot.torque(m)),
-    ("a plot over crank angles", lambda m: __import__("linkage_fmu.plot").plot.animate(m)),
     ("a plot over crank angles",
      lambda m: __import__("linkage_fmu.plot").plot.transmission(m)),
 ])
