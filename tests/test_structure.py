@@ -232,7 +232,7 @@ LAYERS = (
     ("the physics", {"kinetostatics", "friction", "diagnostics", "ranges", "motion",
                      "driven_motion", "flywheel"}),
     ("the formula sequence", {"inputs", "evaluation"}),
-    ("solving", {"solver", "precise"}),
+    ("solving", {"solver", "precise", "equations"}),
     ("the mechanism", {"mechanism"}),
     ("descriptions", {"descriptions"}),
     ("applications", {"presets", "fmi", "sweep", "optimize", "plot", "manual", "cli",

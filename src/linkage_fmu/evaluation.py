@@ -252,6 +252,24 @@ def reactions(mech, st: KinematicState, W: dict, plan, omega, xp):
     return R, effort
 
 
+def every_load(mech, given: tuple, loads: list) -> list:
+    """The value of each of ``mech.loads``, in order, from ``loads`` (the input loads,
+    then the loads over the cycle named in ``given``): None for a load over the cycle
+    not given (computed at the state).
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets
+    >>> every_load(presets.get("four_bar"), (), [3.0])
+    [3.0]
+    """
+    if not mech.computed_loads:
+        return loads
+    named = dict(zip(given, loads[len(mech.input_loads):]))
+    inputs = iter(loads)
+    return [named.get(ld.name) if ld.computed else next(inputs) for ld in mech.loads]
+
+
 def evaluate(mech, plan, theta, omega, alpha, loads, xp) -> tuple[dict, KinematicState]:
     """The outputs of ``plan`` (and whatever it computes besides) on numbers of the
     namespace ``xp``, and the kinematic state: the one sequence of formulas behind every
@@ -271,11 +289,7 @@ def evaluate(mech, plan, theta, omega, alpha, loads, xp) -> tuple[dict, Kinemati
         st = kinematics(mech, theta, order(mech, plan), xp)
     R, effort = {}, 0.0
     if plan.reactions or plan.effort:
-        if mech.computed_loads:  # each computed load: given, or None (computed)
-            given = dict(zip(plan.given, loads[len(mech.input_loads):]))
-            inputs = iter(loads)
-            loads = [given.get(ld.name) if ld.computed else next(inputs)
-                     for ld in mech.loads]
+        loads = every_load(mech, plan.given, loads)
         W = wrenches(mech, st, omega, alpha, loads, plan.static)
         R, effort = reactions(mech, st, W, plan, omega, xp)
         if "eta" in plan.outputs and mech.friction.joints:  # what each source puts in
