@@ -5,6 +5,7 @@ from __future__ import annotations
 import io
 import math
 from contextlib import redirect_stderr, redirect_stdout
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -815,3 +816,24 @@ def test_the_table_of_a_linkage_driven_by_time_takes_its_inputs_row_by_row(tmp_p
     assert status == 2 and "bad.csv: theta: no input of excavator" in err
     status, _, err = run(["table", "four_bar", "--inputs", str(rows)])
     assert status == 2 and "--inputs is for a linkage driven by time" in err
+
+
+def test_equations_prints_the_labelled_system_and_its_solution(tmp_path):
+    """``equations PRESET --theta 60 --deg --omega 10 --load 400``: the scotch yoke's nine
+    equations, row by row, then the solution (the worked example's Mb 15.6699 N.m at
+    60 deg); markdown to a file; one angle only, and one crank only, with the reason."""
+    status, out, _ = run(["equations", "scotch_yoke", "--theta", "60", "--deg", "--omega",
+                          "10", "--load", "400"])
+    lines = out.splitlines()
+    assert status == 0 and lines[0] == "scotch_yoke: A x = b, 9 equations"
+    assert lines[3].split()[:5] == ["3", "link", "1:", "ΣM", "about"]
+    assert "  Mb = 15.6699" in lines
+    target = tmp_path / "yoke.md"
+    status, _, _ = run(["equations", "scotch_yoke", "--theta", "60", "--deg", "--format",
+                        "markdown", "-o", str(target)])
+    assert status == 0 and "| i | equation | a(i, j) | b(i) |" in target.read_text()
+    status, _, err = run(["equations", "scotch_yoke", "--theta", "0:90:45", "--deg"])
+    assert status == 2 and "the equations are of one state; give one angle" in err
+    five = str(Path(__file__).resolve().parents[1] / "examples" / "five_bar.toml")
+    status, _, err = run(["equations", five, "--theta", "1"])
+    assert status == 2 and "linkage-fmu equations takes a linkage driven by one crank" in err

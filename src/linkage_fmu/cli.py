@@ -135,7 +135,8 @@ def speeds(args) -> tuple:
 
 
 #: the commands that take the loads of the linkage as options
-LOAD_COMMANDS = ("table", "sweep", "optimize", "plot", "animate", "simulate", "flywheel")
+LOAD_COMMANDS = ("table", "equations", "sweep", "optimize", "plot", "animate", "simulate",
+                 "flywheel")
 
 
 def _load_options(parser: argparse.ArgumentParser, d: Description) -> None:
@@ -366,6 +367,17 @@ def build_parser() -> Parser:
                             "cylinder): its inputs row by row, a column per input (one not "
                             "given takes its start value), a time column as the index")
 
+    eqs = sub.add_parser("equations", help="the equilibrium equations A x = b at one state, "
+                         "each row and column labelled, and their solution", epilog=EPILOG,
+                         formatter_class=argparse.RawDescriptionHelpFormatter)
+    _linkage(eqs, linkage_help)
+    eqs.add_argument("--theta", required=True,
+                     help="the crank angle: a value (rad; with --deg or a unit, deg)")
+    eqs.add_argument("--deg", action="store_true", help="--theta in degrees")
+    _motion(eqs)
+    eqs.add_argument("--format", choices=("text", "markdown"), default="text")
+    eqs.add_argument("-o", "--output", help="write it to FILE (default: print it)")
+
     sweep = sub.add_parser("sweep", help="many designs over a revolution, summarised",
                            epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     _linkage(sweep, linkage_help, parameters=False)
@@ -562,6 +574,8 @@ def _main(argv: list[str] | None) -> int:
             return _info(d)
         if args.command not in ("build", "table") and driver_efforts(d.groups):
             one_crank(d.build(), f"linkage-fmu {args.command}")  # driven by time
+        if args.command == "equations":
+            return _equations(d, args)
         if args.command == "sweep":
             return _sweep(d, args)
         if args.command == "optimize":
@@ -759,6 +773,24 @@ def _table(d: Description, args) -> int:
             raise UsageError(message)
         print(f"linkage-fmu: {message}; their rows are NaN", file=sys.stderr)
     return _emit(df, args)
+
+
+def _equations(d: Description, args) -> int:
+    """``linkage-fmu equations``: the labelled system at one crank angle, written out."""
+    from .equations import equations
+
+    theta = angles(args.theta, 1, args.deg)
+    if theta.size != 1:
+        raise UsageError(f"--theta {args.theta}: the equations are of one state; give one "
+                         "angle")
+    omega, alpha = speeds(args)
+    text = equations(d.build(**dict(args.params)), float(theta[0]), omega, alpha,
+                     **loads(args)).to(args.format)
+    if args.output:
+        Path(args.output).write_text(text, encoding="utf-8")
+    else:
+        sys.stdout.write(text)
+    return 0
 
 
 def _driven_table(mech, args) -> int:
