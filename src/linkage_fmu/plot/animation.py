@@ -463,17 +463,7 @@ def _over_time(mech: "Mechanism", path, what: str, t, motion, fps: float, dpi: f
         ax.set_xlabel("t [s]")
         ax.set_ylabel(f"[{unit}]")
         ax.set_title(title, fontsize=10)
-        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
-        line = ax.axvline(t[0], color="0.3", lw=1.0, ls=":", gid="cursor")
-        dots = {name: ax.plot([t[0]], [v[0]], "o", ms=6, mfc="white", mec=f"C{j}",
-                              mew=1.8, zorder=6, gid=f"cursor:{name}")[0]
-                for j, (name, v) in enumerate(curves.items())}
-
-        def cursor(k: int) -> None:
-            line.set_xdata([t[k], t[k]])
-            for name, dot in dots.items():
-                dot.set_data([t[k]], [curves[name][k]])
-        return cursor
+        return _cursor(ax, curves, t)
 
     anim = _assembled(mech, frames_, curves_on, label, constant, figsize, what, path, fps,
                       dpi)
@@ -662,18 +652,25 @@ def _draw_curves(ax, mech: "Mechanism", curves: dict, deg: np.ndarray, curve_deg
         degree_axis(ax, curve_deg)
         ax.set_ylabel(f"[{unit}]")
     ax.set_title(title, fontsize=10)
+    return _cursor(ax, curves, deg)
+
+
+def _cursor(ax, curves: dict, xs: np.ndarray):
+    """The legend beside the axes, a cursor line and a dot on each curve; returns
+    ``cursor(k)``, which moves them to the ``k``-th frame (at ``xs[k]``, the curves'
+    ``k``-th values)."""
     # beside the axes: a legend inside would move as the cursor does ("best"), and one
     # below would take from the height the linkage's panel has too
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
-    line = ax.axvline(deg[0], color="0.3", lw=1.0, ls=":", gid="cursor")
-    dots = {name: ax.plot([deg[0]], [values[0]], "o", ms=6, mfc="white",
+    line = ax.axvline(xs[0], color="0.3", lw=1.0, ls=":", gid="cursor")
+    dots = {name: ax.plot([xs[0]], [values[0]], "o", ms=6, mfc="white",
                           mec=f"C{k}" if len(curves) > 1 else "C0", mew=1.8, zorder=6,
                           gid=f"cursor:{name}")[0]
             for k, (name, values) in enumerate(curves.items())}
 
     def cursor(k: int) -> None:
-        line.set_xdata([deg[k], deg[k]])
+        line.set_xdata([xs[k], xs[k]])
         for name, dot in dots.items():
-            dot.set_data([deg[k]], [curves[name][k]])
+            dot.set_data([xs[k]], [curves[name][k]])
 
     return cursor
