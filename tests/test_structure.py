@@ -230,7 +230,7 @@ LAYERS = (
     ("the parts of a linkage", {"pairs", "drivers", "groups", "parameters", "bodies",
                                 "loads", "outputs", "inertia"}),
     ("the physics", {"kinetostatics", "friction", "diagnostics", "ranges", "motion",
-                     "driven_motion", "flywheel"}),
+                     "driven_motion", "flywheel", "free_body"}),
     ("the formula sequence", {"inputs", "evaluation"}),
     ("solving", {"solver", "precise", "equations"}),
     ("the mechanism", {"mechanism"}),

@@ -1,11 +1,12 @@
 """The equilibrium equations of a linkage at one state, as the source documents write
-them: each moving link's ``ΣFx = 0``, ``ΣFy = 0`` and ``ΣM = 0`` about its centre of
-mass, assembled into ``A x = b`` with every row and column labelled, in SI units, and
-solved (:func:`equations`).
+them: each moving link's free body (:mod:`~linkage_fmu.free_body`) and its ``ΣFx = 0``,
+``ΣFy = 0`` and ``ΣM = 0`` about the point its group chooses (a crank's pivot, a dyad
+link's outer joint), assembled into ``A x = b`` with every row and column labelled, in
+SI units, and solved (:func:`equations`); written out as text, markdown, LaTeX or
+MathML (:meth:`Equations.to`).
 
 The system is the one the direct solver solves (:func:`~linkage_fmu.kinetostatics.
-equilibrium_entries`), with its scaling undone: a moment row in N.m, a prismatic pair's
-couple and a moment effort in N.m. The unknowns are each pair's two reaction
+equilibrium_entries`, in SI units). The unknowns are each pair's two reaction
 components, the action of its first body on its second (``Fx_<pair>``, ``Fy_<pair>``
 for a revolute pair, ``N_<pair>``, ``M_<pair>`` for a prismatic one, as a description's
 expressions name them), then each effort.
@@ -13,28 +14,36 @@ expressions name them), then each effort.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import html
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from . import evaluation, kinetostatics
 from .errors import InputError
+from .free_body import FreeBodies, free_bodies
 from .loads import wrenches
 from .numerics import SCALAR
+
+#: what :meth:`Equations.to` writes
+FORMATS = ("text", "markdown", "latex", "mathml")
 
 
 @dataclass(frozen=True)
 class Equations:
     """``A x = b`` of a linkage at one state: ``unknowns`` (column labels), ``rows``
-    (row labels, ``"link 2: ΣFx"``), ``A`` and ``b`` (numpy, SI), and ``solution``
-    (unknown -> value, ``A \\ b``); :attr:`residual`, :attr:`det` and :attr:`cond`;
-    :meth:`to` writes it out."""
+    (row labels, ``"link 2: ΣFx"``), ``A`` and ``b`` (numpy, SI), ``state`` (each input
+    -> its value), ``free_bodies`` (:class:`~linkage_fmu.free_body.FreeBodies`, the
+    equations symbolically); :attr:`solution` (unknown -> value, ``A \\ b``),
+    :attr:`residual`, :attr:`det` and :attr:`cond`; :meth:`to` writes it out."""
 
     name: str
     unknowns: tuple
     rows: tuple
     A: np.ndarray
     b: np.ndarray
+    state: dict = field(default_factory=dict)
+    free_bodies: FreeBodies | None = field(default=None, repr=False)
 
     @property
     def solution(self) -> dict:
@@ -54,26 +63,129 @@ class Equations:
     def cond(self) -> float:
         return float(np.linalg.cond(self.A))
 
+    def symbolic(self) -> tuple:
+        """``(A, b)`` as sympy matrices, written from the free bodies alone; at
+        ``free_bodies.values`` they are :attr:`A` and :attr:`b`."""
+        return self.free_bodies.matrices()
+
     def to(self, fmt: str = "text") -> str:
-        """The system as text: ``"text"`` (each equation's nonzero a(i, j) and b(i), as
-        the hinged four-bar worked example tables them) or ``"markdown"`` (the same
-        table), then the solution."""
-        if fmt not in ("text", "markdown"):
-            raise InputError(f"format {fmt!r}: the formats are text, markdown")
-        lines = [f"{self.name}: A x = b, {len(self.rows)} equations"]
-        if fmt == "markdown":
-            lines = [f"**{lines[0]}**", "", "| i | equation | a(i, j) | b(i) |",
-                     "|---|---|---|---|"]
-        for i, row in enumerate(self.rows):
-            terms = " + ".join(f"{self.A[i, j]:.6g} {u}" for j, u in enumerate(self.unknowns)
-                               if self.A[i, j] != 0.0) or "0"
-            if fmt == "markdown":
-                lines.append(f"| {i + 1} | {row} | {terms} | {self.b[i]:.6g} |")
-            else:
-                lines.append(f"{i + 1:3d}  {row:22s} {terms} = {self.b[i]:.6g}")
-        lines += ["", "solution:"] + [f"  {u} = {v:.6g}" for u, v in self.solution.items()]
-        lines.append(f"residual {self.residual:.3g}, det A {self.det:.6g}, cond {self.cond:.3g}")
-        return "\n".join(lines) + "\n"
+        """The system written out, in a format of :data:`FORMATS`:
+
+        * ``"text"``: the table of every a(i, j) and b(i), as the hinged four-bar
+          worked example tables them, then each link's free body and equations, the
+          solution, the residual, det A and the condition number;
+        * ``"markdown"``: the same, as markdown tables;
+        * ``"latex"``: each link's equations (``align*``), ``A`` and ``b``
+          (``bmatrix``) and the solution;
+        * ``"mathml"``: the same in MathML (``<math display="block">`` elements, for a
+          web page).
+        """
+        if fmt not in FORMATS:
+            raise InputError(f"format {fmt!r}: the formats are {', '.join(FORMATS)}")
+        return {"text": _text, "markdown": _markdown, "latex": _latex,
+                "mathml": _mathml}[fmt](self)
+
+    def title(self) -> str:
+        at = ", ".join(f"{k} = {v:.6g}" for k, v in self.state.items())
+        return f"{self.name} at {at}: A x = b, {len(self.rows)} equations"
+
+
+def _g(v: float) -> str:
+    return f"{v:.6g}"
+
+
+def _by_link(eq: Equations):
+    """Each link with its free body and its three equations (sympy)."""
+    import sympy
+
+    fb = eq.free_bodies
+    lhs = fb.equations()
+    for k, (link, actions) in enumerate(fb.actions.items()):
+        yield link, actions, [sympy.Eq(e, 0) for e in lhs[3 * k:3 * k + 3]]
+
+
+def _text(eq: Equations, markdown: bool = False) -> str:
+    n = len(eq.unknowns)
+    head = ["i", "equation"] + [f"a(i, {j + 1})" for j in range(n)] + ["b(i)"]
+    table = [[str(i + 1), row] + [_g(v) for v in eq.A[i]] + [_g(eq.b[i])]
+             for i, row in enumerate(eq.rows)]
+    lines = [f"**{eq.title()}**" if markdown else eq.title(), ""]
+    if markdown:
+        lines += ["| j | " + " | ".join(str(j + 1) for j in range(n)) + " |",
+                  "|---" * (n + 1) + "|",
+                  "| unknown | " + " | ".join(eq.unknowns) + " |", "",
+                  "| " + " | ".join(head) + " |", "|---" * len(head) + "|"]
+        lines += ["| " + " | ".join(r) + " |" for r in table]
+    else:
+        wide = [max(len(r[c]) for r in [head] + table) for c in range(len(head))]
+        lines.append("unknowns: " + ", ".join(f"x{j + 1} = {u}" for j, u in
+                                               enumerate(eq.unknowns)))
+        lines += ["  ".join(c.rjust(w) if k != 1 else c.ljust(w) for k, (c, w) in
+                            enumerate(zip(r, wide))) for r in [head] + table]
+    for link, actions, equations in _by_link(eq):
+        lines += ["", f"link {link}, moments about {eq.free_bodies.about[link]}:"]
+        lines += [f"  {a.what}: " + (f"({a.fx}, {a.fy})" if a.at else f"{a.m}")
+                  for a in actions]
+        lines += [f"  {e.lhs} = 0" for e in equations]
+    lines += ["", "solution:"] + [f"  {u} = {_g(v)}" for u, v in eq.solution.items()]
+    lines.append(f"residual {eq.residual:.3g}, det A {_g(eq.det)}, cond {eq.cond:.3g}")
+    text = "\n".join(lines) + "\n"
+    return text.replace("  link", "link") if markdown else text
+
+
+def _markdown(eq: Equations) -> str:
+    return _text(eq, markdown=True)
+
+
+def _latex(eq: Equations) -> str:
+    import sympy
+
+    out = [f"% {eq.title()}"]
+    for link, _, equations in _by_link(eq):
+        about = eq.free_bodies.about[link]
+        out += [f"% link {link}, moments about {about}", "\\begin{align*}"]
+        out += ["  " + sympy.latex(e.lhs) + " &= 0" + (" \\\\" if k < 2 else "")
+                for k, e in enumerate(equations)]
+        out.append("\\end{align*}")
+    rows = [" & ".join(_g(v) for v in r) for r in eq.A]
+    out += ["\\[", "\\begin{bmatrix}", " \\\\\n".join(rows), "\\end{bmatrix}",
+            "\\begin{bmatrix}", " \\\\ ".join(sympy.latex(sympy.Symbol(u))
+                                             for u in eq.unknowns),
+            "\\end{bmatrix} = \\begin{bmatrix}", " \\\\ ".join(_g(v) for v in eq.b),
+            "\\end{bmatrix}", "\\]"]
+    out += ["% solution"] + [f"% {u} = {_g(v)}" for u, v in eq.solution.items()]
+    return "\n".join(out) + "\n"
+
+
+def _mathml(eq: Equations) -> str:
+    import sympy
+    from sympy.printing.mathml import mathml
+
+    def block(inner: str) -> str:
+        return f'<math display="block">{inner}</math>'
+
+    def text(s: str) -> str:
+        return f"<mtext>{html.escape(s)}</mtext>"
+
+    def table(rows) -> str:
+        return "<mtable>" + "".join("<mtr>" + "".join(f"<mtd>{c}</mtd>" for c in r) +
+                                    "</mtr>" for r in rows) + "</mtable>"
+
+    def number(v: float) -> str:
+        return f"<mn>{_g(v)}</mn>" if v >= 0 else f"<mo>-</mo><mn>{_g(-v)}</mn>"
+
+    out = [f"<p>{html.escape(eq.title())}</p>"]
+    for link, _, equations in _by_link(eq):
+        about = eq.free_bodies.about[link]
+        out.append(f"<p>link {html.escape(link)}, moments about {html.escape(about)}</p>")
+        out.append(block(table([[mathml(e, printer="presentation")] for e in equations])))
+    symbols = [mathml(sympy.Symbol(u), printer="presentation") for u in eq.unknowns]
+    rows = [[text(r)] + [number(v) for v in eq.A[i]] + [text("  "), number(eq.b[i])]
+            for i, r in enumerate(eq.rows)]
+    out.append(block(table([[text("")] + symbols + [text(""), text("b")]] + rows)))
+    out.append(block(table([[s, "<mo>=</mo>", number(v)]
+                            for s, v in zip(symbols, eq.solution.values())])))
+    return "\n".join(out) + "\n"
 
 
 def equations(mech, theta=None, omega=None, alpha=None, *loads, **named) -> Equations:
@@ -104,32 +216,27 @@ def equations(mech, theta=None, omega=None, alpha=None, *loads, **named) -> Equa
     if any(np.ndim(v) for v in values):
         raise InputError("equations are of one state: give each input one value")
     values = [float(v) for v in values]
+    state = dict(zip(mech.input_names, values))
     theta, omega, alpha, loads = evaluation.split(mech, values)
     if mech.rates:
         st = evaluation.kinematics(mech, theta, 2, SCALAR, tuple(zip(omega, alpha)))
         omega, alpha = 1.0, 0.0
     else:
         st = evaluation.kinematics(mech, theta, 2, SCALAR)
-    W = wrenches(mech, st, omega, alpha, evaluation.every_load(mech, given, loads), False)
-    n, entries, rhs = kinetostatics.equilibrium_entries(mech, st, W)
+    every = evaluation.every_load(mech, given, loads)
+    W = wrenches(mech, st, omega, alpha, every, False)
+    about = {link: grp.moment_point(link) for grp in mech.groups for link in grp.links}
+    n, entries, rhs = kinetostatics.equilibrium_entries(mech, st, W, about, 1.0)
     A, b = np.zeros((n, n)), np.zeros(n)
     for r, c, v in entries:
         A[r, c] += v
     for r, v in rhs:
         b[r] += v
-    L = mech.length_scale
-    rows, columns = np.ones(n), np.ones(n)  # the scaling of equilibrium_entries, undone
-    rows[2::3] = L
-    names = []
-    for k, j in enumerate(mech.joints):
-        names += [f"{c}_{j.name}" for c in j.components]
-        columns[2 * k + 1] = j.column_scale(L)
-    for k, e in enumerate(mech.efforts):
-        names.append(e.name)
-        columns[2 * len(mech.joints) + k] = L if e.direction is None else 1.0
+    names = [f"{c}_{j.name}" for j in mech.joints for c in j.components]
+    names += [e.name for e in mech.efforts]
     labels = []
     for body in mech.bodies:
         labels += [f"link {body.name}: ΣFx", f"link {body.name}: ΣFy",
-                   f"link {body.name}: ΣM about {mech.cg[body.name]}"]
-    return Equations(mech.name, tuple(names), tuple(labels),
-                     rows[:, None] * A / columns[None, :], rows * b)
+                   f"link {body.name}: ΣM about {about[body.name]}"]
+    fb = free_bodies(mech, st, omega, alpha, every, tuple(names), about)
+    return Equations(mech.name, tuple(names), tuple(labels), A, b, state, fb)

@@ -24,7 +24,7 @@ import numpy as np
 
 from . import linalg
 from .groups import KinematicState
-from .groups.base import push
+from .groups.base import moment_about, push
 from .numerics import Number
 
 
@@ -120,16 +120,18 @@ def effort_coefficient(mech, st: KinematicState):
     return e.direction[0] * x1 + e.direction[1] * y1
 
 
-def equilibrium_entries(mech, st: KinematicState, W: dict | None = None):
+def equilibrium_entries(mech, st: KinematicState, W: dict | None = None,
+                        about: dict | None = None, scale=None):
     """The equations of all moving links as the nonzero entries of ``A x = b``.
 
-    Rows: per moving body, forces x, y and the moment about its centre of mass divided
-    by the mechanism's length scale ``L``. Columns: the joint reactions in
+    Rows: per moving body, forces x, y and the moment about its centre of mass (or the
+    point ``about[body]``) divided by the length scale ``L`` (``scale``, by default the
+    mechanism's; 1 gives the equations in SI units). Columns: the joint reactions in
     ``mech.joints`` order (couples of prismatic pairs divided by ``L``), then each of
     ``mech.efforts`` (divided by ``L`` if it is a moment; a driver's reaction on its
     base with the opposite sign). This scaling keeps every
     entry of ``A`` of order one. Values are whatever ``st`` and ``W`` hold (floats,
-    arrays over states, or mpmath numbers).
+    arrays over states, traced or mpmath numbers).
 
     Returns
     -------
@@ -146,12 +148,13 @@ def equilibrium_entries(mech, st: KinematicState, W: dict | None = None):
     >>> n, len(a), b
     (9, 25, [])
     """
-    L = mech.length_scale
+    L = mech.length_scale if scale is None else scale
     rows = {b.name: 3 * i for i, b in enumerate(mech.bodies)}
+    centre = dict(mech.cg, **(about or {}))
     a = []
 
     def arm(point, body):
-        (px, py), (sx, sy) = st.p[point], st.p[mech.cg[body]]
+        (px, py), (sx, sy) = st.p[point], st.p[centre[body]]
         return (px - sx) / L, (py - sy) / L
 
     col = 0
@@ -180,6 +183,8 @@ def equilibrium_entries(mech, st: KinematicState, W: dict | None = None):
         for body in mech.bodies:
             r = rows[body.name]
             fx, fy, m = W[body.name]
+            if centre[body.name] != mech.cg[body.name]:  # W's moment is about the cg
+                fx, fy, m = moment_about(mech, st, W, body.name, centre[body.name])
             b += [(r, -fx), (r + 1, -fy), (r + 2, -m / L)]
     return 3 * len(mech.bodies), a, b
 

@@ -99,6 +99,11 @@ class Pair(ABC):
         body ``b``, -1 for body ``a``; ``arm`` the pair's point from the body's centre of
         mass, over the length scale."""
 
+    @abstractmethod
+    def reaction(self, st, first, second) -> tuple:
+        """The action of ``a`` on ``b`` of the components ``first``, ``second`` (numbers
+        or symbols) as ``(fx, fy, m)``: a force at the pair's point and a couple."""
+
     # -- friction ----------------------------------------------------------------------
     @abstractmethod
     def friction_rule(self, radius, length) -> str:
@@ -169,6 +174,9 @@ class Revolute(Pair):
         ax, ay = arm
         return [(row, col, sign), (row + 2, col, -sign * ay),
                 (row + 1, col + 1, sign), (row + 2, col + 1, sign * ax)]
+
+    def reaction(self, st, first, second):
+        return first, second, 0
 
     def friction_rule(self, radius, length):
         if length is not None or radius is None:
@@ -258,6 +266,10 @@ class Prismatic(Pair):
         nx, ny = self.normal_at(st)
         return [(row, col, sign * nx), (row + 1, col, sign * ny),
                 (row + 2, col, sign * (ax * ny - ay * nx)), (row + 2, col + 1, sign)]
+
+    def reaction(self, st, first, second):
+        nx, ny = self.normal_at(st)
+        return first * nx, first * ny, second
 
     def friction_rule(self, radius, length):
         if radius is not None:

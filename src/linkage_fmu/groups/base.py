@@ -581,6 +581,22 @@ class Group(ABC):
         """
         raise InputTypeError(f"{type(self).__name__} is no driver (DRIVER = False)")
 
+    def moment_point(self, link: str) -> str:
+        """The point about which the equilibrium equations of its ``link`` take moments,
+        as the source documents choose it: the pair by which the link hangs on what is
+        placed before the group (a crank's pivot, a dyad link's outer joint), else the
+        link's first pair in the group (a slider's pin).
+
+        Examples
+        --------
+        >>> from linkage_fmu.groups import RRR
+        >>> g = RRR("2", "3", "B", "C", "D", 0.3, 0.2, 1)
+        >>> g.moment_point("2"), g.moment_point("3")
+        ('B', 'D')
+        """
+        points = [j.point for j in self.joints if link in (j.a, j.b)]
+        return next((p for p in points if p in self.needs), points[0])
+
     def attach(self, before: tuple, frame_points: dict) -> None:  # noqa: B027 (optional hook)
         """Called by the mechanism with the groups ``before`` this one (in order) and
         its frame points (name -> ``(x, y)``): a group that needs to place the points
