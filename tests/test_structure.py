@@ -232,11 +232,11 @@ LAYERS = (
     ("the physics", {"kinetostatics", "friction", "diagnostics", "ranges", "motion",
                      "driven_motion", "flywheel", "free_body"}),
     ("the formula sequence", {"inputs", "evaluation"}),
-    ("solving", {"solver", "precise", "equations"}),
+    ("solving", {"solver", "precise", "equations", "equation_files", "effort_places"}),
     ("the mechanism", {"mechanism"}),
     ("descriptions", {"descriptions"}),
     ("applications", {"presets", "fmi", "sweep", "optimize", "plot", "manual", "cli",
-                      "__main__", ""}),
+                      "report", "__main__", ""}),
 )
 
 

@@ -20,13 +20,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import evaluation, kinetostatics
+from .equation_files import LANGUAGES, function_file
 from .errors import InputError
 from .free_body import FreeBodies, free_bodies
 from .loads import wrenches
 from .numerics import SCALAR
 
 #: what :meth:`Equations.to` writes
-FORMATS = ("text", "markdown", "latex", "mathml")
+FORMATS = ("text", "markdown", "latex", "mathml", "matlab", "python")
 
 
 @dataclass(frozen=True)
@@ -44,6 +45,7 @@ class Equations:
     b: np.ndarray
     state: dict = field(default_factory=dict)
     free_bodies: FreeBodies | None = field(default=None, repr=False)
+    mech: object = field(default=None, repr=False, compare=False)
 
     @property
     def solution(self) -> dict:
@@ -78,10 +80,14 @@ class Equations:
         * ``"latex"``: each link's equations (``align*``), ``A`` and ``b``
           (``bmatrix``) and the solution;
         * ``"mathml"``: the same in MathML (``<math display="block">`` elements, for a
-          web page).
+          web page);
+        * ``"matlab"``, ``"python"``: a function file of the linkage's inputs returning
+          ``A \\ b`` (:func:`~linkage_fmu.equation_files.function_file`).
         """
         if fmt not in FORMATS:
             raise InputError(f"format {fmt!r}: the formats are {', '.join(FORMATS)}")
+        if fmt in LANGUAGES:
+            return function_file(self.mech, self.state, self.unknowns, fmt)
         return {"text": _text, "markdown": _markdown, "latex": _latex,
                 "mathml": _mathml}[fmt](self)
 
@@ -239,4 +245,4 @@ def equations(mech, theta=None, omega=None, alpha=None, *loads, **named) -> Equa
         labels += [f"link {body.name}: ΣFx", f"link {body.name}: ΣFy",
                    f"link {body.name}: ΣM about {about[body.name]}"]
     fb = free_bodies(mech, st, omega, alpha, every, tuple(names), about)
-    return Equations(mech.name, tuple(names), tuple(labels), A, b, state, fb)
+    return Equations(mech.name, tuple(names), tuple(labels), A, b, state, fb, mech)

@@ -165,6 +165,44 @@ def python_source(tape: Tape, arguments: list[str], results: list,
     ])
 
 
+class RaisingPrinter(PythonPrinter):
+    """A :class:`PythonPrinter` whose failed guard raises ``ValueError`` with its
+    reason (a function file for a user's own use, not a kernel)."""
+
+    def __init__(self, tape: Tape, guards: dict, codes: dict, reasons: dict,
+                 bodies: dict | None = None):
+        super().__init__(tape, guards, codes, bodies)
+        self.reasons = reasons
+
+    def guard(self, i, indent):
+        test = f"{'not ' if self.guards[i] else ''}t{i}"
+        return f"{indent}if {test}: raise ValueError({self.reasons[i]!r})"
+
+
+def python_statements(tape: Tape, results: list, indent: str = "    ") -> tuple:
+    """The statements computing ``results`` (Syms of ``tape``, or floats) from the
+    tape's inputs, named as they are, the parameter step's first, a failed guard a
+    ``ValueError`` with its reason; and the expression of each result.
+
+    Examples
+    --------
+    >>> from linkage_fmu.kernels.trace import TRACE
+    >>> tape = Tape()
+    >>> x, L = tape.input("x", 4.0), tape.input("L", 2.0, parameter=True)
+    >>> lines, out = python_statements(tape, [TRACE.sqrt(x) * (L * 3.0)])
+    >>> print(*lines, sep=chr(10)); out
+        t4 = L * 3.0
+        t2 = sqrt(x)
+        t5 = t2 * t4
+    ['t5']
+    """
+    prog = program(tape, results)
+    reasons = {i: tape.reason(i).text for i in prog.guards}
+    printer = RaisingPrinter(tape, prog.guards, prog.codes, reasons, prog.bodies)
+    lines = printer.statements(prog.prepare, indent) + printer.statements(prog.state, indent)
+    return lines, values(tape, results, _literal)
+
+
 def compile_source(source: str, label: str = "kernel", externs: dict | None = None):
     """The functions ``prepare`` and ``make`` defined by the generated ``source`` (our
     own code, never a file's), which calls the functions ``externs`` (name -> function)
