@@ -1,9 +1,10 @@
-"""One command line over the library: ``linkage-fmu
-info|table|sweep|optimize|plot|animate|simulate|flywheel|build|check|reference``.
+"""One command line over the library: ``linkage-fmu info|table|equations|efforts|report|
+sweep|optimize|plot|animate|simulate|flywheel|build|check|reference``.
 
 Every command takes a description file or a preset name; ``--set NAME=VALUE`` overrides
 a parameter, and each load of the linkage is an option ``--NAME VALUE`` of ``table``,
-``sweep``, ``optimize``, ``plot``, ``animate``, ``simulate`` and ``flywheel`` (listed by
+``equations``, ``efforts``, ``report``, ``sweep``, ``optimize``, ``plot``, ``animate``,
+``simulate`` and ``flywheel`` (listed by
 their ``--help`` once the linkage is named). Values may carry units and be expressions,
 as in a description file: ``--set l_AB=120mm``, ``--set gamma=pi/2``,
 ``--omega "1800 rpm"``, ``--F_P "0.2 kN"``, ``--theta "0:360:15 deg"``; plain numbers are
@@ -36,6 +37,7 @@ from .descriptions import Description, DescriptionError
 from .descriptions.assur import outline
 from .descriptions.checker import driver_efforts
 from .drivers import MEANINGS, one_crank
+from .equations import FORMATS
 from .errors import LinkageFmuError
 from .expressions import evaluate
 from .printing import number
@@ -136,7 +138,7 @@ def speeds(args) -> tuple:
 
 #: the commands that take the loads of the linkage as options
 LOAD_COMMANDS = ("table", "equations", "sweep", "optimize", "plot", "animate", "simulate",
-                 "flywheel")
+                 "flywheel", "report", "efforts")
 
 
 def _load_options(parser: argparse.ArgumentParser, d: Description) -> None:
@@ -375,8 +377,40 @@ def build_parser() -> Parser:
                      help="the crank angle: a value (rad; with --deg or a unit, deg)")
     eqs.add_argument("--deg", action="store_true", help="--theta in degrees")
     _motion(eqs)
-    eqs.add_argument("--format", choices=("text", "markdown"), default="text")
-    eqs.add_argument("-o", "--output", help="write it to FILE (default: print it)")
+    eqs.add_argument("--format", choices=FORMATS, default="text",
+                     help="text or markdown (the a(i, j) and b(i) table, each link's free "
+                          "body and equations, the solution), latex, mathml, or a function "
+                          "file of the inputs returning A \\ b: matlab (Octave, MATLAB) or "
+                          "python (numpy)")
+    eqs.add_argument("-o", "--output", help="write it to FILE (default: print it); a "
+                                            "matlab function file is NAME.m, NAME the "
+                                            "linkage's")
+
+    efforts = sub.add_parser("efforts", help="where to put the balancing effort: each place "
+                             "(a moment on a link, a force along a slider's guide) with its "
+                             "peak effort, bearing reactions and power over the angles, and "
+                             "the place with the lowest peak reaction", epilog=EPILOG,
+                             formatter_class=argparse.RawDescriptionHelpFormatter)
+    _linkage(efforts, linkage_help)
+    _revolution(efforts)
+    efforts.add_argument("--csv", action="store_true", help="print CSV instead of a table")
+    efforts.add_argument("-o", "--output", help="write the table to FILE.csv or FILE.parquet")
+
+    report = sub.add_parser("report", help="a web page of its kinetostatics: parameters, "
+                            "picture, groups, the equations at chosen angles (MathML), the "
+                            "table over the cycle, curves and extremes, where to put the effort",
+                            epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    _linkage(report, linkage_help)
+    report.add_argument("-o", "--output", required=True, metavar="DIR",
+                        help="write DIR/index.html and its PNG pictures (DIR is made)")
+    report.add_argument("--positions", default="60,150,220",
+                        help="the crank angles of the equations, in degrees: a,b,c or "
+                             "START:STOP:STEP (default 60,150,220)")
+    _motion(report)
+    report.add_argument("--variants", metavar="FILE.csv",
+                        help="one report per row (a column per parameter, an optional first "
+                             "column 'variant' naming it) in DIR/<variant>/, and DIR/index.html "
+                             "comparing them")
 
     sweep = sub.add_parser("sweep", help="many designs over a revolution, summarised",
                            epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -576,8 +610,12 @@ def _main(argv: list[str] | None) -> int:
             one_crank(d.build(), f"linkage-fmu {args.command}")  # driven by time
         if args.command == "equations":
             return _equations(d, args)
+        if args.command == "efforts":
+            return _efforts(d, args)
         if args.command == "sweep":
             return _sweep(d, args)
+        if args.command == "report":
+            return _report(d, args)
         if args.command == "optimize":
             return _optimize(d, args)
         if args.command == "plot":
@@ -775,6 +813,29 @@ def _table(d: Description, args) -> int:
     return _emit(df, args)
 
 
+def _report(d: Description, args) -> int:
+    """``linkage-fmu report``: the web page of the linkage, or one per variant."""
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        raise UsageError('a report draws with matplotlib: pip install "linkage_fmu[plot]"') \
+            from None
+    from .report import write_report, write_variants
+
+    positions, unit = typed(args.positions, "--positions")
+    if unit not in ("", "deg", "°"):
+        raise UsageError(f"--positions {args.positions!r}: degrees, without another unit")
+    mech = d.build(**dict(args.params))
+    omega, alpha = speeds(args)
+    if args.variants:
+        path = write_variants(mech, args.variants, args.output, positions.tolist(), omega,
+                              alpha, **loads(args))
+    else:
+        path = write_report(mech, args.output, positions.tolist(), omega, alpha, **loads(args))
+    print(f"wrote {path}", file=sys.stderr)
+    return 0
+
+
 def _equations(d: Description, args) -> int:
     """``linkage-fmu equations``: the labelled system at one crank angle, written out."""
     from .equations import equations
@@ -790,6 +851,19 @@ def _equations(d: Description, args) -> int:
         Path(args.output).write_text(text, encoding="utf-8")
     else:
         sys.stdout.write(text)
+    return 0
+
+
+def _efforts(d: Description, args) -> int:
+    """``linkage-fmu efforts``: the places of the balancing effort over the angles (a
+    revolution without --theta), and the recommended one."""
+    from .effort_places import effort_places, recommend
+
+    theta = revolution(args.n) if args.theta is None else angles(args.theta, 1, args.deg)
+    omega, alpha = speeds(args)
+    table = effort_places(d.build(**dict(args.params)), theta, omega, alpha, **loads(args))
+    _emit(table, args)
+    print(f"recommended: {recommend(table)[1]}")
     return 0
 
 

@@ -25,6 +25,7 @@ from .errors import InputError
 from .free_body import FreeBodies, free_bodies
 from .loads import wrenches
 from .numerics import SCALAR
+from .printing import number
 
 #: what :meth:`Equations.to` writes
 FORMATS = ("text", "markdown", "latex", "mathml", "matlab", "python")
@@ -34,9 +35,10 @@ FORMATS = ("text", "markdown", "latex", "mathml", "matlab", "python")
 class Equations:
     """``A x = b`` of a linkage at one state: ``unknowns`` (column labels), ``rows``
     (row labels, ``"link 2: ΣFx"``), ``A`` and ``b`` (numpy, SI), ``state`` (each input
-    -> its value), ``free_bodies`` (:class:`~linkage_fmu.free_body.FreeBodies`, the
-    equations symbolically); :attr:`solution` (unknown -> value, ``A \\ b``),
-    :attr:`residual`, :attr:`det` and :attr:`cond`; :meth:`to` writes it out."""
+    -> its value), ``units`` (each unknown's), ``free_bodies``
+    (:class:`~linkage_fmu.free_body.FreeBodies`, the equations symbolically);
+    :attr:`solution` (unknown -> value, ``A \\ b``), :attr:`residual`, :attr:`det`
+    and :attr:`cond`; :meth:`to` writes it out."""
 
     name: str
     unknowns: tuple
@@ -46,6 +48,7 @@ class Equations:
     state: dict = field(default_factory=dict)
     free_bodies: FreeBodies | None = field(default=None, repr=False)
     mech: object = field(default=None, repr=False, compare=False)
+    units: tuple = ()
 
     @property
     def solution(self) -> dict:
@@ -163,34 +166,69 @@ def _latex(eq: Equations) -> str:
     return "\n".join(out) + "\n"
 
 
+def _mi(name: str) -> str:
+    """A name in MathML: ``Fx_A`` as Fx with the subscript A."""
+    base, sep, sub = name.partition("_")
+    if sep and base and sub:
+        return f"<msub><mi>{html.escape(base)}</mi><mi>{html.escape(sub)}</mi></msub>"
+    return f"<mi>{html.escape(name)}</mi>"
+
+
+def _mn(value: float, scale: float = 0.0) -> str:
+    """A number in MathML, 0 where it is within rounding of 0 against ``scale``."""
+    text = number(value, 6, scale=scale)
+    if text == "0":
+        return '<mn class="zero">0</mn>'
+    if text.startswith("-"):
+        return f"<mrow><mo>−</mo><mn>{html.escape(text[1:])}</mn></mrow>"
+    return f"<mn>{html.escape(text)}</mn>"
+
+
 def _mathml(eq: Equations) -> str:
-    import sympy
+    """Each link's free body and equations, ``A | b`` with its rows and columns
+    labelled, the solution with its units, then the residual, det A and cond A."""
     from sympy.printing.mathml import mathml
 
-    def block(inner: str) -> str:
-        return f'<math display="block">{inner}</math>'
+    def sym(expr) -> str:
+        return mathml(expr, printer="presentation")
 
     def text(s: str) -> str:
         return f"<mtext>{html.escape(s)}</mtext>"
 
-    def table(rows) -> str:
-        return "<mtable>" + "".join("<mtr>" + "".join(f"<mtd>{c}</mtd>" for c in r) +
-                                    "</mtr>" for r in rows) + "</mtable>"
-
-    def number(v: float) -> str:
-        return f"<mn>{_g(v)}</mn>" if v >= 0 else f"<mo>-</mo><mn>{_g(-v)}</mn>"
-
-    out = [f"<p>{html.escape(eq.title())}</p>"]
-    for link, _, equations in _by_link(eq):
+    out = []
+    for link, actions, equations in _by_link(eq):
         about = eq.free_bodies.about[link]
-        out.append(f"<p>link {html.escape(link)}, moments about {html.escape(about)}</p>")
-        out.append(block(table([[mathml(e, printer="presentation")] for e in equations])))
-    symbols = [mathml(sympy.Symbol(u), printer="presentation") for u in eq.unknowns]
-    rows = [[text(r)] + [number(v) for v in eq.A[i]] + [text("  "), number(eq.b[i])]
-            for i, r in enumerate(eq.rows)]
-    out.append(block(table([[text("")] + symbols + [text(""), text("b")]] + rows)))
-    out.append(block(table([[s, "<mo>=</mo>", number(v)]
-                            for s, v in zip(symbols, eq.solution.values())])))
+        rows = "".join(
+            f"<mtr><mtd>{text(a.what)}</mtd><mtd>" + (
+                f"<mrow><mo>(</mo>{sym(a.fx)}<mo>,</mo>{sym(a.fy)}<mo>)</mo></mrow>"
+                if a.at else sym(a.m)) + "</mtd></mtr>" for a in actions)
+        out.append(f"<p>link {html.escape(link)}: its free body, and its equations with the "
+                   f"moments about {html.escape(about)}</p>")
+        out.append(f'<math display="block" data-part="free body"><mtable>{rows}</mtable>'
+                   "</math>")
+        out.append('<math display="block" data-part="link equations"><mtable>' + "".join(
+            f"<mtr><mtd>{sym(e)}</mtd></mtr>" for e in equations) + "</mtable></math>")
+    head = '<mtr class="head"><mtd><mtext>equation</mtext></mtd>' + "".join(
+        f"<mtd>{_mi(u)}</mtd>" for u in eq.unknowns) + '<mtd class="b"><mi>b</mi></mtd></mtr>'
+    rows, b_scale = [], float(np.max(np.abs(eq.b)))
+    for i, label in enumerate(eq.rows):
+        scale = float(np.max(np.abs(eq.A[i])))
+        rows.append(f'<mtr><mtd class="label">{text(label)}</mtd>'
+                    + "".join(f"<mtd>{_mn(v, scale)}</mtd>" for v in eq.A[i])
+                    + f'<mtd class="b">{_mn(eq.b[i], b_scale)}</mtd></mtr>')
+    out.append('<math display="block" data-part="matrix"><mrow><mi>A</mi><mo>|</mo><mi>b</mi>'
+               f"<mo>=</mo><mtable>{head}{''.join(rows)}</mtable></mrow></math>")
+    scale = max(map(abs, eq.solution.values()))
+    rows = "".join(
+        f'<mtr data-unknown="{html.escape(u)}"><mtd>{_mi(u)}</mtd><mtd><mo>=</mo></mtd>'
+        f'<mtd style="text-align: right">{_mn(v, scale)}</mtd><mtd class="label">'
+        f"{text(unit)}</mtd></mtr>"
+        for (u, v), unit in zip(eq.solution.items(), eq.units))
+    out.append('<math display="block" data-part="solution"><mrow><mi>x</mi><mo>=</mo>'
+               "<msup><mi>A</mi><mrow><mo>−</mo><mn>1</mn></mrow></msup><mi>b</mi><mo>:</mo>"
+               f"<mtable>{rows}</mtable></mrow></math>")
+    out.append(f"<p>residual max|A x − b| = {number(eq.residual, 3)}, det A = "
+               f"{number(eq.det, 6)}, cond A = {number(eq.cond, 3)}</p>")
     return "\n".join(out) + "\n"
 
 
@@ -245,4 +283,6 @@ def equations(mech, theta=None, omega=None, alpha=None, *loads, **named) -> Equa
         labels += [f"link {body.name}: ΣFx", f"link {body.name}: ΣFy",
                    f"link {body.name}: ΣM about {about[body.name]}"]
     fb = free_bodies(mech, st, omega, alpha, every, tuple(names), about)
-    return Equations(mech.name, tuple(names), tuple(labels), A, b, state, fb, mech)
+    units = tuple("N.m" if c == "M" else "N" for j in mech.joints for c in j.components)
+    units += tuple(mech.output_info[e.name][0] for e in mech.efforts)
+    return Equations(mech.name, tuple(names), tuple(labels), A, b, state, fb, mech, units)
