@@ -24,6 +24,7 @@ from linkage_fmu.equations import equations
 from linkage_fmu.errors import InputError
 from linkage_fmu.friction import Reactions
 from linkage_fmu.friction import outputs as friction_outputs
+from linkage_fmu.pairs import Prismatic, Revolute
 
 #: angle [deg] -> FR23, FR4, FR12x, FR12y, Mb of the worked example
 WORKED = {60: (313.3975, 195.8734, 20.0000, 278.7564, 15.6699),
@@ -71,8 +72,9 @@ def test_what_it_cannot_write_is_refused_with_the_reason():
         equations(yoke, [0.1, 0.2], 10.0)
     with pytest.raises(InputError, match="format 'pdf': the formats are text, markdown"):
         equations(yoke, 0.1, 10.0).to("pdf")
-    with pytest.raises(InputError, match="with friction are not written yet"):
-        equations(presets.get("scotch_yoke", mu_slot=0.1), 0.1, 10.0)
+    with pytest.raises(InputError, match="a function file of its equations with friction "
+                       "is not written"):
+        equations(presets.get("scotch_yoke", mu_slot=0.1), 0.1, 10.0).to("matlab")
 
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
@@ -192,3 +194,55 @@ def test_the_four_bar_s_table_is_the_worked_example_s():
     ours = got[:, :9][:, order] * np.array(sign)
     assert ours == pytest.approx(a, rel=1e-5, abs=1e-6 * np.max(np.abs(a)))
     assert got[:, 9] == pytest.approx(b, rel=1e-5, abs=1e-6 * np.max(np.abs(b)))
+
+
+def with_friction(name: str):
+    """The preset ``name`` with mu 0.1 in every pair and pins of radius 10 mm."""
+    params = presets.preset(name).parameters
+    return presets.get(name, **{k: 0.1 if k.startswith("mu_") else 0.01 for k in params
+                                if k.startswith(("mu_", "r_"))})
+
+
+@pytest.mark.parametrize("name", presets.names())
+def test_with_friction_the_system_at_the_solution_is_solve_s(name):
+    """With friction (mu 0.1, pins of 10 mm): at random states A x = b at the solution
+    to 1e-12 |b|, x equal to ``solve``'s to 1e-12 of its largest value, the symbolic
+    system equal to the numeric to 1e-13, and each friction law, at the solution,
+    equal to the solver's friction to 1e-12 of the largest."""
+    mech = with_friction(name)
+    assert mech.friction.active
+    for k, (state, _) in enumerate(random_states(mech, 3, seed=5)):
+        eq = equations(mech, **state)
+        x = np.linalg.solve(eq.A, eq.b)
+        assert np.max(np.abs(eq.A @ x - eq.b)) <= 1e-12 * np.max(np.abs(eq.b))
+        direct = mech.solve(**state)
+        assert x[-1] == pytest.approx(direct[mech.efforts[0].name], rel=1e-12)
+        values = eq.free_bodies.values
+        solved = dict(zip(eq.free_bodies.unknowns, x))
+        frictions = [float(values[law.lhs]) for law in eq.free_bodies.laws]
+        assert frictions, "a friction law per pair that rubs"
+        for law, f in zip(eq.free_bodies.laws, frictions):
+            assert f == pytest.approx(direct[str(law.lhs)], abs=1e-12 * max(map(abs, frictions)))
+            at = float(law.rhs.subs(values).subs(solved))
+            assert at == pytest.approx(f, abs=1e-12 * max(map(abs, frictions)))
+        if k:
+            continue
+        A, b = eq.symbolic()
+        An = np.array(A.subs(values).evalf(30), dtype=float)
+        bn = np.array(b.subs(values).evalf(30), dtype=float).ravel()
+        assert np.max(np.abs(An - eq.A)) <= 1e-13 * np.max(np.abs(eq.A))
+        assert np.max(np.abs(bn - eq.b)) <= 1e-13 * np.max(np.abs(eq.b))
+
+
+@pytest.mark.parametrize("length", [None, 0.05])
+def test_each_pair_s_friction_formula_is_its_law(length):
+    """The law shown (Pair.friction_formula) equals the one solved (friction_law) at
+    random reactions, to 1e-14 relative."""
+    rng = np.random.default_rng(1)
+    pin, slider = Revolute("B", "B", "1", "2"), Prismatic("P", "C", "1", "4", (0.0, 1.0))
+    for _ in range(50):
+        a, b, s = rng.uniform(-100, 100), rng.uniform(-10, 10), rng.choice([-1.0, 1.0])
+        for pair, radius in ((pin, 0.01), (slider, None)):
+            law = pair.friction_law(np, 0.15, radius, length, s, (a, b), 1e-300)[0]
+            shown = pair.friction_formula(np, 0.15, radius, length, s, a, b)
+            assert shown == pytest.approx(law, rel=1e-14)

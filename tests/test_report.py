@@ -190,7 +190,7 @@ def test_the_equations_and_where_to_put_the_effort_are_in_the_page(reports):
     assert 'data-part="recommendation"><strong>OA</strong>' in text
 
 
-def test_a_linkage_driven_by_time_is_refused_and_friction_leaves_out_the_equations(tmp_path):
+def test_a_linkage_driven_by_time_is_refused_and_friction_is_in_the_equations(tmp_path):
     five = presets.linkage(ROOT / "examples" / "five_bar.toml")
     with pytest.raises(InputError, match="five_bar is driven by time .*: a report takes a "
                                          "linkage driven by one crank"):
@@ -198,8 +198,8 @@ def test_a_linkage_driven_by_time_is_refused_and_friction_leaves_out_the_equatio
     rough = presets.get("scotch_yoke", mu_A=0.1, r_A=0.01)
     page = write_report(rough, tmp_path / "rough", positions=[60.0], omega=10.0, load=400.0)
     text = page.read_text(encoding="utf-8")
-    assert "The equations with friction in the joints are not written" in text
-    assert 'data-part="matrix"' not in text and "Mf_A [N.m]" in text
+    assert 'data-part="matrix"' in text and "Mf_A [N.m]" in text
+    assert text.count('data-part="friction"') == 1  # the law of the pin A's friction
 
 
 # -- in a browser ---------------------------------------------------------------------

@@ -76,6 +76,11 @@ def function_file(mech, state: dict, unknowns: tuple, language: str = "matlab") 
     """
     if language not in LANGUAGES:
         raise InputError(f"language {language!r}: the languages are {', '.join(LANGUAGES)}")
+    if mech.friction.active:
+        raise InputError(f"{mech.name}: a function file of its equations with friction is "
+                         "not written (each friction depends on the reactions it is part of: "
+                         "the solver iterates); its text, LaTeX and MathML are, at the "
+                         "solution")
     names = [n for n in mech.kernel_parameters]
     taken = [n for n in (*names, *state) if re.fullmatch(r"t\d+|k\d+|\w+_eq|pick|sign", n)]
     if taken:

@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import evaluation, kinetostatics
+from . import evaluation, friction, kinetostatics
 from .equation_files import LANGUAGES, function_file
 from .errors import InputError
 from .free_body import FreeBodies, free_bodies
@@ -136,6 +136,10 @@ def _text(eq: Equations, markdown: bool = False) -> str:
         lines += [f"  {a.what}: " + (f"({a.fx}, {a.fy})" if a.at else f"{a.m}")
                   for a in actions]
         lines += [f"  {e.lhs} = 0" for e in equations]
+    if eq.free_bodies.laws:
+        lines += ["", "friction, at the solution (s: the sign of the pair's motion):"]
+        lines += [f"  {law.lhs} = {law.rhs} = {_g(eq.free_bodies.values[law.lhs])}"
+                  for law in eq.free_bodies.laws]
     lines += ["", "solution:"] + [f"  {u} = {_g(v)}" for u, v in eq.solution.items()]
     lines.append(f"residual {eq.residual:.3g}, det A {_g(eq.det)}, cond {eq.cond:.3g}")
     text = "\n".join(lines) + "\n"
@@ -155,6 +159,12 @@ def _latex(eq: Equations) -> str:
         out += [f"% link {link}, moments about {about}", "\\begin{align*}"]
         out += ["  " + sympy.latex(e.lhs) + " &= 0" + (" \\\\" if k < 2 else "")
                 for k, e in enumerate(equations)]
+        out.append("\\end{align*}")
+    if eq.free_bodies.laws:
+        out += ["% friction, at the solution (s: the sign of the pair's motion)",
+                "\\begin{align*}"]
+        out += ["  " + sympy.latex(law.lhs) + " &= " + sympy.latex(law.rhs) + " = "
+                + _g(eq.free_bodies.values[law.lhs]) + " \\\\" for law in eq.free_bodies.laws]
         out.append("\\end{align*}")
     rows = [" & ".join(_g(v) for v in r) for r in eq.A]
     out += ["\\[", "\\begin{bmatrix}", " \\\\\n".join(rows), "\\end{bmatrix}",
@@ -208,6 +218,13 @@ def _mathml(eq: Equations) -> str:
                    "</math>")
         out.append('<math display="block" data-part="link equations"><mtable>' + "".join(
             f"<mtr><mtd>{sym(e)}</mtd></mtr>" for e in equations) + "</mtable></math>")
+    if eq.free_bodies.laws:
+        out.append("<p>the friction in the pairs, at the solution (s: the sign of the "
+                   "pair's motion)</p>")
+        out.append('<math display="block" data-part="friction"><mtable>' + "".join(
+            f"<mtr><mtd>{sym(law)}</mtd><mtd><mo>=</mo>"
+            f"{_mn(eq.free_bodies.values[law.lhs])}</mtd></mtr>"
+            for law in eq.free_bodies.laws) + "</mtable></math>")
     head = '<mtr class="head"><mtd><mtext>equation</mtext></mtd>' + "".join(
         f"<mtd>{_mi(u)}</mtd>" for u in eq.unknowns) + '<mtd class="b"><mi>b</mi></mtd></mtr>'
     rows, b_scale = [], float(np.max(np.abs(eq.b)))
@@ -249,9 +266,6 @@ def equations(mech, theta=None, omega=None, alpha=None, *loads, **named) -> Equa
     >>> round(eq.solution["Mb"], 4), round(eq.solution["Fy_B"], 4)
     (15.6699, 278.7564)
     """
-    if mech.friction.active:
-        raise InputError(f"{mech.name}: its equations with friction are not written yet; "
-                         "set every mu to 0")
     if mech.rates:
         values, given = mech.input_table.every((theta, omega, alpha, *loads), named)
     else:
@@ -269,6 +283,13 @@ def equations(mech, theta=None, omega=None, alpha=None, *loads, **named) -> Equa
         st = evaluation.kinematics(mech, theta, 2, SCALAR)
     every = evaluation.every_load(mech, given, loads)
     W = wrenches(mech, st, omega, alpha, every, False)
+    rubbing, signs = {}, {}
+    if mech.friction.active:  # each friction as its value at the solution
+        sol = mech.solve(**state, **{k: named[k] for k in given})
+        rubbing = {jf.joint.name: float(sol[jf.output]) for jf in mech.friction.joints}
+        for jf in mech.friction.joints:
+            friction.apply(mech, st, W, jf, rubbing[jf.joint.name])
+        _, signs = friction.motion_signs(mech, st, omega, not (omega or alpha))
     about = {link: grp.moment_point(link) for grp in mech.groups for link in grp.links}
     n, entries, rhs = kinetostatics.equilibrium_entries(mech, st, W, about, 1.0)
     A, b = np.zeros((n, n)), np.zeros(n)
@@ -282,7 +303,7 @@ def equations(mech, theta=None, omega=None, alpha=None, *loads, **named) -> Equa
     for body in mech.bodies:
         labels += [f"link {body.name}: ΣFx", f"link {body.name}: ΣFy",
                    f"link {body.name}: ΣM about {about[body.name]}"]
-    fb = free_bodies(mech, st, omega, alpha, every, tuple(names), about)
+    fb = free_bodies(mech, st, omega, alpha, every, tuple(names), about, rubbing, signs)
     units = tuple("N.m" if c == "M" else "N" for j in mech.joints for c in j.components)
     units += tuple(mech.output_info[e.name][0] for e in mech.efforts)
     return Equations(mech.name, tuple(names), tuple(labels), A, b, state, fb, mech, units)

@@ -51,6 +51,9 @@ class FreeBodies:
     about: dict
     values: dict
     unknowns: tuple
+    #: each friction's law of its pair's reaction (sympy ``Eq``: ``Mf_B = ...``); its
+    #: value at the solution is in :attr:`values`
+    laws: tuple = ()
 
     def equations(self) -> list:
         """The left-hand sides of each link's ``ΣFx = 0``, ``ΣFy = 0`` and ``ΣM = 0``
@@ -97,13 +100,16 @@ def _arm(a: Action, xp, yp):
 
 
 def free_bodies(mech, st: KinematicState, omega: float, alpha: float, loads: list,
-                unknowns: tuple, about: dict) -> FreeBodies:
+                unknowns: tuple, about: dict, friction: dict | None = None,
+                signs: dict | None = None) -> FreeBodies:
     """The free bodies of ``mech``'s moving links at the state ``st`` (positions and,
     for a dynamic scene, derivatives; ``omega``, ``alpha`` the crank's, 1 and 0 for a
     linkage driven by time, whose ``st`` holds the rates), with the value of each of
     ``mech.loads`` in ``loads`` (None: computed at the state), the names of the
     ``unknowns`` (each pair's components in ``mech.joints`` order, then each effort)
-    and each link's moment point ``about``.
+    and each link's moment point ``about``. With friction, ``friction`` holds each
+    pair's friction at the solution and ``signs`` the sign of its motion: the friction
+    acts on the links as a known value, and its law is in :attr:`FreeBodies.laws`.
 
     Examples
     --------
@@ -146,6 +152,7 @@ def free_bodies(mech, st: KinematicState, omega: float, alpha: float, loads: lis
 
     def act(body, what, at="", fx=0, fy=0, m=0):
         if body in actions:
+            fx, fy, m = (_exact(sympy.sympify(v)) for v in (fx, fy, m))
             actions[body].append(Action(what, at, fx, fy, m))
             if at:
                 used.add(at)
@@ -159,11 +166,31 @@ def free_bodies(mech, st: KinematicState, omega: float, alpha: float, loads: lis
     by = dict(zip(unknowns, (S(u) for u in unknowns)))
     names = iter(unknowns)
     for j in mech.joints:
-        fx, fy, m = (_exact(sympy.sympify(v)) for v in j.reaction(
-            symbolic, by[next(names)], by[next(names)]))
+        fx, fy, m = j.reaction(symbolic, by[next(names)], by[next(names)])
         for body, other, sign in ((j.b, j.a, 1), (j.a, j.b, -1)):
             act(body, f"reaction of {label(other)} on {body} at {j.point}", j.point,
                 sign * fx, sign * fy, sign * m)
+    laws = []
+    for jf in mech.friction.joints if friction else ():
+        if not jf.mu:  # no friction in this pair
+            continue
+        j = jf.joint
+        f = known(jf.output, friction[j.name])
+        what = f"friction {jf.output} in {j.point}"
+
+        def couple(body, v, what=what, j=j):
+            act(body, what if body == j.b else f"{what}, its reaction", m=v)
+
+        def force(body, point, fx, fy, what=what, j=j):
+            act(body, what if body == j.b else f"{what}, its reaction", point, fx, fy)
+
+        j.apply_friction(symbolic, f, couple, force)
+        c = [S(f"{k}_{j.name}") for k in j.components]
+        radius = known(f"r_{j.name}", jf.radius) if jf.radius else 0
+        length = None if jf.length is None else known(f"l_{j.name}", jf.length)
+        laws.append(sympy.Eq(f, j.friction_formula(
+            sympy, known(f"mu_{j.name}", jf.mu), radius, length,
+            known(f"s_{j.name}", signs[j.name]), *c)))
     for e in mech.efforts:
         x = by[next(names)]
         kind = "balancing moment" if e.direction is None else "balancing force"
@@ -202,4 +229,4 @@ def free_bodies(mech, st: KinematicState, omega: float, alpha: float, loads: lis
     for p in sorted(used):
         x, y = _point(p)
         values[x], values[y] = (float(c) for c in st.p[p])
-    return FreeBodies(actions, dict(about), values, tuple(by.values()))
+    return FreeBodies(actions, dict(about), values, tuple(by.values()), tuple(laws))

@@ -116,6 +116,12 @@ class Pair(ABC):
         derivatives by the reaction's two components."""
 
     @abstractmethod
+    def friction_formula(self, xp, mu, radius, length, s, first, second):
+        """The friction of :meth:`friction_law` written plainly, for the equations shown
+        (:mod:`linkage_fmu.free_body`): of the reaction's components ``first``,
+        ``second`` (symbols or numbers; ``xp.sqrt``, and ``abs``)."""
+
+    @abstractmethod
     def relative_motion(self, st, omega: Callable, velocity: Callable):
         """First-order coefficient of the motion friction opposes: of ``b`` relative to
         ``a``; ``omega(body)`` and ``velocity(body, point)`` give the bodies'."""
@@ -194,6 +200,9 @@ class Revolute(Pair):
         k = -mu * radius * s
         inv = 1.0 / xp.maximum(root, 1.0)
         return k * (big * root), k * p * inv, k * q * inv
+
+    def friction_formula(self, xp, mu, radius, length, s, first, second):
+        return -mu * radius * s * xp.sqrt(first * first + second * second)
 
     def relative_motion(self, st, omega, velocity):
         return omega(self.b) - omega(self.a)
@@ -284,6 +293,11 @@ class Prismatic(Pair):
         n1, n2 = 0.5 * a - b / length, 0.5 * a + b / length
         s1, s2 = xp.sign(n1), xp.sign(n2)
         return k * (xp.abs(n1) + xp.abs(n2)), k * 0.5 * (s1 + s2), k * (s2 - s1) / length
+
+    def friction_formula(self, xp, mu, radius, length, s, first, second):
+        if length is None:
+            return -mu * s * abs(first)
+        return -mu * s * (abs(first / 2 - second / length) + abs(first / 2 + second / length))
 
     def relative_motion(self, st, omega, velocity):
         (ax, ay), (bx, by) = velocity(self.a, self.point), velocity(self.b, self.point)

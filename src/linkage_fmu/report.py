@@ -13,9 +13,8 @@ changes no backend and keeps no figure.
 
 What a report takes: a linkage driven by one crank on the frame (one driven by time,
 several drivers, a motor or a cylinder, is refused: its outputs are not functions of
-one crank angle). With friction in its joints everything is reported but the
-equations, which :func:`~linkage_fmu.equations.equations` does not write with friction:
-the page says so where they would be.
+one crank angle). With friction in its joints, the equations hold each friction at the
+solution, and its law.
 """
 
 from __future__ import annotations
@@ -326,10 +325,6 @@ def _position(mech: "Mechanism", deg: float, inputs: dict, directory: Path,
         (False, True, False), f" data-part=\"outputs\" data-theta=\"{_e(label)}\"")
         + "</div>")
     out.append("<h4>Equilibrium equations</h4>")
-    if mech.friction.active:
-        return out + ["<p class=\"note\">The equations with friction in the joints are not "
-                      "written (the friction forces depend on the reactions they are part "
-                      "of); the outputs above include the friction.</p></section>"]
     loads = {k: v for k, v in inputs.items() if k not in ("omega", "alpha")}
     try:
         eq = equations(mech, math.radians(deg), inputs["omega"], inputs["alpha"], **loads)
