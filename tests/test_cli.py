@@ -833,6 +833,11 @@ def test_equations_prints_the_labelled_system_and_its_solution(tmp_path):
     status, _, _ = run(["equations", "scotch_yoke", "--theta", "60", "--deg", "--format",
                         "markdown", "-o", str(target)])
     assert status == 0 and "| i | equation | a(i, 1) |" in target.read_text()
+    target = tmp_path / "scotch_yoke.m"
+    status, _, _ = run(["equations", "scotch_yoke", "--theta", "60", "--deg", "--format",
+                        "matlab", "-o", str(target)])
+    assert status == 0 and target.read_text().startswith(
+        "function x = scotch_yoke(theta, omega, alpha, load)\n")
     status, _, err = run(["equations", "scotch_yoke", "--theta", "0:90:45", "--deg"])
     assert status == 2 and "the equations are of one state; give one angle" in err
     five = str(Path(__file__).resolve().parents[1] / "examples" / "five_bar.toml")

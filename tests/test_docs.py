@@ -5,15 +5,18 @@ are, and name their source documents for what they are."""
 from __future__ import annotations
 
 import importlib.util
+import io
 import os
 import re
 import subprocess
 import sys
+from contextlib import redirect_stdout
 from pathlib import Path
 
 import pytest
 
 import linkage_fmu
+from linkage_fmu import cli
 from test_readme import ROOT, blocks, broken_links, relative_links, run_block
 
 DOCS = ROOT / "docs"
@@ -182,6 +185,20 @@ def test_the_flywheel_report_shown_is_what_the_command_prints(tmp_path):
                          capture_output=True, text=True)
     assert run.returncode == 0, run.stderr
     assert run.stdout == command.group(2)
+
+
+def test_the_four_bar_s_table_shown_is_what_the_command_prints():
+    """The a(i, j) table on the show-the-work page under ``linkage-fmu equations four_bar
+    ...`` is the first lines of what that command prints today, line for line."""
+    page = (DOCS / "guide" / "show_the_work.md").read_text()
+    command = re.search(r"```sh\n(linkage-fmu equations four_bar [^\n]*)\n```\n\n"
+                        r"```text\n(.*?)```", page, flags=re.S)
+    assert command is not None
+    out = io.StringIO()
+    with redirect_stdout(out):
+        assert cli.main(command.group(1).split()[1:]) == 0
+    shown = command.group(2).splitlines()
+    assert out.getvalue().splitlines()[:len(shown)] == shown and len(shown) == 13
 
 
 def test_the_docstrings_roles_become_cross_references():

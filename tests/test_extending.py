@@ -39,8 +39,14 @@ class Hinge(Pair):
         return [(row, col, sign), (row + 1, col + 1, sign), (row + 2, col, -sign * ay),
                 (row + 2, col + 1, sign * ax)]
 
+    def reaction(self, st, first, second):
+        return first, second, 0
+
     def friction_rule(self, radius, length):
         return "a hinge has no friction"
+
+    def friction_formula(self, xp, mu, radius, length, s, first, second):
+        raise TypeError("a hinge has no friction")
 
     def friction_law(self, xp, mu, radius, length, s, reaction, tiny):
         raise TypeError("a hinge has no friction")

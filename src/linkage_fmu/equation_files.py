@@ -64,7 +64,8 @@ def function_file(mech, state: dict, unknowns: tuple, language: str = "matlab") 
     >>> import math
     >>> from linkage_fmu import presets
     >>> from linkage_fmu.equations import equations
-    >>> eq = equations(presets.get("scotch_yoke"), math.radians(60), 10.0, load=400.0)
+    >>> yoke = presets.get("scotch_yoke")
+    >>> eq = equations(yoke, math.radians(60), 10.0, load=400.0)
     >>> text = eq.to("matlab")
     >>> text.splitlines()[0]
     'function x = scotch_yoke(theta, omega, alpha, load)'

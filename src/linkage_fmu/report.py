@@ -504,8 +504,9 @@ def write_report(mech: "Mechanism", directory, positions: Sequence[float] = POSI
     ...     pictures = sorted(p.name for p in Path(tmp).glob("*.png"))
     >>> page.name, text.count('data-part="matrix"'), "<script" in text
     ('index.html', 3, False)
-    >>> pictures
-    ['effort.png', 'forces.png', 'linkage_150.png', 'linkage_220.png', 'linkage_60.png']
+    >>> pictures  # doctest: +NORMALIZE_WHITESPACE
+    ['effort.png', 'forces.png', 'linkage_150.png', 'linkage_220.png',
+     'linkage_60.png']
     """
     inputs = _inputs(mech, omega, alpha, loads, named)
     return _write(mech, directory, positions, inputs, f"{mech.name}: kinetostatic report")[0]
@@ -547,13 +548,15 @@ def read_variants(mech: "Mechanism", path) -> list[tuple[str, dict]]:
     >>> with tempfile.TemporaryDirectory() as tmp:
     ...     f = Path(tmp) / "designs.csv"
     ...     _ = f.write_text("l_AB,l_BC\\n0.1,0.35\\n0.12,0.4\\n")
-    ...     print(read_variants(bar, f))
+    ...     for variant in read_variants(bar, f):
+    ...         print(variant)
     ...     _ = f.write_text("l_AB,l_BC\\n0.1,long\\n")
     ...     try:
     ...         read_variants(bar, f)
     ...     except InputError as err:
     ...         print(str(err).replace(str(f), "designs.csv"))
-    [('variant_1', {'l_AB': 0.1, 'l_BC': 0.35}), ('variant_2', {'l_AB': 0.12, 'l_BC': 0.4})]
+    ('variant_1', {'l_AB': 0.1, 'l_BC': 0.35})
+    ('variant_2', {'l_AB': 0.12, 'l_BC': 0.4})
     designs.csv, row 1 (line 2), column 'l_BC': 'long' is not a number
     """
     if mech.description is None:
