@@ -47,9 +47,8 @@ def function_inputs(mech, state: dict) -> dict:
     """
     if not mech.computed_loads:
         return dict(state)
-    theta, omega, alpha, _ = evaluation.split(mech, list(state.values()))
-    rates = tuple(zip(omega, alpha)) if mech.rates else None
-    st = evaluation.kinematics(mech, theta, 0, None, rates)
+    st, _, _ = evaluation.at_state(mech, *evaluation.split(mech, list(state.values()))[:3],
+                                   0, None)
     return dict(state, **{ld.name: float(ld.at_state(st)) for ld in mech.loads
                           if ld.computed})
 
@@ -94,11 +93,7 @@ def function_file(mech, state: dict, unknowns: tuple, language: str = "matlab") 
     symbols = {n: tape.input(n, mech.parameters[n], parameter=True) for n in names}
     twin = mech.rebuild(symbols) if symbols else mech
     theta, omega, alpha, loads = evaluation.split(twin, x)
-    if twin.rates:
-        st = evaluation.kinematics(twin, theta, 2, TRACE, tuple(zip(omega, alpha)))
-        omega, alpha = 1.0, 0.0
-    else:
-        st = evaluation.kinematics(twin, theta, 2, TRACE)
+    st, omega, alpha = evaluation.at_state(twin, theta, omega, alpha, 2, TRACE)
     W = wrenches(twin, st, omega, alpha, evaluation.every_load(twin, tuple(given), loads),
                  False)
     about = {link: grp.moment_point(link) for grp in twin.groups for link in grp.links}

@@ -276,11 +276,7 @@ def equations(mech, theta=None, omega=None, alpha=None, *loads, **named) -> Equa
     values = [float(v) for v in values]
     state = dict(zip(mech.input_names, values))
     theta, omega, alpha, loads = evaluation.split(mech, values)
-    if mech.rates:
-        st = evaluation.kinematics(mech, theta, 2, SCALAR, tuple(zip(omega, alpha)))
-        omega, alpha = 1.0, 0.0
-    else:
-        st = evaluation.kinematics(mech, theta, 2, SCALAR)
+    st, omega, alpha = evaluation.at_state(mech, theta, omega, alpha, 2, SCALAR)
     every = evaluation.every_load(mech, given, loads)
     W = wrenches(mech, st, omega, alpha, every, False)
     rubbing, signs = {}, {}

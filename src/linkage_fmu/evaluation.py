@@ -270,6 +270,24 @@ def every_load(mech, given: tuple, loads: list) -> list:
     return [named.get(ld.name) if ld.computed else next(inputs) for ld in mech.loads]
 
 
+def at_state(mech, theta, omega, alpha, order: int, xp) -> tuple:
+    """``(st, omega, alpha)``: the kinematics of a state to ``order`` (:func:`split`'s
+    ``theta``, ``omega``, ``alpha``) and the crank speed and acceleration its
+    coefficients are taken at: the crank's own, or for a linkage driven by time 1 and 0,
+    its ``d1``, ``d2`` being the velocities and accelerations.
+
+    Examples
+    --------
+    >>> from linkage_fmu import presets
+    >>> st, omega, alpha = at_state(presets.get("four_bar"), 0.5, 10.0, 0.0, 0, None)
+    >>> omega, alpha, sorted(st.p)[:2]
+    (10.0, 0.0, ['A', 'B'])
+    """
+    if mech.rates:  # d1, d2 are the velocities and accelerations: unit speed, time
+        return kinematics(mech, theta, order, xp, tuple(zip(omega, alpha))), 1.0, 0.0
+    return kinematics(mech, theta, order, xp), omega, alpha
+
+
 def evaluate(mech, plan, theta, omega, alpha, loads, xp) -> tuple[dict, KinematicState]:
     """The outputs of ``plan`` (and whatever it computes besides) on numbers of the
     namespace ``xp``, and the kinematic state: the one sequence of formulas behind every
@@ -282,11 +300,7 @@ def evaluate(mech, plan, theta, omega, alpha, loads, xp) -> tuple[dict, Kinemati
     the loads over the cycle the plan's ``given`` names. ``mech.solve`` and
     ``mech.table`` make the plan (``mech.solver.plan``) and call this; use them.
     """
-    if mech.rates:  # d1, d2 are the velocities and accelerations: unit speed, time
-        st = kinematics(mech, theta, order(mech, plan), xp, tuple(zip(omega, alpha)))
-        omega, alpha = 1.0, 0.0
-    else:
-        st = kinematics(mech, theta, order(mech, plan), xp)
+    st, omega, alpha = at_state(mech, theta, omega, alpha, order(mech, plan), xp)
     R, effort = {}, 0.0
     if plan.reactions or plan.effort:
         loads = every_load(mech, plan.given, loads)
