@@ -33,6 +33,7 @@ import json
 import subprocess
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 #: flavour -> its folder under --out (the check's tolerance of each flavour:
@@ -99,30 +100,36 @@ def main(argv: list[str] | None = None) -> int:
 
     failed = False
     chosen = [*args.preset, *map(str, args.linkage)] or [*presets.names(), *map(str, EXAMPLES)]
-    for source in chosen:
-        for flavour, folder in FLAVOURS.items():
-            out = args.out / folder
-            try:
-                if flavour == "native":
-                    fmu = build_native_fmu(source, out, platforms=platforms)
-                else:
-                    fmu = build_fmu(source, out)
-            except (CompilerError, ValueError, OSError) as err:
-                print(f"build_fmu.py: cannot build the {flavour} FMU of {source}: {err}",
-                      file=sys.stderr)
-                return 2
-            if args.no_check:
-                print(f"{fmu}: built")
-                continue
-            result = check_in_fresh_process(fmu.resolve())
-            write_crosscheck(out, presets.linkage(source))
-            ok = result["passed"]  # validated, within its flavour's tolerance, no mismatch
-            failed |= not ok
-            print(f"{fmu}: {'ok' if ok else 'FAILED'}: max relative error "
-                  f"{result['max_rel_error']:.2e} ({result['worst_output']}) over "
-                  f"{result['steps']} steps in {result['seconds']:.3f} s (tolerance "
-                  f"{result['tolerance']:g}); fmpy validate: "
-                  f"{'; '.join(result['validate']) or 'no problems'}")
+    total, start = len(chosen) * len(FLAVOURS), time.perf_counter()
+    jobs = [(source, flavour) for source in chosen for flavour in FLAVOURS]
+    for k, (source, flavour) in enumerate(jobs, 1):
+        out = args.out / FLAVOURS[flavour]
+        # the progress, on stderr: a native FMU for several platforms takes a while
+        print(f"build_fmu.py [{k}/{total}, {time.perf_counter() - start:.0f} s]: the "
+              f"{flavour} FMU of {source}", file=sys.stderr, flush=True)
+        try:
+            if flavour == "native":
+                fmu = build_native_fmu(source, out, platforms=platforms)
+            else:
+                fmu = build_fmu(source, out)
+        except (CompilerError, ValueError, OSError) as err:
+            print(f"build_fmu.py: cannot build the {flavour} FMU of {source}: {err}",
+                  file=sys.stderr)
+            return 2
+        if args.no_check:
+            print(f"{fmu}: built")
+            continue
+        result = check_in_fresh_process(fmu.resolve())
+        write_crosscheck(out, presets.linkage(source))
+        ok = result["passed"]  # validated, within its flavour's tolerance, no mismatch
+        failed |= not ok
+        print(f"{fmu}: {'ok' if ok else 'FAILED'}: max relative error "
+              f"{result['max_rel_error']:.2e} ({result['worst_output']}) over "
+              f"{result['steps']} steps in {result['seconds']:.3f} s (tolerance "
+              f"{result['tolerance']:g}); fmpy validate: "
+              f"{'; '.join(result['validate']) or 'no problems'}")
+    print(f"build_fmu.py: {total} FMUs in {time.perf_counter() - start:.0f} s",
+          file=sys.stderr)
     return 1 if failed else 0
 
 
