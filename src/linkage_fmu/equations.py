@@ -142,8 +142,7 @@ def _text(eq: Equations, markdown: bool = False) -> str:
                   for law in eq.free_bodies.laws]
     lines += ["", "solution:"] + [f"  {u} = {_g(v)}" for u, v in eq.solution.items()]
     lines.append(f"residual {eq.residual:.3g}, det A {_g(eq.det)}, cond {eq.cond:.3g}")
-    text = "\n".join(lines) + "\n"
-    return text.replace("  link", "link") if markdown else text
+    return "\n".join(lines) + "\n"
 
 
 def _markdown(eq: Equations) -> str:
