@@ -281,8 +281,8 @@ def solve_group(mech, st: KinematicState, grp, pairs: tuple, W: dict, R: dict,
         g = [f[0] if first else pick(f[0], m[i] - f[0]) for i, f in enumerate(laws)]
         J = [[(1.0 if i == k else 0.0) - (laws[i][1] * K[k][i][0] + laws[i][2] * K[k][i][1])
               for k in range(n)] for i in range(n)]
-        d = linalg.solve_unpivoted(J, g)
-        return [pick(-v, v) for v in d], linalg.determinant(J)
+        d, det = linalg.solve_adjugate(J, g)
+        return [pick(-v, v) for v in d], det
 
     what = _locks(grp, pairs)
     fail = _failure(mech, st, what)
