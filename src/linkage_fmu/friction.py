@@ -45,7 +45,7 @@ import numpy as np
 from . import kinetostatics, linalg, newton
 from .errors import LinkageError
 from .groups.base import KinematicState, push
-from .kernels.trace import Reason
+from .kernels.trace import Reason, Sym
 
 # the iterations, shared with the closure of class III groups, under this module's names;
 # its constants are read here at each call (a test may change them on this module)
@@ -213,6 +213,15 @@ def law(xp, jf: JointFriction, s, reaction):
     return jf.joint.friction_law(xp, jf.mu, jf.radius, jf.length, s, reaction, TINY)
 
 
+def _nothing(value) -> bool:
+    """Whether ``value`` is 0 whatever the state: a traced constant 0, or a number (an
+    array: each of its values) equal to 0; not a traced value computed at run time."""
+    if isinstance(value, Sym):
+        node = value.tape.nodes[value.index]
+        return node.op == "const" and node.value == 0.0
+    return not np.any(np.asarray(value) != 0.0)
+
+
 def _scratch(W: dict | None, links) -> dict:
     """Wrenches for a trial solve of a group: its links' (copies, or zeros), and zeros
     for the bodies its statics pushes reactions onto."""
@@ -287,7 +296,12 @@ def solve_group(mech, st: KinematicState, grp, pairs: tuple, W: dict, R: dict,
     what = _locks(grp, pairs)
     fail = _failure(mech, st, what)
     tape = _tape(st.theta, *(v for r in r0 for v in r))
-    if tape is not None:  # every step a run of one loop, the first by the flag it carries
+    if all(_nothing(v) for row in K for r in row for v in r):
+        # the friction does not change the group's reactions (a crank's pin, its moment
+        # taken by the balancing effort): the law at the reactions is the solution, what
+        # the iteration's first step gives and its next ones keep (J = I, det 1)
+        m = [0.0 + law(xp, jf, s[jf.joint.name], r0[i])[0] for i, jf in enumerate(pairs)]
+    elif tape is not None:  # every step a run of one loop, the first by the flag it carries
         m = _loop(tape, xp, [0.0] * n, 1.0, (1.0,),
                   lambda m, memory: (*step(m, memory[0]), (0.0,)), fail,
                   Reason("locking", what), ITERATIONS, MAX_ITERATIONS)
