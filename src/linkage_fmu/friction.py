@@ -23,7 +23,8 @@ Newton iteration on its own friction values (at most three) from the frictionles
 solution, and then its statics once with them. A balancing effort away from the crank
 is found by a secant iteration on the virtual power balance over those group solves.
 :func:`direct` is the reference: Newton on the whole assembled system of equations.
-Every path takes the same :data:`ITERATIONS` steps first, then continues up to
+Every path takes the same :data:`ITERATIONS` steps first (a group's Newton iteration on
+its friction values :data:`GROUP_ITERATIONS`), then continues up to
 :data:`MAX_ITERATIONS` while they do not settle, so that the floats are the same
 everywhere; in a traced kernel the iterations are loops of the generated code, every
 sign of motion and branch of the friction law decided in them at run time. A position
@@ -55,6 +56,12 @@ from .newton import tape_of as _tape
 from .newton import tolerance as _tolerance
 from .numerics import ARRAY
 from .pairs import Pair
+
+#: Newton steps a group's friction iteration (:func:`solve_group`) takes before it tests
+#: whether its last step settled, on every path (then on, to :data:`MAX_ITERATIONS`,
+#: while not): from the frictionless solution the steps of almost every state settle
+#: by the fourth (the later steps would move the floats by rounding only)
+GROUP_ITERATIONS = 4
 
 
 def iterate(xp, x: list, step, fail, first=None, memory: tuple = ()) -> list:
@@ -304,10 +311,11 @@ def solve_group(mech, st: KinematicState, grp, pairs: tuple, W: dict, R: dict,
     elif tape is not None:  # every step a run of one loop, the first by the flag it carries
         m = _loop(tape, xp, [0.0] * n, 1.0, (1.0,),
                   lambda m, memory: (*step(m, memory[0]), (0.0,)), fail,
-                  Reason("locking", what), ITERATIONS, MAX_ITERATIONS)
+                  Reason("locking", what), GROUP_ITERATIONS, MAX_ITERATIONS)
     else:
-        m = iterate(xp, [0.0] * n, lambda m, memory: (*step(m), memory), fail,
-                    first=lambda m, memory: (*step([None] * n), memory))
+        m = newton.iterate(xp, [0.0] * n, lambda m, memory: (*step(m), memory), fail,
+                           lambda m, memory: (*step([None] * n), memory), (),
+                           GROUP_ITERATIONS, MAX_ITERATIONS)
     for jf, v in zip(pairs, m):
         apply(mech, st, W, jf, v)
         R.friction[jf.joint.name] = v
