@@ -23,7 +23,8 @@ Newton iteration on its own friction values (at most three) from the frictionles
 solution, and then its statics once with them. A balancing effort away from the crank
 is found by a secant iteration on the virtual power balance over those group solves.
 :func:`direct` is the reference: Newton on the whole assembled system of equations.
-Every path takes the same :data:`ITERATIONS` steps first, then continues up to
+Every path takes the same :data:`ITERATIONS` steps first (a group's Newton iteration on
+its friction values :data:`GROUP_ITERATIONS`), then continues up to
 :data:`MAX_ITERATIONS` while they do not settle, so that the floats are the same
 everywhere; in a traced kernel the iterations are loops of the generated code, every
 sign of motion and branch of the friction law decided in them at run time. A position
@@ -45,7 +46,7 @@ import numpy as np
 from . import kinetostatics, linalg, newton
 from .errors import LinkageError
 from .groups.base import KinematicState, push
-from .kernels.trace import Reason
+from .kernels.trace import Reason, Sym
 
 # the iterations, shared with the closure of class III groups, under this module's names;
 # its constants are read here at each call (a test may change them on this module)
@@ -55,6 +56,12 @@ from .newton import tape_of as _tape
 from .newton import tolerance as _tolerance
 from .numerics import ARRAY
 from .pairs import Pair
+
+#: Newton steps a group's friction iteration (:func:`solve_group`) takes before it tests
+#: whether its last step settled, on every path (then on, to :data:`MAX_ITERATIONS`,
+#: while not): from the frictionless solution the steps of almost every state settle
+#: by the fourth (the later steps would move the floats by rounding only)
+GROUP_ITERATIONS = 4
 
 
 def iterate(xp, x: list, step, fail, first=None, memory: tuple = ()) -> list:
@@ -213,6 +220,15 @@ def law(xp, jf: JointFriction, s, reaction):
     return jf.joint.friction_law(xp, jf.mu, jf.radius, jf.length, s, reaction, TINY)
 
 
+def _nothing(value) -> bool:
+    """Whether ``value`` is 0 whatever the state: a traced constant 0, or a number (an
+    array: each of its values) equal to 0; not a traced value computed at run time."""
+    if isinstance(value, Sym):
+        node = value.tape.nodes[value.index]
+        return node.op == "const" and node.value == 0.0
+    return not np.any(np.asarray(value) != 0.0)
+
+
 def _scratch(W: dict | None, links) -> dict:
     """Wrenches for a trial solve of a group: its links' (copies, or zeros), and zeros
     for the bodies its statics pushes reactions onto."""
@@ -281,19 +297,25 @@ def solve_group(mech, st: KinematicState, grp, pairs: tuple, W: dict, R: dict,
         g = [f[0] if first else pick(f[0], m[i] - f[0]) for i, f in enumerate(laws)]
         J = [[(1.0 if i == k else 0.0) - (laws[i][1] * K[k][i][0] + laws[i][2] * K[k][i][1])
               for k in range(n)] for i in range(n)]
-        d = linalg.solve_unpivoted(J, g)
-        return [pick(-v, v) for v in d], linalg.determinant(J)
+        d, det = linalg.solve_adjugate(J, g)
+        return [pick(-v, v) for v in d], det
 
     what = _locks(grp, pairs)
     fail = _failure(mech, st, what)
     tape = _tape(st.theta, *(v for r in r0 for v in r))
-    if tape is not None:  # every step a run of one loop, the first by the flag it carries
+    if all(_nothing(v) for row in K for r in row for v in r):
+        # the friction does not change the group's reactions (a crank's pin, its moment
+        # taken by the balancing effort): the law at the reactions is the solution, what
+        # the iteration's first step gives and its next ones keep (J = I, det 1)
+        m = [0.0 + law(xp, jf, s[jf.joint.name], r0[i])[0] for i, jf in enumerate(pairs)]
+    elif tape is not None:  # every step a run of one loop, the first by the flag it carries
         m = _loop(tape, xp, [0.0] * n, 1.0, (1.0,),
                   lambda m, memory: (*step(m, memory[0]), (0.0,)), fail,
-                  Reason("locking", what), ITERATIONS, MAX_ITERATIONS)
+                  Reason("locking", what), GROUP_ITERATIONS, MAX_ITERATIONS)
     else:
-        m = iterate(xp, [0.0] * n, lambda m, memory: (*step(m), memory), fail,
-                    first=lambda m, memory: (*step([None] * n), memory))
+        m = newton.iterate(xp, [0.0] * n, lambda m, memory: (*step(m), memory), fail,
+                           lambda m, memory: (*step([None] * n), memory), (),
+                           GROUP_ITERATIONS, MAX_ITERATIONS)
     for jf, v in zip(pairs, m):
         apply(mech, st, W, jf, v)
         R.friction[jf.joint.name] = v

@@ -4,7 +4,8 @@
   partial pivoting that takes no branch, on lists of numbers of any kind (floats, numpy
   arrays over states, mpmath numbers, traced numbers: inside a kernel's loop);
 - :func:`solve_unpivoted` and :func:`determinant`: elimination without pivoting and the
-  cofactor determinant of a small system near the identity (the friction's Newton step);
+  cofactor determinant of a small system near the identity; :func:`solve_adjugate`, the
+  two at once by the adjugate (the friction's Newton step: one division);
 - :func:`solve_batch`: numpy's LU over a batch of states, NaN for a singular one;
 - :func:`solve_mpmath`: mpmath's LU of a system given by its nonzero entries.
 
@@ -204,6 +205,42 @@ def determinant(J: list):
         return J[0][0] * J[1][1] - J[0][1] * J[1][0]
     return sum(J[0][c] * determinant([row[:c] + row[c + 1:] for row in J[1:]]) * (-1.0) ** c
                for c in range(n))
+
+
+def solve_adjugate(J: list, g: list) -> tuple[list, object]:
+    """``J^-1 g`` and ``det J`` of a small system near the identity (as
+    :func:`solve_unpivoted` solves, up to three unknowns): the adjugate times ``g``,
+    times the one reciprocal of the :func:`determinant` (the same floats as it), where
+    elimination divides once per row and once per pivot. Its minors are the
+    determinant's own (a traced kernel computes each once). One unknown: ``g / J``;
+    more than three: :func:`solve_unpivoted` and :func:`determinant`. Only the
+    arithmetic operators: numbers of any kind. A zero determinant divides by zero
+    (ZeroDivisionError on floats).
+
+    Examples
+    --------
+    >>> solve_adjugate([[1.0, 0.5], [0.25, 1.0]], [2.0, 2.25])
+    ([1.0, 2.0], 0.875)
+    """
+    n = len(g)
+    if n == 1:
+        return [g[0] / J[0][0]], J[0][0]
+    if n > 3:
+        return solve_unpivoted(J, g), determinant(J)
+    det = determinant(J)
+    inv = 1.0 / det
+
+    def minor(r, c):  # of the entry (r, c): as determinant() expands it
+        return determinant([row[:c] + row[c + 1:] for k, row in enumerate(J) if k != r])
+
+    x = []
+    for i in range(n):  # (adj J)[i][j] = (-1)^(i+j) minor(j, i): the sum of (-1)^j, then (-1)^i
+        v = None
+        for j in range(n):
+            term = minor(j, i) * g[j]
+            v = term if v is None else v - term if j % 2 else v + term
+        x.append((-v if i % 2 else v) * inv)
+    return x, det
 
 
 def solve_batch(A: np.ndarray, b: np.ndarray) -> np.ndarray:

@@ -26,7 +26,35 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import ClassVar
 
+import numpy as np
+
 from .errors import InputTypeError
+
+#: the magnitudes of a pin's reaction whose components :meth:`Revolute.friction_law`
+#: squares as they are (2^-500 to 2^500, about 3e-151 to 3e+150: no square overflows
+#: or falls below the normal doubles); beyond, it scales them by 2^-600 or 2^600 first
+_SMALL, _HUGE = 2.0 ** -500, 2.0 ** 500
+_SHRINK, _GROW = 2.0 ** -600, 2.0 ** 600
+
+
+def _above(x, limit):
+    """Whether ``x > limit``, as a value to pick with (:func:`_pick`), not a branch: a
+    traced comparison, an array of bools, a bool."""
+    tape = getattr(x, "tape", None) or getattr(limit, "tape", None)
+    if tape is not None:
+        return tape.compare("gt", x, limit)
+    return np.greater(x, limit) if isinstance(x, np.ndarray) or isinstance(
+        limit, np.ndarray) else x > limit
+
+
+def _pick(condition, a, b):
+    """``a`` where ``condition`` (of :func:`_above`) holds, else ``b``."""
+    tape = getattr(condition, "tape", None)
+    if tape is not None:
+        return tape.select(condition, a, b)
+    if isinstance(condition, np.ndarray):
+        return np.where(condition, a, b)
+    return a if condition else b
 
 Vec = tuple  # (x, y) of floats or arrays
 
@@ -191,15 +219,21 @@ class Revolute(Pair):
 
     def friction_law(self, xp, mu, radius, length, s, reaction, tiny):
         a, b = reaction
-        # |R| scaled by its larger component, so that no square overflows (a reaction
-        # over 1e154: with mu = 0, inf * 0 would be NaN); the ratios are the unit
-        # vector's, and 0 for R = 0 (where the root is 0 and the larger component tiny)
-        big = xp.maximum(xp.maximum(xp.abs(a), xp.abs(b)), tiny)
-        p, q = a / big, b / big
+        # |R| = sqrt(a^2 + b^2) with one square root and one reciprocal: the components
+        # are scaled by a power of two (exact) only where a square would overflow (a
+        # reaction over 1e150: with mu = 0, inf * 0 would be NaN) or lose its digits to
+        # underflow, chosen without a branch (as a kernel's loop decides). The
+        # derivatives are the unit vector's, 0 for R = 0 (where the root is 0 and its
+        # reciprocal finite).
+        big = xp.maximum(xp.abs(a), xp.abs(b))
+        down, up = _above(big, _HUGE), _above(_SMALL, big)
+        scale = _pick(down, _SHRINK, _pick(up, _GROW, 1.0))
+        p, q = a * scale, b * scale
         root = xp.sqrt(p * p + q * q)
         k = -mu * radius * s
-        inv = 1.0 / xp.maximum(root, 1.0)
-        return k * (big * root), k * p * inv, k * q * inv
+        inv = 1.0 / xp.maximum(root, _SMALL)
+        size = root * _pick(down, _GROW, _pick(up, _SHRINK, 1.0))
+        return k * size, k * (p * inv), k * (q * inv)
 
     def friction_formula(self, xp, mu, radius, length, s, first, second):
         return -mu * radius * s * xp.sqrt(first * first + second * second)
