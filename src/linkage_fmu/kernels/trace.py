@@ -485,6 +485,191 @@ def live_nodes(tape: Tape, results: list) -> set:
     return live
 
 
+def _uses(tape: Tape, live: set) -> dict:
+    """Node -> the live nodes that read it, with the operand's position."""
+    uses: dict = {}
+    for u in sorted(live):
+        for pos, a in enumerate(tape.nodes[u].args):
+            uses.setdefault(a, []).append((u, pos))
+    return uses
+
+
+#: the operations whose result is ``-0.0`` or ``0.0`` as their operand is, where it is
+#: a zero (the same value otherwise): a zero's sign matters to them as to their result
+_THROUGH = frozenset({"neg", "sin", "max", "min", "select", *SCALE})
+
+
+def _bounds(tape: Tape) -> tuple[set, set]:
+    """What the guards say of the nodes they compare with a constant, at every state a
+    kernel returns outputs for (all its guards hold): the nodes never 0 (``x > 0.0``,
+    ``x != 0.0``, ...) and those positive (``x > c`` for a ``c >= 0``)."""
+    nonzero, positive = set(), set()
+    flip = {"lt": "gt", "le": "ge", "gt": "lt", "ge": "le", "eq": "eq", "ne": "ne"}
+    negate = {"lt": "ge", "le": "gt", "gt": "le", "ge": "lt", "eq": "ne", "ne": "eq"}
+    for g, outcome in tape.guards:
+        node = tape.nodes[g]
+        if node.op not in COMPARE:
+            continue
+        (a, b), op = node.args, node.op
+        if tape.nodes[a].op == "const":
+            a, b, op = b, a, flip[op]
+        if tape.nodes[b].op != "const" or tape.nodes[a].op == "const":
+            continue
+        c = tape.nodes[b].value
+        op = op if outcome else negate[op]  # what holds: a op c
+        if (op == "gt" and c >= 0.0) or (op == "ge" and c > 0.0):
+            nonzero.add(a)
+            positive.add(a)
+        elif (op == "lt" and c <= 0.0) or (op == "le" and c < 0.0) or \
+                (op == "ne" and c == 0.0) or (op == "eq" and c != 0.0):
+            nonzero.add(a)
+    return nonzero, positive
+
+
+def _never_zero(tape: Tape, said: set) -> list:
+    """Per node, whether it is never 0.0 nor -0.0 (NaN and inf are not zeros): a nonzero
+    constant, what the guards say (``said``), a cosine (the cosine of a double is never
+    0), and the magnitude, negation or square root of such a value."""
+    out = []
+    for i, node in enumerate(tape.nodes):
+        op = node.op
+        if op == "const":
+            out.append(node.value != 0.0)
+        elif i in said or op == "cos":
+            out.append(True)
+        elif op in ("abs", "neg", "sqrt"):
+            out.append(out[node.args[0]])
+        else:
+            out.append(False)
+    return out
+
+
+def _sign_matters(tape: Tape, results: list, live: set, nonzero: list) -> list:
+    """Per node, whether the sign of a zero it takes could change a result's bits (a
+    result's own, ``-0.0`` is not ``0.0``), its derivatives' division by it, or which
+    side of a cut an ``atan2`` takes: where it is a result or read by an operation whose
+    result it may change (an ``atan2``, a divisor, a square root, a loop, an outside
+    function, anything but those below), or by one that passes the sign on
+    (:data:`_THROUGH`, a product but ``x * x``, a dividend, a sum or a difference whose
+    other operand is never zero) to a result whose sign matters. A comparison, an
+    ``abs``, a ``cos``, a ``sign`` and a selection's condition ignore it."""
+    uses = _uses(tape, live)
+    out = {r.index for r in results if isinstance(r, Sym)}
+    looped = {a for L in tape.loops.values()
+              for a in (*L.inits, *L.news, L.again, *L.carries)}
+    matters = [False] * len(tape.nodes)
+    for i in sorted(live, reverse=True):  # every reader after what it reads
+        if i in out or i in looped or i in tape.labels and tape.nodes[i].op not in COMPARE:
+            matters[i] = True
+            continue
+        for u, pos in uses.get(i, ()):
+            node = tape.nodes[u]
+            op = node.op
+            if tape.scopes[u] is not None:
+                passes = True
+            elif op in COMPARE or op in ("abs", "cos", "sign") or (op == "select" and pos == 0):
+                passes = False
+            elif op in ("add", "sub"):
+                passes = matters[u] and not nonzero[node.args[1 - pos]]
+            elif op == "mul":
+                passes = matters[u] and node.args[0] != node.args[1]
+            elif op == "div":
+                passes = matters[u] if pos == 0 else True
+            elif op in _THROUGH:
+                passes = matters[u]
+            else:
+                passes = True
+            if passes:
+                matters[i] = True
+                break
+    return matters
+
+
+def _may_be_negative_zero(tape: Tape, positive: set) -> list:
+    """Per node, whether it may be ``-0.0`` (round to nearest): a sum only where both
+    operands may be, a difference where its first may be, ``x * x``, an ``abs``, a
+    ``cos``, a ``sign``, a positive value (``positive``: what the guards say) and a
+    constant other than -0.0 never, a square root, a maximum, a minimum and a selection
+    as their operands; anything else may."""
+    out = []
+    for i, node in enumerate(tape.nodes):
+        op, a = node.op, node.args
+        if op == "const":
+            out.append(_key(node.value) == _key(-0.0))
+        elif i in positive or op in ("abs", "cos", "sign") or \
+                (op == "mul" and a[0] == a[1]):
+            out.append(False)
+        elif op == "add":
+            out.append(out[a[0]] and out[a[1]])
+        elif op in ("sub", "sqrt"):
+            out.append(out[a[0]])
+        elif op in ("max", "min"):
+            out.append(out[a[0]] or out[a[1]])
+        elif op == "select":
+            out.append(out[a[1]] or out[a[2]])
+        else:
+            out.append(True)
+    return out
+
+
+def _replace(tape: Tape, results: list, by: dict) -> list:
+    """Read ``by[i]`` wherever node ``i`` was read (nodes, loops, ``results``)."""
+    def m(i):
+        while i in by:
+            i = by[i]
+        return i
+    for u, node in enumerate(tape.nodes):
+        if any(a in by for a in node.args):
+            tape.nodes[u] = Node(node.op, tuple(m(a) for a in node.args), node.value)
+    for L in tape.loops.values():
+        L.inits, L.news, L.again = [m(i) for i in L.inits], [m(i) for i in L.news], m(L.again)
+    return [Sym(tape, m(r.index)) if isinstance(r, Sym) else r for r in results]
+
+
+def simplify(tape: Tape, results: list) -> list:
+    """Drop the sums ``0.0 + x`` (and ``x + 0.0``) of the state step that give ``x``
+    itself bit for bit at every state where the kernel returns outputs: the recorded
+    operations (a point at the origin plus a vector) do not know it, IEEE arithmetic
+    keeps them (``-0.0 + 0.0`` is ``0.0``). One is dropped where the sign of its zero
+    matters to nothing (:func:`_sign_matters`: not to a result, an ``atan2``, a
+    divisor...), then one where ``x`` is never ``-0.0``
+    (:func:`_may_be_negative_zero`). Neither kind of drop changes what the other relies
+    on (the signs that matter; the nodes that may be ``-0.0``), the first done first.
+    Returns ``results`` on the simplified tape (the nodes dropped stay, unread).
+
+    Examples
+    --------
+    >>> tape = Tape()
+    >>> x = tape.input("x0", 2.0)
+    >>> y = 0.0 + x              # its zero's sign reaches a result: kept
+    >>> z = 0.0 + 3.0 * x > 1.0  # only a comparison sees it: dropped
+    >>> r = simplify(tape, [y, 0.0 + x * x])   # x * x is never -0.0: dropped
+    >>> [tape.nodes[s.index].op for s in r]
+    ['add', 'mul']
+    >>> [tape.nodes[a].op for a in tape.nodes[tape.guards[0][0]].args]
+    ['mul', 'const']
+    """
+    live = live_nodes(tape, results)
+    guarded = {g for g, _ in tape.guards}
+
+    def sums():
+        for i in sorted(live_nodes(tape, results)):
+            node = tape.nodes[i]
+            if node.op == "add" and tape.scopes[i] is None and i not in tape.fixed \
+                    and i not in guarded:
+                a, b = node.args
+                if tape._constant(a, 0.0) and not tape._constant(b, 0.0):
+                    yield i, b
+                elif tape._constant(b, 0.0) and not tape._constant(a, 0.0):
+                    yield i, a
+
+    said, positive = _bounds(tape)
+    matters = _sign_matters(tape, results, live, _never_zero(tape, said))
+    results = _replace(tape, results, {i: x for i, x in sums() if not matters[i]})
+    negative = _may_be_negative_zero(tape, positive)
+    return _replace(tape, results, {i: x for i, x in sums() if not negative[x]})
+
+
 def operand(tape: Tape, i: int, literal) -> str:
     """Node ``i`` as an operand: an input's name, a constant through ``literal``, or
     the variable ``t<i>``."""
