@@ -66,9 +66,6 @@ class TracingError(LinkageFmuError, RuntimeError):
 LOOP_OPS = ("carry", "loop", "final", "converged")
 #: the comparisons: their results are truth values (piecewise constant, no derivative)
 COMPARE = frozenset({"lt", "le", "gt", "ge", "eq", "ne"})
-#: the operations whose operands commute, bit for bit (IEEE: a + b is b + a, a * b is
-#: b * a): stored once in either order
-COMMUTATIVE = frozenset({"add", "mul"})
 #: CPython's math.radians and math.degrees: one multiplication by these
 SCALE = {"radians": math.pi / 180.0, "degrees": 180.0 / math.pi}
 
@@ -140,8 +137,9 @@ class Tape:
         ``fn`` that computes it, in ``scope`` (the loop whose body it is in; by default
         its operands' innermost), ``fixed`` (computed from the parameters alone) if so
         or if its operands all are."""
-        args = tuple(sorted(node.args)) if node.op in COMMUTATIVE else node.args
-        key = (node.op, args, _key(node.value))  # a * b and b * a: one node
+        # a * b and b * a stay two nodes: where both are NaNs of two signs, x86 gives
+        # the first's
+        key = (node.op, node.args, _key(node.value))
         i = self._index.get(key)
         if i is not None:
             if not self._visible(self.scopes[i]):
