@@ -27,7 +27,7 @@ from . import compiled
 from .c_source import SUMMARY_HEAD, c_source
 from .python_source import compile_source, python_source
 from .tangent import TangentFunction, python_tangent, tangent_tape
-from .trace import TRACE, Reason, Tape, program, simplify
+from .trace import TRACE, Reason, Tape, program
 
 __all__ = ["Kernel", "Reason", "TRACE", "trace"]
 
@@ -262,7 +262,7 @@ def trace(evaluate: Callable[[list, dict], list], inputs: Sequence[float],
     syms = [tape.input(n, v) for n, v in zip(names, inputs)]
     symbols = {name: tape.input(f"p{k}", value, parameter=True)
                for k, (name, value) in enumerate(parameters.items())}
-    results = simplify(tape, list(evaluate(syms, symbols)))
+    results = list(evaluate(syms, symbols))
     args = tuple(f"p{k}" for k in range(len(parameters)))
     source = python_source(tape, names, results, args)
     make_prepare, make = compile_source(source, label=label, externs=tape.externs)
