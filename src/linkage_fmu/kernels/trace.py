@@ -137,6 +137,8 @@ class Tape:
         ``fn`` that computes it, in ``scope`` (the loop whose body it is in; by default
         its operands' innermost), ``fixed`` (computed from the parameters alone) if so
         or if its operands all are."""
+        # a * b and b * a stay two nodes: where both are NaNs of two signs, x86 gives
+        # the first's
         key = (node.op, node.args, _key(node.value))
         i = self._index.get(key)
         if i is not None:
@@ -178,8 +180,46 @@ class Tape:
 
     def apply(self, op: str, fn, *operands) -> "Sym":
         syms = [o if isinstance(o, Sym) else self.const(o) for o in operands]
+        same = self._identity(op, [s.index for s in syms])
+        if same is not None:
+            return Sym(self, same)
         witness = fn(*(self.witness[s.index] for s in syms))
         return self.record(Node(op, tuple(s.index for s in syms)), witness, fn=fn)
+
+    def _constant(self, i: int, value: float) -> bool:
+        """Whether node ``i`` is the constant ``value``, its zero's sign too."""
+        node = self.nodes[i]
+        return node.op == "const" and _key(node.value) == _key(value)
+
+    def _identity(self, op: str, args: list) -> int | None:
+        """The operand an operation gives back bit for bit, whatever its value, or None:
+        ``x * 1.0``, ``1.0 * x``, ``x / 1.0``, ``x - 0.0``, ``x + -0.0``, ``-0.0 + x``,
+        ``-(-x)`` (IEEE arithmetic: exact, the sign of a zero, inf and NaN kept; a
+        compiler may not drop them under strict IEEE, so the tape does). Not ``x + 0.0``,
+        whose ``-0.0 + 0.0`` is ``0.0`` (the sign of a zero is the branch of an
+        ``atan2``), nor ``0.0 * x`` (NaN where ``x`` is inf or NaN), nor ``0.0 - x``
+        (``0.0`` where ``x`` is ``0.0``, not ``-0.0``)."""
+        if op == "mul":
+            if self._constant(args[1], 1.0):
+                return args[0]
+            if self._constant(args[0], 1.0):
+                return args[1]
+        elif op == "div":
+            if self._constant(args[1], 1.0):
+                return args[0]
+        elif op == "sub":
+            if self._constant(args[1], 0.0):
+                return args[0]
+        elif op == "add":
+            if self._constant(args[1], -0.0):
+                return args[0]
+            if self._constant(args[0], -0.0):
+                return args[1]
+        elif op == "neg":
+            inner = self.nodes[args[0]]
+            if inner.op == "neg":
+                return inner.args[0]
+        return None
 
     def compare(self, op: str, a, b) -> "Sym":
         """The comparison ``a op b`` (``op`` one of lt, le, gt, ge, eq, ne) as a value
