@@ -279,7 +279,8 @@ def at_state(mech, theta, omega, alpha, order: int, xp) -> tuple:
     Examples
     --------
     >>> from linkage_fmu import presets
-    >>> st, omega, alpha = at_state(presets.get("four_bar"), 0.5, 10.0, 0.0, 0, None)
+    >>> four = presets.get("four_bar")
+    >>> st, omega, alpha = at_state(four, 0.5, 10.0, 0.0, 0, None)
     >>> omega, alpha, sorted(st.p)[:2]
     (10.0, 0.0, ['A', 'B'])
     """
